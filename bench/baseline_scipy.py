@@ -1,0 +1,159 @@
+#!/usr/bin/python3
+"""Peer baseline: the paper's impact-oscillator protocol, written plainly with
+scipy.integrate.solve_ivp (RK45, rtol = atol = 1e-10, event location).
+
+Standalone; run with /usr/bin/python3 (needs numpy + scipy):
+
+    /usr/bin/python3 bench/baseline_scipy.py [--points FILE] [--repeat N]
+
+Model (state X = (y, v, x, w)):
+    dy/dt = v
+    dv/dt = a(X) = -delta^2 y - alpha v + M x
+    dx/dt = w
+    dw/dt = -x - eps (x^2 - 1) w + A a(X)
+    delta = 1/(St Ur), alpha = 2 xi delta + gamma/mu, M = 0.05/mu
+Impact: y decreasing through sigma -> (y, v, x, w) := (sigma, -r v, x, w).
+Section: maxima of y (v crosses 0 downward).
+Protocol: discard the first 500 impacts, then record the next 200 section
+points and stop.
+
+Prints one JSON line: wall_s, steps (accepted steps), nfev (= rhs_calls),
+rhs_calls, impacts, points; with --repeat N also wall_all.
+"""
+
+import argparse
+import json
+import statistics
+import sys
+import time
+
+from scipy.integrate import solve_ivp
+
+# ---- paper preset ----------------------------------------------------------
+St = 0.2
+xi = 0.0052
+gamma = 0.8
+mu = 1.19381
+eps = 0.3
+A = 12.0
+r = 0.8
+sigma = -0.150298
+Ur = 16.0
+
+delta = 1.0 / (St * Ur)
+alpha = 2.0 * xi * delta + gamma / mu
+M = 0.05 / mu
+delta2 = delta * delta
+
+# ---- protocol --------------------------------------------------------------
+N_DISCARD_IMPACTS = 500
+N_POINTS = 200
+TOL = 1e-10
+SEGMENT_SPAN = 1e6  # t_span of one segment; every segment ends at an event
+
+
+def rhs(t, X):
+    y, v, x, w = X
+    a = -delta2 * y - alpha * v + M * x
+    return [v, a, w, -x - eps * (x * x - 1.0) * w + A * a]
+
+
+def impact(t, X):
+    return X[0] - sigma
+
+
+impact.terminal = True
+impact.direction = -1
+
+
+def section(t, X):
+    return X[1]
+
+
+section.terminal = False
+section.direction = -1
+
+
+def section_last(t, X):
+    # Same section, but terminal: used only when exactly one more point is
+    # needed, so the final segment stops at the last recorded point.
+    return X[1]
+
+
+section_last.terminal = True
+section_last.direction = -1
+
+
+def run_protocol():
+    t = 0.0
+    X = [0.0, 0.0, 0.0, 0.1]
+    impacts = 0
+    steps = 0
+    nfev = 0
+    points = []
+
+    wall0 = time.perf_counter()
+    while len(points) < N_POINTS:
+        recording = impacts >= N_DISCARD_IMPACTS
+        last = recording and (N_POINTS - len(points) == 1)
+        sol = solve_ivp(rhs, (t, t + SEGMENT_SPAN), X, method="RK45",
+                        rtol=TOL, atol=TOL,
+                        events=[impact, section_last if last else section])
+        if sol.status < 0:
+            raise RuntimeError(sol.message)
+        steps += len(sol.t) - 1
+        nfev += sol.nfev
+
+        if recording:
+            for ts, Xs in zip(sol.t_events[1], sol.y_events[1]):
+                points.append((float(ts), *map(float, Xs)))
+                if len(points) >= N_POINTS:
+                    break
+            if len(points) >= N_POINTS:
+                break
+
+        if sol.status != 1 or len(sol.t_events[0]) == 0:
+            raise RuntimeError("segment ended without an impact")
+        t = float(sol.t_events[0][-1])
+        y, v, x, w = sol.y_events[0][-1]
+        X = [sigma, -r * v, x, w]
+        impacts += 1
+    wall1 = time.perf_counter()
+
+    return {"wall_s": wall1 - wall0, "steps": steps, "nfev": nfev,
+            "impacts": impacts, "points": points}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--points", metavar="FILE",
+                    help="write the recorded section points as CSV")
+    ap.add_argument("--repeat", type=int, default=1, metavar="N",
+                    help="run the protocol N times, report the median wall time")
+    args = ap.parse_args()
+    if args.repeat < 1:
+        ap.error("--repeat must be >= 1")
+
+    walls = []
+    res = None
+    for _ in range(args.repeat):
+        res = run_protocol()
+        walls.append(res["wall_s"])
+
+    if args.points:
+        with open(args.points, "w") as f:
+            f.write("t,y,v,x,w\n")
+            for p in res["points"]:
+                f.write(",".join("%.17g" % c for c in p) + "\n")
+
+    out = {"wall_s": statistics.median(walls), "steps": res["steps"],
+           "rhs_calls": res["nfev"], "nfev": res["nfev"],
+           "impacts": res["impacts"], "points": len(res["points"])}
+    if args.repeat > 1:
+        out["wall_all"] = walls
+    json.dump(out, sys.stdout)
+    sys.stdout.write("\n")
+
+
+if __name__ == "__main__":
+    main()

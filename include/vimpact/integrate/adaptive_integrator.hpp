@@ -1,0 +1,175 @@
+#pragma once
+// Step-size control around an embedded Runge-Kutta pair. One call to advance() makes one
+// accepted step (possibly after rejections); the interpolant of that step is built lazily, so
+// methods whose interpolant costs extra stages (DOP853) pay only on steps that need it.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "vimpact/core/state.hpp"
+#include "vimpact/integrate/runge_kutta.hpp"
+
+namespace vimpact {
+
+struct integrator_options {
+    double rtol = 1e-10;
+    double atol = 1e-10;
+    double h_max = std::numeric_limits<double>::infinity();
+    double h_init = 0.0;   // 0: estimated from the vector field (Hairer's algorithm)
+    double safety = 0.9;
+    double factor_min = 0.2;
+    double factor_max = 10.0;
+    // Proportional-integral step control (Gustafsson; Hairer's DOPRI5 uses 0.04): damps the
+    // accept/reject oscillation of a purely proportional controller (measured on the paper's
+    // model with DOP853 at 1e-10: 8 % fewer trial steps than beta = 0). 0: proportional.
+    double pi_beta = 0.04;
+};
+
+enum class step_status { ok, step_underflow, non_finite };
+
+struct integrator_counters {
+    long steps = 0;
+    long rejected = 0;
+    long rhs_calls = 0;
+    double h_min = std::numeric_limits<double>::infinity();
+    double h_max = 0.0;
+};
+
+template <int N, template <int> class Method>
+class adaptive_integrator {
+public:
+    using method_type = Method<N>;
+    using dense_type = typename method_type::dense_type;
+
+    explicit adaptive_integrator(const integrator_options& opt = {}) : m_opt(opt) {}
+
+    [[nodiscard]] const integrator_options& options() const { return m_opt; }
+    [[nodiscard]] const integrator_counters& counters() const { return m_count; }
+
+    // (Re)starts at (t, x). A positive h_hint carries the step size across a restart, e.g.
+    // after an impact, instead of estimating a new one.
+    template <class F>
+    void start(F&& rhs, double t, const vec<N>& x, double h_hint = 0.0)
+    {
+        m_t = t;
+        m_x = x;
+        m_f = rhs(x);
+        ++m_count.rhs_calls;
+        if (h_hint > 0.0)
+            m_h = std::min(h_hint, m_opt.h_max);
+        else if (m_opt.h_init > 0.0)
+            m_h = std::min(m_opt.h_init, m_opt.h_max);
+        else
+            m_h = initial_step(rhs);
+        m_dense_ready = false;
+        m_log_err_old = log_err_floor;
+    }
+
+    // One accepted step, ending no later than t_stop (> t()).
+    template <class F>
+    step_status advance(F&& rhs, double t_stop)
+    {
+        bool rejected_before = false;
+        for (;;) {
+            double h = std::min(m_h, m_opt.h_max);
+            bool clipped = false;
+            if (m_t + h >= t_stop) {
+                h = t_stop - m_t;
+                clipped = true;
+            }
+            const double h_floor = 16.0 * std::numeric_limits<double>::epsilon() *
+                                   std::max(1.0, std::abs(m_t));
+            if (!(h > h_floor) && !clipped) return step_status::step_underflow;
+
+            const double err =
+                m_method.attempt(rhs, m_x, m_f, h, m_opt.rtol, m_opt.atol, m_x_new, m_f_new);
+            m_count.rhs_calls += method_type::stages_per_step;
+            const bool finite = std::isfinite(err) && m_x_new.allFinite() && m_f_new.allFinite();
+            if (finite && err <= 1.0) {
+                // One log and one exp per step instead of two pow calls (pow alone was a
+                // quarter of all instructions of a DOPRI5 run).
+                const double k = method_type::error_exponent_order;
+                const double log_e = std::log(std::max(err, 1e-14));
+                double factor = m_opt.safety * std::exp(-(1.0 / k - 0.75 * m_opt.pi_beta) * log_e +
+                                                        m_opt.pi_beta * m_log_err_old);
+                m_log_err_old = std::max(log_e, log_err_floor);
+                factor = std::clamp(factor, m_opt.factor_min, m_opt.factor_max);
+                if (rejected_before) factor = std::min(factor, 1.0);
+                m_t_prev = m_t;
+                m_x_prev = m_x;
+                m_f_prev = m_f;
+                m_h_taken = h;
+                m_t = clipped ? t_stop : m_t + h;
+                m_x = m_x_new;
+                m_f = m_f_new;
+                // A step cut short by t_stop says nothing about the achievable size.
+                if (!clipped || factor < 1.0) m_h = h * factor;
+                ++m_count.steps;
+                m_count.h_min = std::min(m_count.h_min, h);
+                m_count.h_max = std::max(m_count.h_max, h);
+                m_dense_ready = false;
+                return step_status::ok;
+            }
+            ++m_count.rejected;
+            rejected_before = true;
+            const double factor =
+                finite ? std::max(m_opt.factor_min,
+                                  m_opt.safety * std::pow(err, -1.0 / method_type::error_exponent_order))
+                       : m_opt.factor_min;
+            m_h = h * factor;
+            if (!finite && !(m_h > h_floor)) return step_status::non_finite;
+        }
+    }
+
+    // Interpolant of the last accepted step [t_prev(), t()].
+    template <class F>
+    const dense_type& dense(F&& rhs)
+    {
+        if (!m_dense_ready) {
+            m_method.build_dense(rhs, m_t_prev, m_h_taken, m_x_prev, m_x, m_dense);
+            m_count.rhs_calls += method_type::dense_extra_stages;
+            m_dense_ready = true;
+        }
+        return m_dense;
+    }
+
+    [[nodiscard]] double t() const { return m_t; }
+    [[nodiscard]] const vec<N>& x() const { return m_x; }
+    [[nodiscard]] const vec<N>& f() const { return m_f; }
+    [[nodiscard]] double t_prev() const { return m_t_prev; }
+    [[nodiscard]] const vec<N>& x_prev() const { return m_x_prev; }
+    [[nodiscard]] const vec<N>& f_prev() const { return m_f_prev; }
+    [[nodiscard]] double step_size() const { return m_h; }
+    [[nodiscard]] double last_step() const { return m_h_taken; }
+
+private:
+    template <class F>
+    double initial_step(F&& rhs)
+    {
+        const vec<N> sc = error_scale<N>(m_x, m_x, m_opt.rtol, m_opt.atol);
+        const double d0 = std::sqrt(m_x.cwiseQuotient(sc).squaredNorm() / N);
+        const double d1 = std::sqrt(m_f.cwiseQuotient(sc).squaredNorm() / N);
+        double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+        h0 = std::min(h0, m_opt.h_max);
+        const vec<N> x1 = m_x + h0 * m_f;
+        const vec<N> f1 = rhs(x1);
+        ++m_count.rhs_calls;
+        const double d2 = std::sqrt((f1 - m_f).cwiseQuotient(sc).squaredNorm() / N) / h0;
+        const double dmax = std::max(d1, d2);
+        const double h1 = dmax <= 1e-15 ? std::max(1e-6, h0 * 1e-3)
+                                        : std::pow(0.01 / dmax, 1.0 / method_type::order);
+        return std::min({100.0 * h0, h1, m_opt.h_max});
+    }
+
+    integrator_options m_opt;
+    integrator_counters m_count;
+    method_type m_method;
+    dense_type m_dense;
+    bool m_dense_ready = false;
+    static constexpr double log_err_floor = -9.210340371976184;  // log(1e-4), Hairer's floor
+    double m_log_err_old = log_err_floor;
+    double m_t = 0.0, m_t_prev = 0.0, m_h = 0.0, m_h_taken = 0.0;
+    vec<N> m_x, m_f, m_x_prev, m_f_prev, m_x_new, m_f_new;
+};
+
+}  // namespace vimpact

@@ -1,0 +1,157 @@
+#pragma once
+// Locating the crossings of a scalar event function g(theta) on one step's interpolant,
+// theta in [0, 1].
+//
+// A *downward* crossing is a passage from g > 0 to g <= 0; the crossing time is the left-open
+// interval (0, 1], so a root exactly at a step boundary belongs to the step that ends there
+// and is not seen again by the next step (which starts with g = 0, not g > 0). Upward
+// crossings are downward crossings of -g.
+//
+// Grazing safety: g may dip below zero and come back between two samples that are both
+// positive. Every interior extremum is therefore located (as a root of g', which the
+// interpolant gives exactly) and the dip is split there, so such a crossing is found.
+// The screening uses the exact values and slopes at the step ends: an interior extremum
+// shows as a sign change of the slope. An event function whose slope changes sign twice
+// within one step (two extrema in one step) can escape the screening; the steps of a
+// tolerance-controlled integrator are far shorter than the oscillation periods where this
+// could happen.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace vimpact {
+
+enum class crossing_direction { down, up };
+
+struct scalar_sample {
+    double value;  // g
+    double slope;  // dg/dtheta
+};
+
+namespace detail {
+
+// Root of g on [a, b] with g(a) > 0 >= g(b): safeguarded Newton, returns a point with
+// g <= 0 (the side the crossing leads to), as close to the root as doubles allow.
+template <class G>
+double newton_bracketed(G&& g, double a, double b, double gb)
+{
+    if (gb == 0.0) return b;
+    double x = 0.5 * (a + b);
+    for (int it = 0; it < 100; ++it) {
+        const scalar_sample s = g(x);
+        if (s.value > 0.0) a = x;
+        else b = x;
+        if (s.value == 0.0) return x;
+        const double width = b - a;
+        if (width <= 2.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(b)))
+            break;
+        double next = (s.slope != 0.0) ? x - s.value / s.slope : 0.5 * (a + b);
+        if (!(next > a && next < b)) next = 0.5 * (a + b);
+        // Newton steps that stall (much smaller than the bracket) fall back to bisection
+        // every few iterations to keep the bracket shrinking.
+        if (it % 8 == 7) next = 0.5 * (a + b);
+        if (next == x) next = 0.5 * (a + b);
+        x = next;
+    }
+    return b;
+}
+
+// Root of the slope on [a, b] where it changes sign (an extremum of g): Illinois
+// regula falsi on the slope alone.
+template <class G>
+double extremum_bracketed(G&& g, double a, double sa, double b, double sb)
+{
+    int side = 0;
+    for (int it = 0; it < 80; ++it) {
+        if (b - a <= 4.0 * std::numeric_limits<double>::epsilon()) break;
+        double x = (a * sb - b * sa) / (sb - sa);
+        if (!(x > a && x < b)) x = 0.5 * (a + b);
+        const double sx = g(x).slope;
+        if (sx == 0.0) return x;
+        if ((sx > 0.0) == (sa > 0.0)) {
+            a = x;
+            sa = sx;
+            if (side == -1) sb *= 0.5;
+            side = -1;
+        } else {
+            b = x;
+            sb = sx;
+            if (side == 1) sa *= 0.5;
+            side = 1;
+        }
+    }
+    return 0.5 * (a + b);
+}
+
+}  // namespace detail
+
+// Finds the downward crossings of g on (0, 1] in increasing order and calls on_root(theta)
+// for each; on_root returns false to stop the search (a terminal event). `g(theta)` returns
+// value and slope; the end samples are passed in because they are known exactly.
+// Returns the number of crossings reported.
+template <class G, class OnRoot>
+int find_down_crossings(G&& g, scalar_sample s0, scalar_sample s1, OnRoot&& on_root,
+                        int subdivisions = 8)
+{
+    // Screening: no crossing possible without a sign change to <= 0, and no dip without an
+    // interior minimum (slope from negative to positive) or maximum (from the g <= 0 side).
+    const bool ends_down = s0.value > 0.0 && s1.value <= 0.0;
+    const bool interior_min = s0.slope < 0.0 && s1.slope > 0.0;
+    const bool interior_max = s0.slope > 0.0 && s1.slope < 0.0;
+    if (!ends_down && !(interior_min && s1.value > 0.0) &&
+        !(interior_max && s1.value <= 0.0 && s0.value <= 0.0))
+        return 0;
+
+    // Sample the interpolant; split at every extremum so each piece is monotone.
+    constexpr int max_points = 2 * 32 + 2;
+    subdivisions = std::clamp(subdivisions, 1, 32);
+    std::array<double, max_points> th{};
+    std::array<scalar_sample, max_points> gs{};
+    int n = 0;
+    double prev_t = 0.0;
+    scalar_sample prev = s0;
+    th[n] = 0.0;
+    gs[n++] = s0;
+    for (int k = 1; k <= subdivisions; ++k) {
+        const double t = static_cast<double>(k) / subdivisions;
+        const scalar_sample cur = (k == subdivisions) ? s1 : g(t);
+        if ((prev.slope < 0.0 && cur.slope > 0.0) || (prev.slope > 0.0 && cur.slope < 0.0)) {
+            const double te = detail::extremum_bracketed(g, prev_t, prev.slope, t, cur.slope);
+            if (te > prev_t && te < t) {
+                th[n] = te;
+                gs[n++] = g(te);
+            }
+        }
+        th[n] = t;
+        gs[n++] = cur;
+        prev_t = t;
+        prev = cur;
+    }
+
+    int found = 0;
+    for (int i = 0; i + 1 < n; ++i) {
+        if (gs[i].value > 0.0 && gs[i + 1].value <= 0.0) {
+            const double root = detail::newton_bracketed(g, th[i], th[i + 1], gs[i + 1].value);
+            ++found;
+            if (!on_root(root)) return found;
+        }
+    }
+    return found;
+}
+
+template <class G, class OnRoot>
+int find_crossings(crossing_direction dir, G&& g, scalar_sample s0, scalar_sample s1,
+                   OnRoot&& on_root, int subdivisions = 8)
+{
+    if (dir == crossing_direction::down)
+        return find_down_crossings(g, s0, s1, on_root, subdivisions);
+    auto neg = [&](double t) {
+        const scalar_sample s = g(t);
+        return scalar_sample{-s.value, -s.slope};
+    };
+    return find_down_crossings(neg, scalar_sample{-s0.value, -s0.slope},
+                               scalar_sample{-s1.value, -s1.slope}, on_root, subdivisions);
+}
+
+}  // namespace vimpact

@@ -1,0 +1,167 @@
+#pragma once
+// Embedded explicit Runge-Kutta pairs with dense output: DOPRI5 (Dormand & Prince 5(4), with
+// Shampine's 4th-order interpolant) and DOP853 (8(5,3), 7th-order interpolant). Each method
+// takes a trial step, returns its scaled error norm, and builds its interpolant on request.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+#include "vimpact/core/state.hpp"
+#include "vimpact/integrate/dense_output.hpp"
+#include "vimpact/integrate/dop853_tableau.hpp"
+
+namespace vimpact {
+
+enum class rk_method { dopri5, dop853 };
+
+template <int N>
+inline vec<N> error_scale(const vec<N>& x0, const vec<N>& x1, double rtol, double atol)
+{
+    return (atol + rtol * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array()).matrix();
+}
+
+template <int N>
+class dopri5 {
+public:
+    static constexpr int order = 5;
+    static constexpr int error_exponent_order = 5;  // error ~ h^5 for the embedded pair
+    static constexpr int dense_terms = 4;
+    static constexpr int stages_per_step = 6;       // FSAL: the 7th stage is the next step's first
+    static constexpr int dense_extra_stages = 0;
+    static constexpr const char* name = "dopri5";
+    using dense_type = dense_segment<N, 4>;
+
+    // Trial step from (x, f = F(x)); writes x_new and f_new = F(x_new); returns the error norm.
+    template <class F>
+    double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
+                   double atol, vec<N>& x_new, vec<N>& f_new)
+    {
+        constexpr double a21 = 1.0 / 5.0;
+        constexpr double a31 = 3.0 / 40.0, a32 = 9.0 / 40.0;
+        constexpr double a41 = 44.0 / 45.0, a42 = -56.0 / 15.0, a43 = 32.0 / 9.0;
+        constexpr double a51 = 19372.0 / 6561.0, a52 = -25360.0 / 2187.0,
+                         a53 = 64448.0 / 6561.0, a54 = -212.0 / 729.0;
+        constexpr double a61 = 9017.0 / 3168.0, a62 = -355.0 / 33.0, a63 = 46732.0 / 5247.0,
+                         a64 = 49.0 / 176.0, a65 = -5103.0 / 18656.0;
+        constexpr double b1 = 35.0 / 384.0, b3 = 500.0 / 1113.0, b4 = 125.0 / 192.0,
+                         b5 = -2187.0 / 6784.0, b6 = 11.0 / 84.0;
+        constexpr double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
+                         e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
+        m_k[0] = f;
+        m_k[1] = rhs(vec<N>(x + h * a21 * m_k[0]));
+        m_k[2] = rhs(vec<N>(x + h * (a31 * m_k[0] + a32 * m_k[1])));
+        m_k[3] = rhs(vec<N>(x + h * (a41 * m_k[0] + a42 * m_k[1] + a43 * m_k[2])));
+        m_k[4] = rhs(vec<N>(x + h * (a51 * m_k[0] + a52 * m_k[1] + a53 * m_k[2] + a54 * m_k[3])));
+        m_k[5] = rhs(vec<N>(x + h * (a61 * m_k[0] + a62 * m_k[1] + a63 * m_k[2] + a64 * m_k[3] +
+                                     a65 * m_k[4])));
+        x_new = x + h * (b1 * m_k[0] + b3 * m_k[2] + b4 * m_k[3] + b5 * m_k[4] + b6 * m_k[5]);
+        f_new = rhs(x_new);
+        m_k[6] = f_new;
+        const vec<N> err =
+            h * (e1 * m_k[0] + e3 * m_k[2] + e4 * m_k[3] + e5 * m_k[4] + e6 * m_k[5] + e7 * m_k[6]);
+        const vec<N> sc = error_scale<N>(x, x_new, rtol, atol);
+        return std::sqrt(err.cwiseQuotient(sc).squaredNorm() / N);
+    }
+
+    // Interpolant of the last accepted step (no extra right-hand side calls).
+    template <class F>
+    void build_dense(F&&, double t0, double h, const vec<N>& x0, const vec<N>& x1,
+                     dense_type& out) const
+    {
+        constexpr double d1 = -12715105075.0 / 11282082432.0, d3 = 87487479700.0 / 32700410799.0,
+                         d4 = -10690763975.0 / 1880347072.0, d5 = 701980252875.0 / 199316789632.0,
+                         d6 = -1453857185.0 / 822651844.0, d7 = 69997945.0 / 29380423.0;
+        out.t0 = t0;
+        out.h = h;
+        out.x0 = x0;
+        const vec<N> dx = x1 - x0;
+        const vec<N> bspl = h * m_k[0] - dx;
+        out.c[0] = dx;
+        out.c[1] = bspl;
+        out.c[2] = dx - h * m_k[6] - bspl;
+        out.c[3] = h * (d1 * m_k[0] + d3 * m_k[2] + d4 * m_k[3] + d5 * m_k[4] + d6 * m_k[5] +
+                        d7 * m_k[6]);
+    }
+
+private:
+    std::array<vec<N>, 7> m_k;
+};
+
+template <int N>
+class dop853 {
+public:
+    static constexpr int order = 8;
+    static constexpr int error_exponent_order = 8;
+    static constexpr int dense_terms = 7;
+    static constexpr int stages_per_step = 12;
+    static constexpr int dense_extra_stages = 3;
+    static constexpr const char* name = "dop853";
+    using dense_type = dense_segment<N, 7>;
+
+    template <class F>
+    double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
+                   double atol, vec<N>& x_new, vec<N>& f_new)
+    {
+        namespace T = dop853_tableau;
+        m_k[0] = f;
+        // Stages unrolled at compile time; zero tableau entries cost nothing.
+        [&]<int... S>(std::integer_sequence<int, S...>) {
+            ((m_k[S + 1] = rhs(vec<N>(x + h * combine<S + 1, T::A[S + 1]>()))), ...);
+        }(std::make_integer_sequence<int, T::stages - 1>{});
+        x_new = x + h * combine<T::stages, T::B>();
+        f_new = rhs(x_new);
+        m_k[T::stages] = f_new;
+        const vec<N> e5 = combine<T::stages + 1, T::E5>();
+        const vec<N> e3 = combine<T::stages + 1, T::E3>();
+        const vec<N> sc = error_scale<N>(x, x_new, rtol, atol);
+        const double n5 = e5.cwiseQuotient(sc).squaredNorm();
+        const double n3 = e3.cwiseQuotient(sc).squaredNorm();
+        if (n5 == 0.0 && n3 == 0.0) return 0.0;
+        return std::abs(h) * n5 / std::sqrt((n5 + 0.01 * n3) * N);
+    }
+
+    // Needs three extra stages, so it is built only for steps where an event or a sample
+    // falls.
+    template <class F>
+    void build_dense(F&& rhs, double t0, double h, const vec<N>& x0, const vec<N>& x1,
+                     dense_type& out)
+    {
+        namespace T = dop853_tableau;
+        [&]<int... S>(std::integer_sequence<int, S...>) {
+            ((m_k[T::stages + 1 + S] = rhs(vec<N>(x0 + h * combine<T::stages + 1 + S, T::A[T::stages + 1 + S]>()))), ...);
+        }(std::make_integer_sequence<int, T::stages_extended - T::stages - 1>{});
+        out.t0 = t0;
+        out.h = h;
+        out.x0 = x0;
+        const vec<N> dx = x1 - x0;
+        out.c[0] = dx;
+        out.c[1] = h * m_k[0] - dx;
+        out.c[2] = 2.0 * dx - h * (m_k[T::stages] + m_k[0]);
+        out.c[3] = h * combine<T::stages_extended, T::D[0]>();
+        out.c[4] = h * combine<T::stages_extended, T::D[1]>();
+        out.c[5] = h * combine<T::stages_extended, T::D[2]>();
+        out.c[6] = h * combine<T::stages_extended, T::D[3]>();
+    }
+
+private:
+    // sum_{j < Count} coef[j] k_j, with the coefficients known at compile time.
+    template <int Count, const auto& Coef>
+    vec<N> combine() const
+    {
+        return [&]<int... J>(std::integer_sequence<int, J...>) {
+            vec<N> acc = vec<N>::Zero();
+            (add_term<Coef[J]>(acc, m_k[J]), ...);
+            return acc;
+        }(std::make_integer_sequence<int, Count>{});
+    }
+    template <double C>
+    static void add_term(vec<N>& acc, const vec<N>& k)
+    {
+        if constexpr (C != 0.0) acc += C * k;
+    }
+
+    std::array<vec<N>, dop853_tableau::stages_extended> m_k;
+};
+
+}  // namespace vimpact

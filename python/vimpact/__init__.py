@@ -1,0 +1,4 @@
+"""vimpact: nonlinear dynamics of a wake-induced vibro-impacting oscillator.
+
+This package holds the plotting helpers used by the command line (``vimpact.plot``).
+"""

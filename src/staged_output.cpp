@@ -1,0 +1,62 @@
+#include "vimpact/io/staged_output.hpp"
+
+#include <unistd.h>
+
+#include "vimpact/core/input_error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace vimpact {
+
+staged_output::staged_output(fs::path target) : m_target(std::move(target))
+{
+    std::error_code ec;
+    if (fs::exists(m_target, ec) && !fs::is_directory(m_target, ec))
+        throw input_error("--out " + m_target.string() + " exists and is not a directory");
+    fs::path parent = fs::absolute(m_target, ec).parent_path();
+    if (!fs::exists(parent, ec)) {
+        fs::create_directories(parent, ec);
+        if (ec) throw input_error("--out: cannot create " + parent.string() + ": " + ec.message());
+    }
+    m_staging = parent / (".vimpact-staging-" + m_target.filename().string() + "-" +
+                          std::to_string(::getpid()));
+    fs::remove_all(m_staging, ec);
+    fs::create_directories(m_staging, ec);
+    if (ec) throw input_error("--out: cannot write in " + parent.string() + ": " + ec.message());
+}
+
+staged_output::~staged_output()
+{
+    if (!m_committed) {
+        std::error_code ec;
+        fs::remove_all(m_staging, ec);
+    }
+}
+
+fs::path staged_output::file(const std::string& name)
+{
+    m_files.push_back(name);
+    return m_staging / name;
+}
+
+void staged_output::commit()
+{
+    std::error_code ec;
+    if (!fs::exists(m_target, ec)) {
+        fs::rename(m_staging, m_target, ec);
+        if (!ec) {
+            m_committed = true;
+            return;
+        }
+        fs::create_directories(m_target, ec);
+    }
+    for (const auto& entry : fs::directory_iterator(m_staging)) {
+        fs::rename(entry.path(), m_target / entry.path().filename(), ec);
+        if (ec) throw std::runtime_error("cannot move " + entry.path().string() + " into " +
+                                         m_target.string() + ": " + ec.message());
+    }
+    fs::remove_all(m_staging, ec);
+    m_committed = true;
+}
+
+}  // namespace vimpact
