@@ -1,0 +1,40 @@
+"""Reads the outputs of bench/run_benchmarks.sh and prints the Markdown comparison table."""
+import json
+import os
+import sys
+
+import numpy as np
+
+
+def ys(path):
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return data[:, 1]
+
+
+def main(d):
+    ref = ys(os.path.join(d, "ref", "sections.csv"))
+    bench = json.load(open(os.path.join(d, "bench.json")))
+    rows = []
+    for b in bench["benchmarks"]:
+        if b.get("aggregate_name") != "median":
+            continue
+        method = b["run_name"].split("/")[1]
+        wall = b["real_time"] / 1000.0  # ms -> s
+        rows.append((f"vimpact {method}", wall, int(b["steps"]), int(b["rhs_calls"]),
+                     np.max(np.abs(ys(os.path.join(d, method, "sections.csv")) - ref))))
+    o = json.load(open(os.path.join(d, "odeint.json")))
+    rows.append(("Boost.Odeint dopri5 + bisection", o["wall_s"], o["steps"], o["rhs_calls"],
+                 np.max(np.abs(ys(os.path.join(d, "odeint.csv")) - ref))))
+    if os.path.exists(os.path.join(d, "scipy.json")):
+        s = json.load(open(os.path.join(d, "scipy.json")))
+        rows.append(("scipy solve_ivp RK45", s["wall_s"], s.get("steps", 0), s.get("rhs_calls", s.get("nfev", 0)),
+                     np.max(np.abs(ys(os.path.join(d, "scipy.csv")) - ref))))
+    ours = rows[0][1]
+    print("| implementation | median wall [ms] | accepted steps | rhs calls | steps/s | max abs error of y at section | time / vimpact dop853 |")
+    print("|---|---|---|---|---|---|---|")
+    for name, wall, steps, rhs, err in rows:
+        print(f"| {name} | {wall * 1e3:.2f} | {steps} | {rhs} | {steps / wall:.3g} | {err:.1e} | {wall / ours:.2f} |")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
