@@ -4,12 +4,15 @@
 // chattering resolved into a sticking phase.
 //
 // Chattering and sticking (the rule, see docs/model.md): an impact whose rebound velocity
-// r |v-| is below `sticking_velocity` while the free acceleration at rest on the barrier,
+// u = r |v-| is below `sticking_velocity`, or whose hop height u^2 / (2 |a|) is below
+// sticking_height() (not resolvable in y near the barrier), while the free acceleration at rest on the barrier,
 // a(sigma, 0, x, w), does not point away from it (a <= 0) ends a chatter sequence: the
 // structure sticks, y = sigma and v = 0, and the rest of the state follows the model's
 // constrained field. It is released when a(X) crosses zero upwards. With r < 1 the rebound
 // velocities of a chatter sequence shrink geometrically, so the rule is reached after about
-// log(sticking_velocity / v0) / log(r) impacts: a bounded, not infinite, number.
+// log(u_stop / v0) / log(r) impacts, u_stop = max(sticking_velocity, sqrt(2 |a| height)):
+// a bounded, not infinite, number. A step that leaves the barrier and ends below it without
+// the guard ever being positive (a hop below the resolution of y) also ends in sticking.
 #include <algorithm>
 #include <limits>
 #include <string>
@@ -34,11 +37,21 @@ struct flow_options {
     bool track_maxima = true;     // section v = 0, v decreasing (the paper's Sigma)
     bool track_minima = false;    // v = 0, v increasing
     double sticking_velocity = 1e-8;
+    // Hop height below which a rebound is not resolvable in y (< 0: 256 ulps of
+    // max(1, |sigma|)); see sticking_height().
+    double sticking_height = -1.0;
     double t_max = std::numeric_limits<double>::infinity();
     long max_steps = 200'000'000;
     long max_impacts = std::numeric_limits<long>::max();
     int event_subdivisions = 8;   // interpolant samples per step when an event may be inside
 };
+
+// The rebound hop height u^2 / (2 |a|) under which the structure counts as at rest.
+inline double sticking_height(const flow_options& o, double barrier)
+{
+    if (o.sticking_height >= 0.0) return o.sticking_height;
+    return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(barrier));
+}
 
 // Default (no-op) observer; derive and shadow what you need.
 struct flow_observer {
@@ -179,6 +192,17 @@ private:
             find_crossings(crossing_direction::down, g, s0, s1,
                            [&](double th) { theta_impact = th; return false; },
                            m_opt.event_subdivisions);
+            // A rebound too small for doubles: the step left the barrier (g = 0) and ended
+            // below it without g ever being positive, so no crossing exists to find. The
+            // hop was below the resolution of y; the structure is at rest on the barrier.
+            if (theta_impact > 1.0 && s0.value == 0.0 && s1.value < 0.0) {
+                state rest = x0;
+                rest[Model::velocity] = 0.0;
+                if (m_model.free_acceleration(rest) <= 0.0) {
+                    enter_sticking(obs, t0, rest);
+                    return step_status::ok;
+                }
+            }
         }
 
         // Sections (non-terminal) up to the impact, in time order.
@@ -241,14 +265,29 @@ private:
         m_x = post;
         state rest = post;
         rest[Model::velocity] = 0.0;
-        if (post[Model::velocity] < m_opt.sticking_velocity && m_model.free_acceleration(rest) <= 0.0) {
-            m_x = rest;
-            m_mode = flow_mode::sticking;
-            ++m_stats.sticking_phases;
-            if (!m_stop) obs.on_stick(m_t, m_x);
+        const double a_rest = m_model.free_acceleration(rest);
+        const double u = post[Model::velocity];
+        // The rebound is negligible if slow, or if its hop height u^2 / (2 |a|) is too small
+        // to resolve in y near the barrier.
+        const double hop = sticking_height(m_opt, m_model.barrier());
+        const bool negligible = u < m_opt.sticking_velocity || (a_rest < 0.0 && u * u < 2.0 * hop * -a_rest);
+        if (negligible && a_rest <= 0.0) {
+            enter_sticking(obs, m_t, rest);
+            return step_status::ok;
         }
         restart(m_integ.step_size());
         return step_status::ok;
+    }
+
+    template <class Observer>
+    void enter_sticking(Observer& obs, double t, const state& rest)
+    {
+        m_t = t;
+        m_x = rest;
+        m_mode = flow_mode::sticking;
+        ++m_stats.sticking_phases;
+        if (!m_stop) obs.on_stick(m_t, m_x);
+        restart(m_integ.step_size());
     }
 
     template <class Observer>
