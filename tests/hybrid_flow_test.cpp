@@ -384,6 +384,28 @@ compression_chatter compression_closed_form(double y0, double sigma, double r, d
     return c;
 }
 
+// The free oscillator (F = 0, zeta = 0) dropped from (y0, 0, 0) onto a barrier above its
+// equilibrium, run until 5 time units after the closed-form sticking time.
+struct chatter_run {
+    compression_chatter cf;
+    double stop_speed;
+    recorder rec;
+    vimpact::run_stats stats;
+    outcome status = outcome::ok;
+};
+
+chatter_run run_compression_chatter(double sigma, double y0, double r)
+{
+    const auto m = oscillator(0.0, 0.0, 0.8, sigma, r);
+    auto o = options(1e-12, 0.0);
+    chatter_run c;
+    c.stop_speed = stop_speed(o, sigma, sigma);
+    c.cf = compression_closed_form(y0, sigma, r, c.stop_speed);
+    o.t_max = c.cf.t_stick + 5.0;
+    c.rec = run_flow(m, o, X3(y0, 0.0, 0.0), &c.status, &c.stats, true);
+    return c;
+}
+
 }  // namespace
 
 // Complete chatter: above its equilibrium (sigma > 0, F = 0) the structure falls back onto the
@@ -397,18 +419,13 @@ compression_chatter compression_closed_form(double y0, double sigma, double r, d
 TEST(HybridFlow, CompressionChatterEndsInSticking)
 {
     const double sigma = 1.0 / 64.0, r = 0.8, y0 = 2.0 * sigma;
-    const auto m = oscillator(0.0, 0.0, 0.8, sigma, r);
-    auto o = options(1e-12, 0.0);
-    const auto cf = compression_closed_form(y0, sigma, r, stop_speed(o, sigma, sigma));
-    o.t_max = cf.t_stick + 5.0;
+    const auto [cf, u_stop, rec, stats, st] = run_compression_chatter(sigma, y0, r);
+    const double t_max = cf.t_stick + 5.0;
     // The count must not sit on a rounding knife edge.
-    const double k_real = std::log(stop_speed(o, sigma, sigma) / cf.v0) / std::log(r);
+    const double k_real = std::log(u_stop / cf.v0) / std::log(r);
     ASSERT_GT(std::abs(k_real - std::round(k_real)), 0.05);
     EXPECT_EQ(cf.impacts, static_cast<int>(std::floor(k_real)) + 1);
 
-    outcome st;
-    vimpact::run_stats stats;
-    const recorder rec = run_flow(m, o, X3(y0, 0.0, 0.0), &st, &stats, true);
     EXPECT_EQ(st, outcome::time_limit);
     EXPECT_EQ(stats.sticking_phases, 1);
     ASSERT_EQ(rec.stick_t.size(), 1u);
@@ -420,7 +437,7 @@ TEST(HybridFlow, CompressionChatterEndsInSticking)
     EXPECT_NEAR(rec.stick_t[0], cf.t_stick, 1e-8);
     EXPECT_EQ(rec.stick_x[0][0], sigma);
     EXPECT_EQ(rec.stick_x[0][1], 0.0);
-    EXPECT_NEAR(stats.sticking_time, o.t_max - cf.t_stick, 1e-8);
+    EXPECT_NEAR(stats.sticking_time, t_max - cf.t_stick, 1e-8);
     EXPECT_GE(rec.min_y, sigma - 1e-12) << "below the barrier at t = " << rec.t_min_y;
     EXPECT_LT(stats.steps, 20000);  // bounded work
 }
@@ -432,13 +449,8 @@ TEST(HybridFlow, CompressionChatterEndsInSticking)
 // the timing resolution of those hops (~ulp/u per hop, summed geometrically: < 3e-7).
 TEST(HybridFlow, UnitScaleCompressionChatterEndsInSticking)
 {
-    const double sigma = 0.5, r = 0.8;
-    const auto m = oscillator(0.0, 0.0, 0.8, sigma, r);
-    auto o = options(1e-12, 0.0);
-    const auto cf = compression_closed_form(1.0, sigma, r, stop_speed(o, sigma, sigma));
-    o.t_max = cf.t_stick + 5.0;
-    vimpact::run_stats stats;
-    const recorder rec = run_flow(m, o, X3(1.0, 0.0, 0.0), nullptr, &stats, true);
+    const double sigma = 0.5;
+    const auto [cf, u_stop, rec, stats, st] = run_compression_chatter(sigma, 1.0, 0.8);
     EXPECT_EQ(stats.sticking_phases, 1);
     ASSERT_EQ(rec.stick_t.size(), 1u);
     EXPECT_LE(std::abs(static_cast<int>(rec.impacts.size()) - cf.impacts), 1);
@@ -563,13 +575,8 @@ TEST(HybridFlow, UnitScaleForcedChatterStaysAboveBarrier)
 // barrier to y ~ -4. It must stick instead.
 TEST(HybridFlow, LargeBarrierCompressionChatterSticks)
 {
-    const double sigma = 4.0, r = 0.8;
-    const auto m = oscillator(0.0, 0.0, 0.8, sigma, r);
-    auto o = options(1e-12, 0.0);
-    const auto cf = compression_closed_form(5.0, sigma, r, stop_speed(o, sigma, sigma));
-    o.t_max = cf.t_stick + 5.0;
-    vimpact::run_stats stats;
-    const recorder rec = run_flow(m, o, X3(5.0, 0.0, 0.0), nullptr, &stats, true);
+    const double sigma = 4.0;
+    const auto [cf, u_stop, rec, stats, st] = run_compression_chatter(sigma, 5.0, 0.8);
     EXPECT_GE(rec.min_y, sigma - 1e-9) << "the orbit went below the barrier sigma = " << sigma
                                        << ": y = " << rec.min_y << " at t = " << rec.t_min_y;
     EXPECT_EQ(stats.sticking_phases, 1);
