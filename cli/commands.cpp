@@ -1,125 +1,31 @@
+// The single-run commands: simulate, period, grazing.
 #include "commands.hpp"
 
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdio>
-#include <cstdlib>
-#include <fstream>
-#include <iostream>
+#include <cmath>
+#include <memory>
+#include <optional>
 
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/core/input_error.hpp"
-#include "vimpact/io/build_info.hpp"
-#include "vimpact/io/csv_writer.hpp"
-#include "vimpact/io/staged_output.hpp"
+#include "output.hpp"
 
 namespace vimpact::cli {
 namespace {
 
-using json = nlohmann::json;
-
-json stats_json(const run_stats& s)
-{
-    return {{"steps", s.steps},
-            {"rejected", s.rejected},
-            {"rhs_calls", s.rhs_calls},
-            {"impacts", s.impacts},
-            {"sections", s.sections},
-            {"sticking_phases", s.sticking_phases},
-            {"sticking_time", s.sticking_time},
-            {"h_min", std::isfinite(s.h_min) ? json(s.h_min) : json(nullptr)},
-            {"h_max", s.h_max},
-            {"t_final", s.t_final}};
-}
-
-// Calls f.template operator()<Method>() for the configured integrator.
-template <class F>
-decltype(auto) with_method(const std::string& method, F&& f)
-{
-    if (method == "dopri5") return f.template operator()<dopri5>();
-    return f.template operator()<dop853>();
-}
-
-json record_header(const char* command, const run_config& c)
-{
-    json j;
-    j["command"] = command;
-    j["version"] = std::string(version());
-    j["git_hash"] = std::string(git_hash());
-    j["config"] = c.to_json();
-    return j;
-}
-
-void write_json(const std::filesystem::path& p, const json& j)
-{
-    std::ofstream out(p);
-    out << j.dump(2) << '\n';
-    if (!out) throw std::runtime_error("cannot write " + p.string());
-}
-
-void write_points(const std::filesystem::path& p, const std::vector<timed_state<4>>& pts)
-{
-    csv_writer w(p, {"t", "y", "ydot", "x", "xdot"});
-    for (const auto& s : pts) w.row({s.t, s.x[0], s.x[1], s.x[2], s.x[3]});
-    w.close();
-}
-
-void write_impacts(const std::filesystem::path& p, const std::vector<impact_event<4>>& imps)
-{
-    csv_writer w(p, {"t", "y", "ydot_before", "ydot_after", "x", "xdot"});
-    for (const auto& e : imps) w.row({e.t, e.pre[0], e.pre[1], e.post[1], e.pre[2], e.pre[3]});
-    w.close();
-}
-
-// Runs the plotting module of python/vimpact on a staged directory. A missing matplotlib
-// is reported, not fatal: the numbers are the result, the picture is a view of them.
-bool make_plot(const char* kind, const std::filesystem::path& dir)
-{
-    const std::string pydir(python_dir());
-    const std::string interp(python_interpreter());
-    const pid_t pid = ::fork();
-    if (pid < 0) return false;
-    if (pid == 0) {
-        const char* old = std::getenv("PYTHONPATH");
-        const std::string path = old && *old ? pydir + ":" + old : pydir;
-        ::setenv("PYTHONPATH", path.c_str(), 1);
-        ::setenv("MPLBACKEND", "Agg", 1);
-        const int stderr_copy = ::dup(2);
-        ::dup2(stderr_copy, 1);  // keep stdout clean for --json
-        std::string d = dir.string();
-        const char* argv[] = {interp.c_str(), "-m", "vimpact.plot", kind, d.c_str(), nullptr};
-        ::execv(interp.c_str(), const_cast<char* const*>(argv));
-        std::_Exit(127);
-    }
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
-void finish_output(staged_output& out, const char* kind, const run_config& c, json& record)
-{
-    const auto record_path = out.file("run.json");
-    write_json(record_path, record);  // the plot reads it
-    if (c.plot) {
-        if (make_plot(kind, out.staging_dir())) {
-            record["files"].push_back("plot.png");
-            write_json(record_path, record);
-        } else {
-            std::cerr << "vimpact: warning: the PNG could not be made (python3 with matplotlib needed)\n";
-        }
-    }
-    out.commit();
-}
-
-void print(const run_config& c, const json& summary, const std::string& text)
-{
-    if (c.json) std::cout << summary.dump() << '\n';
-    else std::cout << text;
-}
-
-}  // namespace
+struct simulate_args {
+    common_args common;
+    double sample_dt = 0.05;
+};
+struct period_args {
+    common_args common;
+    double tol = 1e-8;
+};
+struct grazing_args {
+    common_args common;
+    double tol = 1e-11;
+    double transient_time = 1000.0;
+};
 
 int run_simulate(const simulate_args& a)
 {
@@ -250,6 +156,36 @@ int run_grazing(const grazing_args& a)
     if (c.out) text += "output written to " + *c.out + "\n";
     print(c, summary, text);
     return 0;
+}
+
+}  // namespace
+
+cli_command add_simulate_command(CLI::App& app)
+{
+    auto a = std::make_shared<simulate_args>();
+    auto* s = app.add_subcommand("simulate", "Run the protocol: discard a transient of impacts, record section points and the time series");
+    add_common_options(*s, a->common);
+    s->add_option("--dt", a->sample_dt, "Time-series sampling interval with --out (default 0.05)");
+    return {s, [a] { return run_simulate(*a); }};
+}
+
+cli_command add_period_command(CLI::App& app)
+{
+    auto a = std::make_shared<period_args>();
+    auto* p = app.add_subcommand("period", "Classify the attractor: P0, P1, P2, ..., aperiodic");
+    add_common_options(*p, a->common);
+    p->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
+    return {p, [a] { return run_period(*a); }};
+}
+
+cli_command add_grazing_command(CLI::App& app)
+{
+    auto a = std::make_shared<grazing_args>();
+    auto* g = app.add_subcommand("grazing", "Grazing value: minimum of y on the barrier-free attracting orbit");
+    add_common_options(*g, a->common);
+    g->add_option("--tol", a->tol, "Agreement of successive minima (default 1e-11)");
+    g->add_option("--transient-time", a->transient_time, "Time discarded before minima count (default 1000)");
+    return {g, [a] { return run_grazing(*a); }};
 }
 
 }  // namespace vimpact::cli
