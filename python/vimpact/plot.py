@@ -92,12 +92,22 @@ def section_points(directory, out_name="plot.png"):
     return path
 
 
+def _kinds():
+    """Plot kind (the first argument of ``python3 -m vimpact.plot``) -> function(directory).
+
+    Kinds of other analyses live in their own modules (plot_<topic>.py) and are listed here."""
+    return {
+        "simulate": timeseries_and_phase,
+        "period": section_points,
+    }
+
+
 def main(argv):
-    if len(argv) != 3 or argv[1] not in ("simulate", "period"):
-        print("usage: python3 -m vimpact.plot simulate|period DIR", file=sys.stderr)
+    kinds = _kinds()
+    if len(argv) != 3 or argv[1] not in kinds:
+        print(f"usage: python3 -m vimpact.plot {'|'.join(sorted(kinds))} DIR", file=sys.stderr)
         return 2
-    kind, directory = argv[1], argv[2]
-    (timeseries_and_phase if kind == "simulate" else section_points)(directory)
+    kinds[argv[1]](argv[2])
     return 0
 
 
