@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "sweep_commands.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
 
@@ -23,6 +24,10 @@ int main(int argc, char** argv)
         add_simulate_command(app),
         add_period_command(app),
         add_grazing_command(app),
+        add_sweep_command(app),
+        add_map_command(app),
+        add_basins_command(app),
+        add_response_command(app),
     };
 
     try {

@@ -30,6 +30,22 @@ void csv_writer::row(const std::vector<double>& values)
     m_out << line;
 }
 
+void csv_writer::text_row(const std::vector<std::string>& cells)
+{
+    if (cells.size() != m_columns)
+        throw std::logic_error("csv row has " + std::to_string(cells.size()) + " cells, header " +
+                               std::to_string(m_columns));
+    std::string line;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (cells[i].find_first_of(",\n") != std::string::npos)
+            throw std::logic_error("csv cell '" + cells[i] + "' contains a separator");
+        if (i) line += ',';
+        line += cells[i];
+    }
+    line += '\n';
+    m_out << line;
+}
+
 void csv_writer::close()
 {
     m_out.close();

@@ -13,6 +13,8 @@ public:
     csv_writer(const std::filesystem::path& path, const std::vector<std::string>& header);
     void row(std::initializer_list<double> values);
     void row(const std::vector<double>& values);
+    // Cells already formatted (labels next to numbers); they must not contain commas.
+    void text_row(const std::vector<std::string>& cells);
     void close();
 
 private:
