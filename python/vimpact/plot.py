@@ -96,9 +96,15 @@ def _kinds():
     """Plot kind (the first argument of ``python3 -m vimpact.plot``) -> function(directory).
 
     Kinds of other analyses live in their own modules (plot_<topic>.py) and are listed here."""
+    from . import plot_sweeps
+
     return {
         "simulate": timeseries_and_phase,
         "period": section_points,
+        "sweep": plot_sweeps.bifurcation,
+        "map": plot_sweeps.periodicity_map,
+        "basins": plot_sweeps.basins,
+        "response": plot_sweeps.response,
     }
 
 
