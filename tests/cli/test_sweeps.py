@@ -1,0 +1,204 @@
+"""The job-loop commands end to end: determinism across thread counts, shards, resume after a
+kill or Ctrl-C, the JSON contract, files written and bad input."""
+import json
+import os
+import signal
+import subprocess
+import time
+
+import pytest
+
+from test_cli import run, run_json
+
+# Small but real: 60 map cells of the paper's Fig. 4 region with a short protocol.
+MAP = ["map", "--x", "Ur:16:25:10", "--y", "sigma:-0.16:-0.02:6", "--transient", "100", "--record", "40",
+       "--tol", "1e-5"]
+
+
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+def test_sweep_json_contract_and_paper_labels(vimpact):
+    j = run_json(vimpact, "sweep", "--param", "Ur", "--range", "16:19:2")
+    assert j["labels"] == [[16.0, "P2"], [19.0, "P3"]]
+    assert j["section_points"] == 400
+    assert j["label_counts"] == {"P2": 1, "P3": 1}
+
+
+def test_sweep_is_identical_for_any_thread_count(vimpact, tmp_path):
+    args = ["sweep", "--param", "Ur", "--range", "20:25:11", "--transient", "200", "--no-plot"]
+    p1 = run(vimpact, *args, "--threads", "1", "--out", str(tmp_path / "t1"))
+    p2 = run(vimpact, *args, "--threads", "2", "--out", str(tmp_path / "t2"))
+    p5 = run(vimpact, *args, "--threads", "5", "--out", str(tmp_path / "t5"))
+    assert p1.returncode == p2.returncode == p5.returncode == 0, p1.stderr + p2.stderr + p5.stderr
+    for name in ("points.csv", "labels.csv"):
+        assert read(tmp_path / "t1" / name) == read(tmp_path / "t2" / name) == read(tmp_path / "t5" / name)
+
+
+def test_follow_mode_both_directions(vimpact, tmp_path):
+    j = run_json(vimpact, "sweep", "--param", "Ur", "--range", "14.5:15.5:5", "--ic-mode", "follow",
+                 "--direction", "both", "--transient", "200")
+    assert [v for v, _ in j["labels"]] == [14.5, 14.75, 15.0, 15.25, 15.5]
+    assert [v for v, _ in j["labels_down"]] == [15.5, 15.25, 15.0, 14.75, 14.5]
+    # Deterministic with two threads running the two branches at once.
+    k = run_json(vimpact, "sweep", "--param", "Ur", "--range", "14.5:15.5:5", "--ic-mode", "follow",
+                 "--direction", "both", "--transient", "200", "--threads", "1")
+    assert j == k
+
+
+def test_map_shards_combine_to_the_whole(vimpact, tmp_path):
+    whole = tmp_path / "whole"
+    p = run(vimpact, *MAP, "--no-plot", "--out", str(whole))
+    assert p.returncode == 0, p.stderr
+    sharded = tmp_path / "sharded"
+    for i in range(3):
+        q = run(vimpact, *MAP, "--no-plot", "--out", str(sharded), "--shard", f"{i}/3", "--threads", "1")
+        assert q.returncode == 0, q.stderr
+        # Only the last shard to finish writes the result.
+        assert os.path.exists(sharded / "labels.csv") == (i == 2)
+    assert read(whole / "labels.csv") == read(sharded / "labels.csv")
+    assert not os.path.exists(str(sharded) + ".jobs"), "the journal is removed when the run is complete"
+
+
+def test_rerun_with_resume_combines_shards_and_fills_gaps(vimpact, tmp_path):
+    whole = tmp_path / "whole"
+    assert run(vimpact, *MAP, "--no-plot", "--out", str(whole)).returncode == 0
+    out = tmp_path / "partial"
+    q = run(vimpact, *MAP, "--no-plot", "--out", str(out), "--shard", "1/4")
+    assert q.returncode == 0 and not os.path.exists(out)
+    r = run(vimpact, *MAP, "--no-plot", "--out", str(out), "--resume")
+    assert r.returncode == 0, r.stderr
+    assert read(whole / "labels.csv") == read(out / "labels.csv")
+
+
+def journal_lines(out):
+    total = 0
+    jdir = str(out) + ".jobs"
+    if os.path.isdir(jdir):
+        for f in os.listdir(jdir):
+            if f.endswith(".jsonl"):
+                total += read(os.path.join(jdir, f)).count("\n")
+    return total
+
+
+def interrupt_after(vimpact, args, out, lines, sig):
+    proc = subprocess.Popen([vimpact, *args, "--out", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while journal_lines(out) < lines and proc.poll() is None and time.time() < deadline:
+        time.sleep(0.01)
+    assert proc.poll() is None, "the run finished before it could be interrupted"
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    return proc.returncode, err
+
+
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT])
+def test_resume_after_interruption_equals_an_uninterrupted_run(vimpact, tmp_path, sig):
+    args = MAP[:] + ["--no-plot", "--threads", "2"]
+    args[2] = "Ur:16:25:20"  # 120 cells, long enough to interrupt
+    whole = tmp_path / "whole"
+    assert run(vimpact, *args, "--out", str(whole)).returncode == 0
+    out = tmp_path / "run"
+    code, err = interrupt_after(vimpact, args, out, 10, sig)
+    kept = journal_lines(out)
+    assert kept >= 10
+    assert not os.path.exists(out), "nothing is written to --out before the run is complete"
+    if sig == signal.SIGINT:
+        assert code == 130
+        assert "--resume" in err
+    else:
+        assert code == -signal.SIGKILL
+    # Without --resume the unfinished run is protected.
+    p = run(vimpact, *args, "--out", str(out))
+    assert p.returncode == 2 and "--resume" in p.stderr
+    r = run(vimpact, *args, "--out", str(out), "--resume")
+    assert r.returncode == 0, r.stderr
+    assert read(whole / "labels.csv") == read(out / "labels.csv")
+
+
+def test_resume_refuses_a_different_run(vimpact, tmp_path):
+    out = tmp_path / "o"
+    assert run(vimpact, *MAP, "--no-plot", "--out", str(out), "--shard", "0/2").returncode == 0
+    p = run(vimpact, *MAP, "--set", "r=0.7", "--no-plot", "--out", str(out), "--resume")
+    assert p.returncode == 2
+    assert "different run" in p.stderr
+
+
+def test_map_json_rows_and_picture(vimpact, tmp_path):
+    out = tmp_path / "m"
+    p = run(vimpact, *MAP, "--json", "--grazing", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    assert j["shape"] == [6, 10]
+    assert len(j["labels"]) == 6 and all(len(r) == 10 for r in j["labels"])
+    assert len(j["grazing"]) == 10
+    # Barriers far below the grazing line cannot be hit: P0 there, impacting labels above.
+    for (ur, g), col in zip(j["grazing"], zip(*j["labels"])):
+        for sigma, lab in zip(j["y_values"], col):
+            if sigma < g - 1e-3:
+                assert lab == "P0", (ur, sigma, g, lab)
+            if sigma > g + 1e-3:
+                assert lab != "P0", (ur, sigma, g, lab)
+    for f in ("labels.csv", "grazing.csv", "run.json", "plot.png"):
+        assert os.path.exists(out / f)
+
+
+def test_basins_find_the_coexisting_attractors(vimpact, tmp_path):
+    out = tmp_path / "b"
+    p = run(vimpact, "basins", "--set", "Ur=14.9", "--x", "y:-0.2:0.25:6", "--y", "ydot:-0.2:0.2:5",
+            "--json", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    assert sorted(j["attractors"]["labels"]) == ["P1", "P2"]
+    assert j["inadmissible_cells"] == 5  # the column y = -0.2 is below the barrier
+    assert os.path.exists(out / "plot.png")
+
+
+def test_response_curves(vimpact, tmp_path):
+    out = tmp_path / "r"
+    p = run(vimpact, "response", "--param", "Ur", "--range", "4:8:3", "--curves", "12:0.3,10:0.25",
+            "--json", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    assert len(j["curves"]) == 2
+    for c in j["curves"]:
+        assert len(c["amplitude"]) == 3
+        assert all(a > 0 for a in c["amplitude"])
+    c = j["curves"][0]
+    # The lock-in peak: the amplitude at Ur = 6 exceeds both ends (Figure 10a).
+    assert c["amplitude"][1] > max(c["amplitude"][0], c["amplitude"][2])
+    # The model is odd-symmetric, (y, v, x, w) -> -(y, v, x, w), and so is its limit cycle:
+    # the largest maximum of y equals minus the grazing value (the smallest minimum).
+    with open(out / "response.csv") as f:
+        header = f.readline().strip().split(",")
+        rows = [dict(zip(header, map(float, line.split(",")))) for line in f]
+    assert len(rows) == 6
+    for row in rows:
+        assert abs(row["y_max"] + row["sigma_graze"]) < 1e-9
+        assert row["amplitude"] == max(row["y_max"], -row["sigma_graze"])
+    assert os.path.exists(out / "response.csv") and os.path.exists(out / "plot.png")
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["sweep", "--param", "Q", "--range", "1:2:3"], "unknown parameter 'Q'"),
+    (["sweep", "--param", "Ur", "--range", "1:2"], "a:b:n"),
+    (["sweep", "--param", "Ur", "--range", "1:2:0"], "n must be"),
+    (["sweep", "--param", "Ur", "--range", "10:12:3", "--direction", "both"], "--ic-mode follow"),
+    (["sweep", "--param", "sigma", "--range", "-0.1:0.1:3"], "below the barrier"),
+    (["map", "--x", "Ur:10:12:2", "--y", "Ur:1:2:2"], "different parameters"),
+    (["map", "--x", "Ur:10:12:2", "--y", "r:0.5:0.8:2", "--grazing"], "needs sigma"),
+    (["basins", "--x", "z:0:1:2", "--y", "ydot:0:1:2"], "not one of y, ydot, x, xdot"),
+    (["map", "--x", "Ur:10:12:2", "--y", "r:0.5:0.8:2", "--shard", "2/2", "--out", "o"], "--shard"),
+    (["map", "--x", "Ur:10:12:2", "--y", "r:0.5:0.8:2", "--resume"], "--resume needs --out"),
+    (["response", "--param", "sigma", "--range", "0:1:2"], "barrier-free"),
+    (["response", "--param", "Ur", "--range", "4:5:2", "--curves", "12"], "A:eps"),
+])
+def test_bad_input_is_exit_code_2_and_names_the_input(vimpact, tmp_path, args, needle):
+    p = run(vimpact, *args, cwd=tmp_path)
+    assert p.returncode == 2, p.stderr
+    assert needle in p.stderr
+    assert p.stderr.startswith("vimpact: error:")
+    assert os.listdir(tmp_path) == []
