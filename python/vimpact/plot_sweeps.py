@@ -209,3 +209,40 @@ def response(directory, out_name="plot.png"):
     fig.savefig(path, dpi=130)
     plt.close(fig)
     return path
+
+
+def timeseries_overlay(out_path, directories, window=200.0):
+    """y(t) of several ``simulate --out`` runs in one picture (Figure 10c, d): the last
+    ``window`` time units of each, labelled by their A and eps, with their barrier."""
+    fig, ax = plt.subplots(figsize=(10, 4.5))
+    for k, d in enumerate(directories):
+        record = _record(d)
+        p = record["config"]["parameters"]
+        ts = read_csv(os.path.join(d, "timeseries.csv"))
+        t = ts["t"] - ts["t"][0]
+        keep = t >= t[-1] - window
+        ax.plot(t[keep] - t[keep][0], ts["y"][keep], lw=0.9, color=f"C{k}",
+                label=f"A = {p['A']:g}, eps = {p['eps']:.4g} (A/eps = {p['A'] / p['eps']:.3g})")
+        ax.axhline(p["sigma"], color=f"C{k}", lw=0.8, ls="--")
+    ax.set_xlabel(f"t (last {window:g} time units of the recorded window)")
+    ax.set_ylabel("y")
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title("structural displacement with the barrier (dashed)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out_path, dpi=130)
+    plt.close(fig)
+    return out_path
+
+
+def main(argv):
+    if len(argv) < 4 or argv[1] != "timeseries":
+        print("usage: python3 -m vimpact.plot_sweeps timeseries OUT.png DIR...", file=__import__("sys").stderr)
+        return 2
+    timeseries_overlay(argv[2], argv[3:])
+    return 0
+
+
+if __name__ == "__main__":
+    import sys
+
+    sys.exit(main(sys.argv))

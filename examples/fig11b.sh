@@ -1,0 +1,4 @@
+#!/usr/bin/env bash
+# Figure 11b: y at the section against Ur, 12 <= Ur <= 25, A = 10, eps = 0.2, sigma = -0.130979 (as printed).
+source "$(dirname "$0")/lib.sh"
+"$VIMPACT" sweep --set A=10 --set eps=0.2 --set sigma=-0.130979 --param Ur --range "12:25:$(pick 521 8)" --grazing "${PROTO[@]}" --out "$OUT/fig11b"

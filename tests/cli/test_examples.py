@@ -1,0 +1,28 @@
+"""Every figure script of examples/ runs in its --quick size and writes its picture."""
+import glob
+import os
+import subprocess
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+EXAMPLES = sorted(glob.glob(os.path.join(HERE, "..", "..", "examples", "fig*.sh")))
+
+
+def test_there_is_a_script_per_figure_of_the_issue():
+    names = {os.path.basename(p)[:-3] for p in EXAMPLES}
+    wanted = {"fig2a", "fig2b", "fig2c", "fig3", "fig4", "fig5a", "fig5b", "fig5g", "fig7", "fig8", "fig9",
+              "fig10a", "fig10b", "fig10c", "fig10d"} | {f"fig11{c}" for c in "abcdef"}
+    assert wanted <= names
+
+
+@pytest.mark.parametrize("script", EXAMPLES, ids=[os.path.basename(p) for p in EXAMPLES])
+def test_example_quick(vimpact, tmp_path, script):
+    env = dict(os.environ, VIMPACT=vimpact, OUT=str(tmp_path))
+    p = subprocess.run(["bash", script, "--quick"], capture_output=True, text=True, env=env, timeout=600)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "warning" not in p.stderr, p.stderr
+    name = os.path.basename(script)[:-3]
+    pngs = glob.glob(os.path.join(tmp_path, name, "**", "plot.png"), recursive=True)
+    assert pngs, f"{script} wrote no picture"
+    assert all(os.path.getsize(f) > 10_000 for f in pngs)
