@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "dimension_command.hpp"
 #include "sweep_commands.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
@@ -28,6 +29,7 @@ int main(int argc, char** argv)
         add_map_command(app),
         add_basins_command(app),
         add_response_command(app),
+        add_dimension_command(app),
     };
 
     try {

@@ -96,7 +96,7 @@ def _kinds():
     """Plot kind (the first argument of ``python3 -m vimpact.plot``) -> function(directory).
 
     Kinds of other analyses live in their own modules (plot_<topic>.py) and are listed here."""
-    from . import plot_sweeps
+    from . import plot_dimension, plot_sweeps
 
     return {
         "simulate": timeseries_and_phase,
@@ -105,6 +105,7 @@ def _kinds():
         "map": plot_sweeps.periodicity_map,
         "basins": plot_sweeps.basins,
         "response": plot_sweeps.response,
+        "dimension": plot_dimension.dimension,
     }
 
 

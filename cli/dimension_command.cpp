@@ -1,0 +1,353 @@
+// The dimension command: the correlation dimension (Grassberger–Procaccia sum or the paper's
+// centre counts) of the section points of a run of the model, or of the rows of a CSV file.
+#include "dimension_command.hpp"
+
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include <toml++/toml.h>
+
+#include "output.hpp"
+#include "vimpact/analysis/correlation_dimension.hpp"
+#include "vimpact/analysis/period.hpp"
+#include "vimpact/core/format.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/io/build_info.hpp"
+#include "vimpact/io/csv_writer.hpp"
+
+namespace vimpact::cli {
+namespace {
+
+// Without --record (or a config file that sets it), a dimension needs far more points than
+// the protocol's 200: the Eckmann–Ruelle bound allows at most 2 log10 N.
+constexpr long default_dimension_record = 20000;
+
+struct dimension_args {
+    common_args common;
+    std::string points_file;
+    std::string columns;
+    std::string estimator = "correlation_sum";
+    long theiler = 0;
+    int centres = 15;
+    std::string radii = "1e-4:0.06:1e-4";
+    std::string fit_range;
+    double slope_tolerance = scaling_options{}.slope_tolerance;
+    double slope_window = scaling_options{}.slope_window;
+    double min_extent = scaling_options{}.min_extent;
+    double min_pairs = static_cast<double>(scaling_options{}.min_pairs);
+    double max_correlation = scaling_options{}.max_correlation;
+    double r_max = std::numeric_limits<double>::infinity();
+    double max_pairs = static_cast<double>(dimension_options{}.max_pairs);
+    int bins_per_octave = correlation_sum_options{}.bins_per_octave;
+    std::string search = "grid";
+    int threads = 1;
+    double period_tol = 1e-8;
+};
+
+std::vector<std::string> split(const std::string& text, char sep)
+{
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (;;) {
+        const auto at = text.find(sep, start);
+        parts.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
+        if (at == std::string::npos) break;
+        start = at + 1;
+    }
+    return parts;
+}
+
+std::array<double, 2> parse_fit_range(const std::string& text)
+{
+    const auto p = split(text, ':');
+    if (p.size() != 2) throw input_error("--fit-range '" + text + "' must be r_min:r_max (valid: 0 < r_min < r_max)");
+    const double a = parse_number(p[0], "--fit-range r_min");
+    const double b = parse_number(p[1], "--fit-range r_max");
+    if (!(a > 0.0) || !(b > a))
+        throw input_error("--fit-range " + text + ": r_min must be > 0 and < r_max (valid: 0 < r_min < r_max)");
+    return {a, b};
+}
+
+centre_count_options parse_radii(const std::string& text, centre_count_options o)
+{
+    const auto p = split(text, ':');
+    if (p.size() != 3) throw input_error("--radii '" + text + "' must be r_min:r_max:step (valid: 0 < r_min <= r_max, step > 0)");
+    o.r_min = parse_number(p[0], "--radii r_min");
+    o.r_max = parse_number(p[1], "--radii r_max");
+    o.r_step = parse_number(p[2], "--radii step");
+    try {
+        (void)centre_radii(o);
+    } catch (const input_error& e) {
+        throw input_error("--radii " + text + ": " + e.what());
+    }
+    return o;
+}
+
+std::uint64_t parse_count(double v, const std::string& what, double lo)
+{
+    if (!(v >= lo) || v > 1e18 || v != std::floor(v))
+        throw input_error(what + " must be an integer >= " + format_double(lo) + " (got " + format_double(v) + ")");
+    return static_cast<std::uint64_t>(v);
+}
+
+// Everything the user asked for, checked before anything runs or is written.
+dimension_options make_options(const dimension_args& a)
+{
+    dimension_options o;
+    if (a.estimator == "correlation_sum") o.estimator = dimension_estimator::correlation_sum;
+    else if (a.estimator == "centres") o.estimator = dimension_estimator::centres;
+    else throw input_error("--estimator '" + a.estimator + "' is not one of correlation_sum, centres");
+    if (a.theiler < 0) throw input_error("--theiler must be >= 0 (got " + std::to_string(a.theiler) + ")");
+    o.correlation.theiler_window = a.theiler;
+    o.centre.theiler_window = a.theiler;
+    if (a.centres < 1) throw input_error("--centres must be >= 1 (got " + std::to_string(a.centres) + ")");
+    o.centre.centres = a.centres;
+    o.centre = parse_radii(a.radii, o.centre);
+    if (!(a.r_max > 0.0)) throw input_error("--r-max must be > 0 (got " + format_double(a.r_max) + ")");
+    o.correlation.r_max = a.r_max;
+    o.max_pairs = parse_count(a.max_pairs, "--max-pairs", 1.0);
+    try {
+        (void)detail::mantissa_bits(a.bins_per_octave);
+    } catch (const input_error& e) {
+        throw input_error(std::string("--bins-per-octave: ") + e.what());
+    }
+    o.correlation.bins_per_octave = a.bins_per_octave;
+    if (a.search == "grid") o.correlation.search = pair_search::grid;
+    else if (a.search == "kd_tree") o.correlation.search = pair_search::kd_tree;
+    else if (a.search == "brute_force") o.correlation.search = pair_search::brute_force;
+    else throw input_error("--search '" + a.search + "' is not one of grid, kd_tree, brute_force");
+    if (a.threads < 0 || a.threads > 1024) throw input_error("--threads must be in [0, 1024] (got " + std::to_string(a.threads) + ")");
+    o.correlation.threads = a.threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : a.threads;
+    o.scaling.slope_tolerance = a.slope_tolerance;
+    o.scaling.slope_window = a.slope_window;
+    o.scaling.min_extent = a.min_extent;
+    o.scaling.min_pairs = parse_count(a.min_pairs, "--min-pairs", 1.0);
+    o.scaling.max_correlation = a.max_correlation;
+    if (!a.fit_range.empty()) o.scaling.fit_range = parse_fit_range(a.fit_range);
+    try {
+        validate(o.scaling);
+    } catch (const input_error& e) {
+        throw input_error(std::string("scaling-region options: ") + e.what() +
+                          " (--slope-tolerance > 0, --slope-window > 1, --min-extent > 1, 0 < --max-correlation <= 1)");
+    }
+    if (!(a.period_tol > 0.0) || !std::isfinite(a.period_tol))
+        throw input_error("--tol must be > 0 (got " + format_double(a.period_tol) + ")");
+    return o;
+}
+
+// The model's options make no sense with --points: say so rather than ignore them.
+void reject_model_options(const CLI::App& app)
+{
+    for (const char* name : {"--preset", "--set", "--ic", "--config", "--rtol", "--atol", "--transient", "--record",
+                             "--method", "--section", "--tol"})
+        if (app.get_option(name)->count() > 0)
+            throw input_error(std::string(name) + " configures a run of the model; it cannot be combined with --points");
+}
+
+bool config_sets_record(const common_args& c)
+{
+    if (c.config.empty()) return false;
+    return toml::parse_file(c.config).contains("record");  // resolve() has already read it
+}
+
+json curve_summary(const dimension_result& r)
+{
+    const auto& f = r.fit;
+    std::uint64_t pairs_lo = 0, pairs_hi = 0;
+    if (f.fitted) {
+        pairs_lo = r.curve.pairs[f.first];
+        pairs_hi = r.curve.pairs[f.last];
+    }
+    json j = {{"dimension", finite_or_null(f.dimension)},
+              {"fit_range", {finite_or_null(f.r_min), finite_or_null(f.r_max)}},
+              {"r2", finite_or_null(f.r2)},
+              {"slope_error", finite_or_null(f.slope_error)},
+              {"slope_spread", finite_or_null(f.slope_spread)},
+              {"scaling_region", f.automatic ? (f.found ? "automatic" : "automatic, tolerance not met") : "user"},
+              {"scaling_region_found", f.found},
+              {"fitted_radii", f.fitted},
+              {"pairs_at_fit_range", {pairs_lo, pairs_hi}},
+              {"c_at_fit_range", {f.fitted ? finite_or_null(r.curve.c(f.first)) : json(nullptr),
+                                  f.fitted ? finite_or_null(r.curve.c(f.last)) : json(nullptr)}},
+              {"estimator", std::string(to_string(r.estimator))},
+              {"points", r.points},
+              {"coordinates", r.embedding},
+              {"total_pairs", r.curve.total_pairs},
+              {"radii", r.curve.size()}};
+    if (r.estimator == dimension_estimator::correlation_sum) {
+        j["r_cap"] = finite_or_null(r.r_cap);
+        j["all_pairs"] = r.all_pairs;
+        j["pairs_below_cap"] = r.curve.pairs.empty() ? 0 : r.curve.pairs.back();
+    } else {
+        j["centres"] = r.centres;
+    }
+    return j;
+}
+
+void write_curve(const std::filesystem::path& p, const dimension_result& r)
+{
+    csv_writer w(p, {"r", "C", "pairs", "local_slope", "in_fit"});
+    for (std::size_t k = 0; k < r.curve.size(); ++k) {
+        const bool in = r.fit.fitted && k >= r.fit.first && k <= r.fit.last;
+        w.row({r.curve.r[k], r.curve.c(k), static_cast<double>(r.curve.pairs[k]), r.fit.local_slope[k], in ? 1.0 : 0.0});
+    }
+    w.close();
+}
+
+void write_point_set(const std::filesystem::path& p, const point_set& ps, const std::vector<std::string>& names)
+{
+    csv_writer w(p, names);
+    std::vector<double> row(names.size());
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        for (int k = 0; k < ps.dim(); ++k) row[static_cast<std::size_t>(k)] = ps.coordinate(i, k);
+        w.row(row);
+    }
+    w.close();
+}
+
+std::string text_summary(const dimension_result& r, const std::string& source)
+{
+    const auto& f = r.fit;
+    std::string t = "correlation dimension " + (std::isfinite(f.dimension) ? format_double(std::round(f.dimension * 1e4) / 1e4) : "undetermined");
+    if (std::isfinite(f.slope_error)) t += " +- " + format_double(std::round(f.slope_error * 1e4) / 1e4) + " (fit)";
+    t += "\n" + std::string(to_string(r.estimator)) + " over " + std::to_string(r.points) + " points (" +
+         std::to_string(r.embedding) + " coordinates) from " + source + "\n";
+    if (f.fitted)
+        t += "fit range r = " + format_double(f.r_min) + " .. " + format_double(f.r_max) + " (" + std::to_string(f.fitted) +
+             " radii, " + (f.automatic ? (f.found ? "automatic" : "automatic; NO range met the slope tolerance") : "user") +
+             "), r2 " + (std::isfinite(f.r2) ? format_double(std::round(f.r2 * 1e6) / 1e6) : "undefined (C constant)") + "\n";
+    else
+        t += "no radii usable for a fit (too few pairs above the floor)\n";
+    return t;
+}
+
+int run_dimension(const dimension_args& a, const CLI::App& app)
+{
+    const bool from_file = !a.points_file.empty();
+    if (from_file) reject_model_options(app);
+    run_config c = resolve(a.common);
+    const dimension_options opt = make_options(a);
+
+    point_set ps;
+    std::vector<std::string> names;
+    json source;
+    std::optional<protocol_result<4>> run;
+    std::optional<period_label> label;
+    if (from_file) {
+        const point_table table = read_point_table(a.points_file);
+        const auto cols = select_columns(table.header, a.columns, "points file '" + a.points_file + "'");
+        for (auto k : cols) names.push_back(table.header[k]);
+        ps = make_point_set(table, cols);
+        source = {{"kind", "file"}, {"file", a.points_file}, {"columns", names}, {"rows", ps.size()}};
+    } else {
+        if (a.common.record_option->count() == 0 && !config_sets_record(a.common)) c.record = default_dimension_record;
+        const std::vector<std::string> state_names{"y", "ydot", "x", "xdot"};
+        // The model's section coordinates (y, x, w) unless --columns chooses others.
+        const auto cols = select_columns(state_names, a.columns.empty() ? "y,x,xdot" : a.columns, "the section states");
+        for (auto k : cols) names.push_back(state_names[k]);
+        const wake_impact model = c.model();
+        protocol_options po = c.protocol();
+        // The protocol's t_max (1e6) holds about 40 000 maxima; long records need longer.
+        po.flow.t_max = std::max(po.flow.t_max, 50.0 * static_cast<double>(c.transient + c.record));
+        run = with_method(c.method, [&]<template <int> class M>() { return run_protocol<M>(model, c.ic, po); });
+        label = classify_period(model, *run, a.period_tol);
+        ps = point_set(static_cast<int>(cols.size()));
+        ps.reserve(run->points.size());
+        std::vector<double> x(cols.size());
+        for (const auto& p : run->points) {
+            for (std::size_t k = 0; k < cols.size(); ++k) x[k] = p.x[static_cast<int>(cols[k])];
+            ps.push_back(x.data());
+        }
+        source = {{"kind", "model"},
+                  {"columns", names},
+                  {"outcome", std::string(to_string(run->status))},
+                  {"label", label->label},
+                  {"period_tolerance", a.period_tol},
+                  {"section", std::string(to_string(c.section))},
+                  {"record", c.record},
+                  {"section_points", run->points.size()},
+                  {"t_final", run->stats.t_final}};
+    }
+    if (ps.size() < 3)
+        throw input_error("the dimension needs at least 3 points; " +
+                          (from_file ? "points file '" + a.points_file + "' has " : std::string("the run recorded ")) +
+                          std::to_string(ps.size()));
+
+    const dimension_result r = correlation_dimension(ps, opt);
+
+    json summary = curve_summary(r);
+    summary["command"] = "dimension";
+    summary["source"] = source;
+    summary["theiler_window"] = a.theiler;
+    summary["out"] = c.out ? json(*c.out) : json(nullptr);
+    if (c.out) {
+        staged_output out(*c.out);
+        json record = from_file ? json{{"command", "dimension"},
+                                       {"version", std::string(version())},
+                                       {"git_hash", std::string(git_hash())},
+                                       {"config", {{"points_file", a.points_file}, {"columns", names}}}}
+                                : record_header("dimension", c);
+        record["options"] = {{"estimator", a.estimator},
+                             {"theiler", a.theiler},
+                             {"centres", a.centres},
+                             {"radii", a.radii},
+                             {"fit_range", a.fit_range},
+                             {"slope_tolerance", a.slope_tolerance},
+                             {"slope_window", a.slope_window},
+                             {"min_extent", a.min_extent},
+                             {"min_pairs", opt.scaling.min_pairs},
+                             {"max_correlation", a.max_correlation},
+                             {"r_max", finite_or_null(a.r_max)},
+                             {"max_pairs", opt.max_pairs},
+                             {"bins_per_octave", a.bins_per_octave},
+                             {"search", a.search}};
+        record["result"] = summary;
+        record["files"] = {"points.csv", "correlation.csv", "run.json"};
+        write_point_set(out.file("points.csv"), ps, names);
+        write_curve(out.file("correlation.csv"), r);
+        if (run) {
+            write_points(out.file("sections.csv"), run->points);
+            record["files"].push_back("sections.csv");
+        }
+        finish_output(out, "dimension", c, record);
+    }
+    std::string text = text_summary(r, from_file ? "'" + a.points_file + "'" : "a run (" + label->label + ", outcome " +
+                                                                                   std::string(to_string(run->status)) + ")");
+    if (c.out) text += "output written to " + *c.out + "\n";
+    print(c, summary, text);
+    return 0;
+}
+
+}  // namespace
+
+cli_command add_dimension_command(CLI::App& app)
+{
+    auto a = std::make_shared<dimension_args>();
+    auto* s = app.add_subcommand("dimension",
+                                 "Correlation dimension of the section points of a run (default --record 20000) or of a CSV file");
+    add_common_options(*s, a->common);
+    s->add_option("--points", a->points_file, "CSV file of points (header line, one point per row) instead of a run");
+    s->add_option("--columns", a->columns,
+                  "Coordinates used, comma-separated column names (run: y,x,xdot = the section coordinates; file: all but 't')");
+    s->add_option("--estimator", a->estimator, "correlation_sum (Grassberger-Procaccia, default) or centres (the paper's)");
+    s->add_option("--theiler", a->theiler, "Theiler window: pairs of points at most this many rows apart are not counted (default 0)");
+    s->add_option("--centres", a->centres, "centres estimator: number of centres (default 15, the paper's)");
+    s->add_option("--radii", a->radii, "centres estimator: radii r_min:r_max:step (default 1e-4:0.06:1e-4, the paper's)");
+    s->add_option("--fit-range", a->fit_range, "Fit over r_min:r_max instead of the automatic scaling region");
+    s->add_option("--slope-tolerance", a->slope_tolerance, "Scaling region: local slopes within +- this of each other (default 0.1)");
+    s->add_option("--slope-window", a->slope_window, "Local slope over a factor of this in r (default 4)");
+    s->add_option("--min-extent", a->min_extent, "Scaling region spans at least this factor in r (default 4)");
+    s->add_option("--min-pairs", a->min_pairs, "Floor: radii with fewer pairs closer are not used (default 100)");
+    s->add_option("--max-correlation", a->max_correlation, "Saturation: radii with C above this are not used (default 0.5)");
+    s->add_option("--r-max", a->r_max, "correlation_sum: count pairs closer than this only (default: from --max-pairs)");
+    s->add_option("--max-pairs", a->max_pairs, "correlation_sum: cap r so that about this many pairs are counted (default 1e8)");
+    s->add_option("--bins-per-octave", a->bins_per_octave, "correlation_sum: radii per factor 2 (power of two, default 16)");
+    s->add_option("--search", a->search, "correlation_sum: pair search grid (default), kd_tree or brute_force (same counts)");
+    s->add_option("--threads", a->threads, "correlation_sum: threads, 0 = all cores (default 1; same result)");
+    s->add_option("--tol", a->period_tol, "Period tolerance for the label of the run (default 1e-8)");
+    return {s, [a, s] { return run_dimension(*a, *s); }};
+}
+
+}  // namespace vimpact::cli

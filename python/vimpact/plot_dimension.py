@@ -1,0 +1,157 @@
+"""Plots of the correlation dimension (``vimpact dimension --out DIR``; the paper's Figure 6).
+
+``dimension(DIR)`` draws, from the files the command writes:
+  (a), (b) the points themselves (two projections of the coordinates used; the paper's
+           Figure 6a), with the centres circled for the centres estimator;
+  (c) log C vs log r with the fitted line and the scaling region shaded (Figure 6b);
+  (d) the local slope d log C / d log r, with the fitted dimension.
+
+``overlay(OUT_PNG, DIR, DIR, ...)`` draws the points of several runs in one projection (the
+paper's Figure 6c, d: sections for several Ur or sigma). Command line::
+
+    /usr/bin/python3 -m vimpact.plot_dimension overlay OUT.png DIR [DIR ...]
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from vimpact.plot import read_csv  # noqa: E402
+
+_LABELS = {"y": "y", "ydot": "dy/dt", "x": "x", "xdot": "dx/dt"}
+
+
+def _load(directory):
+    record = json.load(open(os.path.join(directory, "run.json")))
+    points = read_csv(os.path.join(directory, "points.csv"))
+    curve = read_csv(os.path.join(directory, "correlation.csv"))
+    return record, points, curve
+
+
+def _title(record):
+    cfg = record.get("config", {})
+    if "parameters" in cfg:
+        p = cfg["parameters"]
+        return (f"Ur = {p['Ur']:g}, sigma = {p['sigma']:g}, r = {p['r']:g}, A = {p['A']:g}, "
+                f"eps = {p['eps']:g} ({cfg['preset']} preset), section {cfg['section']}")
+    return f"points from {cfg.get('points_file', '?')}"
+
+
+def _run_label(record):
+    cfg = record.get("config", {})
+    if "parameters" in cfg:
+        p = cfg["parameters"]
+        return f"Ur = {p['Ur']:g}, sigma = {p['sigma']:g}"
+    return os.path.basename(cfg.get("points_file", "points"))
+
+
+def _projection(ax, points, names, i, j, centres=None):
+    x, y = points[names[i]], points[names[j]]
+    ax.plot(x, y, ",", color="C0", alpha=0.7) if len(x) > 5000 else ax.plot(x, y, ".", ms=2, color="C0")
+    if centres:
+        ax.plot(x[centres], y[centres], "o", mfc="none", mec="C3", ms=9, mew=1.2, label="centres")
+        ax.legend(fontsize=8, loc="best")
+    ax.set_xlabel(_LABELS.get(names[i], names[i]))
+    ax.set_ylabel(_LABELS.get(names[j], names[j]))
+
+
+def dimension(directory, out_name="plot.png"):
+    record, points, curve = _load(directory)
+    res = record["result"]
+    names = list(points.keys())
+    centres = res.get("centres")
+
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
+    (a1, a2), (a3, a4) = axes
+    if len(names) >= 2:
+        _projection(a1, points, names, 0, 1, centres)
+        a1.set_title(f"(a) {len(points[names[0]])} points", fontsize=10)
+        if len(names) >= 3:
+            _projection(a2, points, names, 1, 2, centres)
+            a2.set_title("(b) another projection", fontsize=10)
+        else:
+            a2.axis("off")
+    else:
+        v = points[names[0]]
+        a1.plot(v, np.zeros_like(v), "|", ms=10)
+        a1.set_xlabel(names[0])
+        a1.set_title(f"(a) {len(v)} points", fontsize=10)
+        a2.axis("off")
+
+    r, c, slope, fit = curve["r"], curve["C"], curve["local_slope"], curve["in_fit"] > 0.5
+    pos = c > 0
+    a3.loglog(r[pos], c[pos], ".", ms=3, color="C0", label="C(r)")
+    d = res["dimension"]
+    if fit.any() and d is not None:
+        rf = r[fit]
+        a3.axvspan(rf[0], rf[-1], color="C2", alpha=0.15, label="scaling region")
+        # ln C = intercept + d ln r over the fitted radii: draw the fitted line there.
+        lr, lc = np.log(rf), np.log(c[fit])
+        intercept = np.mean(lc) - d * np.mean(lr)
+        rr = np.array([rf[0], rf[-1]])
+        a3.loglog(rr, np.exp(intercept) * rr ** d, "-", color="C3", lw=1.5, label=f"slope {d:.3f}")
+    a3.set_xlabel("r")
+    a3.set_ylabel("C(r)")
+    a3.legend(fontsize=8, loc="lower right")
+    a3.set_title(f"(c) {res['estimator']}: nu = {d:.3f}" if d is not None else f"(c) {res['estimator']}",
+                 fontsize=10)
+
+    ok = np.isfinite(slope)
+    a4.semilogx(r[ok], slope[ok], ".", ms=3, color="C0", label="local slope")
+    if fit.any() and d is not None:
+        a4.axvspan(r[fit][0], r[fit][-1], color="C2", alpha=0.15)
+        a4.axhline(d, color="C3", lw=1.0, label=f"fitted {d:.3f}")
+    a4.set_xlabel("r")
+    a4.set_ylabel("d log C / d log r")
+    a4.set_title(f"(d) local slope; region {res['scaling_region']}", fontsize=10)
+    a4.legend(fontsize=8, loc="best")
+
+    fig.suptitle(_title(record), fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(directory, out_name)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def overlay(out_png, directories, columns=(0, 1)):
+    """Points of several runs in one projection (Figure 6c, d)."""
+    fig, ax = plt.subplots(figsize=(7, 5.5))
+    names = None
+    for k, directory in enumerate(directories):
+        record, points, _ = _load(directory)
+        names = list(points.keys())
+        i, j = columns
+        d = record["result"]["dimension"]
+        label = _run_label(record) + (f": nu = {d:.2f}" if d is not None else "")
+        ax.plot(points[names[i]], points[names[j]], ",", color=f"C{k % 10}")
+        ax.plot([], [], "s", color=f"C{k % 10}", label=label)
+    if names:
+        ax.set_xlabel(_LABELS.get(names[columns[0]], names[columns[0]]))
+        ax.set_ylabel(_LABELS.get(names[columns[1]], names[columns[1]]))
+    ax.legend(fontsize=8, loc="best")
+    ax.set_title("section points", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=120)
+    plt.close(fig)
+    return out_png
+
+
+def main(argv):
+    if len(argv) >= 4 and argv[1] == "overlay":
+        overlay(argv[2], argv[3:])
+        return 0
+    if len(argv) == 2:
+        dimension(argv[1])
+        return 0
+    print("usage: python3 -m vimpact.plot_dimension DIR | overlay OUT.png DIR [DIR ...]", file=sys.stderr)
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
