@@ -43,4 +43,41 @@ concept has_reset_jacobian = requires(const M& m, const vec<M::dim>& x) {
     { m.reset_jacobian(x) } -> std::convertible_to<mat<M::dim>>;
 };
 
+// Optional second derivatives, as bilinear forms D2(x)[u, w]; the second-order discontinuity
+// mapping (stability/discontinuity_map.hpp) needs the guard's and the reset's.
+template <class M>
+concept has_second_derivative = requires(const M& m, const vec<M::dim>& x) {
+    { m.second_derivative(x, x, x) } -> std::convertible_to<vec<M::dim>>;
+};
+
+template <class M>
+concept has_guard_hessian = requires(const M& m, const vec<M::dim>& x) {
+    { m.guard_hessian(x, x, x) } -> std::convertible_to<double>;
+};
+
+template <class M>
+concept has_reset_second_derivative = requires(const M& m, const vec<M::dim>& x) {
+    { m.reset_second_derivative(x, x, x) } -> std::convertible_to<vec<M::dim>>;
+};
+
+// div F = trace of the Jacobian, when the model knows it in closed form.
+template <class M>
+concept has_divergence = requires(const M& m, const vec<M::dim>& x) {
+    { m.divergence(x) } -> std::convertible_to<double>;
+};
+
+// b - a for states that live on a cylinder (a forcing phase): the difference modulo the
+// symmetry, so that points one forcing period apart coincide. Without it: b - a.
+template <class M>
+concept has_state_difference = requires(const M& m, const vec<M::dim>& x) {
+    { m.state_difference(x, x) } -> std::convertible_to<vec<M::dim>>;
+};
+
+template <class M>
+vec<M::dim> state_difference(const M& m, const vec<M::dim>& b, const vec<M::dim>& a)
+{
+    if constexpr (has_state_difference<M>) return m.state_difference(b, a);
+    else return b - a;
+}
+
 }  // namespace vimpact

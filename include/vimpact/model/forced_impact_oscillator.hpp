@@ -8,6 +8,7 @@
 // and their stability can be checked against exact values.
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string_view>
 
 #include "vimpact/core/state.hpp"
@@ -93,6 +94,22 @@ public:
         R(1, 1) = -m_p.r;
         R(2, 2) = 1.0;
         return R;
+    }
+    // The guard and the reset are affine, so their second derivatives vanish.
+    [[nodiscard]] double guard_hessian(const state&, const state&, const state&) const { return 0.0; }
+    [[nodiscard]] state reset_second_derivative(const state&, const state&, const state&) const
+    {
+        return state::Zero();
+    }
+
+    // b - a with the phase difference taken modulo 2 pi into (-pi, pi]: states one forcing
+    // period apart are the same point of the cylinder.
+    [[nodiscard]] state state_difference(const state& b, const state& a) const
+    {
+        state d = b - a;
+        constexpr double two_pi = 2.0 * std::numbers::pi;
+        d[2] -= two_pi * std::round(d[2] / two_pi);
+        return d;
     }
 
     [[nodiscard]] state sticking_rhs(const state&) const { return {0.0, 0.0, m_p.omega}; }

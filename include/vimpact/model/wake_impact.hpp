@@ -131,6 +131,12 @@ public:
         R(3, 3) = 1.0;
         return R;
     }
+    // The guard and the reset are affine, so their second derivatives vanish.
+    [[nodiscard]] double guard_hessian(const state&, const state&, const state&) const { return 0.0; }
+    [[nodiscard]] state reset_second_derivative(const state&, const state&, const state&) const
+    {
+        return state::Zero();
+    }
 
     // Sticking phase: the structure rests on the barrier (y = sigma, v = 0) while the wake
     // evolves with a = 0 in its equation.
