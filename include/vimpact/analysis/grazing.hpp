@@ -26,6 +26,7 @@ struct grazing_options {
     int block = 16;              // minima per block
     double tolerance = 1e-11;    // agreement of successive block minima
     double t_max = 1e5;
+    const std::atomic<bool>* cancel = nullptr;  // see flow_options::cancel
 };
 
 template <int N>
@@ -105,6 +106,7 @@ grazing_result<Model::dim> grazing_value(const Model& model, const vec<Model::di
     fo.track_maxima = true;
     fo.track_minima = true;
     fo.t_max = opt.t_max;
+    fo.cancel = opt.cancel;
     hybrid_flow<Model, Method> flow(model, fo);
     flow.start(0.0, x0);
     grazing_result<Model::dim> res;

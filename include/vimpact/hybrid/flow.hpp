@@ -14,6 +14,7 @@
 // a bounded, not infinite, number. A step that leaves the barrier and ends below it without
 // the guard ever being positive (a hop below the resolution of y) also ends in sticking.
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <string>
 
@@ -44,6 +45,9 @@ struct flow_options {
     long max_steps = 200'000'000;
     long max_impacts = std::numeric_limits<long>::max();
     int event_subdivisions = 8;   // interpolant samples per step when an event may be inside
+    // Polled after every step; when set, the run ends with outcome::interrupted. Lets a
+    // caller (a Python session's Ctrl-C, a job loop being stopped) cut a long run short.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 // The rebound hop height u^2 / (2 |a|) under which the structure counts as at rest.
@@ -112,6 +116,7 @@ public:
             if (m_integ.counters().steps >= m_opt.max_steps) return finish(outcome::step_limit);
             if (m_t >= m_opt.t_max) return finish(outcome::time_limit);
             if (m_stats.impacts >= m_opt.max_impacts) return finish(outcome::impact_limit);
+            if (m_opt.cancel && m_opt.cancel->load(std::memory_order_relaxed)) return finish(outcome::interrupted);
             const step_status st = (m_mode == flow_mode::free) ? step_free(obs) : step_sticking(obs);
             if (st == step_status::step_underflow) return finish(outcome::step_underflow);
             if (st == step_status::non_finite) return finish(outcome::non_finite);

@@ -11,6 +11,7 @@ enum class outcome {
     impact_limit,    // max_impacts reached before the stop condition
     step_underflow,  // the step size fell below what the time resolution allows
     non_finite,      // the state or the vector field became NaN or infinite
+    interrupted,     // the caller's cancel flag was set (Ctrl-C)
 };
 
 constexpr std::string_view to_string(outcome o)
@@ -22,6 +23,7 @@ constexpr std::string_view to_string(outcome o)
         case outcome::impact_limit: return "impact_limit";
         case outcome::step_underflow: return "step_underflow";
         case outcome::non_finite: return "non_finite";
+        case outcome::interrupted: return "interrupted";
     }
     return "unknown";
 }
