@@ -236,7 +236,12 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
     std::optional<protocol_result<4>> run;
     std::optional<period_label> label;
     if (from_file) {
-        const point_table table = read_point_table(a.points_file);
+        point_table table;
+        try {
+            table = read_point_table(a.points_file);
+        } catch (const input_error& e) {
+            throw input_error(std::string("--points: ") + e.what());
+        }
         const auto cols = select_columns(table.header, a.columns, "points file '" + a.points_file + "'");
         for (auto k : cols) names.push_back(table.header[k]);
         ps = make_point_set(table, cols);

@@ -606,7 +606,9 @@ inline line_fit least_squares(const std::vector<double>& x, const std::vector<do
     f.slope = sxy / sxx;
     f.intercept = my - f.slope * mx;
     const double ssr = std::max(0.0, syy - f.slope * sxy);
-    if (syy > 0.0) f.r2 = 1.0 - ssr / syy;
+    // r2 says how much of the variation of ln C the line explains: undefined when ln C does
+    // not vary (a periodic orbit's plateau), where syy is only rounding of identical values.
+    if (syy > 1e-24 * m * (1.0 + my * my)) f.r2 = 1.0 - ssr / syy;
     if (m > 2.0) f.slope_error = std::sqrt(ssr / (m - 2.0) / sxx);
     return f;
 }
