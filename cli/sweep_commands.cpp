@@ -12,6 +12,7 @@
 #include "output.hpp"
 #include "vimpact/analysis/attractor.hpp"
 #include "vimpact/analysis/grazing.hpp"
+#include "vimpact/analysis/job_points.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
@@ -51,43 +52,29 @@ std::vector<double> parse_range(const std::string& text, const std::string& what
 
 void check_parameter(const std::string& name, const std::string& what)
 {
-    if (!find_parameter(wake_impact_parameter_table(), name))
-        throw input_error(what + ": unknown parameter '" + name + "' (valid: " +
-                          parameter_names(wake_impact_parameter_table()) + ")");
+    check_parameter_name(wake_impact(), name, what);
 }
 
-// "P:a:b:n" -> a named axis; `names` (if not empty) are the valid names.
-axis parse_axis(const std::string& text, const std::string& what, const std::vector<std::string>& names)
+// "NAME:a:b:n" -> a named axis; NAME is a model parameter (map) or a state component (basins).
+axis parse_axis(const std::string& text, const std::string& what, bool state_component)
 {
     const auto colon = text.find(':');
     if (colon == std::string::npos || colon == 0)
         throw input_error(what + " '" + text + "' must be NAME:a:b:n");
     axis ax{text.substr(0, colon), parse_range(text.substr(colon + 1), what)};
-    if (names.empty()) {
-        check_parameter(ax.name, what);
-    } else if (std::find(names.begin(), names.end(), ax.name) == names.end()) {
-        std::string valid;
-        for (const auto& n : names) valid += (valid.empty() ? "" : ", ") + n;
-        throw input_error(what + ": '" + ax.name + "' is not one of " + valid);
-    }
+    if (state_component) (void)state_axis_index(wake_impact(), ax.name, what);
+    else check_parameter(ax.name, what);
     return ax;
 }
 
 json state_json(const vec<4>& x) { return {x[0], x[1], x[2], x[3]}; }
 vec<4> state_from(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>(), j[3].get<double>()}; }
 
-bool admissible(const wake_impact& m, const vec<4>& x)
-{
-    return !(m.guard(x) < 0.0 || (m.guard(x) == 0.0 && x[1] < 0.0));
-}
-
 // Grazing value of `model` (barrier-free, so independent of sigma), as the `grazing` command
 // computes it.
 grazing_result<4> grazing_of(const wake_impact& model, const run_config& c)
 {
-    grazing_options go;
-    go.integration.rtol = std::min(c.rtol, 1e-12);
-    go.integration.atol = std::min(c.atol, 1e-12);
+    const grazing_options go = job_grazing_options(c.protocol().flow.integration);
     return with_method(c.method, [&]<template <int> class M>() { return grazing_value<M>(model, c.ic, go); });
 }
 
@@ -108,10 +95,7 @@ json label_fields(const classified_run<4>& r)
             {"steps", r.run.stats.steps}};
 }
 
-void check_tol(double tol)
-{
-    if (!(tol > 0.0) || !std::isfinite(tol)) throw input_error("--tol must be > 0 (got " + format_double(tol) + ")");
-}
+void check_tol(double tol) { check_period_tolerance(tol, input_spelling::cli); }
 
 json label_counts(const std::vector<json>& records)
 {
@@ -151,7 +135,7 @@ struct sweep_args {
     std::string range;
     std::string ic_mode = "fixed";
     std::string direction = "up";
-    double tol = 1e-8;
+    double tol = default_period_tolerance;
     bool grazing = false;
 };
 
@@ -161,44 +145,22 @@ int run_sweep(const sweep_args& a)
     check_parameter(a.param, "--param");
     const auto values = parse_range(a.range, "--range");
     check_tol(a.tol);
-    if (a.ic_mode != "fixed" && a.ic_mode != "follow")
-        throw input_error("--ic-mode '" + a.ic_mode + "' is not one of fixed, follow");
-    if (a.direction != "up" && a.direction != "down" && a.direction != "both")
-        throw input_error("--direction '" + a.direction + "' is not one of up, down, both");
-    const bool follow = a.ic_mode == "follow";
-    if (!follow && a.direction == "both")
-        throw input_error("--direction both needs --ic-mode follow (with fixed starts both directions are the same runs)");
     const long n = static_cast<long>(values.size());
+    const sweep_plan plan = make_sweep_plan(n, a.ic_mode, a.direction, input_spelling::cli);
     const wake_impact base = c.model();
-    // Every point must be a valid model; fixed starts must be admissible everywhere.
-    for (double v : values) {
-        const wake_impact m = base.with(a.param, v);
-        if (!follow && !admissible(m, c.ic))
-            throw input_error("the initial state (y = " + format_double(c.ic[0]) + ") is below the barrier at " +
-                              a.param + " = " + format_double(v) + "; choose --ic or a range with y >= sigma");
-    }
-    if (follow && !admissible(base.with(a.param, a.direction == "down" ? values.back() : values.front()), c.ic))
-        throw input_error("the initial state is below the barrier at the first point of the sweep");
-
-    // Job j: branch (0 up, 1 down) and index into values.
-    const bool both = a.direction == "both";
-    const long chains = follow ? (both ? 2 : 1) : 0;
-    auto point_of = [&](long job) -> std::pair<int, long> {
-        if (both) return {static_cast<int>(job % 2), job % 2 == 0 ? job / 2 : n - 1 - job / 2};
-        if (a.direction == "down") return {1, n - 1 - job};
-        return {0, job};
-    };
+    check_sweep_starts(base, a.param, values, c.ic, plan, input_spelling::cli);
 
     job_command cmd;
     cmd.spec = {{"command", "sweep"}, {"config", c.to_json()}, {"param", a.param}, {"range", a.range},
                 {"ic_mode", a.ic_mode}, {"direction", a.direction}, {"tol", a.tol}, {"grazing", a.grazing}};
-    cmd.schedule = {both ? 2 * n : n, chains};
+    cmd.schedule = plan.schedule();
     cmd.out = c.out ? std::optional<fs::path>(*c.out) : std::nullopt;
     cmd.run = [&](long job, const json* prev) {
-        const auto [branch, i] = point_of(job);
+        const auto [branch, i] = plan.at(job);
         const double v = values[static_cast<std::size_t>(i)];
         const wake_impact m = base.with(a.param, v);
-        const vec<4> x0 = prev ? continue_from(m, state_from((*prev)["final_state"])) : c.ic;
+        const vec<4> previous_final = prev ? state_from((*prev)["final_state"]) : vec<4>::Zero();
+        const vec<4> x0 = sweep_start(m, prev ? &previous_final : nullptr, c.ic);
         const auto r = classify_at(m, x0, c, a.tol);
         json rec = label_fields(r);
         rec["value"] = v;
@@ -256,27 +218,20 @@ struct map_args {
     common_args common;
     job_args jobs;
     std::string x, y;
-    double tol = 1e-8;
+    double tol = default_period_tolerance;
     bool grazing = false;
 };
 
 int run_map(const map_args& a)
 {
     const run_config c = resolve(a.common);
-    const axis ax = parse_axis(a.x, "--x", {}), ay = parse_axis(a.y, "--y", {});
-    if (ax.name == ay.name) throw input_error("--x and --y must be different parameters (both are " + ax.name + ")");
+    const axis ax = parse_axis(a.x, "--x", false), ay = parse_axis(a.y, "--y", false);
+    check_map_axes(ax.name, ay.name, input_spelling::cli);
     check_tol(a.tol);
     const long nx = static_cast<long>(ax.values.size()), ny = static_cast<long>(ay.values.size());
     const wake_impact base = c.model();
-    for (double yv : ay.values)
-        for (double xv : ax.values)
-            if (!admissible(base.with(ax.name, xv).with(ay.name, yv), c.ic))
-                throw input_error("the initial state is below the barrier at " + ax.name + " = " + format_double(xv) +
-                                  ", " + ay.name + " = " + format_double(yv) + "; choose --ic or the ranges");
-    // The grazing line sigma_graze(P) needs sigma on one axis; it is computed once per value of
-    // the other axis, by the jobs of the first row (or column).
-    const int graze_axis = !a.grazing ? -1 : ay.name == "sigma" ? 0 : ax.name == "sigma" ? 1 : -2;
-    if (graze_axis == -2) throw input_error("--grazing needs sigma as --x or --y (the line is sigma_graze of the other parameter)");
+    check_map_starts(base, ax.name, ax.values, ay.name, ay.values, c.ic, input_spelling::cli);
+    const grazing_line graze = map_grazing_line(a.grazing, ax.name, ay.name, input_spelling::cli);
 
     job_command cmd;
     cmd.spec = {{"command", "map"}, {"config", c.to_json()}, {"x", a.x}, {"y", a.y}, {"tol", a.tol}, {"grazing", a.grazing}};
@@ -284,10 +239,10 @@ int run_map(const map_args& a)
     cmd.out = c.out ? std::optional<fs::path>(*c.out) : std::nullopt;
     cmd.run = [&](long job, const json*) {
         const long ix = job % nx, iy = job / nx;
-        const wake_impact m = base.with(ax.name, ax.values[static_cast<std::size_t>(ix)])
-                                  .with(ay.name, ay.values[static_cast<std::size_t>(iy)]);
+        const wake_impact m = map_model(base, ax.name, ax.values[static_cast<std::size_t>(ix)], ay.name,
+                                        ay.values[static_cast<std::size_t>(iy)]);
         json rec = label_fields(classify_at(m, c.ic, c, a.tol));
-        if ((graze_axis == 0 && iy == 0) || (graze_axis == 1 && ix == 0))
+        if (computes_grazing(graze, ix, iy))
             rec["sigma_graze"] = finite_or_null(grazing_of(m, c).sigma_graze);
         return rec;
     };
@@ -304,7 +259,7 @@ int run_map(const map_args& a)
         for (const auto& r : recs)
             if (r.contains("sigma_graze")) {
                 const long job = r["job"].get<long>();
-                const double other = graze_axis == 0 ? ax.values[static_cast<std::size_t>(job % nx)]
+                const double other = graze == grazing_line::along_x ? ax.values[static_cast<std::size_t>(job % nx)]
                                                      : ay.values[static_cast<std::size_t>(job / nx)];
                 grazing.push_back({other, r["sigma_graze"]});
             }
@@ -328,7 +283,7 @@ int run_map(const map_args& a)
             lab.close();
             std::vector<std::string> files{"labels.csv"};
             if (a.grazing) {
-                csv_writer g(out.file("grazing.csv"), {graze_axis == 0 ? ax.name : ay.name, "sigma_graze"});
+                csv_writer g(out.file("grazing.csv"), {graze == grazing_line::along_x ? ax.name : ay.name, "sigma_graze"});
                 for (const auto& e : grazing)
                     g.row({e[0].get<double>(), e[1].is_number() ? e[1].get<double>() : std::nan("")});
                 g.close();
@@ -349,21 +304,9 @@ struct basins_args {
     common_args common;
     job_args jobs;
     std::string x, y;
-    double tol = 1e-8;
-    double match_tol = 1e-6;
+    double tol = default_period_tolerance;
+    double match_tol = attractor_match_options{}.tolerance;
 };
-
-const std::vector<std::string>& state_names()
-{
-    static const std::vector<std::string> names{"y", "ydot", "x", "xdot"};
-    return names;
-}
-
-int state_index(const std::string& name)
-{
-    const auto& n = state_names();
-    return static_cast<int>(std::find(n.begin(), n.end(), name) - n.begin());
-}
 
 json vector_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
@@ -376,18 +319,16 @@ Eigen::VectorXd vector_from(const json& j)
 int run_basins(const basins_args& a)
 {
     const run_config c = resolve(a.common);
-    const axis ax = parse_axis(a.x, "--x", state_names()), ay = parse_axis(a.y, "--y", state_names());
-    if (ax.name == ay.name) throw input_error("--x and --y must be different state components (both are " + ax.name + ")");
-    check_tol(a.tol);
-    if (!(a.match_tol > 0.0)) throw input_error("--match-tol must be > 0");
-    const long nx = static_cast<long>(ax.values.size()), ny = static_cast<long>(ay.values.size());
-    const int sx = state_index(ax.name), sy = state_index(ay.name);
+    const axis ax = parse_axis(a.x, "--x", true), ay = parse_axis(a.y, "--y", true);
     const wake_impact model = c.model();
+    const int sx = state_axis_index(model, ax.name, "--x"), sy = state_axis_index(model, ay.name, "--y");
+    check_basin_axes(sx, sy, ax.name, input_spelling::cli);
+    check_tol(a.tol);
+    check_match_tolerance(a.match_tol, input_spelling::cli);
+    const long nx = static_cast<long>(ax.values.size()), ny = static_cast<long>(ay.values.size());
     auto ic_of = [&](long job) {
-        vec<4> x0 = c.ic;
-        x0[sx] = ax.values[static_cast<std::size_t>(job % nx)];
-        x0[sy] = ay.values[static_cast<std::size_t>(job / nx)];
-        return x0;
+        return basin_start(c.ic, sx, ax.values[static_cast<std::size_t>(job % nx)], sy,
+                           ay.values[static_cast<std::size_t>(job / nx)]);
     };
 
     job_command cmd;
@@ -396,12 +337,9 @@ int run_basins(const basins_args& a)
     cmd.out = c.out ? std::optional<fs::path>(*c.out) : std::nullopt;
     cmd.run = [&](long job, const json*) {
         const vec<4> x0 = ic_of(job);
-        if (!admissible(model, x0)) return json{{"label", "inadmissible"}, {"period", -1}, {"outcome", "none"}};
+        if (!admissible_start(model, x0)) return json{{"label", "inadmissible"}, {"period", -1}, {"outcome", "none"}};
         const auto r = classify_at(model, x0, c, a.tol);
-        std::vector<vec<3>> coords;
-        coords.reserve(r.run.points.size());
-        for (const auto& p : r.run.points) coords.push_back(model.section_coordinates(p.x));
-        const auto sig = make_signature(r.label.label, r.label.period, coords);
+        const auto sig = signature_of(model, r);
         json rec = label_fields(r);
         json cyc = json::array();
         for (const auto& p : sig.cycle) cyc.push_back(vector_json(p));
@@ -416,14 +354,13 @@ int run_basins(const basins_args& a)
     std::string text;
     cmd.finish = [&](const std::vector<json>& recs, const fs::path* dir) {
         attractor_catalogue cat({.tolerance = a.match_tol});
-        std::vector<int> ids;
-        ids.reserve(recs.size());
-        for (const auto& r : recs) {
-            if (r["label"] == "inadmissible") {
-                ids.push_back(-1);
-                continue;
-            }
-            attractor_signature s;
+        // The signatures back from the records (they went through the journal on a resume).
+        std::vector<attractor_signature> sigs(recs.size());
+        std::vector<const attractor_signature*> runs(recs.size(), nullptr);
+        for (std::size_t k = 0; k < recs.size(); ++k) {
+            const auto& r = recs[k];
+            if (r["label"] == "inadmissible") continue;
+            attractor_signature& s = sigs[k];
             s.label = r["label"].get<std::string>();
             s.period = r["cycle"].empty() ? -1 : r["period"].get<int>();
             for (const auto& p : r["cycle"]) s.cycle.push_back(vector_from(p));
@@ -431,8 +368,9 @@ int run_basins(const basins_args& a)
                 s.lo = vector_from(r["lo"]);
                 s.hi = vector_from(r["hi"]);
             }
-            ids.push_back(cat.identify(s));
+            runs[k] = &s;
         }
+        const std::vector<int> ids = identify_attractors(runs, cat);
         json table = json::array(), labels = json::array();
         for (std::size_t i = 0; i < cat.entries().size(); ++i) {
             const auto& e = cat.entries()[i];
@@ -502,10 +440,10 @@ int run_response(const response_args& a)
 {
     const run_config c = resolve(a.common);
     check_parameter(a.param, "--param");
-    if (a.param == "sigma") throw input_error("--param sigma: the response is barrier-free, sigma has no effect");
+    check_response_param(a.param, input_spelling::cli);
     const auto values = parse_range(a.range, "--range");
     const auto curves = parse_curves(a.curves, c.params);
-    if (!(a.transient_time >= 0.0) || !std::isfinite(a.transient_time)) throw input_error("--transient-time must be >= 0");
+    check_transient_time(a.transient_time, input_spelling::cli);
     const long n = static_cast<long>(values.size()), nc = static_cast<long>(curves.size());
     const wake_impact base = c.model();
     for (const auto& [A, eps] : curves) (void)base.with("A", A).with("eps", eps);  // validates
@@ -519,18 +457,14 @@ int run_response(const response_args& a)
         const long k = job / n, i = job % n;
         const auto [A, eps] = curves[static_cast<std::size_t>(k)];
         const double v = values[static_cast<std::size_t>(i)];
-        const wake_impact m = base.with("A", A).with("eps", eps).with(a.param, v);
-        grazing_options go;
-        go.integration.rtol = std::min(c.rtol, 1e-12);
-        go.integration.atol = std::min(c.atol, 1e-12);
-        go.transient_time = a.transient_time;
-        const auto g = with_method(c.method, [&]<template <int> class M>() { return grazing_value<M>(m, c.ic, go); });
-        const double amp = std::max(std::abs(g.y_max), std::abs(g.sigma_graze));
+        const wake_impact m = response_model(base, A, eps, a.param, v);
+        const grazing_options go = job_grazing_options(c.protocol().flow.integration, a.transient_time);
+        const auto p = with_method(c.method, [&]<template <int> class M>() { return run_response_point<M>(m, c.ic, go); });
         return json{{"curve", k}, {"A", A}, {"eps", eps}, {"value", v},
-                    {"amplitude", finite_or_null(amp)}, {"y_max", finite_or_null(g.y_max)},
-                    {"sigma_graze", finite_or_null(g.sigma_graze)}, {"frequency_ratio", finite_or_null(g.omega)},
-                    {"structure_frequency", m.delta()}, {"converged", g.converged},
-                    {"outcome", std::string(to_string(g.status))}};
+                    {"amplitude", finite_or_null(p.amplitude)}, {"y_max", finite_or_null(p.y_max)},
+                    {"sigma_graze", finite_or_null(p.sigma_graze)}, {"frequency_ratio", finite_or_null(p.frequency_ratio)},
+                    {"structure_frequency", p.structure_frequency}, {"converged", p.converged},
+                    {"outcome", std::string(to_string(p.status))}};
     };
     json summary;
     std::string text;
