@@ -318,7 +318,7 @@ TEST(CentreCounts, CentresAreEvenlySpacedAndCountsAreDirect)
 // summed counts (sampling_sd, top of the file).
 TEST(CentreCounts, PaperVariantOnASquareGivesTwo)
 {
-    const std::size_t n = 20000;
+    const std::size_t n = 50000;
     point_set raw = square_points(n, 21);
     const auto centres = vimpact::centre_indices(n, 15);
     // Swap an interior point into each centre slot.
@@ -338,8 +338,10 @@ TEST(CentreCounts, PaperVariantOnASquareGivesTwo)
     const auto res = estimate(ps, o);
     ASSERT_TRUE(res.fit.found);
     const double sd = sampling_sd(res);
+    std::printf("centres on a square: nu = %.4f, sampling sd %.4f, fit %.3g .. %.3g\n", res.fit.dimension, sd,
+                res.fit.r_min, res.fit.r_max);
     EXPECT_NEAR(res.fit.dimension, 2.0, 3.0 * sd) << "fit " << res.fit.r_min << " .. " << res.fit.r_max;
-    EXPECT_LT(3.0 * sd, 0.15);  // the test can tell 2 from the 1.5 or 2.5 of a broken count
+    EXPECT_LT(3.0 * sd, 0.12);  // the test can tell 2 from the 1.5 or 2.5 of a broken count
 }
 
 // ---- sets of known dimension ----------------------------------------------------------------
@@ -461,6 +463,8 @@ TEST(CorrelationDimension, PaperModelPeriodicOrbitIsZero)
     }
     const auto res = estimate(ps);
     ASSERT_TRUE(std::isfinite(res.fit.dimension));
+    std::printf("paper model, Ur = 16 (P2): nu = %.2g, C = %.4f over the fit %.3g .. %.3g\n", res.fit.dimension,
+                res.curve.c(res.fit.last), res.fit.r_min, res.fit.r_max);
     EXPECT_NEAR(res.fit.dimension, 0.0, 0.02);
     EXPECT_NEAR(res.curve.c(res.fit.last), 0.5, 0.01);
     EXPECT_GT(res.fit.r_max / res.fit.r_min, 100.0);

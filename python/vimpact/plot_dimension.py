@@ -7,9 +7,13 @@
   (d) the local slope d log C / d log r, with the fitted dimension.
 
 ``overlay(OUT_PNG, DIR, DIR, ...)`` draws the points of several runs in one projection (the
-paper's Figure 6c, d: sections for several Ur or sigma). Command line::
+paper's Figure 6c, d: sections for several Ur or sigma). ``table(DIRS)`` is a Markdown table
+of their results; ``divergence(A, B, OUT)`` measures how two runs started 1e-9 apart separate
+on the section (examples/fig6.sh). Command line::
 
     /usr/bin/python3 -m vimpact.plot_dimension overlay OUT.png DIR [DIR ...]
+    /usr/bin/python3 -m vimpact.plot_dimension table DIR [DIR ...]
+    /usr/bin/python3 -m vimpact.plot_dimension divergence A/sections.csv B/sections.csv OUT.csv
 """
 import json
 import os
@@ -142,14 +146,73 @@ def overlay(out_png, directories, columns=(0, 1)):
     return out_png
 
 
+def table(directories):
+    """A Markdown table of the results of several ``vimpact dimension --out`` directories."""
+    rows = ["| run | Ur | sigma | transient | label | points | estimator | nu | fit range r | r2 | region |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for directory in directories:
+        record = json.load(open(os.path.join(directory, "run.json")))
+        res = record["result"]
+        cfg = record.get("config", {})
+        p = cfg.get("parameters", {})
+        src = res["source"]
+        nu = res["dimension"]
+        lo, hi = res["fit_range"]
+        r2 = res["r2"]
+        rows.append("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
+            os.path.relpath(directory, os.path.dirname(os.path.normpath(directories[0]))),
+            f"{p['Ur']:g}" if p else "-", f"{p['sigma']:g}" if p else "-",
+            cfg.get("transient", "-"), src.get("label", "-"), res["points"], res["estimator"],
+            f"{nu:.3f}" if nu is not None else "-",
+            f"{lo:.2g} .. {hi:.2g}" if lo is not None else "-",
+            f"{r2:.4f}" if r2 is not None else "-", res["scaling_region"]))
+    return "\n".join(rows)
+
+
+def divergence(sections_a, sections_b, out_csv):
+    """Separation of two runs started 1e-9 apart, section point by section point.
+
+    d_n = |c_n - c'_n| over the section coordinates (y, x, xdot). On a chaotic attractor it
+    grows like exp(lambda n) until it reaches the size of the attractor; on a stable periodic
+    orbit it shrinks. lambda (per section return) is the least-squares slope of ln d_n from the
+    first return up to the last one before d_n first reaches 1e-3 (beyond that the separation
+    is no longer small next to the attractor, about 0.03 across). Returns (lambda, number of
+    returns fitted, mean return time, d at the first and last fitted return)."""
+    a, b = read_csv(sections_a), read_csv(sections_b)
+    n = min(len(a["t"]), len(b["t"]))
+    d = np.sqrt((a["y"][:n] - b["y"][:n]) ** 2 + (a["x"][:n] - b["x"][:n]) ** 2 +
+                (a["xdot"][:n] - b["xdot"][:n]) ** 2)
+    with open(out_csv, "w") as f:
+        f.write("n,t,d\n")
+        for i in range(n):
+            f.write(f"{i},{a['t'][i]!r},{d[i]!r}\n")
+    m = 0
+    while m < n and d[m] < 1e-3:
+        m += 1
+    dt = float(np.mean(np.diff(a["t"][:n]))) if n > 1 else float("nan")
+    if m < 5 or np.any(d[:m] <= 0):
+        return float("nan"), m, dt, float("nan"), float("nan")
+    slope = np.polyfit(np.arange(m, dtype=float), np.log(d[:m]), 1)[0]
+    return float(slope), m, dt, float(d[0]), float(d[m - 1])
+
+
 def main(argv):
     if len(argv) >= 4 and argv[1] == "overlay":
         overlay(argv[2], argv[3:])
         return 0
+    if len(argv) >= 3 and argv[1] == "table":
+        print(table(argv[2:]))
+        return 0
+    if len(argv) == 5 and argv[1] == "divergence":
+        lam, m, dt, d0, d1 = divergence(argv[2], argv[3], argv[4])
+        print(f"lambda = {lam:.3g} per section return ({lam / dt:.3g} per unit time): "
+              f"d = {d0:.2g} -> {d1:.2g} over {m} returns (mean return time {dt:.4g})")
+        return 0
     if len(argv) == 2:
         dimension(argv[1])
         return 0
-    print("usage: python3 -m vimpact.plot_dimension DIR | overlay OUT.png DIR [DIR ...]", file=sys.stderr)
+    print("usage: python3 -m vimpact.plot_dimension DIR | overlay OUT.png DIR [DIR ...] | table DIR [DIR ...]"
+          " | divergence A/sections.csv B/sections.csv OUT.csv", file=sys.stderr)
     return 2
 
 
