@@ -87,6 +87,11 @@ int state_axis_index(const Model& m, std::string_view name, const std::string& w
     throw input_error(what + ": '" + std::string(name) + "' is not one of " + valid);
 }
 
+// The initial state a front end uses when none is given: the paper's (y, ydot, x, xdot) =
+// (0, 0, 0, 0.1) for the wake model (SPEC section 1); rest at phase 0 for the forced oscillator.
+inline vec<4> default_initial_state(const wake_impact&) { return {0.0, 0.0, 0.0, 0.1}; }
+inline vec<3> default_initial_state(const forced_impact_oscillator&) { return {0.0, 0.0, 0.0}; }
+
 // A start is admissible when it lies above the barrier, or on it and not moving into it.
 template <sticking_model Model>
 bool admissible_start(const Model& m, const vec<Model::dim>& x)
@@ -95,6 +100,32 @@ bool admissible_start(const Model& m, const vec<Model::dim>& x)
 }
 
 // ---------------------------------------------------------------- shared checks and options
+
+// The integrator, chosen at run time; with_integration_method calls
+// f.template operator()<Method>() for it.
+enum class integration_method { dop853, dopri5 };
+
+inline integration_method parse_integration_method(std::string_view text, input_spelling s)
+{
+    if (text == "dop853") return integration_method::dop853;
+    if (text == "dopri5") return integration_method::dopri5;
+    throw input_error(input_name(s, "method") + " '" + std::string(text) + "' is not one of dop853, dopri5");
+}
+
+template <class F>
+decltype(auto) with_integration_method(integration_method m, F&& f)
+{
+    if (m == integration_method::dopri5) return f.template operator()<dopri5>();
+    return f.template operator()<dop853>();
+}
+
+inline section_choice parse_section_choice(std::string_view text, input_spelling s)
+{
+    if (text == "maxima") return section_choice::maxima;
+    if (text == "minima") return section_choice::minima;
+    if (text == "impacts") return section_choice::impacts;
+    throw input_error(input_name(s, "section") + " '" + std::string(text) + "' is not one of maxima, minima, impacts");
+}
 
 // The paper's period tolerance for Figures 2 and 5 (Figure 4 used 1e-5).
 inline constexpr double default_period_tolerance = 1e-8;

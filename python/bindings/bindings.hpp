@@ -1,0 +1,11 @@
+#pragma once
+// The parts of the extension module _vimpact, one per source file.
+#include <pybind11/pybind11.h>
+
+namespace vimpact::python {
+
+void bind_models(pybind11::module_& m);  // WakeImpact, ForcedImpactOscillator
+void bind_runs(pybind11::module_& m);    // _simulate, _period, _grazing
+void bind_jobs(pybind11::module_& m);    // _sweep, _map, _basins, _response (the job loop)
+
+}  // namespace vimpact::python
