@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "dimension_command.hpp"
+#include "stability_commands.hpp"
 #include "sweep_commands.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
@@ -30,6 +31,8 @@ int main(int argc, char** argv)
         add_basins_command(app),
         add_response_command(app),
         add_dimension_command(app),
+        add_floquet_command(app),
+        add_lyapunov_command(app),
     };
 
     try {

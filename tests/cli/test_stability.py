@@ -1,0 +1,163 @@
+"""The stability commands end to end: floquet and lyapunov (docs/stability.md)."""
+import json
+import math
+import os
+import subprocess
+
+import pytest
+
+
+def run(vimpact, *args):
+    return subprocess.run([vimpact, *args], capture_output=True, text=True, timeout=600)
+
+
+def run_json(vimpact, *args):
+    p = run(vimpact, *args, "--json")
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stdout)
+
+
+# Published values (SPEC §4: multipliers measured on the paper preset, sigma = -0.150298).
+# Only here, never in the program: the program computes them.
+PUBLISHED = {
+    "16": {"T": 15.2892, "mu": [-0.19582, 0.0023068]},
+    "14.9": {"T": 15.2250, "mu": [-0.081771, 0.0037145]},
+}
+
+
+@pytest.mark.parametrize("ur", sorted(PUBLISHED))
+def test_floquet_reproduces_the_published_multipliers(vimpact, ur):
+    j = run_json(vimpact, "floquet", "--set", f"Ur={ur}")
+    ref = PUBLISHED[ur]
+    assert j["outcome"] == "ok"
+    assert j["label"] == "P2"
+    assert j["impacts_per_period"] == 1
+    assert abs(j["period"] - ref["T"]) < 1e-4
+    assert j["closure"] <= 1e-11
+    mu = [complex(re, im) for re, im in j["multipliers"]]
+    assert len(mu) == 4
+    assert abs(mu[0] - 1) == pytest.approx(j["trivial_error"])
+    assert j["trivial_error"] < 1e-9
+    # The nontrivial ones by decreasing modulus: -0.19582, 0.0023068, ~0 (printed digits).
+    for got, want in zip(mu[1:3], ref["mu"]):
+        assert abs(got.imag) < 1e-12
+        assert abs(got.real - want) <= 0.6 * 10 ** (math.floor(math.log10(abs(want))) - 4)
+    assert abs(mu[3]) < 1e-6
+    assert j["stable"] is True
+    assert j["moduli"][1:] == sorted(j["moduli"][1:], reverse=True)
+
+
+def test_floquet_without_saltation_loses_the_trivial_multiplier(vimpact):
+    for jump in ("reset-jacobian", "identity"):
+        j = run_json(vimpact, "floquet", "--set", "Ur=16", "--impact-map", jump)
+        assert j["impact_map"] == jump
+        mu = [complex(re, im) for re, im in j["multipliers"]]
+        assert min(abs(m - 1) for m in mu) > 0.03
+
+
+def test_floquet_of_an_aperiodic_point_has_no_multipliers(vimpact):
+    j = run_json(vimpact, "floquet", "--set", "Ur=25", "--set", "sigma=-0.146")
+    assert j["label"] == "aperiodic"
+    assert j["outcome"] == "aperiodic"
+    assert j["multipliers"] == []
+    assert j["period"] is None
+    assert j["trivial_error"] is None
+
+
+def test_lyapunov_json_contract_on_a_periodic_orbit(vimpact):
+    j = run_json(vimpact, "lyapunov", "--set", "Ur=16", "--impacts", "300")
+    assert j["outcome"] == "ok"
+    assert j["tdm"] == "saltation"
+    e = j["exponents"]
+    assert len(e) == 4 and e == sorted(e, reverse=True)
+    assert abs(e[0]) < 2e-3  # the flow direction of a periodic orbit
+    assert j["impacts"] >= 300
+    assert j["time"] > 0
+    assert abs(sum(e) - j["sum_rule"]) < 1e-8
+    r = 0.8
+    assert abs(j["sum_rule"] - (j["divergence_average"] + j["impacts"] / j["time"] * math.log(r * r))) < 1e-10
+
+
+@pytest.mark.parametrize("tdm", ["second-order", "trajectory"])
+def test_lyapunov_other_mappings(vimpact, tdm):
+    j = run_json(vimpact, "lyapunov", "--set", "Ur=16", "--impacts", "300", "--tdm", tdm)
+    assert j["outcome"] == "ok"
+    assert j["tdm"] == tdm
+    assert abs(j["exponents"][0]) < 2e-3
+    if tdm == "trajectory":
+        assert j["sum_rule"] is None
+
+
+def test_lyapunov_chaotic_point_is_positive(vimpact):
+    j = run_json(vimpact, "lyapunov", "--set", "Ur=25", "--set", "sigma=-0.146")
+    assert j["lle"] > 5 * j["lle_standard_error"]
+    assert j["lle"] > 0.01
+
+
+def test_lyapunov_time_option_averages_over_time(vimpact):
+    j = run_json(vimpact, "lyapunov", "--set", "Ur=16", "--time", "1000", "--t0", "1")
+    assert 1000 <= j["time"] < 1001
+    assert j["t0"] == 1
+
+
+def test_results_are_deterministic(vimpact):
+    a = run(vimpact, "lyapunov", "--json", "--set", "Ur=19", "--impacts", "100", "--tdm", "trajectory")
+    b = run(vimpact, "lyapunov", "--json", "--set", "Ur=19", "--impacts", "100", "--tdm", "trajectory")
+    assert a.returncode == 0 and a.stdout == b.stdout
+
+
+@pytest.mark.parametrize("command,files", [
+    (["floquet", "--set", "Ur=16"], ["multipliers.csv", "orbit.csv", "impacts.csv"]),
+    (["lyapunov", "--set", "Ur=16", "--impacts", "100"], ["convergence.csv"]),
+])
+def test_out_directory_has_csv_record_and_png(vimpact, tmp_path, command, files):
+    out = tmp_path / "run"
+    p = run(vimpact, *command, "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    for name in files:
+        lines = (out / name).read_text().splitlines()
+        assert len(lines) > 1
+    record = json.loads((out / "run.json").read_text())
+    assert record["command"] == command[0]
+    assert record["version"] and record["git_hash"]
+    assert record["result"]["outcome"] == "ok"
+    assert (out / "plot.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    if command[0] == "floquet":
+        orbit = (out / "orbit.csv").read_text().splitlines()
+        assert orbit[0] == "t,y,ydot,x,xdot"
+        t_last = float(orbit[-1].split(",")[0])
+        assert abs(t_last - record["result"]["period"]) < 1e-9
+        assert len(record["result"]["monodromy"]) == 4
+
+
+BAD_INPUTS = [
+    (["lyapunov", "--tdm", "fourth-order"], "--tdm"),
+    (["lyapunov", "--r0", "0"], "--r0 = 0 is outside its valid range (0, 1)"),
+    (["lyapunov", "--r0", "2"], "--r0 = 2 is outside its valid range (0, 1)"),
+    (["lyapunov", "--t0", "-1"], "--t0"),
+    (["lyapunov", "--impacts", "0"], "--impacts must be >= 1"),
+    (["lyapunov", "--time", "-5"], "--time must be >= 0"),
+    (["lyapunov", "--warmup", "-1"], "--warmup"),
+    (["lyapunov", "--record", "10"], "--record"),
+    (["lyapunov", "--set", "r=1.5"], "r = 1.5"),
+    (["floquet", "--impact-map", "nothing"], "--impact-map"),
+    (["floquet", "--section", "minima"], "maxima"),
+    (["floquet", "--tol", "0"], "--tol"),
+    (["floquet", "--newton-tol", "-1"], "--newton-tol"),
+    (["floquet", "--newton-iterations", "-2"], "--newton-iterations"),
+    (["floquet", "--record", "1"], "--record"),
+]
+
+
+@pytest.mark.parametrize("args,needle", BAD_INPUTS)
+def test_bad_input_exits_2_with_one_line_and_writes_nothing(vimpact, tmp_path, args, needle):
+    out = tmp_path / "out"
+    p = run(vimpact, *args, "--out", str(out))
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1, p.stderr
+    assert lines[0].startswith("vimpact: error: ")
+    assert needle in lines[0]
+    assert p.stdout == ""
+    assert not out.exists()
+    assert not [f for f in os.listdir(tmp_path) if f.startswith(".vimpact-staging")]
