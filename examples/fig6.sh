@@ -9,6 +9,7 @@
 #      and with a long transient;
 #   3. one point inside each band: Grassberger-Procaccia sum and the paper's centre counts;
 #   4. two runs started 1e-9 apart at the start of the record: does the separation grow?
+#      and, where the lyapunov command exists, the Lyapunov spectrum and Kaplan-Yorke dimension;
 #   5. the sections drawn together (Figure 6c: Ur varies; 6d: sigma varies) and a table.
 source "$(dirname "$0")/lib.sh"
 D="$OUT/fig6"
@@ -60,6 +61,18 @@ for c in "Ur=18.426" "${CASES[@]}"; do
   echo "$c: $("${PYD[@]}" divergence "$D/$name/a/sections.csv" "$D/$name/b/sections.csv" "$D/$name/divergence.csv")" \
     | tee -a "$D/divergence.txt"
 done
+
+if "$VIMPACT" lyapunov --help > /dev/null 2>&1; then
+  echo "== 4b. Lyapunov spectrum and Kaplan-Yorke dimension (independent of the point counts)"
+  ly=()
+  for c in "Ur=18.426" "${CASES[@]}"; do
+    sets=()
+    for kv in $c; do sets+=(--set "$kv"); done
+    "$VIMPACT" lyapunov "${sets[@]}" --transient "$TR" --impacts "$(pick 10000 300)" --json > "$D/lyapunov-${c// /-}.json"
+    ly+=("$D/lyapunov-${c// /-}.json")
+  done
+  "${PYD[@]}" kaplan-yorke "${ly[@]}" | tee "$D/lyapunov.md"
+fi
 
 echo "== 5. sections together and the table"
 "${PYD[@]}" overlay "$D/fig6c.png" "$D/band-Ur=18.455" "$D/band-Ur=20.85" "$D/band-Ur=24.4"

@@ -14,6 +14,11 @@ on the section (examples/fig6.sh). Command line::
     /usr/bin/python3 -m vimpact.plot_dimension overlay OUT.png DIR [DIR ...]
     /usr/bin/python3 -m vimpact.plot_dimension table DIR [DIR ...]
     /usr/bin/python3 -m vimpact.plot_dimension divergence A/sections.csv B/sections.csv OUT.csv
+    /usr/bin/python3 -m vimpact.plot_dimension kaplan-yorke LYAPUNOV.json [...]
+
+``kaplan-yorke`` reads the JSON of ``vimpact lyapunov --json`` and gives the Kaplan-Yorke
+dimension of the attractor (Kaplan & Yorke 1979; it bounds the information dimension, and
+equals it for typical attractors): a check of the correlation dimension independent of it.
 """
 import json
 import os
@@ -196,7 +201,37 @@ def divergence(sections_a, sections_b, out_csv):
     return float(slope), m, dt, float(d[0]), float(d[m - 1])
 
 
+def kaplan_yorke(exponents):
+    """Kaplan-Yorke dimension j + (l_1 + ... + l_j) / |l_(j+1)|, j the largest with a
+    non-negative partial sum (exponents sorted, largest first); len(exponents) if all are."""
+    lam = sorted(exponents, reverse=True)
+    total, j = 0.0, 0
+    while j < len(lam) and total + lam[j] >= 0.0:
+        total += lam[j]
+        j += 1
+    if j == len(lam):
+        return float(j)
+    return j + total / abs(lam[j])
+
+
+def lyapunov_rows(files):
+    """Markdown rows from ``vimpact lyapunov --json`` outputs: the spectrum and the Kaplan-Yorke
+    dimension of the flow's attractor and of its section (one less: the flow direction)."""
+    rows = ["| run | exponents (per unit time) | D_KY of the attractor | D_KY - 1 (section) |",
+            "|---|---|---|---|"]
+    for f in files:
+        j = json.load(open(f))
+        lam = j["exponents"]
+        d = kaplan_yorke(lam)
+        rows.append("| {} | {} | {:.3f} | {:.3f} |".format(
+            os.path.basename(f)[:-5], ", ".join(f"{v:.4g}" for v in lam), d, max(d - 1.0, 0.0)))
+    return "\n".join(rows)
+
+
 def main(argv):
+    if len(argv) >= 3 and argv[1] == "kaplan-yorke":
+        print(lyapunov_rows(argv[2:]))
+        return 0
     if len(argv) >= 4 and argv[1] == "overlay":
         overlay(argv[2], argv[3:])
         return 0
@@ -212,7 +247,7 @@ def main(argv):
         dimension(argv[1])
         return 0
     print("usage: python3 -m vimpact.plot_dimension DIR | overlay OUT.png DIR [DIR ...] | table DIR [DIR ...]"
-          " | divergence A/sections.csv B/sections.csv OUT.csv", file=sys.stderr)
+          " | divergence A/sections.csv B/sections.csv OUT.csv | kaplan-yorke LYAPUNOV.json ...", file=sys.stderr)
     return 2
 
 
