@@ -217,14 +217,17 @@ def kaplan_yorke(exponents):
 def lyapunov_rows(files):
     """Markdown rows from ``vimpact lyapunov --json`` outputs: the spectrum and the Kaplan-Yorke
     dimension of the flow's attractor and of its section (one less: the flow direction)."""
-    rows = ["| run | exponents (per unit time) | D_KY of the attractor | D_KY - 1 (section) |",
-            "|---|---|---|---|"]
+    rows = ["| run | exponents (per unit time) | standard error of the largest | D_KY of the attractor |"
+            " D_KY - 1 (section) |",
+            "|---|---|---|---|---|"]
     for f in files:
         j = json.load(open(f))
         lam = j["exponents"]
         d = kaplan_yorke(lam)
-        rows.append("| {} | {} | {:.3f} | {:.3f} |".format(
-            os.path.basename(f)[:-5], ", ".join(f"{v:.4g}" for v in lam), d, max(d - 1.0, 0.0)))
+        err = j.get("lle_standard_error")
+        rows.append("| {} | {} | {} | {:.3f} | {:.3f} |".format(
+            os.path.basename(f)[:-5], ", ".join(f"{v:.4g}" for v in lam),
+            f"{err:.2g}" if err is not None else "-", d, max(d - 1.0, 0.0)))
     return "\n".join(rows)
 
 
