@@ -7,10 +7,13 @@
 #include "bindings.hpp"
 #include "common.hpp"
 #include "vimpact/analysis/attractor.hpp"
+#include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/jobs/job_loop.hpp"
+#include "vimpact/stability/floquet.hpp"
+#include "vimpact/stability/lyapunov.hpp"
 
 namespace py = pybind11;
 using namespace vimpact;
@@ -41,6 +44,24 @@ py::dict defaults()
     d["grazing_t_max"] = go.t_max;
     d["match_tol"] = attractor_match_options{}.tolerance;
     d["threads"] = job_loop_options{}.threads;
+    const floquet_options fo;
+    d["newton_tol"] = fo.shooting.tolerance;
+    d["newton_iterations"] = fo.shooting.max_iterations;
+    const lyapunov_options lo;
+    d["r0"] = lo.r0;
+    d["t0"] = lo.t0;
+    d["lyapunov_impacts"] = lo.impacts;
+    d["warmup"] = lo.warmup_intervals;
+    const dimension_options dop;
+    d["centres"] = dop.centre.centres;
+    d["radii"] = py::make_tuple(dop.centre.r_min, dop.centre.r_max, dop.centre.r_step);
+    d["slope_tolerance"] = dop.scaling.slope_tolerance;
+    d["slope_window"] = dop.scaling.slope_window;
+    d["min_extent"] = dop.scaling.min_extent;
+    d["min_pairs"] = dop.scaling.min_pairs;
+    d["max_correlation"] = dop.scaling.max_correlation;
+    d["max_pairs"] = dop.max_pairs;
+    d["bins_per_octave"] = dop.correlation.bins_per_octave;
     return d;
 }
 
@@ -73,4 +94,6 @@ ndarray, float64, shape (n,))");
     vimpact::python::bind_models(m);
     vimpact::python::bind_runs(m);
     vimpact::python::bind_jobs(m);
+    vimpact::python::bind_stability(m);
+    vimpact::python::bind_dimension(m);
 }

@@ -10,7 +10,8 @@ The C++ library's analyses at C++ speed, with numpy arrays in and out::
 
 Models: ``WakeImpact`` (parameters as attributes, ``with_``, ``preset``) and
 ``ForcedImpactOscillator``. Analyses: ``simulate``, ``period``, ``grazing`` (single runs) and
-``sweep``, ``map``, ``basins``, ``response`` (the library's threaded, deterministic job loop).
+``sweep``, ``map``, ``basins``, ``response`` (the library's threaded, deterministic job loop);
+stability: ``floquet``, ``lyapunov``; ``dimension`` of a point set.
 Each returns a result object (``vimpact.results``) with numpy arrays and run statistics; the
 same objects load the command line's output directories (``vimpact.Sweep.load(DIR)``).
 Plots: ``vimpact.plot``. Bad input raises ValueError (``vimpact.InputError``) with the
@@ -21,19 +22,20 @@ The compiled part lives in the build tree (``PYTHONPATH=build/python``). Without
 """
 import importlib
 
-from .results import (Attractor, Basins, Grazing, Map, Period, Response, RunStats, Simulation,  # noqa: F401
-                      Sweep)
+from .results import (Attractor, Basins, Dimension, Floquet, Grazing, Lyapunov, Map, Period, Response,  # noqa: F401
+                      RunStats, Simulation, Sweep)
 
 try:
     from ._vimpact import ForcedImpactOscillator, InputError, WakeImpact, __version__, git_hash  # noqa: F401
-    from ._api import basins, grazing, grid, map, period, response, simulate, sweep  # noqa: F401
+    from ._api import (basins, dimension, floquet, grazing, grid, lyapunov, map, period, response,  # noqa: F401
+                       simulate, sweep)
 except ImportError as _error:  # the compiled module is not built or not on the path
     _import_error = _error
 else:
     _import_error = None
 
-_COMPILED = {"ForcedImpactOscillator", "InputError", "WakeImpact", "__version__", "git_hash", "basins", "grazing",
-             "grid", "map", "period", "response", "simulate", "sweep"}
+_COMPILED = {"ForcedImpactOscillator", "InputError", "WakeImpact", "__version__", "git_hash", "basins", "dimension",
+             "floquet", "grazing", "grid", "lyapunov", "map", "period", "response", "simulate", "sweep"}
 
 
 def __getattr__(name):

@@ -4,6 +4,7 @@ Each function checks nothing itself: the library checks every input with the mes
 command line prints (a ValueError, vimpact.InputError), runs with the GIL released (other
 Python threads keep running) and stops within about 0.1 s on Ctrl-C (KeyboardInterrupt).
 """
+import math
 import string
 import time
 
@@ -11,7 +12,8 @@ import numpy as np
 
 from . import _vimpact
 from ._vimpact import ForcedImpactOscillator, WakeImpact
-from .results import Basins, Grazing, Map, Period, Response, RunStats, Simulation, Sweep, Attractor
+from .results import (Attractor, Basins, Dimension, Floquet, Grazing, Lyapunov, Map, Period, Response, RunStats,
+                      Simulation, Sweep)
 
 _D = _vimpact.defaults
 
@@ -489,3 +491,189 @@ def grid(a, b, n):
     ndarray, float64, shape (n,)
     """
     return _vimpact.grid(a, b, n)
+
+
+@_with_defaults
+def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
+            newton_iterations=_D["newton_iterations"], impact_map="saltation", sample_dt=0.0,
+            transient=_D["transient"], record=_D["record"], rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+            quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+    """Floquet multipliers of the periodic orbit reached from ``ic`` (the paper's Algorithm 1).
+
+    1. The protocol (see ``simulate``; section: maxima) and its period label, as ``period``.
+       An aperiodic or failed run stops here: no multipliers.
+    2. Newton shooting on P^k(z) = z, k the maxima per period, from the first recorded point,
+       until the closure |P^k(z) - z|_inf <= ``newton_tol``.
+    3. The monodromy Phi(T) = Phi_n S_n ... S_1 Phi_1 over one period from the refined point:
+       the variational flow between impacts, the saltation matrix
+       S = R' + (F+ - R' F) grad(h)^T / (grad(h) . F) at each impact (Eq. 8).
+    4. The multipliers are its eigenvalues; the trivial one (for the flow direction) is 1 up
+       to the accuracy of the monodromy and comes first.
+
+    Parameters
+    ----------
+    model : WakeImpact or ForcedImpactOscillator
+    ic : array_like, shape (dim,), optional
+        Initial state; default ``model.default_ic``.
+    tol : float, default $period_tol
+        Period tolerance for the label.
+    newton_tol : float, default $newton_tol
+        Closure to reach by Newton shooting.
+    newton_iterations : int, default $newton_iterations
+    impact_map : {"saltation", "reset-jacobian", "identity"}, default "saltation"
+        The tangent jump at impacts: saltation is correct; the other two are wrong and there
+        to show it (the trivial multiplier moves off 1).
+    sample_dt : float, default 0
+        > 0: also sample the refined orbit over one period (``orbit``).
+    transient, record, rtol, atol, method, quiet_time, t_max
+        The protocol's, as for ``simulate`` (defaults $transient, $record, $rtol, $atol,
+        $method, $quiet_time, $t_max). The tangent runs integrate at min(rtol, 1e-12), as the
+        command line does.
+
+    Returns
+    -------
+    Floquet
+        ``status``, ``label``, ``period``, ``multipliers`` (dim,) complex128 (trivial first),
+        ``monodromy`` (dim, dim), ``orbit_point`` (dim,), ``stable``, ``closure``, ...
+
+    Examples
+    --------
+    >>> f = vimpact.floquet(vimpact.WakeImpact(Ur=16))
+    >>> f.label, f.stable
+    ('P2', True)
+    """
+    model = _model(model)
+    d = _vimpact._floquet(model, _ic(model, ic), tol, newton_tol, newton_iterations, impact_map, sample_dt,
+                          transient, record, rtol, atol, method, quiet_time, t_max)
+    opts = _options(model, ic, tol=tol, newton_tol=newton_tol, newton_iterations=newton_iterations,
+                    impact_map=impact_map, sample_dt=sample_dt, transient=transient, record=record, rtol=rtol,
+                    atol=atol, tangent_rtol=d["tangent_rtol"], method=method, quiet_time=quiet_time, t_max=t_max)
+    stats = {"protocol": RunStats.from_dict(d["protocol_stats"]), "tangent": RunStats.from_dict(d["tangent_stats"]),
+             "map_evaluations": d["map_evaluations"]}
+    keys = ("status", "flow_outcome", "label", "section_returns", "period", "impacts_per_period", "initial_closure",
+            "closure", "newton_iterations", "orbit_point", "monodromy", "multipliers", "trivial_error",
+            "trivial_residual", "max_nontrivial_modulus", "stable", "det_monodromy", "liouville_det", "impact_map",
+            "orbit_t", "orbit", "impact_t", "impact_pre", "impact_post")
+    return Floquet(**{k: d[k] for k in keys}, stats=stats, parameters=model.parameters, model=model, options=opts)
+
+
+@_with_defaults
+def lyapunov(model, ic=None, *, tdm="saltation", r0=_D["r0"], t0=_D["t0"], impacts=_D["lyapunov_impacts"],
+             time=0.0, warmup=_D["warmup"], transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"],
+             method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+    """The Lyapunov spectrum of the attractor reached from ``ic`` (the paper's Algorithm 2).
+
+    After ``transient`` impacts, dim deviation vectors of size ``r0`` follow the orbit; every
+    ``t0`` they are re-orthonormalised by a QR decomposition and ln(R_ii / r0) is accumulated.
+    After ``warmup`` intervals (not counted) the averages over the next ``impacts`` impacts
+    (or ``time``) are the exponents, lambda_i = (1/T) sum ln(R_ii / r0), in descending order
+    (Eq. 13). Their sum must equal <div F> + (1/T) sum ln|det S| (``sum_rule``).
+
+    Parameters
+    ----------
+    model : WakeImpact or ForcedImpactOscillator
+    ic : array_like, shape (dim,), optional
+        Initial state; default ``model.default_ic``.
+    tdm : {"saltation", "second-order", "trajectory"}, default "saltation"
+        How deviations cross an impact: the saltation matrix (first order, the textbook
+        spectrum), the second-order discontinuity mapping (SPEC section 4) applied to the
+        finite deviations, or two-trajectory integration (Benettin).
+    r0 : float, default $r0
+        Size of the deviation vectors.
+    t0 : float, default $t0
+        Re-orthonormalisation interval (pi, the paper's).
+    impacts : int, default $lyapunov_impacts
+        Average over this many impacts (the paper: 800) ...
+    time : float, default 0
+        ... or, if > 0, over this much time.
+    warmup : int, default $warmup
+        Intervals not counted while the vectors align.
+    transient, rtol, atol, method, quiet_time, t_max
+        As for ``simulate`` (defaults $transient, $rtol, $atol, $method, $quiet_time, $t_max).
+
+    Returns
+    -------
+    Lyapunov
+        ``exponents`` (dim,) float64, ``lle``, ``lle_standard_error``, ``sum_rule``,
+        ``history_t`` (h,) and ``history_growth`` (h, dim), ``running_exponents``, ``status``.
+    """
+    model = _model(model)
+    d = _vimpact._lyapunov(model, _ic(model, ic), tdm, r0, t0, impacts, time, warmup, transient, rtol, atol, method,
+                           quiet_time, t_max)
+    opts = _options(model, ic, tdm=tdm, r0=r0, t0=t0, impacts=impacts, time=time, warmup=warmup, transient=transient,
+                    rtol=rtol, atol=atol, method=method, quiet_time=quiet_time, t_max=t_max)
+    stats = {"transient": RunStats.from_dict(d["transient_stats"]), "tangent": RunStats.from_dict(d["tangent_stats"])}
+    keys = ("status", "flow_outcome", "tdm", "impacting", "exponents", "lle_standard_error", "t_start", "time",
+            "impacts", "intervals", "divergence_average", "jump_log_det_rate", "sum_rule", "misses", "history_t",
+            "history_growth")
+    return Lyapunov(**{k: d[k] for k in keys}, stats=stats, parameters=model.parameters, model=model, options=opts)
+
+
+@_with_defaults
+def dimension(points, *, estimator="correlation_sum", theiler=0, centres=_D["centres"], radii=_D["radii"],
+              fit_range=None, slope_tolerance=_D["slope_tolerance"], slope_window=_D["slope_window"],
+              min_extent=_D["min_extent"], min_pairs=_D["min_pairs"], max_correlation=_D["max_correlation"],
+              r_max=math.inf, max_pairs=_D["max_pairs"], bins_per_octave=_D["bins_per_octave"], search="grid",
+              threads=1):
+    """The correlation dimension of a point set (Grassberger & Procaccia; the paper's Eq. 5).
+
+    The correlation curve C(r) is either the Grassberger-Procaccia sum over all pairs,
+    C(r) = #{i < j, j - i > w : |x_i - x_j| < r} / #{i < j, j - i > w} (w the Theiler
+    window), binned in one pass, or the paper's centre counts (N_k(r) averaged over
+    ``centres`` points on a linear grid of radii). The dimension is the least-squares slope of
+    log C against log r over the scaling region: the longest range of r whose local slopes
+    agree within 2 ``slope_tolerance``, spanning at least ``min_extent``, between the
+    counting-noise floor (``min_pairs``) and saturation (``max_correlation``); or over
+    ``fit_range``. docs/dimension.md has the details.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        One point per row, e.g. ``vimpact.simulate(m, record=20000).section[:, [0, 2, 3]]``
+        (the section coordinates y, x, xdot, as the command line uses).
+    estimator : {"correlation_sum", "centres"}, default "correlation_sum"
+    theiler : int, default 0
+        Pairs at most this many rows apart are not counted.
+    centres : int, default $centres
+        Centres estimator: number of centres (the paper: 15).
+    radii : (float, float, float), default $radii
+        Centres estimator: r_min, r_max, step (the paper's).
+    fit_range : (float, float), optional
+        Fit over [r_min, r_max] instead of the automatic scaling region.
+    slope_tolerance, slope_window, min_extent, min_pairs, max_correlation
+        The scaling-region rule (defaults $slope_tolerance, $slope_window, $min_extent,
+        $min_pairs, $max_correlation).
+    r_max : float, default inf
+        Correlation sum: count pairs closer than this only (inf: set from ``max_pairs``).
+    max_pairs : int, default $max_pairs
+        Correlation sum: cap r so that about this many pairs are counted.
+    bins_per_octave : int, default $bins_per_octave
+        Correlation sum: radii per factor 2 (a power of two).
+    search : {"grid", "kd_tree", "brute_force"}, default "grid"
+        How pairs are found (identical counts).
+    threads : int, default 1
+        Correlation sum threads, 0 = all cores (the counts do not depend on it).
+
+    Returns
+    -------
+    Dimension
+        ``dimension``, ``found``, ``fit_range``, ``r2``, ``slope_error``; the curve ``r`` (k,),
+        ``pairs`` (k,) int64, ``c`` (k,), ``local_slope`` (k,).
+
+    Notes
+    -----
+    This computation has no cancel flag in the library: Ctrl-C takes effect when it returns.
+    """
+    pts = np.asarray(points, dtype=float)
+    fr = None if fit_range is None else (float(fit_range[0]), float(fit_range[1]))
+    d = _vimpact._dimension(pts, estimator, theiler, centres, tuple(float(v) for v in radii), fr, slope_tolerance,
+                            slope_window, min_extent, int(min_pairs), max_correlation, r_max, int(max_pairs),
+                            bins_per_octave, search, threads)
+    opts = dict(estimator=estimator, theiler=theiler, centres=centres, radii=tuple(radii), fit_range=fr,
+                slope_tolerance=slope_tolerance, slope_window=slope_window, min_extent=min_extent,
+                min_pairs=min_pairs, max_correlation=max_correlation, r_max=r_max, max_pairs=max_pairs,
+                bins_per_octave=bins_per_octave, search=search)
+    keys = ("dimension", "found", "automatic", "fit_range", "r2", "slope_error", "slope_spread", "intercept", "fitted",
+            "fit_first", "fit_last", "r", "pairs", "total_pairs", "local_slope", "centres", "r_cap", "all_pairs",
+            "estimator", "points", "embedding")
+    return Dimension(**{k: d[k] for k in keys}, options=opts)

@@ -654,3 +654,214 @@ class Response:
                    y_max=grid("y_max"), sigma_graze=grid("sigma_graze"), frequency_ratio=grid("frequency_ratio"),
                    structure_frequency=grid("structure_frequency"), converged=grid("converged") != 0,
                    outcome=None, steps=None, stats={}, parameters=parameters, options=cfg, preset=preset)
+
+
+@dataclass(repr=False)
+class Floquet:
+    """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
+    ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting).
+
+    Attributes
+    ----------
+    status : str
+        ``ok``, ``aperiodic`` (no period within the tolerance: no multipliers),
+        ``not_converged`` (Newton did not reach ``newton_tol``; multipliers of the last
+        iterate), ``sticking`` or ``flow_failed`` (``flow_outcome`` says how).
+    label : str
+        The protocol's period label.
+    section_returns : int
+        Maxima per period.
+    period : float
+        The period T (NaN without multipliers).
+    impacts_per_period : int
+    initial_closure, closure : float
+        |P^k(z) - z| before and after Newton shooting.
+    newton_iterations : int
+    orbit_point : ndarray, float64, shape (dim,)
+        The refined point of the orbit on the section.
+    monodromy : ndarray, float64, shape (dim, dim)
+    multipliers : ndarray, complex128, shape (dim,)
+        The trivial multiplier (the one for the flow direction, 1 up to the error) first, then
+        by decreasing modulus; empty without multipliers.
+    trivial_error : float
+        |mu_trivial - 1|: the accuracy of the monodromy.
+    max_nontrivial_modulus : float
+    stable : bool or None
+        Every nontrivial |mu| < 1 (None without multipliers).
+    det_monodromy, liouville_det : float
+        det Phi(T) and exp(integral of div F) * prod det S: equal for a correct monodromy.
+    orbit_t, orbit : ndarray, float64, shapes (m,), (m, dim)
+        The refined orbit over one period, sampled every ``sample_dt`` (empty when 0).
+    impact_t, impact_pre, impact_post : ndarray
+        Its impacts, shapes (k,), (k, dim), (k, dim).
+    stats : dict
+        ``protocol`` and ``tangent`` RunStats.
+    """
+    status: str
+    flow_outcome: str
+    label: str
+    section_returns: int
+    period: float
+    impacts_per_period: int
+    initial_closure: float
+    closure: float
+    newton_iterations: int
+    orbit_point: np.ndarray
+    monodromy: np.ndarray
+    multipliers: np.ndarray
+    trivial_error: float
+    trivial_residual: float
+    max_nontrivial_modulus: float
+    stable: Optional[bool]
+    det_monodromy: float
+    liouville_det: float
+    impact_map: str
+    orbit_t: np.ndarray
+    orbit: np.ndarray
+    impact_t: np.ndarray
+    impact_pre: np.ndarray
+    impact_post: np.ndarray
+    stats: dict
+    parameters: dict
+    model: object = None
+    options: dict = field(default_factory=dict)
+    preset: Optional[str] = None
+
+    def __repr__(self):
+        if not len(self.multipliers):
+            return f"Floquet(label={self.label!r}, status={self.status!r}: no multipliers)"
+        mus = ", ".join(f"{m.real:.6g}{m.imag:+.3g}j" if m.imag else f"{m.real:.6g}" for m in self.multipliers)
+        return (f"Floquet(label={self.label!r}, status={self.status!r}, T={self.period:.6g}, multipliers [{mus}], "
+                f"{'stable' if self.stable else 'unstable'})")
+
+
+@dataclass(repr=False)
+class Lyapunov:
+    """The Lyapunov spectrum (``vimpact.lyapunov``, the command ``lyapunov``; the paper's
+    Algorithm 2).
+
+    Attributes
+    ----------
+    status : str
+        ``ok``, ``time_limit`` (averaged over less than asked), ``sticking`` or
+        ``flow_failed`` (``flow_outcome`` says how).
+    tdm : str
+        The mapping of deviations at impacts.
+    exponents : ndarray, float64, shape (dim,)
+        Descending (NaN when the run failed).
+    lle_standard_error : float
+        Of the largest exponent, from 8 block means.
+    t_start, time : float
+        Start and length of the averaging window.
+    impacts, intervals, misses : int
+    divergence_average, jump_log_det_rate, sum_rule : float
+        <div F>, (1/T) sum ln|det S| and their sum, which the exponents must add up to
+        (tangent mappings only).
+    history_t : ndarray, float64, shape (h,)
+    history_growth : ndarray, float64, shape (h, dim)
+        ln(R_ii / r0) of every counted interval (QR order); ``running_exponents`` gives the
+        running averages.
+    stats : dict
+        ``transient`` and ``tangent`` RunStats.
+    """
+    status: str
+    flow_outcome: str
+    tdm: str
+    impacting: bool
+    exponents: np.ndarray
+    lle_standard_error: float
+    t_start: float
+    time: float
+    impacts: int
+    intervals: int
+    divergence_average: float
+    jump_log_det_rate: float
+    sum_rule: float
+    misses: int
+    history_t: np.ndarray
+    history_growth: np.ndarray
+    stats: dict
+    parameters: dict
+    model: object = None
+    options: dict = field(default_factory=dict)
+    preset: Optional[str] = None
+
+    @property
+    def lle(self):
+        """The largest exponent."""
+        return float(self.exponents[0])
+
+    @property
+    def running_exponents(self):
+        """ndarray, float64, shape (h, dim): the estimates after each counted interval."""
+        elapsed = (self.history_t - self.t_start)[:, None]
+        return np.cumsum(self.history_growth, axis=0) / elapsed
+
+    def __repr__(self):
+        return (f"Lyapunov(status={self.status!r}, exponents {np.array2string(self.exponents, precision=6)}, "
+                f"largest +- {self.lle_standard_error:.2g}, {self.impacts} impacts, tdm {self.tdm})")
+
+
+@dataclass(repr=False)
+class Dimension:
+    """The correlation dimension of a point set (``vimpact.dimension``, the command
+    ``dimension``).
+
+    Attributes
+    ----------
+    dimension : float
+        The slope of log C against log r over the scaling region (NaN when undetermined).
+    found : bool
+        The automatic rule met its slope tolerance (or a ``fit_range`` was given).
+    automatic : bool
+    fit_range : (float, float)
+        The radii fitted.
+    r2, slope_error, slope_spread, intercept : float
+    fitted : int
+        Radii in the fit; indices ``fit_first`` .. ``fit_last`` of ``r``.
+    r : ndarray, float64, shape (k,)
+        Radii of the correlation curve.
+    pairs : ndarray, int64, shape (k,)
+        Pairs closer than each radius; ``c`` = pairs / total_pairs.
+    local_slope : ndarray, float64, shape (k,)
+        NaN where not evaluated.
+    centres : ndarray, int64
+        The centres estimator's centre indices (empty for the correlation sum).
+    r_cap : float
+        The correlation sum counted pairs closer than this.
+    estimator : str
+    points, embedding : int
+        Number of points and coordinates per point.
+    """
+    dimension: float
+    found: bool
+    automatic: bool
+    fit_range: tuple
+    r2: float
+    slope_error: float
+    slope_spread: float
+    intercept: float
+    fitted: int
+    fit_first: int
+    fit_last: int
+    r: np.ndarray
+    pairs: np.ndarray
+    total_pairs: int
+    local_slope: np.ndarray
+    centres: np.ndarray
+    r_cap: float
+    all_pairs: bool
+    estimator: str
+    points: int
+    embedding: int
+    options: dict = field(default_factory=dict)
+
+    @property
+    def c(self):
+        """ndarray, float64, shape (k,): the correlation C(r)."""
+        return self.pairs / self.total_pairs if self.total_pairs else np.zeros(len(self.pairs))
+
+    def __repr__(self):
+        return (f"Dimension({self.dimension:.4g} +- {self.slope_error:.2g}, {self.estimator} over {self.points} "
+                f"points in {self.embedding} coordinates, fit r = {self.fit_range[0]:.3g} .. {self.fit_range[1]:.3g}"
+                f"{'' if self.found else ', tolerance NOT met'})")

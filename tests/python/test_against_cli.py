@@ -145,6 +145,38 @@ def test_response(cli, tmp_path):
         same(getattr(r, name), getattr(c, name))
 
 
+def test_floquet(cli_json):
+    j = cli_json("floquet", "--set", "Ur=16")
+    f = vimpact.floquet(vimpact.WakeImpact(Ur=16))
+    assert (f.label, f.status, f.section_returns, f.impacts_per_period) == (
+        j["label"], j["outcome"], j["section_returns"], j["impacts_per_period"])
+    assert f.period == j["period"] and f.closure == j["closure"] and f.stable == j["stable"]
+    same(np.column_stack([f.multipliers.real, f.multipliers.imag]), j["multipliers"])
+    same(f.orbit_point, j["orbit_point"])
+    assert f.det_monodromy == j["det_monodromy"] and f.trivial_error == j["trivial_error"]
+    same_stats(f.stats["protocol"], j["stats"]["protocol"])
+
+
+def test_lyapunov(cli_json):
+    j = cli_json("lyapunov", "--set", "Ur=24.4", "--impacts", "60", "--transient", "100")
+    ly = vimpact.lyapunov(vimpact.WakeImpact(Ur=24.4), impacts=60, transient=100)
+    same(ly.exponents, j["exponents"])
+    assert ly.lle_standard_error == j["lle_standard_error"] and ly.sum_rule == j["sum_rule"]
+    assert (ly.status, ly.impacts, ly.intervals, ly.time) == (j["outcome"], j["impacts"], j["intervals"], j["time"])
+
+
+def test_dimension_of_a_runs_section_points(cli_json):
+    j = cli_json("dimension", "--set", "Ur=18.426", "--transient", "100", "--record", "2000")
+    s = vimpact.simulate(vimpact.WakeImpact(Ur=18.426), transient=100, record=2000)
+    d = vimpact.dimension(s.section[:, [0, 2, 3]])
+    assert d.dimension == j["dimension"] and d.r2 == j["r2"] and d.slope_error == j["slope_error"]
+    same(d.fit_range, j["fit_range"])
+    assert (d.fitted, d.total_pairs, d.points) == (j["fitted_radii"], j["total_pairs"], j["points"])
+    c = cli_json("dimension", "--set", "Ur=18.426", "--transient", "100", "--record", "2000", "--estimator", "centres")
+    e = vimpact.dimension(s.section[:, [0, 2, 3]], estimator="centres")
+    assert e.dimension == c["dimension"] and e.centres.tolist() == c["centres"]
+
+
 def test_grid_is_the_command_lines_range(cli_json):
     j = cli_json("map", "--x", "Ur:16.1:24.9:7", "--y", "sigma:-0.3:-0.29:2", "--transient", "1", "--record", "2")
     same(vimpact.grid(16.1, 24.9, 7), j["x_values"])
@@ -199,6 +231,10 @@ G2 = vimpact.grid(10, 12, 3)
      ["response", "--param", "Ur", "--range", "4:5:2", "--transient-time=-1"]),
     (lambda: vimpact.response(W, "Ur", [4, 5], curves=[(12, -1)]),
      ["response", "--param", "Ur", "--range", "4:5:2", "--curves", "12:-1"]),
+    (lambda: vimpact.floquet(W, impact_map="none"), ["floquet", "--impact-map", "none"]),
+    (lambda: vimpact.lyapunov(W, tdm="exact"), ["lyapunov", "--tdm", "exact"]),
+    (lambda: vimpact.lyapunov(W, r0=2), ["lyapunov", "--r0", "2"]),
+    (lambda: vimpact.dimension(np.zeros((5, 2)), estimator="boxes"), ["dimension", "--estimator", "boxes"]),
 ])
 def test_bad_input_is_a_value_error_with_the_command_lines_message(cli, tmp_path, call, args):
     p = cli(*args, cwd=tmp_path)

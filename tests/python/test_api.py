@@ -99,6 +99,36 @@ def test_response_shapes():
     np.testing.assert_array_equal(r.amplitude, np.maximum(np.abs(r.y_max), np.abs(r.sigma_graze)))
 
 
+def test_stability_and_dimension_shapes():
+    f = vimpact.floquet(vimpact.WakeImpact(Ur=16), sample_dt=0.05, **Q)
+    check(f.multipliers, (4,), np.complex128)
+    check(f.monodromy, (4, 4), np.float64)
+    check(f.orbit_point, (4,), np.float64)
+    assert f.orbit.shape == (len(f.orbit_t), 4) and len(f.orbit_t) > 0
+    assert f.impact_pre.shape == (f.impacts_per_period, 4)
+    assert abs(f.multipliers[0] - 1) == f.trivial_error < 1e-8
+    assert f.det_monodromy == pytest.approx(f.liouville_det, rel=1e-6)
+    a = vimpact.floquet(vimpact.WakeImpact(Ur=18.426), **Q)  # the paper's chaotic point (Fig. 6a)
+    assert (a.status, a.label) == ("aperiodic", "aperiodic")
+    assert a.multipliers.shape == (0,) and a.stable is None and np.isnan(a.period)
+    ly = vimpact.lyapunov(vimpact.WakeImpact(Ur=16), impacts=40, transient=60)
+    check(ly.exponents, (4,), np.float64)
+    h = len(ly.history_t)
+    check(ly.history_growth, (h, 4), np.float64)
+    assert ly.running_exponents.shape == (h, 4)
+    np.testing.assert_allclose(ly.running_exponents[-1], np.sort(ly.exponents)[::-1], rtol=1e-12, atol=1e-15)
+    assert ly.exponents.sum() == pytest.approx(ly.sum_rule, abs=1e-6)
+    rng = np.random.default_rng(5)
+    d = vimpact.dimension(rng.random((3000, 2)))
+    k = len(d.r)
+    check(d.r, (k,), np.float64)
+    check(d.pairs, (k,), np.int64)
+    check(d.local_slope, (k,), np.float64)
+    assert d.dimension == pytest.approx(2.0, abs=0.1)
+    with pytest.raises(ValueError, match="2-D"):
+        vimpact.dimension(np.zeros(5))
+
+
 def test_results_do_not_depend_on_the_thread_count():
     values = vimpact.grid(20, 25, 9)
     runs = [vimpact.sweep(W, "Ur", values, threads=t, grazing=True, **Q) for t in (1, 2, 5)]
@@ -178,6 +208,7 @@ INTERRUPTED = textwrap.dedent("""
     "vimpact.sweep(w, 'Ur', vimpact.grid(12, 25, 400), threads=2)",
     "vimpact.simulate(w, transient=10**8)",
     "vimpact.grazing(w, t_max=1e9, transient_time=1e9)",
+    "vimpact.lyapunov(w, impacts=10**8)",
 ])
 def test_ctrl_c_raises_keyboard_interrupt_quickly(call):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
@@ -199,7 +230,7 @@ def test_ctrl_c_raises_keyboard_interrupt_quickly(call):
 
 def test_docstrings_state_the_defaults():
     for f in (vimpact.simulate, vimpact.period, vimpact.grazing, vimpact.sweep, vimpact.map, vimpact.basins,
-              vimpact.response):
+              vimpact.response, vimpact.floquet, vimpact.lyapunov, vimpact.dimension):
         doc = f.__doc__
         assert "$" not in doc and "<protocol>" not in doc
         for section in ("Parameters\n    ----------", "Returns\n    -------"):

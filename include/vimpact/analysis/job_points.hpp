@@ -149,6 +149,17 @@ inline grazing_options job_grazing_options(const integrator_options& protocol_in
     return go;
 }
 
+// The tangent (variational) runs of the stability analyses: Newton shooting closes an orbit
+// to 1e-11 only if the map is that accurate, so never looser than 1e-12 (the command line's
+// rule in cli/stability_commands.cpp, tangent_integration).
+inline integrator_options tangent_integration_options(const integrator_options& protocol_integration)
+{
+    integrator_options io;
+    io.rtol = std::min(protocol_integration.rtol, 1e-12);
+    io.atol = std::min(protocol_integration.atol, 1e-12);
+    return io;
+}
+
 // ---------------------------------------------------------------- sweep
 
 enum class sweep_direction { up, down, both };

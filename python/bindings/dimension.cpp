@@ -1,0 +1,93 @@
+// The correlation dimension of a point set (include/vimpact/analysis/correlation_dimension.hpp).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "bindings.hpp"
+#include "common.hpp"
+#include "vimpact/analysis/correlation_dimension.hpp"
+
+namespace vimpact::python {
+namespace {
+
+py::dict dimension(const input_array& points, const std::string& estimator, long theiler, int centres,
+                   const std::array<double, 3>& radii, const std::optional<std::array<double, 2>>& fit_range,
+                   double slope_tolerance, double slope_window, double min_extent, std::uint64_t min_pairs,
+                   double max_correlation, double r_max, std::uint64_t max_pairs, int bins_per_octave,
+                   const std::string& search, int threads)
+{
+    if (points.ndim() != 2) throw input_error("points must be a 2-D array (one point per row)");
+    point_set ps(static_cast<int>(points.shape(1)));
+    ps.reserve(static_cast<std::size_t>(points.shape(0)));
+    for (py::ssize_t i = 0; i < points.shape(0); ++i) ps.push_back(points.data(i, 0));
+
+    dimension_options o;
+    if (estimator == "correlation_sum") o.estimator = dimension_estimator::correlation_sum;
+    else if (estimator == "centres") o.estimator = dimension_estimator::centres;
+    else throw input_error(input_name(spelling, "estimator") + " '" + estimator + "' is not one of correlation_sum, centres");
+    o.correlation.theiler_window = theiler;
+    o.centre.theiler_window = theiler;
+    o.centre.centres = centres;
+    o.centre.r_min = radii[0];
+    o.centre.r_max = radii[1];
+    o.centre.r_step = radii[2];
+    o.correlation.r_max = r_max;
+    o.correlation.bins_per_octave = bins_per_octave;
+    o.max_pairs = max_pairs;
+    if (search == "grid") o.correlation.search = pair_search::grid;
+    else if (search == "kd_tree") o.correlation.search = pair_search::kd_tree;
+    else if (search == "brute_force") o.correlation.search = pair_search::brute_force;
+    else throw input_error(input_name(spelling, "search") + " '" + search + "' is not one of grid, kd_tree, brute_force");
+    o.correlation.threads = resolve_threads(threads);
+    o.scaling.slope_tolerance = slope_tolerance;
+    o.scaling.slope_window = slope_window;
+    o.scaling.min_extent = min_extent;
+    o.scaling.min_pairs = min_pairs;
+    o.scaling.max_correlation = max_correlation;
+    o.scaling.fit_range = fit_range;
+
+    // No cancel flag in the dimension code: Ctrl-C is honoured when it returns.
+    const auto r = run_released([&](const std::atomic<bool>&) { return correlation_dimension(ps, o); });
+    const auto& f = r.fit;
+    py::dict d;
+    d["estimator"] = std::string(to_string(r.estimator));
+    d["points"] = r.points;
+    d["embedding"] = r.embedding;
+    d["dimension"] = f.dimension;
+    d["found"] = f.found;
+    d["automatic"] = f.automatic;
+    d["intercept"] = f.intercept;
+    d["r2"] = f.r2;
+    d["slope_error"] = f.slope_error;
+    d["slope_spread"] = f.slope_spread;
+    d["fit_range"] = py::make_tuple(f.r_min, f.r_max);
+    d["fitted"] = f.fitted;
+    d["fit_first"] = f.first;
+    d["fit_last"] = f.last;
+    d["r"] = scalar_rows(r.curve.r, [](double x) { return x; });
+    d["pairs"] = typed_rows<std::int64_t>(r.curve.pairs, [](std::uint64_t p) { return p; });
+    d["total_pairs"] = r.curve.total_pairs;
+    d["local_slope"] = scalar_rows(f.local_slope, [](double x) { return x; });
+    d["centres"] = typed_rows<std::int64_t>(r.centres, [](std::size_t c) { return c; });
+    d["r_cap"] = r.r_cap;
+    d["all_pairs"] = r.all_pairs;
+    return d;
+}
+
+}  // namespace
+
+void bind_dimension(py::module_& m)
+{
+    using namespace pybind11::literals;
+    m.def("_dimension", &dimension, "points"_a, "estimator"_a, "theiler"_a, "centres"_a, "radii"_a, "fit_range"_a,
+          "slope_tolerance"_a, "slope_window"_a, "min_extent"_a, "min_pairs"_a, "max_correlation"_a, "r_max"_a,
+          "max_pairs"_a, "bins_per_octave"_a, "search"_a, "threads"_a, "Internal: see vimpact.dimension.");
+}
+
+}  // namespace vimpact::python
