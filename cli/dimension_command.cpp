@@ -207,17 +207,26 @@ void write_point_set(const std::filesystem::path& p, const point_set& ps, const 
     w.close();
 }
 
+// Rounded for reading (the JSON has every digit); + 0.0 turns -0 into 0.
+std::string rounded(double v, double scale) { return format_double(std::round(v * scale) / scale + 0.0); }
+
 std::string text_summary(const dimension_result& r, const std::string& source)
 {
     const auto& f = r.fit;
-    std::string t = "correlation dimension " + (std::isfinite(f.dimension) ? format_double(std::round(f.dimension * 1e4) / 1e4) : "undetermined");
-    if (std::isfinite(f.slope_error)) t += " +- " + format_double(std::round(f.slope_error * 1e4) / 1e4) + " (fit)";
+    std::string t = "correlation dimension " + (std::isfinite(f.dimension) ? rounded(f.dimension, 1e4) : "undetermined");
+    // The least-squares error understates the uncertainty; the spread of the local slopes
+    // over the fit is the honest companion.
+    if (std::isfinite(f.slope_error))
+        t += " (least-squares error " + rounded(f.slope_error, 1e4) +
+             (std::isfinite(f.slope_spread) ? ", local slopes spread " + rounded(f.slope_spread, 1e3)
+                                            : std::string()) +
+             ")";
     t += "\n" + std::string(to_string(r.estimator)) + " over " + std::to_string(r.points) + " points (" +
          std::to_string(r.embedding) + " coordinates) from " + source + "\n";
     if (f.fitted)
         t += "fit range r = " + format_double(f.r_min) + " .. " + format_double(f.r_max) + " (" + std::to_string(f.fitted) +
              " radii, " + (f.automatic ? (f.found ? "automatic" : "automatic; NO range met the slope tolerance") : "user") +
-             "), r2 " + (std::isfinite(f.r2) ? format_double(std::round(f.r2 * 1e6) / 1e6) : "undefined (C constant)") + "\n";
+             "), r2 " + (std::isfinite(f.r2) ? rounded(f.r2, 1e6) : "undefined (C constant)") + "\n";
     else
         t += "no radii usable for a fit (too few pairs above the floor)\n";
     return t;
