@@ -115,11 +115,14 @@ void bind_common(Class& cls)
             return a;
         },
         py::arg("x"), "The Jacobian DF(x) (numpy float64, shape (dim, dim)), analytic.");
-    cls.def("__eq__", [](const Model& a, const Model& b) {
-        for (const auto& info : table_of<Model>())
-            if (!(a.params().*(info.member) == b.params().*(info.member))) return false;
-        return true;
-    });
+    cls.def(
+        "__eq__",
+        [](const Model& a, const Model& b) {
+            for (const auto& info : table_of<Model>())
+                if (!(a.params().*(info.member) == b.params().*(info.member))) return false;
+            return true;
+        },
+        py::is_operator());
     cls.def("__hash__", &parameters_hash<Model>);
     cls.def(py::pickle([](const Model& m) { return parameters_dict(m); },
                        [](const py::dict& d) { return make_model<Model>(typename Model::parameters{}, d); }));
@@ -141,8 +144,10 @@ oscillator x (Facchinetti et al. 2004), with a rigid barrier at y = sigma::
 An impact happens when y decreases through sigma; the reset is
 (y, v, x, w) -> (sigma, -r v, x, w). State order: (y, ydot, x, xdot).
 
-Parameters (keyword arguments; unnamed ones take the ``paper`` preset's values)
+Parameters
 ----------
+Keyword arguments; those not given take the ``paper`` preset's values.
+
 )" + parameters_doc<wake_impact>() +
                                  R"(
 Attributes
@@ -188,8 +193,10 @@ with the same barrier law as WakeImpact: impact when y decreases through sigma, 
 (y, v, theta) -> (sigma, -r v, theta). Between impacts the flow is known in closed form,
 which makes it the model to check numerics against. State order: (y, ydot, theta).
 
-Parameters (keyword arguments)
+Parameters
 ----------
+Keyword arguments; those not given take the defaults below.
+
 )" + parameters_doc<forced_impact_oscillator>();
     py::class_<forced_impact_oscillator> forced(m, "ForcedImpactOscillator", forced_doc.c_str());
     forced.def(py::init([](const py::kwargs& kw) {

@@ -33,6 +33,8 @@ except ImportError as _error:  # the compiled module is not built or not on the 
     _import_error = _error
 else:
     _import_error = None
+    for _f in (basins, dimension, floquet, grazing, grid, lyapunov, map, period, response, simulate, sweep):
+        _f.__module__ = __name__  # help() and tracebacks name them vimpact.sweep, not vimpact._api.sweep
 
 _COMPILED = {"ForcedImpactOscillator", "InputError", "WakeImpact", "__version__", "git_hash", "basins", "dimension",
              "floquet", "grazing", "grid", "lyapunov", "map", "period", "response", "simulate", "sweep"}

@@ -187,8 +187,11 @@ def test_long_calls_release_the_gil():
         ticks.append(time.perf_counter())
         time.sleep(0.001)
     th.join()
+    # Holding the GIL would stall this thread for the whole call; scheduling noise on a
+    # loaded machine is far shorter than a quarter of it.
     assert span["call"] > 0.3, "the call must be long enough to tell"
-    assert max(np.diff(ticks)) < 0.1, f"the main thread stalled for {max(np.diff(ticks)):.3f} s"
+    stall = max(np.diff(ticks))
+    assert stall < span["call"] / 4, f"the main thread stalled for {stall:.3f} s of a {span['call']:.3f} s call"
 
 
 INTERRUPTED = textwrap.dedent("""

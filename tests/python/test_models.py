@@ -29,6 +29,7 @@ def test_keywords_with_and_preset():
     f = vimpact.WakeImpact.preset("facchinetti", Ur=25)
     assert f.CL0 == 0.3 and f.Ur == 25.0
     assert f != vimpact.WakeImpact(Ur=25)
+    assert m != "not a model" and m != vimpact.ForcedImpactOscillator()
     with pytest.raises(AttributeError):
         m.Ur = 3
 
