@@ -151,6 +151,7 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     using VM = variational_model<Model>;
     const VM vm(model, opt.jump);
     flow_options fo = opt.flow;
+    fo.integration = VM::integration_options(opt.flow.integration);
     fo.track_maxima = true;
     fo.track_minima = false;
     hybrid_flow<VM, Method> flow(vm, fo);
