@@ -152,7 +152,8 @@ int run_floquet(const floquet_args& a)
                            : r.label + " (" + outcome_text + ")\n";
     if (have) {
         text += "period T = " + format_double(r.period) + " (" + std::to_string(r.section_returns) +
-                " maxima, " + std::to_string(r.impacts_per_period) + " impact(s)), closure " +
+                (r.section_returns == 1 ? " maximum, " : " maxima, ") + std::to_string(r.impacts_per_period) +
+                " impact(s)), closure " +
                 fixed(r.closure, 3) + " after " + std::to_string(r.newton_iterations) + " Newton step(s)\n";
         text += "multipliers (" + std::string(to_string(r.jump)) + " at impacts; trivial first):\n";
         for (std::size_t i = 0; i < r.multipliers.size(); ++i) {
