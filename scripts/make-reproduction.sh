@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the pictures and facts of docs/reproduction.md: runs every figure script at its
-# default size (examples/all.sh, about 15 minutes on 2 cores), copies each plot.png to
+# default size (examples/all.sh, about 15 minutes on 2 cores, plus 2 for Figure 6), copies each plot.png to
 # docs/figures/, and writes the quoted numbers to docs/reproduction-facts.txt.
 # Usage: bash scripts/make-reproduction.sh [RESULTS_DIR]   (default results/reproduction)
 set -euo pipefail
@@ -11,8 +11,13 @@ mkdir -p docs/figures
 for d in "$out"/fig*; do
   name=$(basename "$d")
   if [ -f "$d/plot.png" ]; then cp "$d/plot.png" "docs/figures/$name.png"; fi
-  for sub in "$d"/*/; do
-    [ -f "$sub/plot.png" ] && cp "$sub/plot.png" "docs/figures/$name-$(basename "$sub").png"
+  for extra in "$d"/fig6?.png; do
+    [ -f "$extra" ] && cp "$extra" docs/figures/
+  done
+  for sub in "$d"/*/; do  # the sub-runs the document shows
+    case "$name-$(basename "$sub")" in
+      fig2d-h-*|fig6-band-*) [ -f "$sub/plot.png" ] && cp "$sub/plot.png" "docs/figures/$name-$(basename "$sub").png" ;;
+    esac
   done
 done
 /usr/bin/python3 scripts/reproduction_facts.py "$out" > docs/reproduction-facts.txt
