@@ -36,7 +36,7 @@ void add_common_options(CLI::App& app, common_args& a)
     a.rtol_option = app.add_option("--rtol", a.rtol, "Relative tolerance (default 1e-10)");
     a.atol_option = app.add_option("--atol", a.atol, "Absolute tolerance (default 1e-10)");
     a.transient_option = app.add_option("--transient", a.transient, "Impacts discarded before recording (default 500)");
-    a.record_option = app.add_option("--record", a.record, "Section points kept (default 200)");
+    a.record_option = app.add_option("--record", a.record, "Section points kept (default " + std::to_string(a.record) + ")");
     a.method_option = app.add_option("--method", a.method, "Integrator: dop853 (default) or dopri5");
     a.section_option = app.add_option("--section", a.section, "Section: maxima (default, the paper's Sigma), minima or impacts");
     app.add_option("--out", a.out, "Write CSV, a JSON record and a PNG to this directory");
@@ -145,6 +145,7 @@ run_config resolve(const common_args& a)
     c.preset = a.preset;
     c.params = wake_impact_preset(a.preset);
     c.section = parse_section(a.section);
+    c.record = a.record;  // the command's default; the config file and --record override it
     if (!a.config.empty()) apply_config(c, a);
     // Command-line values override the config file.
     if (a.rtol_option->count()) c.rtol = a.rtol;

@@ -7,7 +7,6 @@
 #include <optional>
 #include <thread>
 
-#include <toml++/toml.h>
 
 #include "output.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
@@ -146,12 +145,6 @@ void reject_model_options(const CLI::App& app)
             throw input_error(std::string(name) + " configures a run of the model; it cannot be combined with --points");
 }
 
-bool config_sets_record(const common_args& c)
-{
-    if (c.config.empty()) return false;
-    return toml::parse_file(c.config).contains("record");  // resolve() has already read it
-}
-
 json curve_summary(const dimension_result& r)
 {
     const auto& f = r.fit;
@@ -256,7 +249,6 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
         ps = make_point_set(table, cols);
         source = {{"kind", "file"}, {"file", a.points_file}, {"columns", names}, {"rows", ps.size()}};
     } else {
-        if (a.common.record_option->count() == 0 && !config_sets_record(a.common)) c.record = default_dimension_record;
         const std::vector<std::string> state_names{"y", "ydot", "x", "xdot"};
         // The model's section coordinates (y, x, w) unless --columns chooses others.
         const auto cols = select_columns(state_names, a.columns.empty() ? "y,x,xdot" : a.columns, "the section states");
@@ -339,6 +331,7 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
 cli_command add_dimension_command(CLI::App& app)
 {
     auto a = std::make_shared<dimension_args>();
+    a->common.record = default_dimension_record;  // the command's own default, shown by --help
     auto* s = app.add_subcommand("dimension",
                                  "Correlation dimension of the section points of a run (default --record 20000) or of a CSV file");
     add_common_options(*s, a->common);
