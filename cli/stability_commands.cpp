@@ -4,12 +4,17 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <functional>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <optional>
 #include <string>
 
+#include "job_runner.hpp"
 #include "output.hpp"
+#include "vimpact/analysis/job_points.hpp"
+#include "vimpact/analysis/sweep.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/csv_writer.hpp"
@@ -19,8 +24,19 @@
 namespace vimpact::cli {
 namespace {
 
+// --param P --range a:b:n turns either command into a sweep through the shared job loop
+// (threads, shards, resume: cli/job_runner.hpp), one analysis per value, fixed starts from
+// --ic as the paper did: Figures 14-17 with the bifurcation diagram underneath.
+struct sweep_request {
+    std::string param;
+    std::string range;
+    job_args jobs;
+    [[nodiscard]] bool wanted() const { return !param.empty() || !range.empty(); }
+};
+
 struct floquet_args {
     common_args common;
+    sweep_request sweep;
     double tol = 1e-8;
     double newton_tol = 1e-11;
     int newton_iterations = 20;
@@ -29,6 +45,7 @@ struct floquet_args {
 
 struct lyapunov_args {
     common_args common;
+    sweep_request sweep;
     std::string tdm = "saltation";
     double r0 = 1e-4;
     double t0 = std::numbers::pi;
@@ -70,6 +87,222 @@ json matrix_json(const mat<4>& m)
     return rows;
 }
 
+// "a:b:n" -> n values from a to b (the sweep command's convention, analysis/sweep.hpp).
+std::vector<double> sweep_values(const sweep_request& s)
+{
+    if (s.param.empty() || s.range.empty()) throw input_error("a sweep needs both --param and --range a:b:n");
+    check_parameter_name(wake_impact(), s.param, "--param");
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (;;) {
+        const auto colon = s.range.find(':', start);
+        parts.push_back(s.range.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
+        if (colon == std::string::npos) break;
+        start = colon + 1;
+    }
+    if (parts.size() != 3) throw input_error("--range '" + s.range + "' must be a:b:n (from a to b, n points)");
+    const double a = parse_number(parts[0], "--range start");
+    const double b = parse_number(parts[1], "--range end");
+    const double n = parse_number(parts[2], "--range points");
+    if (n < 1 || n != std::floor(n) || n > 1e7)
+        throw input_error("--range '" + s.range + "': n must be an integer in [1, 1e7]");
+    return grid_values(a, b, static_cast<long>(n));
+}
+
+json points_json(const std::vector<timed_state<4>>& pts)
+{
+    json a = json::array();
+    for (const auto& p : pts) a.push_back(vec_json(p.x));
+    return a;
+}
+
+void write_sweep_points(const std::filesystem::path& path, const std::string& param, const std::vector<json>& recs)
+{
+    csv_writer w(path, {param, "y", "ydot", "x", "xdot"});
+    for (const auto& r : recs)
+        for (const auto& p : r["points"])
+            w.row({r["value"].get<double>(), p[0].get<double>(), p[1].get<double>(), p[2].get<double>(), p[3].get<double>()});
+    w.close();
+}
+
+double number_or_nan(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
+
+// Runs the jobs of a stability sweep and writes DIR (kind `kind`) when all are done.
+int run_stability_sweep(const run_config& c, const sweep_request& s, const std::vector<double>& values,
+                        json spec, const char* kind, const std::function<json(const wake_impact&)>& analyse,
+                        const std::function<void(const std::vector<json>&, json&, std::string&, staged_output*)>& report)
+{
+    const wake_impact base = c.model();
+    const sweep_plan plan = make_sweep_plan(static_cast<long>(values.size()), "fixed", "up", input_spelling::cli);
+    check_sweep_starts(base, s.param, values, c.ic, plan, input_spelling::cli);
+    job_command cmd;
+    spec["config"] = c.to_json();
+    spec["param"] = s.param;
+    spec["range"] = s.range;
+    cmd.spec = std::move(spec);
+    cmd.schedule = plan.schedule();
+    cmd.out = c.out ? std::optional<std::filesystem::path>(*c.out) : std::nullopt;
+    cmd.run = [&](long job, const json*) {
+        const double v = values[static_cast<std::size_t>(job)];
+        json rec = analyse(base.with(s.param, v));
+        rec["value"] = v;
+        return rec;
+    };
+    json summary;
+    std::string text;
+    cmd.finish = [&](const std::vector<json>& recs, const std::filesystem::path* dir) {
+        if (!dir) {
+            report(recs, summary, text, nullptr);
+            return;
+        }
+        staged_output out(*dir);
+        report(recs, summary, text, &out);
+        json record = record_header(kind, c);
+        record["result"] = summary;
+        record["files"] = summary["files"];
+        finish_output(out, kind, c, record);
+        text += "output written to " + *c.out + "\n";
+    };
+    const auto res = run_job_command(cmd, s.jobs);
+    if (res.complete) print(c, summary, text);
+    return res.exit_code;
+}
+
+
+// Figures 14 and 15: the multipliers at every value, with the section points of each run.
+int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_options& fo)
+{
+    const auto values = sweep_values(a.sweep);
+    const std::string& param = a.sweep.param;
+    json spec = {{"command", "floquet"},
+                 {"tol", a.tol},
+                 {"newton_tol", a.newton_tol},
+                 {"newton_iterations", a.newton_iterations},
+                 {"impact_map", a.impact_map}};
+    auto analyse = [&](const wake_impact& m) {
+        const auto r = with_method(c.method, [&]<template <int> class M>() { return floquet_analysis<M>(m, c.ic, fo); });
+        const bool have = r.status == floquet_status::ok || r.status == floquet_status::not_converged;
+        json mults = json::array();
+        for (const auto& mu : r.multipliers) mults.push_back({mu.real(), mu.imag()});
+        std::string outcome_text = to_string(r.status);
+        if (r.status == floquet_status::flow_failed) outcome_text += " (" + r.flow_outcome + ")";
+        return json{{"label", r.label},
+                    {"outcome", outcome_text},
+                    {"period", have ? json(r.period) : json(nullptr)},
+                    {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
+                    {"multipliers", mults},
+                    {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)},
+                    {"max_nontrivial_modulus", have ? finite_or_null(r.max_nontrivial_modulus) : json(nullptr)},
+                    {"closure", r.section_returns > 0 ? finite_or_null(r.closure) : json(nullptr)},
+                    {"points", points_json(r.section_points)}};
+    };
+    auto report = [&](const std::vector<json>& recs, json& summary, std::string& text, staged_output* out) {
+        std::map<std::string, long> counts;
+        json per_value = json::array();
+        long unstable = 0;
+        for (const auto& r : recs) {
+            ++counts[r["label"].get<std::string>()];
+            per_value.push_back({{"value", r["value"]}, {"label", r["label"]}, {"outcome", r["outcome"]},
+                                 {"period", r["period"]}, {"impacts_per_period", r["impacts_per_period"]},
+                                 {"multipliers", r["multipliers"]}, {"trivial_error", r["trivial_error"]}});
+            if (r["max_nontrivial_modulus"].is_number() && r["max_nontrivial_modulus"].get<double>() >= 1.0) ++unstable;
+        }
+        json label_counts = json::object();
+        std::string counts_text;
+        for (const auto& [k, v] : counts) {
+            label_counts[k] = v;
+            counts_text += (counts_text.empty() ? "" : ", ") + k + " " + std::to_string(v);
+        }
+        summary = {{"command", "floquet"}, {"param", param}, {"values", recs.size()},
+                   {"label_counts", label_counts}, {"unstable", unstable}, {"points", per_value},
+                   {"files", {"labels.csv", "multipliers.csv", "points.csv", "run.json"}},
+                   {"out", c.out ? json(*c.out) : json(nullptr)}};
+        text = "floquet sweep of " + param + " over " + std::to_string(recs.size()) + " values: " + counts_text +
+               "; " + std::to_string(unstable) + " periodic orbit(s) with a multiplier outside the unit circle\n";
+        if (!out) return;
+        csv_writer lab(out->file("labels.csv"),
+                       {param, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus", "closure", "outcome"});
+        csv_writer mu(out->file("multipliers.csv"), {param, "index", "re", "im", "modulus", "trivial"});
+        for (const auto& r : recs) {
+            const double v = r["value"].get<double>();
+            lab.text_row({format_double(v), r["label"].get<std::string>(), format_double(number_or_nan(r["period"])),
+                          format_double(number_or_nan(r["impacts_per_period"])), format_double(number_or_nan(r["trivial_error"])),
+                          format_double(number_or_nan(r["max_nontrivial_modulus"])), format_double(number_or_nan(r["closure"])),
+                          r["outcome"].get<std::string>()});
+            const auto& ms = r["multipliers"];
+            for (std::size_t i = 0; i < ms.size(); ++i) {
+                const double re = ms[i][0].get<double>(), im = ms[i][1].get<double>();
+                mu.row({v, static_cast<double>(i), re, im, std::hypot(re, im), i == 0 ? 1.0 : 0.0});
+            }
+        }
+        lab.close();
+        mu.close();
+        write_sweep_points(out->file("points.csv"), param, recs);
+    };
+    return run_stability_sweep(c, a.sweep, values, std::move(spec), "floquet_sweep", analyse, report);
+}
+
+// Figures 16 and 17: the exponents at every value, with section points of the same orbits.
+int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_options lo)
+{
+    const auto values = sweep_values(a.sweep);
+    const std::string& param = a.sweep.param;
+    lo.record_points = c.record;
+    json spec = {{"command", "lyapunov"}, {"tdm", a.tdm}, {"r0", a.r0}, {"t0", a.t0},
+                 {"impacts", a.impacts}, {"time", a.time}, {"warmup", a.warmup}};
+    auto analyse = [&](const wake_impact& m) {
+        const auto r = with_method(c.method, [&]<template <int> class M>() { return lyapunov_spectrum<M>(m, c.ic, lo); });
+        const bool have = r.status == lyapunov_status::ok || r.status == lyapunov_status::time_limit;
+        json exps = json::array();
+        if (have)
+            for (int i = 0; i < 4; ++i) exps.push_back(r.exponents[i]);
+        std::string outcome_text = to_string(r.status);
+        if (r.status == lyapunov_status::flow_failed) outcome_text += " (" + r.flow_outcome + ")";
+        return json{{"outcome", outcome_text},
+                    {"exponents", exps},
+                    {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
+                    {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+                    {"impacts", r.impacts},
+                    {"time", r.time},
+                    {"misses", r.misses},
+                    {"points", points_json(r.section_points)}};
+    };
+    auto report = [&](const std::vector<json>& recs, json& summary, std::string& text, staged_output* out) {
+        json per_value = json::array();
+        long positive = 0;
+        for (const auto& r : recs) {
+            per_value.push_back({{"value", r["value"]}, {"outcome", r["outcome"]}, {"lle", r["lle"]},
+                                 {"lle_standard_error", r["lle_standard_error"]}, {"exponents", r["exponents"]}});
+            if (r["lle"].is_number() && r["lle_standard_error"].is_number() &&
+                r["lle"].get<double>() > 3.0 * r["lle_standard_error"].get<double>())
+                ++positive;
+        }
+        summary = {{"command", "lyapunov"}, {"param", param}, {"values", recs.size()}, {"tdm", a.tdm},
+                   {"positive", positive}, {"points", per_value},
+                   {"files", {"exponents.csv", "points.csv", "run.json"}},
+                   {"out", c.out ? json(*c.out) : json(nullptr)}};
+        text = "lyapunov sweep of " + param + " over " + std::to_string(recs.size()) + " values (" + a.tdm +
+               "): largest exponent above 3 standard errors at " + std::to_string(positive) + "\n";
+        if (!out) return;
+        csv_writer w(out->file("exponents.csv"), {param, "lambda1", "lambda2", "lambda3", "lambda4", "lle_standard_error",
+                                                  "impacts", "time", "misses", "outcome"});
+        for (const auto& r : recs) {
+            std::vector<std::string> row{format_double(r["value"].get<double>())};
+            for (int i = 0; i < 4; ++i)
+                row.push_back(format_double(r["exponents"].size() == 4 ? r["exponents"][i].get<double>() : std::nan("")));
+            row.push_back(format_double(number_or_nan(r["lle_standard_error"])));
+            row.push_back(std::to_string(r["impacts"].get<long>()));
+            row.push_back(format_double(r["time"].get<double>()));
+            row.push_back(std::to_string(r["misses"].get<long>()));
+            row.push_back(r["outcome"].get<std::string>());
+            w.text_row(row);
+        }
+        w.close();
+        write_sweep_points(out->file("points.csv"), param, recs);
+    };
+    return run_stability_sweep(c, a.sweep, values, std::move(spec), "lyapunov_sweep", analyse, report);
+}
+
 int run_floquet(const floquet_args& a)
 {
     const run_config c = resolve(a.common);
@@ -90,6 +323,7 @@ int run_floquet(const floquet_args& a)
     fo.shooting.max_iterations = a.newton_iterations;
     fo.shooting.map.flow.integration = tangent_integration(c);
     fo.jump = parse_impact_map(a.impact_map);
+    if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
     std::optional<staged_output> out;
     if (c.out) {
         out.emplace(*c.out);
@@ -175,9 +409,10 @@ int run_floquet(const floquet_args& a)
 
 int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
 {
-    for (const char* name : {"--record", "--section"})
-        if (app.get_option(name)->count() > 0)
-            throw input_error(std::string(name) + " is not used by lyapunov (it records no section points)");
+    if (app.get_option("--section")->count() > 0)
+        throw input_error("--section is not used by lyapunov (a sweep records the maxima, the paper's Sigma)");
+    if (!a.sweep.wanted() && app.get_option("--record")->count() > 0)
+        throw input_error("--record is used by lyapunov only in a sweep (--param, --range), for the bifurcation diagram");
     const run_config c = resolve(a.common);
     lyapunov_options lo;
     lo.tdm = parse_lyapunov_tdm(a.tdm);
@@ -196,6 +431,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
     lo.warmup_intervals = a.warmup;
     lo.transient_impacts = c.transient;
     lo.flow = c.protocol().flow;
+    if (a.sweep.wanted()) return run_lyapunov_sweep(a, c, lo);
     std::optional<staged_output> out;
     if (c.out) out.emplace(*c.out);
     const wake_impact model = c.model();
@@ -267,6 +503,13 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
     return 0;
 }
 
+void add_sweep_options(CLI::App& app, sweep_request& s, const std::string& what)
+{
+    app.add_option("--param", s.param, "Sweep: the parameter to vary (Ur, sigma, r, ...); " + what);
+    app.add_option("--range", s.range, "Sweep: values a:b:n (from a to b, n points; fixed starts from --ic)");
+    add_job_options(app, s.jobs);
+}
+
 }  // namespace
 
 cli_command add_floquet_command(CLI::App& app)
@@ -282,6 +525,7 @@ cli_command add_floquet_command(CLI::App& app)
     f->add_option("--impact-map", a->impact_map,
                   "Tangent jump at impacts: saltation (default; correct), reset-jacobian or identity "
                   "(both wrong, to show why saltation is needed)");
+    add_sweep_options(*f, a->sweep, "multipliers (Figures 14, 15)");
     return {f, [a] { return run_floquet(*a); }};
 }
 
@@ -300,6 +544,7 @@ cli_command add_lyapunov_command(CLI::App& app)
     l->add_option("--impacts", a->impacts, "Average over this many impacts after the warm-up (default 800)");
     l->add_option("--time", a->time, "Average over this much time instead of --impacts (default 0: use --impacts)");
     l->add_option("--warmup", a->warmup, "Intervals of t0 not counted while the vectors align (default 16)");
+    add_sweep_options(*l, a->sweep, "exponents (Figures 16, 17; --record maxima per value for the diagram)");
     return {l, [a, l] { return run_lyapunov(*l, *a); }};
 }
 

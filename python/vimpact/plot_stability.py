@@ -27,10 +27,11 @@ def read_csv(path):
     return {name: data[:, i] for i, name in enumerate(header)}
 
 
-def _title(record):
+def _title(record, swept=None):
+    """The parameters of the run; a swept one is named as the axis, not given a value."""
     p = record["config"]["parameters"]
-    return (f"Ur = {p['Ur']:g}, sigma = {p['sigma']:g}, r = {p['r']:g}, "
-            f"A = {p['A']:g}, eps = {p['eps']:g}  ({record['config']['preset']} preset)")
+    parts = [f"{k} = {p[k]:g}" for k in ("Ur", "sigma", "r", "A", "eps") if k != swept]
+    return ", ".join(parts) + f"  ({record['config']['preset']} preset)"
 
 
 def _record(directory):
@@ -121,6 +122,83 @@ def lyapunov(directory, out_name="plot.png"):
     ax2.set_ylabel("running estimate")
     ax2.legend(loc="lower right", fontsize=8)
     fig.suptitle(_title(record), fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(directory, out_name)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _read_table(path):
+    """A CSV with text cells as a dict of column lists of strings."""
+    import csv
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return {name: [r[i] for r in rows[1:]] for i, name in enumerate(rows[0])}
+
+
+def _diagram(ax, directory, param):
+    """The bifurcation diagram underneath: y at the section maxima of every run."""
+    pts = read_csv(os.path.join(directory, "points.csv"))
+    if len(pts[param]):
+        ax.plot(pts[param], pts["y"], "k.", ms=1.2)
+    ax.set_xlabel(param)
+    ax.set_ylabel("y at the section")
+
+
+def floquet_sweep(directory, out_name="plot.png"):
+    """Multipliers against the swept parameter (the paper's Figures 14, 15), the unit-circle
+    band -1 <= mu <= 1 shaded, over the bifurcation diagram."""
+    record = _record(directory)
+    res = record["result"]
+    param = res["param"]
+    mult = read_csv(os.path.join(directory, "multipliers.csv"))
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
+    ax1.axhspan(-1.0, 1.0, color="C2", alpha=0.08, label="|mu| <= 1 (stable)")
+    ax1.axhline(1.0, color="k", lw=0.6)
+    ax1.axhline(-1.0, color="k", lw=0.6)
+    if len(mult[param]):
+        trivial = mult["trivial"] > 0.5
+        real = np.abs(mult["im"]) <= 1e-12
+        sel = ~trivial & real
+        ax1.plot(mult[param][sel], mult["re"][sel], ".", color="C0", ms=3, label="real multipliers")
+        sel = ~trivial & ~real
+        ax1.plot(mult[param][sel], mult["modulus"][sel], "^", color="C1", ms=3, label="|mu| of complex pairs")
+        ax1.plot(mult[param][trivial], mult["re"][trivial], "x", color="0.6", ms=3, label="trivial")
+    ax1.set_ylim(-1.6, 1.6)
+    ax1.set_ylabel("Floquet multipliers")
+    counts = ", ".join(f"{k} {v}" for k, v in res["label_counts"].items())
+    ax1.set_title(f"multipliers over {param} ({counts}; aperiodic points have none)", fontsize=10)
+    ax1.legend(loc="lower left", fontsize=8, markerscale=2)
+    _diagram(ax2, directory, param)
+    fig.suptitle(_title(record, param), fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(directory, out_name)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def lyapunov_sweep(directory, out_name="plot.png"):
+    """The largest Lyapunov exponent against the swept parameter (the paper's Figures 16, 17)
+    with its standard error, over the bifurcation diagram."""
+    record = _record(directory)
+    res = record["result"]
+    param = res["param"]
+    tab = _read_table(os.path.join(directory, "exponents.csv"))
+    v = np.array([float(x) for x in tab[param]])
+    lle = np.array([float(x) for x in tab["lambda1"]])
+    se = np.array([float(x) for x in tab["lle_standard_error"]])
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [1, 1]})
+    ax1.axhline(0.0, color="k", lw=0.6)
+    ok = np.isfinite(lle)
+    ax1.errorbar(v[ok], lle[ok], yerr=np.where(np.isfinite(se[ok]), se[ok], 0.0), fmt=".-", color="C3", ms=4,
+                 lw=0.8, elinewidth=0.8, capsize=1.5)
+    ax1.set_ylabel("largest Lyapunov exponent")
+    ax1.set_title(f"mapping at impacts: {res['tdm']}; {res['positive']} of {res['values']} values above 3 "
+                  f"standard errors", fontsize=10)
+    _diagram(ax2, directory, param)
+    fig.suptitle(_title(record, param), fontsize=10)
     fig.tight_layout()
     path = os.path.join(directory, out_name)
     fig.savefig(path, dpi=120)

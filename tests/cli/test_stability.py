@@ -161,3 +161,66 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(vimpact, tmp_path, a
     assert p.stdout == ""
     assert not out.exists()
     assert not [f for f in os.listdir(tmp_path) if f.startswith(".vimpact-staging")]
+
+
+# ---- sweeps through the job loop (Figures 14-17) --------------------------------------------
+
+def test_floquet_sweep_is_the_single_runs_and_thread_independent(vimpact):
+    one = run(vimpact, "floquet", "--param", "Ur", "--range", "14:16:3", "--json", "--threads", "1")
+    two = run(vimpact, "floquet", "--param", "Ur", "--range", "14:16:3", "--json", "--threads", "2")
+    assert one.returncode == 0, one.stderr
+    assert one.stdout == two.stdout
+    j = json.loads(one.stdout)
+    assert [p["label"] for p in j["points"]] == ["P1", "P2", "P2"]
+    single = run_json(vimpact, "floquet", "--set", "Ur=16")
+    assert j["points"][2]["multipliers"] == single["multipliers"]
+    assert j["points"][2]["period"] == single["period"]
+
+
+def test_lyapunov_sweep_is_the_single_runs(vimpact):
+    j = run_json(vimpact, "lyapunov", "--param", "Ur", "--range", "16:19:2", "--impacts", "100", "--threads", "2")
+    assert [p["value"] for p in j["points"]] == [16, 19]
+    single = run_json(vimpact, "lyapunov", "--set", "Ur=19", "--impacts", "100")
+    assert j["points"][1]["exponents"] == single["exponents"]
+
+
+@pytest.mark.parametrize("command,files", [
+    (["floquet", "--param", "sigma", "--range", "-0.150298:-0.14:3", "--set", "Ur=25"],
+     ["labels.csv", "multipliers.csv", "points.csv"]),
+    (["lyapunov", "--param", "Ur", "--range", "24:25:3", "--impacts", "100", "--record", "50"],
+     ["exponents.csv", "points.csv"]),
+])
+def test_sweep_out_directory(vimpact, tmp_path, command, files):
+    out = tmp_path / "sweep"
+    p = run(vimpact, *command, "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    for name in files:
+        assert len((out / name).read_text().splitlines()) > 1
+    record = json.loads((out / "run.json").read_text())
+    assert record["result"]["values"] == 3
+    assert (out / "plot.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not (tmp_path / "sweep.jobs").exists()
+    if command[0] == "lyapunov":
+        rows = (out / "points.csv").read_text().splitlines()
+        assert rows[0] == "Ur,y,ydot,x,xdot"
+        assert len(rows) == 1 + 3 * 50
+
+
+SWEEP_BAD = [
+    (["floquet", "--param", "nope", "--range", "1:2:3"], "nope"),
+    (["floquet", "--param", "Ur", "--range", "1:2"], "--range"),
+    (["lyapunov", "--param", "Ur"], "--range"),
+    (["lyapunov", "--param", "Ur", "--range", "14:16:3", "--shard", "3/2"], "--shard"),
+    (["floquet", "--param", "sigma", "--range", "0.5:0.6:2"], "below the barrier"),
+]
+
+
+@pytest.mark.parametrize("args,needle", SWEEP_BAD)
+def test_bad_sweep_input_exits_2(vimpact, tmp_path, args, needle):
+    out = tmp_path / "out"
+    p = run(vimpact, *args, "--out", str(out))
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("vimpact: error: ")
+    assert needle in lines[0]
+    assert not out.exists()

@@ -75,6 +75,7 @@ struct floquet_result {
     impact_tangent jump = impact_tangent::saltation;
     std::vector<impact_event<N>> impacts;  // over one period
     std::vector<timed_state<N>> orbit;     // samples over one period (sample_dt > 0)
+    std::vector<timed_state<N>> section_points;  // the protocol's recorded maxima (diagrams)
     run_stats protocol_stats;
     run_stats tangent_stats;               // the last map evaluation
     long map_evaluations = 0;
@@ -195,6 +196,7 @@ floquet_result<Model::dim> floquet_analysis(const Model& model, const vec<Model:
     floquet_result<N> res;
     res.label = lab.label;
     res.protocol_stats = pr.stats;
+    res.section_points = pr.points;
     if (pr.status != outcome::ok || pr.points.empty()) {
         res.status = floquet_status::flow_failed;
         res.flow_outcome = std::string(to_string(pr.status));
@@ -214,6 +216,7 @@ floquet_result<Model::dim> floquet_analysis(const Model& model, const vec<Model:
     floquet_result<N> fr = floquet_from_point<Method>(model, pr.points.front().x, returns, opt);
     fr.label = lab.label;
     fr.protocol_stats = pr.stats;
+    fr.section_points = pr.points;
     return fr;
 }
 

@@ -68,6 +68,9 @@ struct lyapunov_options {
     // Integrate div F with the tangent (sum_rule); without it the tangent flow is about a
     // third cheaper (28 -> 20 integrated components for the paper's model).
     bool divergence = true;
+    // > 0: also record this many section maxima (v = 0, v decreasing) of the reference orbit
+    // in the averaging window: the bifurcation diagram under an exponent sweep.
+    long record_points = 0;
 };
 
 enum class lyapunov_status { ok, time_limit, sticking, flow_failed };
@@ -109,6 +112,7 @@ struct lyapunov_result {
     // differs from the reference's.
     long misses = 0;
     std::vector<lyapunov_sample<N>> history;   // counted intervals
+    std::vector<timed_state<N>> section_points; // record_points maxima of the window
     run_stats transient_stats;
     run_stats stats;                           // summed over the interval runs (all orbits)
 };
@@ -147,14 +151,34 @@ vec<N> reorthonormalise(mat<N>& D, double scale)
     return growth;
 }
 
+// Records section maxima of the reference orbit (state part) while `recording`, up to `limit`.
+template <int N>
+struct section_recorder {
+    std::vector<timed_state<N>>* points = nullptr;
+    long limit = 0;
+    bool recording = false;
+    void add(section_kind k, double t, const vec<N>& x) const
+    {
+        if (recording && k == section_kind::maximum && static_cast<long>(points->size()) < limit)
+            points->push_back({t, x});
+    }
+};
+
 template <class VModel>
 struct lyapunov_tangent_observer : flow_observer {
     static constexpr int N = VModel::base_dim;
     const VModel& vm;
+    section_recorder<N> sections;
     long impacts = 0;
     double log_det_jumps = 0.0;
     long misses = 0;
-    explicit lyapunov_tangent_observer(const VModel& v) : vm(v) {}
+    explicit lyapunov_tangent_observer(const VModel& v, section_recorder<N> rec = {}) : vm(v), sections(rec) {}
+
+    flow_control on_section(section_kind k, double t, const typename VModel::state& X)
+    {
+        sections.add(k, t, VModel::point(X));
+        return flow_control::proceed;
+    }
 
     flow_control on_impact(double, const typename VModel::state& pre, const typename VModel::state&)
     {
@@ -174,8 +198,15 @@ struct lyapunov_tangent_observer : flow_observer {
     }
 };
 
+template <int N>
 struct impact_counter : flow_observer {
+    section_recorder<N> sections;
     long impacts = 0;
+    flow_control on_section(section_kind k, double t, const vec<N>& x)
+    {
+        sections.add(k, t, x);
+        return flow_control::proceed;
+    }
     template <class X>
     flow_control on_impact(double, const X&, const X&)
     {
@@ -239,7 +270,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
     const averaging_window window{opt, res.impacting};
     flow_options fo = opt.flow;
     fo.integration = VM::integration_options(opt.flow.integration);
-    fo.track_maxima = false;
+    fo.track_maxima = opt.record_points > 0;
     fo.track_minima = false;
     // Unit tangent columns standing for deviations of size r0 (see variational_model).
     const VM vm(model,
@@ -252,7 +283,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
         fo.t_max = t_begin + static_cast<double>(k + 1) * opt.t0;
         hybrid_flow<VM, Method> flow(vm, fo);
         flow.start(t, X);
-        lyapunov_tangent_observer<VM> obs(vm);
+        lyapunov_tangent_observer<VM> obs(vm, {&res.section_points, opt.record_points, k >= opt.warmup_intervals});
         const outcome o = flow.run(obs);
         accumulate(res.stats, flow.stats());
         if (o != outcome::time_limit) {
@@ -306,6 +337,7 @@ lyapunov_result<Model::dim> lyapunov_spectrum(const Model& model, const vec<Mode
     if (opt.impacts < 1) throw input_error("impacts must be >= 1");
     if (!(opt.time >= 0.0) || !std::isfinite(opt.time)) throw input_error("time must be >= 0 and finite");
     if (!(opt.max_time > 0.0) || !(opt.p0_time > 0.0)) throw input_error("averaging time limits must be > 0");
+    if (opt.record_points < 0) throw input_error("record must be >= 0 section points");
     if (opt.tdm == lyapunov_tdm::second_order && !second_order_model<Model>)
         throw input_error("the second-order mapping needs the model's Jacobian and the guard's and reset's second derivatives");
 
@@ -338,7 +370,7 @@ lyapunov_result<Model::dim> lyapunov_spectrum(const Model& model, const vec<Mode
     } else {
         const detail::averaging_window window{opt, pr.impacting};
         flow_options fo = opt.flow;
-        fo.track_maxima = false;
+        fo.track_maxima = opt.record_points > 0;
         fo.track_minima = false;
         auto end_of_interval = [&](long k) { return t_begin + static_cast<double>(k + 1) * opt.t0; };
         vec<N> xr = x_start;
@@ -359,7 +391,8 @@ lyapunov_result<Model::dim> lyapunov_spectrum(const Model& model, const vec<Mode
             for (int j = 0; j <= N; ++j) {
                 hybrid_flow<Model, Method> flow(model, fo);
                 flow.start(t, starts[j]);
-                detail::impact_counter obs;
+                detail::impact_counter<N> obs;
+                if (j == 0) obs.sections = {&res.section_points, opt.record_points, k >= opt.warmup_intervals};
                 const outcome o = flow.run(obs);
                 detail::accumulate(res.stats, flow.stats());
                 if (o != outcome::time_limit) {
