@@ -141,6 +141,8 @@ def _kinds():
         "dimension": plot_dimension.dimension,
         "floquet": plot_stability.floquet,
         "lyapunov": plot_stability.lyapunov,
+        "floquet_sweep": plot_stability.floquet_sweep,
+        "lyapunov_sweep": plot_stability.lyapunov_sweep,
     }
 
 
