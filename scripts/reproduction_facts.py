@@ -139,6 +139,39 @@ def main(d):
             print()
     for s in "abcdef":
         sweep_facts(d, f"fig11{s}", "Ur", [25])
+    for fl, ly, key in (("fig14", "fig16", "Ur"), ("fig15", "fig17", "sigma")):
+        stability_facts(d, fl, ly, key)
+
+
+def stability_facts(d, fl, ly, key):
+    pf, pl = os.path.join(d, fl, "labels.csv"), os.path.join(d, ly, "exponents.csv")
+    if not (os.path.exists(pf) and os.path.exists(pl)):
+        return
+    fr = [r for r in table(pf)]
+    periodic = [r for r in fr if re.fullmatch(r"P\d+", r["label"])]
+    print(f"### {fl}: Floquet over {key}, {len(fr)} values, {len(periodic)} periodic")
+    print(f"  largest |mu - 1| of the trivial multiplier: {max(float(r['trivial_error']) for r in periodic):.2g}")
+    print(f"  largest nontrivial modulus on any periodic orbit: {max(float(r['max_nontrivial_modulus']) for r in periodic):.4f}")
+    # The last periodic value before each aperiodic band, and its largest nontrivial modulus.
+    edges = []
+    for a, b in zip(fr, fr[1:]):
+        if re.fullmatch(r"P\d+", a["label"]) and b["label"] == "aperiodic":
+            edges.append((float(a[key]), a["label"], float(a["max_nontrivial_modulus"])))
+    print("  before each aperiodic band (value, label, largest nontrivial |mu|):",
+          ", ".join(f"({v:g}, {lab}, {m:.3f})" for v, lab, m in edges))
+    ex = table(pl)
+    label = {r[key]: r["label"] for r in fr}
+    pos = [r for r in ex if float(r["lambda1"]) > 3 * float(r["lle_standard_error"])]
+    print(f"### {ly}: largest Lyapunov exponent over {key}, {len(ex)} values")
+    print(f"  lambda1 above 3 standard errors at {len(pos)} values; largest {max(float(r['lambda1']) for r in ex):.4f}")
+    both = [r for r in ex if r[key] in label]
+    ap_pos = sum(1 for r in both if label[r[key]] == "aperiodic" and r in pos)
+    ap = sum(1 for r in both if label[r[key]] == "aperiodic")
+    per_pos = sum(1 for r in both if label[r[key]] != "aperiodic" and r in pos)
+    print(f"  aperiodic values with lambda1 > 3 SE: {ap_pos} of {ap}; periodic values with lambda1 > 3 SE: {per_pos}")
+    per = [abs(float(r["lambda1"])) for r in both if re.fullmatch(r"P\d+", label[r[key]])]
+    print(f"  largest |lambda1| on periodic values: {max(per):.2g}")
+    print()
 
 
 if __name__ == "__main__":
