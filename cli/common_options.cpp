@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include "vimpact/core/format.hpp"
+#include "vimpact/analysis/job_points.hpp"
 #include "vimpact/core/input_error.hpp"
 
 namespace vimpact::cli {
@@ -68,13 +69,7 @@ vec<4> parse_ic(const std::string& text)
     return x;
 }
 
-section_choice parse_section(const std::string& s)
-{
-    if (s == "maxima") return section_choice::maxima;
-    if (s == "minima") return section_choice::minima;
-    if (s == "impacts") return section_choice::impacts;
-    throw input_error("--section '" + s + "' is not one of maxima, minima, impacts");
-}
+section_choice parse_section(const std::string& s) { return parse_section_choice(s, input_spelling::cli); }
 
 double toml_number(const toml::node& node, const std::string& key, const std::string& file)
 {
@@ -165,8 +160,7 @@ run_config resolve(const common_args& a)
         set_model_key(c, key, parse_number(s.substr(eq + 1), "--set " + key));
     }
     if (!a.ic.empty()) c.ic = parse_ic(a.ic);
-    if (c.method != "dop853" && c.method != "dopri5")
-        throw input_error("--method '" + c.method + "' is not one of dop853, dopri5");
+    (void)parse_integration_method(c.method, input_spelling::cli);  // validates
     if (!a.out.empty()) c.out = a.out;
     c.json = a.json;
     c.plot = !a.no_plot;

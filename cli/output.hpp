@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common_options.hpp"
+#include "vimpact/analysis/job_points.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/io/staged_output.hpp"
 
@@ -20,12 +21,11 @@ json stats_json(const run_stats& s);
 // A JSON number, or null when it is not finite (JSON has no NaN or infinity).
 json finite_or_null(double v);
 
-// Calls f.template operator()<Method>() for the configured integrator.
+// Calls f.template operator()<Method>() for the configured integrator (validated by resolve()).
 template <class F>
 decltype(auto) with_method(const std::string& method, F&& f)
 {
-    if (method == "dopri5") return f.template operator()<dopri5>();
-    return f.template operator()<dop853>();
+    return with_integration_method(parse_integration_method(method, input_spelling::cli), std::forward<F>(f));
 }
 
 json record_header(const char* command, const run_config& c);
