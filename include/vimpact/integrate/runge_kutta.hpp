@@ -11,6 +11,15 @@
 #include "vimpact/integrate/dense_output.hpp"
 #include "vimpact/integrate/dop853_tableau.hpp"
 
+// Inline everything a Runge-Kutta step calls (see attempt()). Not under AddressSanitizer:
+// there the instrumented, fully inlined steps take minutes and gigabytes to compile, and the
+// sanitizer build is about correctness, not speed.
+#if defined(__SANITIZE_ADDRESS__)
+#define VIMPACT_FLATTEN
+#else
+#define VIMPACT_FLATTEN [[gnu::flatten]]
+#endif
+
 namespace vimpact {
 
 enum class rk_method { dopri5, dop853 };
@@ -36,7 +45,7 @@ public:
     // flatten: without it GCC leaves Eigen's stage sums out of line for larger states
     // (the tangent runs), and even the 4-state step is about 20 % slower.
     template <class F>
-    [[gnu::flatten]] double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
+    VIMPACT_FLATTEN double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
                    double atol, vec<N>& x_new, vec<N>& f_new)
     {
         constexpr double a21 = 1.0 / 5.0;
@@ -104,7 +113,7 @@ public:
     // flatten: without it GCC leaves Eigen's stage sums out of line for larger states
     // (the tangent runs), and even the 4-state step is about 20 % slower.
     template <class F>
-    [[gnu::flatten]] double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
+    VIMPACT_FLATTEN double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
                    double atol, vec<N>& x_new, vec<N>& f_new)
     {
         namespace T = dop853_tableau;
