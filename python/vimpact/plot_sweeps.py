@@ -121,14 +121,23 @@ def bifurcation(result, path=None, ax=None):
         if param == "sigma":
             ax.axvline(graze[0], color="C0", lw=1, ls="--", label=f"grazing sigma = {graze[0]:.6g}")
         else:
-            ax.plot(xs[order], graze[order], color="C0", lw=1.2, label="grazing value sigma_graze")
+            # On its own (right) axis: on the diagram's scale the line, far below the section
+            # points, would squash the diagram.
+            gx = ax.twinx()
+            gx.plot(xs[order], graze[order], color="C0", lw=1.2, label="grazing value sigma_graze (right axis)")
             sigma = (result.parameters or {}).get("sigma")
             if sigma is not None:
-                ax.axhline(sigma, color="C2", lw=1, ls=":", label=f"barrier sigma = {sigma:g}")
+                gx.axhline(sigma, color="C2", lw=1, ls=":", label=f"barrier sigma = {sigma:g} (right axis)")
+            gx.set_ylabel("grazing value, barrier", color="C0")
     ax.set_xlabel(param)
     ax.set_ylabel(f"y at the section ({section_name(result)})")
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(loc="best", fontsize=8, markerscale=6)
+    handles, labels = ax.get_legend_handles_labels()
+    for other in ax.figure.axes:
+        if other is not ax and other.get_shared_x_axes().joined(ax, other) and other.bbox.bounds == ax.bbox.bounds:
+            h, lab = other.get_legend_handles_labels()
+            handles, labels = handles + h, labels + lab
+    if handles:
+        ax.legend(handles, labels, loc="lower left", fontsize=8, markerscale=6)
     if own:
         ax.set_title(f"bifurcation diagram over {param} ({result.ic_mode} starts)", fontsize=10)
         fig.suptitle(title(result, (param,)), fontsize=9)
