@@ -4,6 +4,8 @@
 // validation.
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -53,14 +55,7 @@ vec<N> fd_second(F&& f, const vec<N>& x, const vec<N>& u, const vec<N>& v, doubl
     return vec<N>((4.0 * mixed(h / 2.0) - mixed(h)) / 3.0);
 }
 
-template <int N>
-vec<N> random_vec(std::mt19937& gen, double lo, double hi)
-{
-    std::uniform_real_distribution<double> d(lo, hi);
-    vec<N> x;
-    for (int i = 0; i < N; ++i) x[i] = d(gen);
-    return x;
-}
+using vimpact::test::random_vec;
 
 // Max-norm by a plain loop (Eigen's vectorised cwiseAbs().maxCoeff() on 4x4 matrices trips a
 // false -Wmaybe-uninitialized in GCC 12's AVX-512 headers).

@@ -6,6 +6,8 @@
 // second-order map (measured slopes are printed; docs/stability.md quotes them).
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -41,14 +43,7 @@ vimpact::wake_impact paper(double Ur)
     return vimpact::wake_impact(p);
 }
 
-template <int N>
-vec<N> random_vec(std::mt19937& gen, double lo, double hi)
-{
-    std::uniform_real_distribution<double> d(lo, hi);
-    vec<N> x;
-    for (int i = 0; i < N; ++i) x[i] = d(gen);
-    return x;
-}
+using vimpact::test::random_vec;
 
 // A pre-impact state: on the barrier, moving into it with |v| >= 0.1.
 template <class Model>

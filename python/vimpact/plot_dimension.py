@@ -31,6 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from vimpact.plot import read_csv  # noqa: E402
+from vimpact.results import save_in  # noqa: E402
 
 _LABELS = {"y": "y", "ydot": "dy/dt", "x": "x", "xdot": "dx/dt"}
 
@@ -121,11 +122,7 @@ def dimension(directory, out_name="plot.png"):
     a4.legend(fontsize=8, loc="best")
 
     fig.suptitle(_title(record), fontsize=10)
-    fig.tight_layout()
-    path = os.path.join(directory, out_name)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_in(fig, directory, out_name)
 
 
 def overlay(out_png, directories, columns=(0, 1)):

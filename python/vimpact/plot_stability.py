@@ -15,16 +15,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .results import read_csv, save_in  # noqa: E402,F401
 
-
-def read_csv(path):
-    """A vimpact CSV (header line, then numbers) as a dict of column arrays."""
-    with open(path) as f:
-        header = f.readline().strip().split(",")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    if data.size == 0:
-        data = np.empty((0, len(header)))
-    return {name: data[:, i] for i, name in enumerate(header)}
 
 
 def _title(record, swept=None):
@@ -84,11 +76,7 @@ def floquet(directory, out_name="plot.png"):
     ax2.legend(loc="upper right", fontsize=8)
     ax2.set_title("the orbit over one period", fontsize=10)
     fig.suptitle(_title(record), fontsize=10)
-    fig.tight_layout()
-    path = os.path.join(directory, out_name)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_in(fig, directory, out_name)
 
 
 def lyapunov(directory, out_name="plot.png"):
@@ -122,11 +110,7 @@ def lyapunov(directory, out_name="plot.png"):
     ax2.set_ylabel("running estimate")
     ax2.legend(loc="lower right", fontsize=8)
     fig.suptitle(_title(record), fontsize=10)
-    fig.tight_layout()
-    path = os.path.join(directory, out_name)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_in(fig, directory, out_name)
 
 
 def _read_table(path):
@@ -172,11 +156,7 @@ def floquet_sweep(directory, out_name="plot.png"):
     ax1.legend(loc="lower left", fontsize=8, markerscale=2)
     _diagram(ax2, directory, param)
     fig.suptitle(_title(record, param), fontsize=10)
-    fig.tight_layout()
-    path = os.path.join(directory, out_name)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_in(fig, directory, out_name)
 
 
 def lyapunov_sweep(directory, out_name="plot.png"):
@@ -199,8 +179,4 @@ def lyapunov_sweep(directory, out_name="plot.png"):
                   f"standard errors", fontsize=10)
     _diagram(ax2, directory, param)
     fig.suptitle(_title(record, param), fontsize=10)
-    fig.tight_layout()
-    path = os.path.join(directory, out_name)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_in(fig, directory, out_name)

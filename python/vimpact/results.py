@@ -30,6 +30,17 @@ def read_csv(path):
         data = np.empty((0, len(header)))
     return {name: data[:, i] for i, name in enumerate(header)}
 
+def save_in(fig, directory, out_name):
+    """Lays out `fig`, writes it to directory/out_name (120 dpi), closes it; returns the path."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    path = os.path.join(directory, out_name)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 
 def read_table(path):
     """A vimpact CSV with text cells (labels) as a dict of column lists of strings."""
