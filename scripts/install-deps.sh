@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake git pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libboost-dev libnanoflann-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libboost-dev libnanoflann-dev libginac-dev
   python3 python3-numpy python3-scipy python3-matplotlib python3-pytest pybind11-dev python3-dev
 )
 

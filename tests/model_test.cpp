@@ -1,401 +1,232 @@
-// Tests of the models (wake_impact.hpp, forced_impact_oscillator.hpp): derivatives against
-// finite differences of the vector field, the vector field against the equations of SPEC §1,
-// the saltation matrix of SPEC §4 (Eq. 12) against its general definition, and parameter
-// validation.
+// Models: the built-ins' hand-written derivatives against automatic differentiation and
+// finite differences, the function table against the native model, parameters and ranges.
 #include <gtest/gtest.h>
 
-#include "test_support.hpp"
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <numbers>
 #include <random>
-#include <string>
-
-#include <Eigen/LU>
 
 #include "vimpact/core/input_error.hpp"
-#include "vimpact/hybrid/flow.hpp"
-#include "vimpact/model/forced_impact_oscillator.hpp"
-#include "vimpact/model/wake_impact.hpp"
+#include "vimpact/model/builtin/forced_impact_oscillator.hpp"
+#include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
+#include "vimpact/model/builtin/wake_impact.hpp"
+#include "vimpact/model/model.hpp"
+#include "vimpact/model/native_model.hpp"
+#include "vimpact/model/table_model.hpp"
+
+using namespace vimpact;
 
 namespace {
 
-using vimpact::mat;
-using vimpact::vec;
-
-// Central difference of F along direction e with step h, Richardson-extrapolated
-// ((4 D(h/2) - D(h)) / 3): error O(h^4).
-template <int N, class F>
-vec<N> richardson_directional(F&& f, const vec<N>& x, const vec<N>& e, double h)
+template <int N>
+vec<N> random_state(std::mt19937& gen, double scale = 1.0)
 {
-    auto central = [&](double s) { return vec<N>((f(vec<N>(x + s * e)) - f(vec<N>(x - s * e))) / (2.0 * s)); };
-    return vec<N>((4.0 * central(h / 2.0) - central(h)) / 3.0);
+    std::uniform_real_distribution<double> u(-scale, scale);
+    vec<N> x;
+    for (int i = 0; i < N; ++i) x[i] = u(gen);
+    return x;
 }
 
+// Largest |a_ij - b_ij| by a plain loop (Eigen's AVX-512 reductions of 4 x 4 matrices trip
+// false -Wmaybe-uninitialized errors in GCC 12).
+template <class A, class B>
+double max_abs_diff(const A& a, const B& b)
+{
+    double m = 0.0;
+    for (Eigen::Index i = 0; i < a.rows(); ++i)
+        for (Eigen::Index j = 0; j < a.cols(); ++j) m = std::max(m, std::abs(a(i, j) - b(i, j)));
+    return m;
+}
+
+template <class D>
+std::vector<double> defaults()
+{
+    std::vector<double> p;
+    for (const auto& q : D::parameters) p.push_back(q.default_value);
+    return p;
+}
+
+// The wake model with every hand-written derivative removed: automatic differentiation only.
+struct wake_ad_only {
+    static constexpr auto name = wake_impact::name;
+    static constexpr auto description = wake_impact::description;
+    static constexpr auto state = wake_impact::state;
+    static constexpr auto parameters = wake_impact::parameters;
+    static constexpr auto surfaces = wake_impact::surfaces;
+    static constexpr auto sections = wake_impact::sections;
+    wake_impact w;
+    explicit wake_ad_only(std::span<const double> p) : w(p) {}
+    template <class T>
+    vec_t<T, 4> derivatives(const vec_t<T, 4>& x) const { return w.derivatives(x); }
+    template <class T>
+    T gap(int i, const vec_t<T, 4>& x) const { return w.gap(i, x); }
+    template <class T>
+    vec_t<T, 4> reset(int i, const vec_t<T, 4>& x) const { return w.reset(i, x); }
+    template <class T>
+    T section(int k, const vec_t<T, 4>& x) const { return w.section(k, x); }
+    template <class T>
+    vec_t<T, 4> sticking_derivatives(int i, const vec_t<T, 4>& x) const { return w.sticking_derivatives(i, x); }
+    template <class T>
+    T release(int i, const vec_t<T, 4>& x) const { return w.release(i, x); }
+    vec<4> rest(int i, const vec<4>& x) const { return w.rest(i, x); }
+};
+
+// Central differences of a vector function, column by column.
 template <int N, class F>
-mat<N> fd_jacobian(F&& f, const vec<N>& x, double h = 1e-3)
+mat<N> fd_jacobian(F&& f, const vec<N>& x, double h = 1e-6)
 {
     mat<N> J;
-    for (int j = 0; j < N; ++j) J.col(j) = richardson_directional<N>(f, x, vec<N>::Unit(j), h);
-    return J;
-}
-
-// Mixed second difference of F in directions u, v (independent of the Jacobian):
-// [F(x+hu+hv) - F(x+hu-hv) - F(x-hu+hv) + F(x-hu-hv)] / (4 h^2), Richardson-extrapolated.
-template <int N, class F>
-vec<N> fd_second(F&& f, const vec<N>& x, const vec<N>& u, const vec<N>& v, double h = 1e-3)
-{
-    auto mixed = [&](double s) {
-        return vec<N>((f(vec<N>(x + s * u + s * v)) - f(vec<N>(x + s * u - s * v)) -
-                       f(vec<N>(x - s * u + s * v)) + f(vec<N>(x - s * u - s * v))) /
-                      (4.0 * s * s));
-    };
-    return vec<N>((4.0 * mixed(h / 2.0) - mixed(h)) / 3.0);
-}
-
-using vimpact::test::random_vec;
-
-// Max-norm by a plain loop (Eigen's vectorised cwiseAbs().maxCoeff() on 4x4 matrices trips a
-// false -Wmaybe-uninitialized in GCC 12's AVX-512 headers).
-template <class D>
-double max_abs(const Eigen::MatrixBase<D>& m)
-{
-    const typename D::PlainObject e = m;
-    double r = 0.0;
-    for (Eigen::Index i = 0; i < e.size(); ++i) r = std::max(r, std::abs(e(i)));
-    return r;
-}
-
-std::string message_of(auto&& f)
-{
-    try {
-        f();
-    } catch (const vimpact::input_error& e) {
-        return e.what();
-    } catch (...) {
-        return "<other exception>";
+    for (int j = 0; j < N; ++j) {
+        vec<N> a = x, b = x;
+        a[j] += h;
+        b[j] -= h;
+        J.col(j) = (f(a) - f(b)) / (2.0 * h);
     }
-    return "<no exception>";
-}
-
-vimpact::wake_impact paper_model(double Ur)
-{
-    vimpact::wake_impact_parameters p;
-    p.Ur = Ur;
-    return vimpact::wake_impact(p);
+    return J;
 }
 
 }  // namespace
 
-// ---- wake_impact: the vector field against SPEC §1 ------------------------------------------
-
-// rhs written out from SPEC §1 in the test (delta = 1/(St Ur), alpha = 2 xi delta + gamma/mu,
-// M = CL0 / (16 pi^2 St^2 mu); a = -delta^2 y - alpha v + M x; w' = -x - eps (x^2-1) w + A a).
-TEST(WakeImpactModel, VectorFieldMatchesSpecEquations)
+TEST(Model, WakeHandWrittenDerivativesEqualAutomaticOnes)
 {
-    vimpact::wake_impact_parameters p;
-    p.Ur = 17.3;
-    p.A = 11.0;
-    p.eps = 0.27;
-    p.CL0 = 0.31;
-    const vimpact::wake_impact m(p);
-    const double pi = std::numbers::pi;
-    const double d = 1.0 / (p.St * p.Ur);
-    const double alpha = 2.0 * p.xi * d + p.gamma / p.mu;
-    const double M = p.CL0 / (16.0 * pi * pi * p.St * p.St * p.mu);
-    EXPECT_NEAR(m.delta(), d, 1e-15);
-    EXPECT_NEAR(m.alpha(), alpha, 1e-15);
-    EXPECT_NEAR(m.coupling_M(), M, 1e-15);
-    std::mt19937 gen(7);
-    for (int k = 0; k < 20; ++k) {
-        const vec<4> X = random_vec<4>(gen, -2.0, 2.0);
-        const double y = X[0], v = X[1], x = X[2], w = X[3];
-        const double a = -d * d * y - alpha * v + M * x;
-        const vec<4> F(v, a, w, -x - p.eps * (x * x - 1.0) * w + p.A * a);
-        EXPECT_LE(max_abs(m.rhs(X) - F), 1e-14 * (1.0 + max_abs(F)));
-        EXPECT_NEAR(m.free_acceleration(X), a, 1e-15);
+    const auto p = defaults<wake_impact>();
+    const native_model<wake_impact> hand(p);
+    const native_model<wake_ad_only> ad(p);
+    std::mt19937 gen(1);
+    for (int trial = 0; trial < 20; ++trial) {
+        const vec<4> x = random_state<4>(gen), u = random_state<4>(gen), w = random_state<4>(gen);
+        EXPECT_LT(max_abs_diff(hand.jacobian(x), ad.jacobian(x)), 1e-14);
+        EXPECT_LT(max_abs_diff(hand.second_derivative(x, u, w), ad.second_derivative(x, u, w)), 1e-14);
+        EXPECT_NEAR(hand.divergence(x), ad.divergence(x), 1e-14);
+        EXPECT_LT(max_abs_diff(hand.gap_gradient(0, x), ad.gap_gradient(0, x)), 1e-15);
+        EXPECT_LT(max_abs_diff(hand.gap_hessian(0, x), ad.gap_hessian(0, x)), 1e-15);
+        EXPECT_LT(max_abs_diff(hand.reset_jacobian(0, x), ad.reset_jacobian(0, x)), 1e-15);
+        EXPECT_LT(max_abs_diff(hand.reset_second_derivative(0, x, u, w), ad.reset_second_derivative(0, x, u, w)), 1e-15);
+        EXPECT_LT(max_abs_diff(hand.section_gradient(0, x), ad.section_gradient(0, x)), 1e-15);
+        EXPECT_LT(max_abs_diff(hand.release_gradient(0, x), ad.release_gradient(0, x)), 1e-15);
     }
 }
 
-// Default parameters are the paper's (Table 2) and the paper preset's coupling is
-// M = 0.05 / mu, i.e. CL0 = 0.05 * 16 pi^2 * 0.2^2 = 0.3158273408 (SPEC §1).
-TEST(WakeImpactModel, PaperPresetIsDefaultWithMEqualTo005OverMu)
+TEST(Model, AutomaticJacobiansEqualFiniteDifferences)
 {
-    const vimpact::wake_impact_parameters def;
-    const auto paper = vimpact::wake_impact_preset("paper");
-    EXPECT_EQ(paper.Ur, def.Ur);
-    EXPECT_EQ(paper.sigma, def.sigma);
-    EXPECT_EQ(paper.r, def.r);
-    EXPECT_EQ(paper.A, def.A);
-    EXPECT_EQ(paper.eps, def.eps);
-    EXPECT_EQ(paper.St, def.St);
-    EXPECT_EQ(paper.xi, def.xi);
-    EXPECT_EQ(paper.gamma, def.gamma);
-    EXPECT_EQ(paper.mu, def.mu);
-    EXPECT_EQ(paper.CL0, def.CL0);
-    // Table 2 of the paper.
-    EXPECT_EQ(def.St, 0.2);
-    EXPECT_EQ(def.xi, 0.0052);
-    EXPECT_EQ(def.gamma, 0.8);
-    EXPECT_EQ(def.mu, 1.19381);
-    EXPECT_EQ(def.eps, 0.3);
-    EXPECT_EQ(def.A, 12.0);
-    EXPECT_EQ(def.r, 0.8);
-    EXPECT_EQ(def.sigma, -0.150298);
-
-    const vimpact::wake_impact m;
-    EXPECT_NEAR(m.coupling_M(), 0.05 / 1.19381, 1e-15);
-    EXPECT_NEAR(def.CL0, 0.3158273408, 1e-10);
-}
-
-TEST(WakeImpactModel, FacchinettiPresetHasCL0Of03)
-{
-    const auto f = vimpact::wake_impact_preset("facchinetti");
-    const vimpact::wake_impact_parameters def;
-    EXPECT_EQ(f.CL0, 0.3);
-    EXPECT_EQ(f.A, def.A);
-    EXPECT_EQ(f.eps, def.eps);
-    EXPECT_EQ(f.mu, def.mu);
-    EXPECT_EQ(f.St, def.St);
-    const vimpact::wake_impact m(f);
-    EXPECT_NEAR(m.coupling_M(), 0.3 / (16.0 * std::numbers::pi * std::numbers::pi * 0.04 * 1.19381), 1e-15);
-}
-
-TEST(WakeImpactModel, UnknownPresetThrowsNamingValidPresets)
-{
-    const std::string msg = message_of([] { (void)vimpact::wake_impact_preset("nope"); });
-    EXPECT_NE(msg.find("nope"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("paper"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("facchinetti"), std::string::npos) << msg;
-}
-
-// ---- wake_impact: derivatives ---------------------------------------------------------------
-
-// The Jacobian equals the finite-difference Jacobian of rhs (Richardson: the field is a cubic
-// polynomial, so the extrapolated central difference is exact up to round-off), at random
-// states and several Ur; its trace is the divergence, and both equal SPEC's
-// -alpha - eps (x^2 - 1).
-TEST(WakeImpactModel, JacobianMatchesFiniteDifferences)
-{
-    std::mt19937 gen(42);
-    for (double Ur : {12.0, 16.0, 25.0}) {
-        const auto m = paper_model(Ur);
-        auto f = [&](const vec<4>& x) { return m.rhs(x); };
-        for (int k = 0; k < 10; ++k) {
-            const vec<4> X = random_vec<4>(gen, -2.0, 2.0);
-            const mat<4> J = m.jacobian(X);
-            const mat<4> Jfd = fd_jacobian<4>(f, X);
-            EXPECT_LE(max_abs(J - Jfd), 1e-9 * (1.0 + max_abs(J))) << "Ur " << Ur << " X " << X.transpose();
-            EXPECT_NEAR(m.divergence(X), J.trace(), 1e-14);
-            EXPECT_NEAR(m.divergence(X), -m.alpha() - m.params().eps * (X[2] * X[2] - 1.0), 1e-14);
-            // free_acceleration_gradient is the gradient of a(X).
-            auto a = [&](const vec<4>& x) { return vec<4>::Constant(m.free_acceleration(x)); };
-            for (int j = 0; j < 4; ++j)
-                EXPECT_NEAR(m.free_acceleration_gradient(X)[j],
-                            richardson_directional<4>(a, X, vec<4>::Unit(j), 1e-3)[0], 1e-10);
+    std::mt19937 gen(2);
+    const native_model<two_sided_impact_oscillator> m(defaults<two_sided_impact_oscillator>());
+    const native_model<forced_impact_oscillator> f(defaults<forced_impact_oscillator>());
+    for (int trial = 0; trial < 10; ++trial) {
+        const vec<3> x = random_state<3>(gen, 2.0);
+        const mat<3> fd = fd_jacobian<3>([&](const vec<3>& y) { return m.rhs(y); }, x);
+        EXPECT_LT(max_abs_diff(m.jacobian(x), fd), 1e-9);
+        const mat<3> fdf = fd_jacobian<3>([&](const vec<3>& y) { return f.rhs(y); }, x);
+        EXPECT_LT(max_abs_diff(f.jacobian(x), fdf), 1e-9);
+        // The second derivative along u, w against differences of the Jacobian.
+        const vec<3> u = random_state<3>(gen), w = random_state<3>(gen);
+        const double h = 1e-6;
+        const vec<3> d2 = (m.jacobian(vec<3>(x + h * u)) * w - m.jacobian(vec<3>(x - h * u)) * w) / (2.0 * h);
+        EXPECT_LT(max_abs_diff(m.second_derivative(x, u, w), d2), 1e-8);
+        for (int i = 0; i < 2; ++i) {
+            const vec<3> g = fd_jacobian<3>([&](const vec<3>& y) { return vec<3>::Constant(m.gap(i, y)); }, x).row(0);
+            EXPECT_LT(max_abs_diff(m.gap_gradient(i, x), g), 1e-9);
+            const mat<3> R = fd_jacobian<3>([&](const vec<3>& y) { return m.reset(i, y); }, x);
+            EXPECT_LT(max_abs_diff(m.reset_jacobian(i, x), R), 1e-9);
         }
+        const vec<3> s = fd_jacobian<3>([&](const vec<3>& y) { return vec<3>::Constant(m.section(0, y)); }, x).row(0);
+        EXPECT_LT(max_abs_diff(m.section_gradient(0, x), s), 1e-9);
     }
 }
 
-// D2F(X)[u, v] equals the mixed second difference of rhs (independent of the Jacobian), is
-// symmetric in (u, v), and equals the directional derivative of the Jacobian: D(J u)[v].
-TEST(WakeImpactModel, SecondDerivativeMatchesFiniteDifferences)
+namespace {
+// A curved wall: a gap with a nonzero Hessian.
+struct curved {
+    static constexpr std::string_view name = "curved", description = "a circular wall";
+    static constexpr std::array<state_variable, 2> state{{{"q1"}, {"q2"}}};
+    static constexpr std::array<parameter, 1> parameters{{{"R", 2.0}}};
+    static constexpr std::array<impact_surface, 1> surfaces{{{"wall"}}};
+    static constexpr std::array<poincare_section, 0> sections{};
+    double R;
+    explicit curved(std::span<const double> p) : R(p[0]) {}
+    template <class T>
+    vec_t<T, 2> derivatives(const vec_t<T, 2>& x) const { return {x[1], -x[0]}; }
+    template <class T>
+    T gap(int, const vec_t<T, 2>& x) const
+    {
+        using std::exp;
+        using std::sin;
+        return R * R - x[0] * x[0] - x[1] * x[1] * exp(sin(x[0]));
+    }
+    template <class T>
+    vec_t<T, 2> reset(int, const vec_t<T, 2>& x) const { return x; }
+    template <class T>
+    T section(int, const vec_t<T, 2>& x) const { return x[0]; }
+};
+}  // namespace
+
+TEST(Model, HessianOfANonlinearGapEqualsFiniteDifferencesOfItsGradient)
 {
+    const std::array<double, 1> p{2.0};
+    const native_model<curved> m(p);
     std::mt19937 gen(3);
-    const auto m = paper_model(19.0);
-    auto f = [&](const vec<4>& x) { return m.rhs(x); };
-    for (int k = 0; k < 10; ++k) {
-        const vec<4> X = random_vec<4>(gen, -2.0, 2.0);
-        const vec<4> u = random_vec<4>(gen, -1.0, 1.0);
-        const vec<4> v = random_vec<4>(gen, -1.0, 1.0);
-        const vec<4> D2 = m.second_derivative(X, u, v);
-        EXPECT_LE(max_abs(D2 - fd_second<4>(f, X, u, v)), 1e-7 * (1.0 + max_abs(D2)));
-        EXPECT_LE(max_abs(D2 - m.second_derivative(X, v, u)), 1e-15 * (1.0 + max_abs(D2)));
-        auto Ju = [&](const vec<4>& x) { return vec<4>(m.jacobian(x) * u); };
-        EXPECT_LE(max_abs(D2 - richardson_directional<4>(Ju, X, v, 1e-3)), 1e-9 * (1.0 + max_abs(D2)));
+    for (int trial = 0; trial < 10; ++trial) {
+        const vec<2> x = random_state<2>(gen);
+        const mat<2> fd = fd_jacobian<2>([&](const vec<2>& y) { return m.gap_gradient(0, y); }, x);
+        EXPECT_LT(max_abs_diff(m.gap_hessian(0, x), fd), 1e-8);
+        EXPECT_LT(max_abs_diff(m.gap_hessian(0, x), m.gap_hessian(0, x).transpose()), 1e-15);
     }
 }
 
-// ---- wake_impact: reset and saltation -------------------------------------------------------
-
-// The reset R(X) = (sigma, -r v, x, w) is linear in (v, x, w): its Jacobian equals the finite
-// differences of reset, and the guard gradient is that of h = y - sigma.
-TEST(WakeImpactModel, ResetJacobianMatchesFiniteDifferences)
+TEST(Model, FunctionTableCallsEqualTheNativeModel)
 {
-    std::mt19937 gen(11);
-    const auto m = paper_model(21.5);
-    auto R = [&](const vec<4>& x) { return m.reset(x); };
-    auto H = [&](const vec<4>& x) { return vec<4>::Constant(m.guard(x)); };
-    for (int k = 0; k < 10; ++k) {
-        vec<4> X = random_vec<4>(gen, -2.0, 2.0);
-        X[0] = m.barrier();
-        const mat<4> Rfd = fd_jacobian<4>(R, X);
-        EXPECT_LE(max_abs(m.reset_jacobian(X) - Rfd), 1e-12);
-        const vec<4> post = m.reset(X);
-        EXPECT_EQ(post[0], m.barrier());
-        EXPECT_EQ(post[1], -m.restitution() * X[1]);
-        EXPECT_EQ(post[2], X[2]);
-        EXPECT_EQ(post[3], X[3]);
-        for (int j = 0; j < 4; ++j)
-            EXPECT_NEAR(m.guard_gradient(X)[j], richardson_directional<4>(H, X, vec<4>::Unit(j), 1e-3)[0], 1e-12);
+    const model m = model::builtin("wake_impact").with_parameter(0, 21.5);
+    ASSERT_EQ(m.dim(), 4);
+    const table_model<4> t(m.table(), m.context());
+    const native_model<wake_impact> n(m.parameters());
+    std::mt19937 gen(4);
+    for (int trial = 0; trial < 5; ++trial) {
+        const vec<4> x = random_state<4>(gen), u = random_state<4>(gen), w = random_state<4>(gen);
+        EXPECT_EQ(t.rhs(x), n.rhs(x));
+        EXPECT_EQ(t.jacobian(x), n.jacobian(x));
+        EXPECT_EQ(t.second_derivative(x, u, w), n.second_derivative(x, u, w));
+        EXPECT_EQ(t.gap(0, x), n.gap(0, x));
+        EXPECT_EQ(t.reset(0, x), n.reset(0, x));
+        EXPECT_EQ(t.reset_jacobian(0, x), n.reset_jacobian(0, x));
+        EXPECT_EQ(t.section(1, x), n.section(1, x));
+        EXPECT_EQ(t.sticking_rhs(0, x), n.sticking_rhs(0, x));
+        EXPECT_EQ(t.release(0, x), n.release(0, x));
+        EXPECT_EQ(t.rest(0, x), n.rest(0, x));
     }
+    EXPECT_EQ(t.section_direction(0), crossing::down);
+    EXPECT_EQ(t.section_direction(1), crossing::up);
+    EXPECT_TRUE(t.sticks(0));
 }
 
-// Saltation matrix. The general first-order form S = R' + (F+ - R' F) gradH^T / (gradH . F)
-// built from the model's rhs, reset_jacobian and guard_gradient equals the paper's explicit
-// Eq. 12 (SPEC §4) at pre-impact states, maps F to F+ (S F = F+), and has det S = r^2.
-TEST(WakeImpactModel, SaltationFromModelMatchesEquation12)
+TEST(Model, InfoDescribesTheBuiltIns)
 {
-    std::mt19937 gen(5);
-    for (double Ur : {14.9, 16.0, 25.0}) {
-        const auto m = paper_model(Ur);
-        const double r = m.restitution(), A = m.params().A, d2 = m.delta() * m.delta();
-        for (int k = 0; k < 8; ++k) {
-            vec<4> X = random_vec<4>(gen, -2.0, 2.0);
-            X[0] = m.barrier();
-            X[1] = -std::abs(X[1]) - 0.05;  // v < 0: arriving at the barrier
-            const vec<4> F = m.rhs(X), Fp = m.rhs(m.reset(X));
-            const mat<4> Rp = m.reset_jacobian(X);
-            const vec<4> gH = m.guard_gradient(X);
-            const mat<4> S = Rp + (Fp - Rp * F) * gH.transpose() / gH.dot(F);
-            mat<4> S12 = mat<4>::Zero();
-            const double y = X[0], v = X[1], x = X[2];
-            S12(0, 0) = -r;
-            S12(1, 0) = (1.0 + r) * (m.coupling_M() * x - d2 * y) / v;
-            S12(1, 1) = -r;
-            S12(2, 2) = 1.0;
-            S12(3, 0) = A * m.alpha() * (1.0 + r);
-            S12(3, 3) = 1.0;
-            EXPECT_LE(max_abs(S - S12), 1e-12 * (1.0 + max_abs(S12))) << "Ur " << Ur;
-            EXPECT_LE(max_abs(S * F - Fp), 1e-12 * (1.0 + max_abs(Fp)));
-            EXPECT_NEAR(S.determinant(), r * r, 1e-12);
-        }
+    const model m;
+    EXPECT_EQ(m.name(), "wake_impact");
+    EXPECT_EQ(m.info().state_names(), "y, ydot, x, xdot");
+    EXPECT_EQ(m.info().parameter_index("sigma"), 1);
+    EXPECT_EQ(m.info().parameter_index("nope"), -1);
+    EXPECT_EQ(m.info().section_names(), "maxima, minima");
+    EXPECT_EQ(m.info().surfaces.at(0).name, "barrier");
+    EXPECT_EQ(m.initial_state(), Eigen::Vector4d(0, 0, 0, 0.1));
+    const int facchinetti = m.info().preset_index("facchinetti");
+    ASSERT_GE(facchinetti, 0);
+    EXPECT_EQ(m.with_preset(facchinetti).parameter(m.info().parameter_index("CL0")), 0.3);
+    const model two = model::builtin("two_sided_impact_oscillator");
+    EXPECT_EQ(two.info().surface_names(), "right, left");
+    EXPECT_GT(two.info().state.at(2).period, 6.28);
+    EXPECT_THROW((void)model::builtin("nope"), input_error);
+}
+
+TEST(Model, ParametersOutsideTheirRangeAreRefusedWithTheirRange)
+{
+    const model m;
+    try {
+        (void)m.with_parameter(m.info().parameter_index("r"), 1.5);
+        FAIL() << "r = 1.5 accepted";
+    } catch (const input_error& e) {
+        EXPECT_STREQ(e.what(), "parameter r = 1.5 is outside its valid range [0, 1] (coefficient of restitution)");
     }
-}
-
-// ---- wake_impact: parameter validation ------------------------------------------------------
-
-// Each invalid value throws input_error whose message names the parameter and its range.
-TEST(WakeImpactModel, InvalidParametersThrowNamingTheRange)
-{
-    const vimpact::wake_impact base;
-    struct bad {
-        const char* name;
-        double value;
-        const char* range;
-    };
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    const double inf = std::numeric_limits<double>::infinity();
-    for (const bad& b : {bad{"r", 1.5, "[0, 1]"}, bad{"r", -0.1, "[0, 1]"}, bad{"mu", 0.0, "> 0"},
-                         bad{"St", -1.0, "> 0"}, bad{"Ur", nan, "> 0"}, bad{"Ur", inf, "> 0"},
-                         bad{"Ur", -inf, "> 0"}, bad{"eps", -0.1, ">= 0"}, bad{"sigma", nan, "finite"}}) {
-        const std::string msg = message_of([&] { (void)base.with(b.name, b.value); });
-        EXPECT_NE(msg.find(std::string("parameter ") + b.name + " "), std::string::npos)
-            << b.name << " = " << b.value << ": " << msg;
-        EXPECT_NE(msg.find(b.range), std::string::npos) << b.name << " = " << b.value << ": " << msg;
-        // The constructor validates too.
-        vimpact::wake_impact_parameters p;
-        p.*(vimpact::find_parameter(vimpact::wake_impact_parameter_table(), b.name)->member) = b.value;
-        EXPECT_THROW(vimpact::wake_impact{p}, vimpact::input_error) << b.name;
-    }
-    // Valid edge values are accepted: r = 0 and r = 1 (closed interval), eps = 0.
-    EXPECT_NO_THROW((void)base.with("r", 0.0));
-    EXPECT_NO_THROW((void)base.with("r", 1.0));
-    EXPECT_NO_THROW((void)base.with("eps", 0.0));
-    EXPECT_EQ(base.with("Ur", 20.0).delta(), 1.0 / (0.2 * 20.0));
-}
-
-// An unknown name throws, naming every valid parameter.
-TEST(WakeImpactModel, UnknownParameterNameListsValidOnes)
-{
-    const vimpact::wake_impact base;
-    const std::string msg = message_of([&] { (void)base.with("nope", 1.0); });
-    EXPECT_NE(msg.find("'nope'"), std::string::npos) << msg;
-    const auto valid_pos = msg.find("valid:");
-    ASSERT_NE(valid_pos, std::string::npos) << msg;
-    const std::string list = msg.substr(valid_pos);
-    for (const char* name : {"Ur", "sigma", "r", "A", "eps", "St", "xi", "gamma", "mu", "CL0"}) {
-        const std::string token = std::string(name);
-        const bool found = list.find(" " + token + ",") != std::string::npos ||
-                           list.find(" " + token + ")") != std::string::npos;
-        EXPECT_TRUE(found) << name << " missing from: " << msg;
-    }
-}
-
-// ---- forced_impact_oscillator --------------------------------------------------------------
-
-TEST(ForcedImpactModel, DerivativesMatchFiniteDifferences)
-{
-    std::mt19937 gen(99);
-    vimpact::forced_impact_parameters p;
-    p.zeta = 0.07;
-    p.F = 1.3;
-    p.omega = 0.9;
-    const vimpact::forced_impact_oscillator m(p);
-    auto f = [&](const vec<3>& x) { return m.rhs(x); };
-    for (int k = 0; k < 10; ++k) {
-        const vec<3> X = random_vec<3>(gen, -3.0, 3.0);
-        const mat<3> J = m.jacobian(X);
-        EXPECT_LE(max_abs(J - fd_jacobian<3>(f, X)), 1e-9 * (1.0 + max_abs(J)));
-        EXPECT_NEAR(m.divergence(X), J.trace(), 1e-15);
-        const vec<3> u = random_vec<3>(gen, -1.0, 1.0), v = random_vec<3>(gen, -1.0, 1.0);
-        const vec<3> D2 = m.second_derivative(X, u, v);
-        EXPECT_LE(max_abs(D2 - fd_second<3>(f, X, u, v)), 1e-7 * (1.0 + max_abs(D2)));
-        auto a = [&](const vec<3>& x) { return vec<3>::Constant(m.free_acceleration(x)); };
-        for (int j = 0; j < 3; ++j)
-            EXPECT_NEAR(m.free_acceleration_gradient(X)[j], richardson_directional<3>(a, X, vec<3>::Unit(j), 1e-3)[0], 1e-9);
-        auto R = [&](const vec<3>& x) { return m.reset(x); };
-        EXPECT_LE(max_abs(m.reset_jacobian(X) - fd_jacobian<3>(R, X)), 1e-12);
-        // The rhs is the forced oscillator of the header: y'' = -y - 2 zeta y' + F cos(theta).
-        EXPECT_NEAR(m.rhs(X)[1], -X[0] - 2.0 * p.zeta * X[1] + p.F * std::cos(X[2]), 1e-14);
-        EXPECT_EQ(m.rhs(X)[2], p.omega);
-    }
-}
-
-TEST(ForcedImpactModel, InvalidParametersThrow)
-{
-    auto make = [](auto set) {
-        vimpact::forced_impact_parameters p;
-        set(p);
-        return message_of([&] { vimpact::forced_impact_oscillator m(p); (void)m; });
-    };
-    const std::string z = make([](auto& p) { p.zeta = 1.0; });  // [0, 1): 1 excluded
-    EXPECT_NE(z.find("parameter zeta"), std::string::npos) << z;
-    EXPECT_NE(z.find("[0, 1)"), std::string::npos) << z;
-    const std::string w = make([](auto& p) { p.omega = 0.0; });
-    EXPECT_NE(w.find("parameter omega"), std::string::npos) << w;
-    const std::string r = make([](auto& p) { p.r = 1.0000001; });
-    EXPECT_NE(r.find("parameter r"), std::string::npos) << r;
-    EXPECT_EQ(make([](auto& p) { p.zeta = 0.0; p.r = 1.0; }), "<no exception>");
-}
-
-// ---- hybrid_flow::start admissibility -------------------------------------------------------
-
-// The admissible region is y >= sigma; y = sigma is admissible only moving away (v > 0) or at
-// rest with the free acceleration pointing into the barrier (then the flow starts sticking).
-TEST(HybridFlowStart, InadmissibleInitialStateThrows)
-{
-    const vimpact::wake_impact m;  // sigma = -0.150298
-    vimpact::flow_options o;
-    vimpact::hybrid_flow<vimpact::wake_impact> flow(m, o);
-    const std::string msg = message_of([&] { flow.start(0.0, vec<4>(-0.2, 0.0, 0.0, 0.1)); });
-    EXPECT_NE(msg.find("barrier"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("-0.2"), std::string::npos) << msg;
-    EXPECT_THROW(flow.start(0.0, vec<4>(m.barrier(), -0.1, 0.0, 0.0)), vimpact::input_error);
-    EXPECT_THROW(flow.start(0.0, vec<4>(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0, 0.0)),
-                 vimpact::input_error);
-    EXPECT_NO_THROW(flow.start(0.0, vec<4>(m.barrier(), 0.1, 0.0, 0.0)));
-    EXPECT_EQ(flow.mode(), vimpact::flow_mode::free);
-    EXPECT_NO_THROW(flow.start(0.0, vec<4>(0.0, 0.0, 0.0, 0.1)));
-    // At rest on the barrier with a = -delta^2 sigma + M x <= 0 (x negative enough): sticking.
-    const double x_stick = (m.delta() * m.delta() * m.barrier()) / m.coupling_M() - 0.5;
-    flow.start(0.0, vec<4>(m.barrier(), 0.0, x_stick, 0.0));
-    EXPECT_EQ(flow.mode(), vimpact::flow_mode::sticking);
-    // Barrier-free flows accept any finite state.
-    vimpact::flow_options free_opt;
-    free_opt.barrier = false;
-    vimpact::hybrid_flow<vimpact::wake_impact> free_flow(m, free_opt);
-    EXPECT_NO_THROW(free_flow.start(0.0, vec<4>(-0.2, 0.0, 0.0, 0.1)));
+    EXPECT_THROW((void)m.with_parameter(0, 0.0), input_error);              // Ur > 0
+    EXPECT_THROW((void)m.with_parameter(0, std::nan("")), input_error);
+    EXPECT_NO_THROW((void)m.with_parameter(1, -0.2));
+    EXPECT_TRUE(m == model::builtin("wake_impact"));
+    EXPECT_FALSE(m == m.with_parameter(1, -0.2));
 }

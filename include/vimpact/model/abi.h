@@ -1,0 +1,94 @@
+/* The binary interface of a compiled model: what a model file compiles to and what a C++
+ * model exports from a shared library (VIMPACT_EXPORT_MODEL, model/export.hpp). The library
+ * loads it with dlopen and calls vimpact_model() once; the table it returns describes the
+ * model and holds the functions the integrator calls.
+ *
+ * Conventions: states are arrays of `dim` doubles; matrices are column-major dim x dim; a
+ * context is created from the parameter values (in declared order, already range-checked)
+ * and passed to every function; surfaces i and sections k count from 0. Second derivatives
+ * are bilinear forms D2f(x)[u, w]. Plain C, so that the generated code compiles in well under
+ * a second and the layout does not depend on a compiler's C++ ABI. */
+#ifndef VIMPACT_MODEL_ABI_H
+#define VIMPACT_MODEL_ABI_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VIMPACT_MODEL_ABI_VERSION 1
+
+enum vimpact_crossing { VIMPACT_CROSSING_DOWN = 0, VIMPACT_CROSSING_UP = 1, VIMPACT_CROSSING_BOTH = 2 };
+
+typedef struct vimpact_model_table {
+    int abi_version; /* VIMPACT_MODEL_ABI_VERSION */
+    int dim, parameter_count, surface_count, section_count, preset_count;
+    const char* name;
+    const char* description;
+
+    const char* const* state_names;
+    const char* const* state_meanings;
+    const char* const* state_units;
+    const double* state_periods;          /* > 0: a phase, compared modulo this period */
+    const double* initial_state;          /* may be NULL: zeros */
+
+    const char* const* parameter_names;
+    const char* const* parameter_meanings;
+    const char* const* parameter_units;
+    const double* parameter_defaults;
+    const double* parameter_lower;        /* -inf: none */
+    const double* parameter_upper;        /* +inf: none */
+    const int* parameter_bounds_closed;   /* bit 0: lower bound included, bit 1: upper */
+
+    const char* const* surface_names;
+    const char* const* surface_meanings;
+    const int* surface_sticks;            /* nonzero: the surface declares a contact phase */
+
+    const char* const* section_names;
+    const char* const* section_meanings;
+    const int* section_directions;        /* enum vimpact_crossing */
+
+    /* presets: name, meaning and a list of (parameter index, value) pairs each */
+    const char* const* preset_names;
+    const char* const* preset_meanings;
+    const int* preset_sizes;
+    const int* preset_parameters;         /* concatenated */
+    const double* preset_values;          /* concatenated */
+
+    /* Returns NULL and writes a message to `error` if the parameters are refused. */
+    void* (*create)(const double* parameters, char* error, size_t error_size);
+    void (*destroy)(void* context);
+
+    void (*rhs)(const void* c, const double* x, double* f);
+    void (*jacobian)(const void* c, const double* x, double* J);
+    void (*second_derivative)(const void* c, const double* x, const double* u, const double* w, double* out);
+    double (*divergence)(const void* c, const double* x);
+
+    double (*gap)(const void* c, int i, const double* x);
+    void (*gap_gradient)(const void* c, int i, const double* x, double* out);
+    void (*gap_hessian)(const void* c, int i, const double* x, double* out);
+    void (*reset)(const void* c, int i, const double* x, double* out);
+    void (*reset_jacobian)(const void* c, int i, const double* x, double* out);
+    void (*reset_second_derivative)(const void* c, int i, const double* x, const double* u, const double* w,
+                                    double* out);
+
+    double (*section)(const void* c, int k, const double* x);
+    void (*section_gradient)(const void* c, int k, const double* x, double* out);
+
+    /* contact phases (called only for surfaces with surface_sticks[i] != 0) */
+    void (*sticking_rhs)(const void* c, int i, const double* x, double* f);
+    double (*release)(const void* c, int i, const double* x);
+    void (*release_gradient)(const void* c, int i, const double* x, double* out);
+    void (*rest)(const void* c, int i, const double* x, double* out);
+} vimpact_model_table;
+
+/* The one symbol a model library exports. */
+typedef const vimpact_model_table* (*vimpact_model_entry)(void);
+#define VIMPACT_MODEL_ENTRY "vimpact_model"
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

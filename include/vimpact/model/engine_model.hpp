@@ -1,0 +1,79 @@
+#pragma once
+// What the hybrid flow and the tangent machinery call: a model with every derivative filled
+// in, the parameters bound. Two kinds satisfy it: native_model<D> (a C++ definition compiled
+// into the caller, derivatives by automatic differentiation where not hand-written) and
+// table_model<N> (a compiled model file or plugin, called through its function table).
+//
+// Conventions: surfaces i = 0 .. surface_count() - 1, each a gap g_i >= 0 and a reset R_i;
+// sections k = 0 .. section_count() - 1, each the zero crossings of s_k in section_direction(k).
+// Second derivatives are bilinear forms D2f(x)[u, w]; gap Hessians full matrices.
+#include <concepts>
+
+#include "vimpact/core/state.hpp"
+#include "vimpact/model/spec.hpp"
+
+namespace vimpact {
+
+template <class M>
+concept engine_model = requires(const M& m, const vec<M::dim>& x, int i) {
+    { M::dim } -> std::convertible_to<int>;
+    { m.surface_count() } -> std::convertible_to<int>;
+    { m.section_count() } -> std::convertible_to<int>;
+    { m.rhs(x) } -> std::convertible_to<vec<M::dim>>;
+    { m.jacobian(x) } -> std::convertible_to<mat<M::dim>>;
+    { m.second_derivative(x, x, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.divergence(x) } -> std::convertible_to<double>;
+    { m.gap(i, x) } -> std::convertible_to<double>;
+    { m.gap_gradient(i, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.gap_hessian(i, x) } -> std::convertible_to<mat<M::dim>>;
+    { m.reset(i, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.reset_jacobian(i, x) } -> std::convertible_to<mat<M::dim>>;
+    { m.reset_second_derivative(i, x, x, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.section(i, x) } -> std::convertible_to<double>;
+    { m.section_gradient(i, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.section_direction(i) } -> std::convertible_to<crossing>;
+    { m.sticks(i) } -> std::convertible_to<bool>;
+    { m.sticking_rhs(i, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.release(i, x) } -> std::convertible_to<double>;
+    { m.release_gradient(i, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.rest(i, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.state_difference(x, x) } -> std::convertible_to<vec<M::dim>>;
+};
+
+// The rate of gap i along the flow, g_i' = grad g_i . F, and its gradient H_i F + J^T grad g_i:
+// its upward zeros are the minima of the gap (grazing), its downward zeros the maxima.
+template <engine_model M>
+double gap_rate(const M& m, int i, const vec<M::dim>& x)
+{
+    return m.gap_gradient(i, x).dot(m.rhs(x));
+}
+
+template <engine_model M>
+vec<M::dim> gap_rate_gradient(const M& m, int i, const vec<M::dim>& x)
+{
+    return m.gap_hessian(i, x) * m.rhs(x) + m.jacobian(x).transpose() * m.gap_gradient(i, x);
+}
+
+// A state is admissible when every gap is positive, or zero and not decreasing.
+template <engine_model M>
+bool admissible(const M& m, const vec<M::dim>& x)
+{
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const double g = m.gap(i, x);
+        if (g < 0.0 || (g == 0.0 && gap_rate(m, i, x) < 0.0)) return false;
+    }
+    return true;
+}
+
+// The first surface the state lies beyond (or on, moving in), -1 if none.
+template <engine_model M>
+int violated_surface(const M& m, const vec<M::dim>& x)
+{
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const double g = m.gap(i, x);
+        if (g < 0.0 || (g == 0.0 && gap_rate(m, i, x) < 0.0)) return i;
+    }
+    return -1;
+}
+
+}  // namespace vimpact

@@ -1,0 +1,27 @@
+#pragma once
+// Loading models from files: a model file (TOML: equations as expressions, differentiated
+// symbolically with GiNaC and compiled to native code with the machine's C++ compiler, once,
+// cached by content hash) or a shared library that exports vimpact_model()
+// (model/export.hpp). docs/own-model.md describes the file format.
+//
+// The cache directory is $VIMPACT_CACHE_DIR, else $XDG_CACHE_HOME/vimpact, else
+// ~/.cache/vimpact; the compiler is $CXX, else c++. Every problem with a file is an
+// input_error of one line that names the file, the key and the problem.
+#include <filesystem>
+#include <memory>
+#include <string_view>
+
+#include "vimpact/model/model.hpp"
+
+namespace vimpact {
+
+// A .toml model file or a shared library (.so), by extension.
+std::shared_ptr<const model_code> load_model_code(const std::filesystem::path& path);
+
+// The text of a model file; `source` names it in messages.
+std::shared_ptr<const model_code> compile_model_text(std::string_view text, std::string_view source);
+
+// A shared library exporting vimpact_model().
+std::shared_ptr<const model_code> load_model_library(const std::filesystem::path& path);
+
+}  // namespace vimpact

@@ -1,0 +1,131 @@
+#pragma once
+// table_model<N>: an engine model (model/engine_model.hpp) that calls a compiled model's
+// function table (model/abi.h) with a context made from its parameter values. The
+// library instantiates every analysis for it once per supported dimension N, so a model
+// file or plugin runs with no interpreter in the loop: each call is one indirect call into
+// native code.
+#include <cassert>
+#include <cmath>
+
+#include "vimpact/core/state.hpp"
+#include "vimpact/model/abi.h"
+#include "vimpact/model/spec.hpp"
+
+namespace vimpact {
+
+template <int N>
+class table_model {
+public:
+    static constexpr int dim = N;
+    using state = vec<N>;
+    using matrix = mat<N>;
+
+    table_model(const vimpact_model_table& table, const void* context) : m_t(&table), m_c(context)
+    {
+        assert(table.dim == N);
+    }
+
+    [[nodiscard]] const vimpact_model_table& table() const { return *m_t; }
+    [[nodiscard]] const void* context() const { return m_c; }
+    [[nodiscard]] int surface_count() const { return m_t->surface_count; }
+    [[nodiscard]] int section_count() const { return m_t->section_count; }
+    [[nodiscard]] crossing section_direction(int k) const { return static_cast<crossing>(m_t->section_directions[k]); }
+    [[nodiscard]] bool sticks(int i) const { return m_t->surface_sticks[i] != 0; }
+
+    [[nodiscard]] state rhs(const state& x) const
+    {
+        state f;
+        m_t->rhs(m_c, x.data(), f.data());
+        return f;
+    }
+    [[nodiscard]] matrix jacobian(const state& x) const
+    {
+        matrix J;
+        m_t->jacobian(m_c, x.data(), J.data());
+        return J;
+    }
+    [[nodiscard]] state second_derivative(const state& x, const state& u, const state& w) const
+    {
+        state out;
+        m_t->second_derivative(m_c, x.data(), u.data(), w.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] double divergence(const state& x) const { return m_t->divergence(m_c, x.data()); }
+
+    [[nodiscard]] double gap(int i, const state& x) const { return m_t->gap(m_c, i, x.data()); }
+    [[nodiscard]] state gap_gradient(int i, const state& x) const
+    {
+        state out;
+        m_t->gap_gradient(m_c, i, x.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] matrix gap_hessian(int i, const state& x) const
+    {
+        matrix out;
+        m_t->gap_hessian(m_c, i, x.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] state reset(int i, const state& x) const
+    {
+        state out;
+        m_t->reset(m_c, i, x.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] matrix reset_jacobian(int i, const state& x) const
+    {
+        matrix out;
+        m_t->reset_jacobian(m_c, i, x.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] state reset_second_derivative(int i, const state& x, const state& u, const state& w) const
+    {
+        state out;
+        m_t->reset_second_derivative(m_c, i, x.data(), u.data(), w.data(), out.data());
+        return out;
+    }
+
+    [[nodiscard]] double section(int k, const state& x) const { return m_t->section(m_c, k, x.data()); }
+    [[nodiscard]] state section_gradient(int k, const state& x) const
+    {
+        state out;
+        m_t->section_gradient(m_c, k, x.data(), out.data());
+        return out;
+    }
+
+    [[nodiscard]] state sticking_rhs(int i, const state& x) const
+    {
+        state out;
+        m_t->sticking_rhs(m_c, i, x.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] double release(int i, const state& x) const { return m_t->release(m_c, i, x.data()); }
+    [[nodiscard]] state release_gradient(int i, const state& x) const
+    {
+        state out;
+        m_t->release_gradient(m_c, i, x.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] state rest(int i, const state& x) const
+    {
+        state out;
+        m_t->rest(m_c, i, x.data(), out.data());
+        return out;
+    }
+
+    // b - a, with every phase variable's difference taken into (-period/2, period/2].
+    [[nodiscard]] state state_difference(const state& b, const state& a) const
+    {
+        state d = b - a;
+        for (int j = 0; j < N; ++j) {
+            const double p = m_t->state_periods[j];
+            if (p > 0.0) d[j] -= p * std::round(d[j] / p);
+        }
+        return d;
+    }
+
+private:
+    const vimpact_model_table* m_t;
+    const void* m_c;
+};
+
+}  // namespace vimpact
