@@ -229,6 +229,23 @@ bool operator==(const model& a, const model& b)
     return a.m_code->info.identity == b.m_code->info.identity && a.m_parameters == b.m_parameters;
 }
 
+const std::vector<int>& engine_dimensions()
+{
+    static const std::vector<int> dims{VIMPACT_MODEL_DIMS};
+    return dims;
+}
+
+void check_engine_dimension(int dim, std::string_view what)
+{
+    const auto& dims = engine_dimensions();
+    if (std::find(dims.begin(), dims.end(), dim) != dims.end()) return;
+    std::string list;
+    for (const int d : dims) list += (list.empty() ? "" : ", ") + std::to_string(d);
+    throw input_error(std::string(what) + " has " + std::to_string(dim) +
+                      " state variables; this build of vimpact runs models with " + list +
+                      " (configure with -DVIMPACT_MODEL_DIMS=... to add others)");
+}
+
 void check_state_size(const model& m, Eigen::Index size, std::string_view what)
 {
     if (size != m.dim())

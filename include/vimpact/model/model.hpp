@@ -87,6 +87,11 @@ private:
     std::shared_ptr<void> m_context;
 };
 
+// The state dimensions the library's analyses are compiled for (besides the built-ins), and
+// the check that names them: model files and plugins of other dimensions are refused.
+const std::vector<int>& engine_dimensions();
+void check_engine_dimension(int dim, std::string_view what);
+
 // The message for a state of the wrong size: "<what> needs 4 numbers (y, ydot, x, xdot), got 3".
 void check_state_size(const model& m, Eigen::Index size, std::string_view what);
 

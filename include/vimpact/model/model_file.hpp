@@ -11,6 +11,8 @@
 #include <memory>
 #include <string_view>
 
+#include <nlohmann/json.hpp>
+
 #include "vimpact/model/model.hpp"
 
 namespace vimpact {
@@ -20,6 +22,11 @@ std::shared_ptr<const model_code> load_model_code(const std::filesystem::path& p
 
 // The text of a model file; `source` names it in messages.
 std::shared_ptr<const model_code> compile_model_text(std::string_view text, std::string_view source);
+
+// The same description as a JSON tree with the file's keys (what Python's dict constructor
+// sends); object keys in declaration order.
+std::shared_ptr<const model_code> compile_model_json(const nlohmann::ordered_json& description,
+                                                     std::string_view source);
 
 // A shared library exporting vimpact_model().
 std::shared_ptr<const model_code> load_model_library(const std::filesystem::path& path);
