@@ -1,0 +1,122 @@
+#pragma once
+// The stages of the model-file compiler (src/model_file.cpp has the format and the overview):
+//   describe()        a JSON tree -> a checked description (keys, types, names, ranges)
+//   generate_source() the description -> C++ source of a function table (GiNaC: parsing,
+//                     symbolic derivatives, printing)
+//   compile_cached()  the source -> a loaded shared library (compiler run, cache, dlopen)
+// Every stage throws input_error("<where>: ...") for a problem of the file.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vimpact/model/abi.h"
+#include "vimpact/model/spec.hpp"
+
+namespace vimpact::model_file_detail {
+
+// An expression as the file writes it, and the key it was written under (for messages).
+struct expression_text {
+    std::string key;   // "derivatives.v", "surfaces[1].reset.v"
+    std::string text;  // "-2*zeta*v - x + a*cos(phi)"
+};
+
+struct state_decl {
+    std::string name, meaning, unit;
+    std::optional<expression_text> period;  // from [angles]
+};
+
+struct parameter_decl {
+    std::string name, meaning, unit;
+    double default_value = 0.0;
+    value_range range;
+};
+
+// A derived quantity or a named expression.
+struct named_expression {
+    std::string name;
+    expression_text expr;
+};
+
+// A new value for one state variable (reset, rest, constrained field).
+struct assignment {
+    int index = 0;  // the state variable
+    expression_text expr;
+};
+
+struct sticking_decl {
+    std::vector<assignment> rest, derivatives;
+    expression_text release;
+};
+
+struct surface_decl {
+    std::string name, meaning;
+    expression_text gap;
+    std::vector<assignment> reset;
+    std::optional<sticking_decl> sticking;
+};
+
+struct section_decl {
+    std::string name, meaning;
+    expression_text when;
+    crossing direction = crossing::down;
+};
+
+struct preset_decl {
+    std::string name, meaning;
+    std::vector<std::pair<int, double>> values;  // (parameter index, value)
+};
+
+struct description {
+    std::string name, description;
+    std::vector<state_decl> state;
+    std::vector<double> initial_state;  // dim numbers
+    std::vector<parameter_decl> parameters;
+    std::vector<named_expression> derived, expressions;
+    std::vector<expression_text> derivatives;  // one per state variable, in state order
+    std::vector<surface_decl> surfaces;
+    std::vector<section_decl> sections;
+    std::vector<preset_decl> presets;
+};
+
+// `where` is the message prefix, "model file two.toml".
+description describe(const nlohmann::ordered_json& tree, const std::string& where);
+
+// Everything that defines the model, in one fixed form: equal for equal models whatever the
+// spelling of the input (TOML or JSON, integer or float literals, order of optional keys).
+nlohmann::ordered_json canonical_json(const description& d);
+
+// The C++ source of the model's function table, prefixed with the ABI header.
+std::string generate_source(const description& d, const std::string& where);
+
+// A loaded model library and its table.
+struct loaded_library {
+    std::shared_ptr<void> handle;  // dlclose on release
+    const vimpact_model_table* table = nullptr;
+};
+
+// Compiles `source` into the cache (or finds it there) and loads it.
+loaded_library compile_cached(const std::string& source, const std::string& model_name, const std::string& where);
+
+// dlopen + vimpact_model() + ABI check; `what` names the library in messages.
+loaded_library open_library(const std::filesystem::path& path, const std::string& what);
+
+// FNV-1a, 64 bits; `h` chains several pieces.
+inline constexpr std::uint64_t fnv_offset = 14695981039346656037ULL;
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = fnv_offset);
+std::string hex64(std::uint64_t h);
+
+// The names an expression may not use for itself: the functions and `pi`.
+bool is_reserved_name(std::string_view name);
+std::string function_list();  // "sin, cos, ..." for messages
+
+// A number as an expression's text, the same for 1 and 1.0.
+std::string number_text(double v);
+
+}  // namespace vimpact::model_file_detail

@@ -1,0 +1,813 @@
+// Model files: the example files against the built-ins they restate, symbolic derivatives
+// against finite differences, exact constants, one message per class of bad file, the cache,
+// the compiler requirement, the JSON path, and model libraries.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
+#include "vimpact/model/builtin/wake_impact.hpp"
+#include "vimpact/model/model.hpp"
+#include "vimpact/model/model_file.hpp"
+#include "vimpact/model/table_model.hpp"
+
+using namespace vimpact;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Every compiled model of this test program goes to a fresh cache directory.
+class cache_environment : public ::testing::Environment {
+public:
+    void SetUp() override
+    {
+        char pattern[] = "/tmp/vimpact-model-file-test-XXXXXX";
+        ASSERT_NE(::mkdtemp(pattern), nullptr);
+        dir = pattern;
+        ::setenv("VIMPACT_CACHE_DIR", pattern, 1);
+    }
+    void TearDown() override
+    {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+    static inline fs::path dir;
+};
+[[maybe_unused]] auto* const environment = ::testing::AddGlobalTestEnvironment(new cache_environment);
+
+const std::string source_dir = VIMPACT_SOURCE_DIR;
+
+// Sets an environment variable for one scope.
+class scoped_env {
+public:
+    scoped_env(const char* name, const std::string& value) : m_name(name)
+    {
+        if (const char* old = std::getenv(name)) m_old = old;
+        ::setenv(name, value.c_str(), 1);
+    }
+    ~scoped_env()
+    {
+        if (m_old) ::setenv(m_name, m_old->c_str(), 1);
+        else ::unsetenv(m_name);
+    }
+    scoped_env(const scoped_env&) = delete;
+    scoped_env& operator=(const scoped_env&) = delete;
+
+private:
+    const char* m_name;
+    std::optional<std::string> m_old;
+};
+
+template <int N>
+vec<N> random_state(std::mt19937& gen, double scale = 1.0)
+{
+    std::uniform_real_distribution<double> u(-scale, scale);
+    vec<N> x;
+    for (int i = 0; i < N; ++i) x[i] = u(gen);
+    return x;
+}
+
+// |a - b| within `rel` of the largest entry of b (and of 1), by plain loops (Eigen's AVX-512
+// reductions of small matrices trip false -Wmaybe-uninitialized errors in GCC 12).
+template <class A, class B>
+::testing::AssertionResult close(const A& a, const B& b, double rel = 5e-14)
+{
+    double scale = 1.0, diff = 0.0;
+    for (Eigen::Index i = 0; i < b.rows(); ++i)
+        for (Eigen::Index j = 0; j < b.cols(); ++j) {
+            scale = std::max(scale, std::abs(b(i, j)));
+            diff = std::max(diff, std::abs(a(i, j) - b(i, j)));
+        }
+    if (diff <= rel * scale) return ::testing::AssertionSuccess();
+    std::ostringstream s;
+    s << "difference " << diff << " > " << rel << " * " << scale << "\n" << a << "\nvs\n" << b;
+    return ::testing::AssertionFailure() << s.str();
+}
+::testing::AssertionResult close(double a, double b, double rel = 5e-14)
+{
+    return close(Eigen::Matrix<double, 1, 1>(a), Eigen::Matrix<double, 1, 1>(b), rel);
+}
+
+// The message of the input_error that compiling `text` throws.
+std::string error_of(const std::string& text, const std::string& source = "bad.toml")
+{
+    try {
+        (void)compile_model_text(text, source);
+    } catch (const input_error& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "not an input_error: " << e.what();
+        return {};
+    }
+    ADD_FAILURE() << "no error for:\n" << text;
+    return {};
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to)
+{
+    const auto pos = text.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    if (pos != std::string::npos) text.replace(pos, from.size(), to);
+    return text;
+}
+
+std::string read_text(const fs::path& p)
+{
+    std::ifstream in(p);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// The two-sided oscillator, short: the base of the bad files.
+const std::string two_sided = R"toml(
+name = "two_sided"
+state = ["x", "v", "phi"]
+[parameters]
+zeta = 0.05
+a = 1.0
+w = 1.2
+d = 1.0
+r = { default = 0.8, min = 0, max = 1 }
+[derivatives]
+x = "v"
+v = "-2*zeta*v - x + a*cos(phi)"
+phi = "w"
+[angles]
+phi = "2*pi"
+[[surfaces]]
+name = "right"
+gap = "d - x"
+reset = { v = "-r*v" }
+[[surfaces]]
+name = "left"
+gap = "x + d"
+reset = { v = "-r*v" }
+[[sections]]
+name = "strobe"
+when = "sin(phi)"
+direction = "up"
+)toml";
+
+// Every function of the two tables agrees at random states.
+template <int N>
+void expect_same_functions(const model& file, const model& builtin, std::mt19937& gen, double scale)
+{
+    const table_model<N> f(file.table(), file.context());
+    const table_model<N> b(builtin.table(), builtin.context());
+    ASSERT_EQ(f.surface_count(), b.surface_count());
+    ASSERT_EQ(f.section_count(), b.section_count());
+    for (int trial = 0; trial < 40; ++trial) {
+        const vec<N> x = random_state<N>(gen, scale), u = random_state<N>(gen), w = random_state<N>(gen);
+        EXPECT_TRUE(close(f.rhs(x), b.rhs(x)));
+        EXPECT_TRUE(close(f.jacobian(x), b.jacobian(x)));
+        EXPECT_TRUE(close(f.second_derivative(x, u, w), b.second_derivative(x, u, w)));
+        EXPECT_TRUE(close(f.divergence(x), b.divergence(x)));
+        for (int i = 0; i < b.surface_count(); ++i) {
+            EXPECT_TRUE(close(f.gap(i, x), b.gap(i, x)));
+            EXPECT_TRUE(close(f.gap_gradient(i, x), b.gap_gradient(i, x)));
+            EXPECT_TRUE(close(f.gap_hessian(i, x), b.gap_hessian(i, x)));
+            EXPECT_TRUE(close(f.reset(i, x), b.reset(i, x)));
+            EXPECT_TRUE(close(f.reset_jacobian(i, x), b.reset_jacobian(i, x)));
+            EXPECT_TRUE(close(f.reset_second_derivative(i, x, u, w), b.reset_second_derivative(i, x, u, w)));
+            EXPECT_EQ(f.sticks(i), b.sticks(i));
+            EXPECT_TRUE(close(f.sticking_rhs(i, x), b.sticking_rhs(i, x)));
+            EXPECT_TRUE(close(f.release(i, x), b.release(i, x)));
+            EXPECT_TRUE(close(f.release_gradient(i, x), b.release_gradient(i, x)));
+            EXPECT_TRUE(close(f.rest(i, x), b.rest(i, x)));
+        }
+        for (int k = 0; k < b.section_count(); ++k) {
+            EXPECT_TRUE(close(f.section(k, x), b.section(k, x)));
+            EXPECT_TRUE(close(f.section_gradient(k, x), b.section_gradient(k, x)));
+            EXPECT_EQ(f.section_direction(k), b.section_direction(k));
+        }
+    }
+}
+
+void expect_same_info(const model_info& f, const model_info& b)
+{
+    EXPECT_EQ(f.name, b.name);
+    EXPECT_EQ(f.description, b.description);
+    ASSERT_EQ(f.state.size(), b.state.size());
+    for (std::size_t j = 0; j < b.state.size(); ++j) {
+        EXPECT_EQ(f.state[j].name, b.state[j].name);
+        EXPECT_EQ(f.state[j].meaning, b.state[j].meaning);
+        EXPECT_EQ(f.state[j].unit, b.state[j].unit);
+        EXPECT_EQ(f.state[j].period, b.state[j].period) << f.state[j].name;
+    }
+    EXPECT_EQ(f.initial_state, b.initial_state);
+    ASSERT_EQ(f.parameters.size(), b.parameters.size());
+    for (std::size_t k = 0; k < b.parameters.size(); ++k) {
+        const auto& p = f.parameters[k];
+        const auto& q = b.parameters[k];
+        EXPECT_EQ(p.name, q.name);
+        EXPECT_EQ(p.meaning, q.meaning);
+        EXPECT_EQ(p.unit, q.unit);
+        EXPECT_EQ(p.default_value, q.default_value) << p.name;
+        EXPECT_EQ(p.range.lower, q.range.lower) << p.name;
+        EXPECT_EQ(p.range.upper, q.range.upper) << p.name;
+        EXPECT_EQ(p.range.lower_inclusive, q.range.lower_inclusive) << p.name;
+        EXPECT_EQ(p.range.upper_inclusive, q.range.upper_inclusive) << p.name;
+    }
+    ASSERT_EQ(f.surfaces.size(), b.surfaces.size());
+    for (std::size_t i = 0; i < b.surfaces.size(); ++i) {
+        EXPECT_EQ(f.surfaces[i].name, b.surfaces[i].name);
+        EXPECT_EQ(f.surfaces[i].meaning, b.surfaces[i].meaning);
+        EXPECT_EQ(f.surfaces[i].sticks, b.surfaces[i].sticks);
+    }
+    ASSERT_EQ(f.sections.size(), b.sections.size());
+    for (std::size_t k = 0; k < b.sections.size(); ++k) {
+        EXPECT_EQ(f.sections[k].name, b.sections[k].name);
+        EXPECT_EQ(f.sections[k].meaning, b.sections[k].meaning);
+        EXPECT_EQ(f.sections[k].direction, b.sections[k].direction);
+    }
+    ASSERT_EQ(f.presets.size(), b.presets.size());
+    for (std::size_t k = 0; k < b.presets.size(); ++k) {
+        EXPECT_EQ(f.presets[k].name, b.presets[k].name);
+        EXPECT_EQ(f.presets[k].meaning, b.presets[k].meaning);
+        EXPECT_EQ(f.presets[k].values, b.presets[k].values);
+    }
+}
+
+// Parameter sets inside every range: the defaults scaled by factors in [0.5, 1.5], and r,
+// whose range is [0, 1], drawn from it.
+std::vector<double> random_parameters(const model_info& info, std::mt19937& gen)
+{
+    std::uniform_real_distribution<double> factor(0.5, 1.5), unit(0.0, 1.0);
+    std::vector<double> p;
+    for (const auto& q : info.parameters) p.push_back(q.name == "r" ? unit(gen) : q.default_value * factor(gen));
+    return p;
+}
+
+}  // namespace
+
+// ---- (a) the example files restate the built-ins
+
+TEST(ModelFile, WakeImpactFileEqualsTheBuiltIn)
+{
+    const model file = model::from_file(source_dir + "/examples/models/wake_impact.toml");
+    const model builtin = model::builtin("wake_impact");
+    expect_same_info(file.info(), builtin.info());
+    EXPECT_EQ(file.info().parameters[9].default_value, wake_impact::paper_CL0);
+    EXPECT_EQ(file.info().source, source_dir + "/examples/models/wake_impact.toml");
+    EXPECT_NE(file.info().identity, builtin.info().identity);
+    std::mt19937 gen(11);
+    expect_same_functions<4>(file, builtin, gen, 1.5);
+    expect_same_functions<4>(file.with_preset(1), builtin.with_preset(1), gen, 1.5);
+    for (int set = 0; set < 5; ++set) {
+        const auto p = random_parameters(builtin.info(), gen);
+        expect_same_functions<4>(file.with_parameters(p), builtin.with_parameters(p), gen, 1.5);
+    }
+}
+
+TEST(ModelFile, TwoSidedOscillatorFileEqualsTheBuiltIn)
+{
+    const model file = model::from_file(source_dir + "/examples/models/two_sided_impact_oscillator.toml");
+    const model builtin = model::builtin("two_sided_impact_oscillator");
+    expect_same_info(file.info(), builtin.info());
+    EXPECT_EQ(file.info().state[2].period, 2.0 * std::numbers::pi);
+    std::mt19937 gen(12);
+    expect_same_functions<3>(file, builtin, gen, 4.0);
+    for (int set = 0; set < 5; ++set) {
+        const auto p = random_parameters(builtin.info(), gen);
+        expect_same_functions<3>(file.with_parameters(p), builtin.with_parameters(p), gen, 4.0);
+    }
+}
+
+// ---- (b) symbolic derivatives of a nonlinear model against finite differences
+
+namespace {
+
+const std::string nonlinear = R"toml(
+name = "nonlinear_check"
+state = ["x", "y", "z"]
+[parameters]
+k = 1.3
+c = { default = 0.4, min = 0 }
+[derived]
+k2 = "k^2 + c"
+[expressions]
+q = "tanh(x*y) + abs(z - 0.1)"
+[derivatives]
+x = "y*z - k*sin(x)^2 + q"
+y = "pow(abs(x) + 1, 1.5) - c*y^3 + exp(-z^2) + (x + y)^2"
+z = "x*y/(1 + z^2) + log(2 + cos(y)) + sqrt(1 + x^2)*k2 - atan(y)*cosh(z)"
+[[surfaces]]
+name = "curve"
+gap = "1.5 - x^2 - 0.5*y^2 + tanh(z)*x + abs(y)*z"
+reset = { x = "x - 0.1*y^2", y = "-c*y + 0.2*x*z^2", z = "z + sin(x*y)" }
+[surfaces.sticking]
+release = "x*y - z^3 + abs(x)"
+derivatives = { x = "0" }
+rest = { x = "x*0.5" }
+[[sections]]
+name = "s"
+when = "x*cos(z) - y^2 + pow(1 + z^2, x)"
+direction = "both"
+)toml";
+
+template <class F>
+mat<3> fd_jacobian(F&& f, const vec<3>& x, double h = 1e-6)
+{
+    mat<3> J;
+    for (int j = 0; j < 3; ++j) {
+        vec<3> a = x, b = x;
+        a[j] += h;
+        b[j] -= h;
+        J.col(j) = (f(a) - f(b)) / (2.0 * h);
+    }
+    return J;
+}
+
+vec<3> scalar3(double v) { return vec<3>::Constant(v); }
+
+// A random state away from the kinks of abs in the model above.
+vec<3> smooth_state(std::mt19937& gen)
+{
+    for (;;) {
+        const vec<3> x = random_state<3>(gen);
+        if (std::abs(x[0]) > 0.05 && std::abs(x[1]) > 0.05 && std::abs(x[2] - 0.1) > 0.05) return x;
+    }
+}
+
+}  // namespace
+
+TEST(ModelFile, SymbolicDerivativesEqualFiniteDifferences)
+{
+    const model m = model::from_toml(nonlinear, "nonlinear.toml");
+    const table_model<3> t(m.table(), m.context());
+    std::mt19937 gen(13);
+    const double tol = 1e-7;
+    for (int trial = 0; trial < 30; ++trial) {
+        const vec<3> x = smooth_state(gen), u = random_state<3>(gen), w = random_state<3>(gen);
+        const double h = 1e-6;
+        EXPECT_TRUE(close(t.jacobian(x), fd_jacobian([&](const vec<3>& y) { return t.rhs(y); }, x), tol));
+        const vec<3> d2 = (t.jacobian(vec<3>(x + h * u)) * w - t.jacobian(vec<3>(x - h * u)) * w) / (2.0 * h);
+        EXPECT_TRUE(close(t.second_derivative(x, u, w), d2, tol));
+        EXPECT_TRUE(close(t.second_derivative(x, u, w), t.second_derivative(x, w, u), 1e-15));
+        EXPECT_TRUE(close(t.divergence(x), t.jacobian(x).trace(), 1e-15));
+
+        const vec<3> g = fd_jacobian([&](const vec<3>& y) { return scalar3(t.gap(0, y)); }, x).row(0);
+        EXPECT_TRUE(close(t.gap_gradient(0, x), g, tol));
+        EXPECT_TRUE(close(t.gap_hessian(0, x), fd_jacobian([&](const vec<3>& y) { return t.gap_gradient(0, y); }, x), tol));
+        EXPECT_TRUE(close(t.gap_hessian(0, x), mat<3>(t.gap_hessian(0, x).transpose()), 0.0));
+
+        EXPECT_TRUE(close(t.reset_jacobian(0, x), fd_jacobian([&](const vec<3>& y) { return t.reset(0, y); }, x), tol));
+        const vec<3> r2 = (t.reset_jacobian(0, vec<3>(x + h * u)) * w - t.reset_jacobian(0, vec<3>(x - h * u)) * w) / (2.0 * h);
+        EXPECT_TRUE(close(t.reset_second_derivative(0, x, u, w), r2, tol));
+
+        const vec<3> s = fd_jacobian([&](const vec<3>& y) { return scalar3(t.section(0, y)); }, x).row(0);
+        EXPECT_TRUE(close(t.section_gradient(0, x), s, tol));
+        const vec<3> rel = fd_jacobian([&](const vec<3>& y) { return scalar3(t.release(0, y)); }, x).row(0);
+        EXPECT_TRUE(close(t.release_gradient(0, x), rel, tol));
+
+        // The constrained field replaces x' only; rest halves x only.
+        const vec<3> f = t.rhs(x), fs = t.sticking_rhs(0, x), r = t.rest(0, x);
+        EXPECT_EQ(fs[0], 0.0);
+        EXPECT_EQ(fs[1], f[1]);
+        EXPECT_EQ(fs[2], f[2]);
+        EXPECT_EQ(r[0], 0.5 * x[0]);
+        EXPECT_EQ(r[1], x[1]);
+        EXPECT_EQ(r[2], x[2]);
+    }
+    // abs' = csgn, 0 at the kink (not 0/0).
+    const vec<3> kink(0.3, 0.2, 0.1);
+    const mat<3> J = t.jacobian(kink);
+    for (int i = 0; i < 9; ++i) EXPECT_TRUE(std::isfinite(J.data()[i]));
+    EXPECT_EQ(J(0, 2), 0.2);  // d/dz of y*z + abs(z - 0.1) at z = 0.1: y + csgn(0) = y
+}
+
+TEST(ModelFile, IntegerPowersAreMultiplicationsAndConstantsAreExactDoubles)
+{
+    const std::string text = R"toml(
+name = "exact_constants"
+state = ["x", "y", "z"]
+[parameters]
+p = 0.1
+[derivatives]
+x = "0.1"
+y = "x^2 + (x + y)^3 + x^-2 + (1 + z)^-3 + sqrt(y) + y^1.5 + 1/sqrt(z)"
+z = "1e-7 + 2.5e3*x + 0.30000000000000004*y + 1/3"
+[angles]
+z = "pi/3"
+)toml";
+    const model m = model::from_toml(text, "exact.toml");
+    const table_model<3> t(m.table(), m.context());
+    const vec<3> x(0.7, 0.4, 0.9);
+    const vec<3> f = t.rhs(x);
+    EXPECT_EQ(f[0], 0.1);  // bit for bit the C++ literal
+    EXPECT_EQ(m.info().parameters[0].default_value, 0.1);
+    EXPECT_EQ(m.info().state[2].period, std::numbers::pi / 3.0);
+    const double y = 0.7 * 0.7 + (0.7 + 0.4) * (0.7 + 0.4) * (0.7 + 0.4) + 1.0 / (0.7 * 0.7) +
+                     1.0 / ((1.9) * (1.9) * (1.9)) + std::sqrt(0.4) + 0.4 * std::sqrt(0.4) + 1.0 / std::sqrt(0.9);
+    EXPECT_TRUE(close(f[1], y, 1e-15));
+    EXPECT_TRUE(close(f[2], 1e-7 + 2.5e3 * 0.7 + 0.30000000000000004 * 0.4 + 1.0 / 3.0, 1e-15));
+
+    // The generated source calls pow() for none of these powers.
+    bool found = false;
+    for (const auto& e : fs::directory_iterator(cache_environment::dir)) {
+        const std::string name = e.path().filename().string();
+        if (!name.starts_with("exact_constants-") || e.path().extension() != ".cpp") continue;
+        found = true;
+        const std::string code = read_text(e.path());
+        EXPECT_EQ(code.find("pow("), std::string::npos) << code;
+        EXPECT_NE(code.find("x[0]*x[0]"), std::string::npos);
+    }
+    EXPECT_TRUE(found);
+}
+
+// ---- (c) bad files: one input_error naming the key
+
+TEST(ModelFile, SyntaxErrorNamesTheLine)
+{
+    const std::string e = error_of("name = \"a\"\nstate = [\"x\"\n[parameters]\n");
+    EXPECT_TRUE(e.starts_with("model file bad.toml: line ")) << e;
+}
+
+TEST(ModelFile, MissingKey)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "[derivatives]\nx = \"v\"\nv = \"-2*zeta*v - x + a*cos(phi)\"\nphi = \"w\"\n", "")),
+              "model file bad.toml: missing key 'derivatives'");
+    EXPECT_EQ(error_of(replaced(two_sided, "gap = \"d - x\"\n", "")), "model file bad.toml: missing key 'surfaces[0].gap'");
+}
+
+TEST(ModelFile, UnknownKeyAtTopLevel)
+{
+    const std::string e = error_of("bogus = 1\n" + two_sided);
+    EXPECT_TRUE(e.starts_with("model file bad.toml: unknown key 'bogus' (valid: name, description, state,")) << e;
+}
+
+TEST(ModelFile, UnknownNestedKey)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "gap = \"x + d\"\nreset", "gap = \"x + d\"\nresett")),
+              "model file bad.toml: unknown key 'surfaces[1].resett' (valid: name, meaning, gap, reset, sticking)");
+    EXPECT_EQ(error_of(replaced(two_sided, "r = { default = 0.8,", "r = { default = 0.8, mni = 0,")),
+              "model file bad.toml: unknown key 'parameters.r.mni' (valid: default, meaning, unit, min, max, above, below)");
+}
+
+TEST(ModelFile, UnknownSymbol)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "-2*zeta*v", "-2*zet*v"), "two.toml"),
+              "model file two.toml: derivatives.v: unknown symbol 'zet' (state: x, v, phi; parameters: zeta, a, w, d, r)");
+}
+
+TEST(ModelFile, UnknownFunction)
+{
+    const std::string e = error_of(replaced(two_sided, "when = \"sin(phi)\"", "when = \"sinc(phi)\""));
+    EXPECT_TRUE(e.starts_with("model file bad.toml: sections[0].when: unknown function 'sinc' (functions: sin, cos,")) << e;
+    EXPECT_NE(error_of(replaced(two_sided, "cos(phi)", "cos(phi, 2)")).find("derivatives.v: cos takes 1 argument, got 2"),
+              std::string::npos);
+}
+
+TEST(ModelFile, MissingDerivative)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "phi = \"w\"\n[angles]", "[angles]")),
+              "model file bad.toml: derivatives: no equation for state variable 'phi'");
+}
+
+TEST(ModelFile, DerivativeOfAnUnknownVariable)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "phi = \"w\"\n[angles]", "phi = \"w\"\nq = \"1\"\n[angles]")),
+              "model file bad.toml: derivatives.q: 'q' is not a state variable (state: x, v, phi)");
+}
+
+TEST(ModelFile, ResetOfAnUnknownVariable)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "reset = { v = \"-r*v\" }", "reset = { q = \"-r*v\" }")),
+              "model file bad.toml: surfaces[0].reset.q: 'q' is not a state variable (state: x, v, phi)");
+}
+
+TEST(ModelFile, BadDirection)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "direction = \"up\"", "direction = \"sideways\"")),
+              "model file bad.toml: sections[0].direction: 'sideways' is not a direction (valid: up, down, both)");
+}
+
+TEST(ModelFile, AnglePeriodMustBeAPositiveConstant)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "phi = \"2*pi\"", "phi = \"2*pi*w\"")),
+              "model file bad.toml: angles.phi: 'w' is a parameter: a period must be a constant, such as 2*pi");
+    EXPECT_EQ(error_of(replaced(two_sided, "phi = \"2*pi\"", "phi = \"-2*pi\"")),
+              "model file bad.toml: angles.phi: the period must be a positive number, got -6.283185307179586");
+    EXPECT_EQ(error_of(replaced(two_sided, "phi = \"2*pi\"", "phi = 0")),
+              "model file bad.toml: angles.phi: the period must be a positive number, got 0");
+    EXPECT_EQ(error_of(replaced(two_sided, "phi = \"2*pi\"", "q = \"2*pi\"")),
+              "model file bad.toml: angles.q: 'q' is not a state variable (state: x, v, phi)");
+}
+
+TEST(ModelFile, DuplicateNames)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "zeta = 0.05", "x = 0.05")),
+              "model file bad.toml: parameters.x: the name 'x' is already used for a state variable");
+    EXPECT_EQ(error_of(replaced(two_sided, "name = \"left\"", "name = \"right\"")),
+              "model file bad.toml: surfaces[1].name: a surface named 'right' is already declared");
+    EXPECT_EQ(error_of(replaced(two_sided, "[derivatives]", "[derived]\nd = \"2*a\"\n[derivatives]")),
+              "model file bad.toml: derived.d: the name 'd' is already used for a parameter");
+}
+
+TEST(ModelFile, ReservedNames)
+{
+    const std::string e = error_of(replaced(two_sided, "state = [\"x\", \"v\", \"phi\"]", "state = [\"x\", \"v\", \"pi\"]"));
+    EXPECT_TRUE(e.starts_with("model file bad.toml: state[2]: 'pi' is reserved")) << e;
+    const std::string f = error_of(replaced(two_sided, "zeta = 0.05", "sin = 0.05"));
+    EXPECT_TRUE(f.starts_with("model file bad.toml: parameters.sin: 'sin' is reserved")) << f;
+    const std::string g = error_of(replaced(two_sided, "zeta = 0.05", "2zeta = 0.05"));
+    EXPECT_NE(g.find("'2zeta' is not a valid name"), std::string::npos) << g;
+}
+
+TEST(ModelFile, DerivedCycle)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "[derivatives]", "[derived]\nb = \"2*c\"\nc = \"a + b\"\n[derivatives]")),
+              "model file bad.toml: derived.b: circular definition (b -> c -> b)");
+    EXPECT_EQ(error_of(replaced(two_sided, "[derivatives]", "[expressions]\nf = \"g*x\"\ng = \"f\"\n[derivatives]")),
+              "model file bad.toml: expressions.f: circular definition (f -> g -> f)");
+    EXPECT_EQ(error_of(replaced(two_sided, "[derivatives]", "[derived]\nb = \"2*x\"\n[derivatives]")),
+              "model file bad.toml: derived.b: 'x' is a state variable: derived quantities depend on the parameters only");
+}
+
+TEST(ModelFile, DefaultOutsideItsRange)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "default = 0.8", "default = 2")),
+              "model file bad.toml: parameters.r: the default 2 is outside the range [0, 1]");
+    EXPECT_EQ(error_of(replaced(two_sided, "min = 0, max = 1", "min = 1, below = 1")),
+              "model file bad.toml: parameters.r: the range [1, 1) is empty");
+    EXPECT_EQ(error_of(replaced(two_sided, "min = 0, max = 1", "min = 0, above = 1")),
+              "model file bad.toml: parameters.r: give min (a closed bound) or above (an open one), not both");
+}
+
+TEST(ModelFile, TooManyStateVariables)
+{
+    const auto& dims = engine_dimensions();
+    const int n = *std::max_element(dims.begin(), dims.end()) + 1;
+    std::ostringstream text, derivatives, expected;
+    text << "name = \"big\"\nstate = [";
+    for (int j = 0; j < n; ++j) {
+        text << (j > 0 ? ", " : "") << "\"x" << j << "\"";
+        derivatives << "x" << j << " = \"0\"\n";
+    }
+    text << "]\n[parameters]\n[derivatives]\n" << derivatives.str();
+    expected << "model file bad.toml has " << n << " state variables; this build";
+    const std::string e = error_of(text.str());
+    EXPECT_TRUE(e.starts_with(expected.str())) << e;
+}
+
+TEST(ModelFile, StickingWithoutRelease)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "gap = \"d - x\"\nreset = { v = \"-r*v\" }",
+                                "gap = \"d - x\"\nreset = { v = \"-r*v\" }\nsticking = { rest = { v = \"0\" } }")),
+              "model file bad.toml: missing key 'surfaces[0].sticking.release'");
+}
+
+TEST(ModelFile, OtherBadExpressionsAndValues)
+{
+    const auto message = [&](const std::string& from, const std::string& to) {
+        return error_of(replaced(two_sided, from, to));
+    };
+    EXPECT_EQ(message("x = \"v\"", "x = \"v +\""), "model file bad.toml: derivatives.x: cannot read 'v +': the expression ends too early");
+    EXPECT_EQ(message("x = \"v\"", "x = \"v^2^3\""),
+              "model file bad.toml: derivatives.x: cannot read 'v^2^3': a^b^c is ambiguous: write (a^b)^c or a^(b^c)");
+    EXPECT_EQ(message("x = \"v\"", "x = \"v # 2\""),
+              "model file bad.toml: derivatives.x: unexpected character '#' in 'v # 2' (expressions use numbers, names, "
+              "+ - * / ^, parentheses and functions)");
+    EXPECT_EQ(message("x = \"v\"", "x = \"2v\""),
+              "model file bad.toml: derivatives.x: malformed number '2v' in '2v' (write 2*x for a product)");
+    EXPECT_EQ(message("x = \"v\"", "x = \"v/(1 - 1)\""), "model file bad.toml: derivatives.x: cannot evaluate 'v/(1 - 1)': division by zero");
+    EXPECT_EQ(message("x = \"v\"", "x = \"sqrt(-1)*v\""),
+              "model file bad.toml: derivatives.x: the expression has no real value (a constant such as sqrt(-1) or log(-2) is complex)");
+    EXPECT_EQ(message("x = \"v\"", "x = \"sin\""), "model file bad.toml: derivatives.x: 'sin' is a function: write sin(...)");
+    EXPECT_EQ(message("x = \"v\"", "x = \"v(2)\""),
+              "model file bad.toml: derivatives.x: 'v' is not a function (write v*(...) for a product)");
+    EXPECT_EQ(message("x = \"v\"", "x = \"(v\""), "model file bad.toml: derivatives.x: unbalanced '(' in '(v'");
+    EXPECT_EQ(message("x = \"v\"", "x = \"\""), "model file bad.toml: derivatives.x: empty expression");
+    EXPECT_EQ(message("x = \"v\"", "x = [1]"),
+              "model file bad.toml: derivatives.x: expected an expression (a string such as \"-r*v\", or a number), got an array");
+    EXPECT_EQ(message("state = [\"x\", \"v\", \"phi\"]", "state = \"x\""), "model file bad.toml: state: expected an array, got a string");
+    EXPECT_EQ(message("state = [\"x\", \"v\", \"phi\"]", "state = [\"x\", \"v\", \"phi\"]\ninitial_state = [1, 2]"),
+              "model file bad.toml: initial_state: needs 3 numbers (x, v, phi), got 2");
+    EXPECT_EQ(message("zeta = 0.05", "zeta = 1979-05-27"), "model file bad.toml: parameters.zeta: dates and times have no meaning in a model file");
+    EXPECT_EQ(message("zeta = 0.05", "zeta = \"0.05\""),
+              "model file bad.toml: parameters.zeta: expected a default value or a table {default, meaning, unit, min, max, above, "
+              "below}, got a string");
+    EXPECT_EQ(error_of(two_sided + "[presets]\nhigh = { rr = 0.5 }\n"),
+              "model file bad.toml: presets.high.rr: 'rr' is not a parameter (parameters: zeta, a, w, d, r; or meaning = \"...\")");
+    EXPECT_EQ(error_of(two_sided + "[presets]\nhigh = { r = 1.5 }\n"),
+              "model file bad.toml: presets.high.r: 1.5 is outside the range of r ([0, 1])");
+}
+
+TEST(ModelFile, DerivedValueThatIsNotFiniteRefusesTheParameters)
+{
+    const std::string text = replaced(two_sided, "[derivatives]", "[derived]\ninv = \"1/(a - 1)\"\n[derivatives]");
+    const auto code = compile_model_text(text, "derived.toml");
+    try {
+        (void)model::with_defaults(code);
+        ADD_FAILURE() << "no error";
+    } catch (const input_error& e) {
+        EXPECT_EQ(std::string(e.what()), "model two_sided refuses its parameters: derived quantity inv = inf is not finite");
+    }
+    const model m(code, {0.05, 3.0, 1.2, 1.0, 0.8});  // a = 3: inv = 1/2
+    EXPECT_EQ(m.parameter(1), 3.0);
+}
+
+// ---- (d) the cache: the same model is compiled once
+
+namespace {
+
+// A compiler that counts its runs and hands over to the real one.
+fs::path counting_compiler(const fs::path& dir)
+{
+    const fs::path script = dir / "counting-c++";
+    std::ofstream(script) << "#!/bin/sh\necho run >> '" << (dir / "runs").string() << "'\nexec c++ \"$@\"\n";
+    ::chmod(script.c_str(), 0755);
+    return script;
+}
+
+int runs(const fs::path& dir)
+{
+    std::ifstream in(dir / "runs");
+    int n = 0;
+    for (std::string line; std::getline(in, line);) ++n;
+    return n;
+}
+
+}  // namespace
+
+TEST(ModelFile, SecondLoadOfTheSameTextRunsNoCompiler)
+{
+    const fs::path dir = cache_environment::dir / "counting";
+    fs::create_directories(dir);
+    const scoped_env cxx("CXX", counting_compiler(dir).string());
+    const std::string text = replaced(two_sided, "name = \"two_sided\"", "name = \"cached_once\"");
+    const model first = model::from_toml(text, "first.toml");
+    EXPECT_EQ(runs(dir), 1);
+    fs::path so;
+    for (const auto& e : fs::directory_iterator(cache_environment::dir))
+        if (e.path().filename().string().starts_with("cached_once-") && e.path().extension() == ".so") so = e.path();
+    ASSERT_FALSE(so.empty());
+    const auto mtime = fs::last_write_time(so);
+    // Other symbolic work in between must not change the generated source.
+    (void)compile_model_text(nonlinear, "nonlinear.toml");
+    const int after_other = runs(dir);
+    const model second = model::from_toml(text, "second.toml");
+    EXPECT_EQ(runs(dir), after_other);
+    EXPECT_EQ(fs::last_write_time(so), mtime);
+    EXPECT_EQ(first.info().identity, second.info().identity);
+    EXPECT_EQ(second.info().source, "second.toml");
+    EXPECT_TRUE(first == second);
+}
+
+TEST(ModelFile, ConcurrentCompilationsOfTheSameModelAllSucceed)
+{
+    const std::string text = replaced(two_sided, "name = \"two_sided\"", "name = \"raced\"");
+    std::vector<std::thread> threads;
+    std::vector<std::string> identities(4), errors(4);
+    for (std::size_t k = 0; k < 4; ++k)
+        threads.emplace_back([&, k] {
+            try {
+                identities[k] = compile_model_text(text, "raced.toml")->info.identity;
+            } catch (const std::exception& e) {
+                errors[k] = e.what();
+            }
+        });
+    for (auto& t : threads) t.join();
+    for (std::size_t k = 0; k < 4; ++k) {
+        EXPECT_EQ(errors[k], "");
+        EXPECT_EQ(identities[k], identities[0]);
+    }
+    for (const auto& e : fs::directory_iterator(cache_environment::dir))
+        EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+// ---- (e) no compiler
+
+TEST(ModelFile, MissingCompilerIsAClearError)
+{
+    const scoped_env cxx("CXX", "/nonexistent/bin/c++");
+    const std::string text = replaced(two_sided, "name = \"two_sided\"", "name = \"no_compiler\"");
+    EXPECT_EQ(error_of(text, "nocc.toml"),
+              "model file nocc.toml needs a C++ compiler to be compiled to native code: none found "
+              "(CXX=/nonexistent/bin/c++ is not an executable program; set CXX or install g++)");
+}
+
+TEST(ModelFile, CompilerFailureNamesTheKeptSource)
+{
+    const fs::path dir = cache_environment::dir / "failing";
+    fs::create_directories(dir);
+    const fs::path script = dir / "failing-c++";
+    std::ofstream(script) << "#!/bin/sh\necho 'model.cpp:1:1: error: this compiler refuses everything' >&2\nexit 1\n";
+    ::chmod(script.c_str(), 0755);
+    const scoped_env cxx("CXX", script.string());
+    const std::string text = replaced(two_sided, "name = \"two_sided\"", "name = \"refused\"");
+    const std::string e = error_of(text, "refused.toml");
+    EXPECT_TRUE(e.starts_with("model file refused.toml: the C++ compiler " + script.string() +
+                              " failed (exit code 1): model.cpp:1:1: error: this compiler refuses everything "
+                              "(the generated source is kept in "))
+        << e;
+    const std::string kept = e.substr(e.rfind("kept in ") + 8, e.size() - e.rfind("kept in ") - 9);
+    EXPECT_TRUE(fs::exists(kept)) << kept;
+    EXPECT_NE(read_text(kept).find("vimpact_model(void)"), std::string::npos);
+}
+
+// ---- (f) the JSON path
+
+TEST(ModelFile, JsonDescriptionEqualsTheTomlFile)
+{
+    const auto json = nlohmann::ordered_json::parse(R"json({
+        "name": "two_sided_impact_oscillator",
+        "description": "a harmonically forced linear oscillator x'' + 2 zeta x' + x = a cos(phi), phi' = w, between rigid stops at x = -d and x = d",
+        "state": [{"name": "x", "meaning": "displacement"},
+                  {"name": "v", "meaning": "velocity"},
+                  {"name": "phi", "meaning": "forcing phase", "unit": "rad"}],
+        "initial_state": [0, 0, 0],
+        "parameters": {
+            "zeta": {"default": 0.05, "meaning": "damping ratio", "min": 0.0},
+            "a": {"default": 1, "meaning": "forcing amplitude"},
+            "w": {"meaning": "forcing frequency / natural frequency", "default": 1.2, "above": 0},
+            "d": {"default": 1.0, "meaning": "half the clearance between the stops", "above": 0},
+            "r": {"default": 0.8, "meaning": "coefficient of restitution", "min": 0, "max": 1.0}
+        },
+        "derivatives": {"phi": "w", "x": "v", "v": "-2*zeta*v - x + a*cos(phi)"},
+        "angles": {"phi": "2*pi"},
+        "surfaces": [
+            {"name": "right", "meaning": "stop at x = d", "gap": "d - x", "reset": {"v": "-r*v"}},
+            {"name": "left", "meaning": "stop at x = -d", "gap": "x + d", "reset": {"v": "-r*v"}}
+        ],
+        "sections": [{"name": "strobe", "direction": "up", "when": "sin(phi)",
+                      "meaning": "once per forcing period: sin(phi) = 0, increasing (phi = 0 mod 2 pi)"}]
+    })json");
+    const model from_json(compile_model_json(json, "<dict>"), std::vector<double>{0.05, 1.0, 1.2, 1.0, 0.8});
+    const model from_toml = model::from_file(source_dir + "/examples/models/two_sided_impact_oscillator.toml");
+    EXPECT_EQ(from_json.info().identity, from_toml.info().identity);
+    EXPECT_EQ(from_json.info().source, "<dict>");
+    expect_same_info(from_json.info(), from_toml.info());
+    const table_model<3> a(from_json.table(), from_json.context()), b(from_toml.table(), from_toml.context());
+    std::mt19937 gen(14);
+    for (int trial = 0; trial < 10; ++trial) {
+        const vec<3> x = random_state<3>(gen, 3.0), u = random_state<3>(gen), w = random_state<3>(gen);
+        EXPECT_EQ(a.rhs(x), b.rhs(x));
+        EXPECT_EQ(a.jacobian(x), b.jacobian(x));
+        EXPECT_EQ(a.second_derivative(x, u, w), b.second_derivative(x, u, w));
+        EXPECT_EQ(a.gap(1, x), b.gap(1, x));
+        EXPECT_EQ(a.section_gradient(0, x), b.section_gradient(0, x));
+    }
+    EXPECT_EQ(error_of("name = 3"), "model file bad.toml: name: expected a string, got a number");
+    try {
+        (void)compile_model_json(nlohmann::ordered_json::array(), "<dict>");
+        ADD_FAILURE();
+    } catch (const input_error& e) {
+        EXPECT_TRUE(std::string(e.what()).starts_with("model file <dict>: expected a table of keys")) << e.what();
+    }
+}
+
+// ---- (g) shared libraries exporting a C++ model
+
+TEST(ModelFile, LibraryExportingACppDefinitionLoads)
+{
+    const fs::path dir = cache_environment::dir / "plugin";
+    fs::create_directories(dir);
+    const fs::path src = dir / "plugin.cpp", lib = dir / "libtwo_sided.so";
+    std::ofstream(src) << "#include <vimpact/model/export.hpp>\n"
+                          "#include <vimpact/model/builtin/two_sided_impact_oscillator.hpp>\n"
+                          "VIMPACT_EXPORT_MODEL(vimpact::two_sided_impact_oscillator)\n";
+    const std::string command = "c++ -std=c++20 -O1 -fPIC -shared -I'" + source_dir + "/include' -I/usr/include/eigen3 -o '" +
+                                lib.string() + "' '" + src.string() + "'";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+
+    const auto code = load_model_library(lib);
+    EXPECT_EQ(code->info.source, lib.string());
+    EXPECT_TRUE(code->info.identity.starts_with("two_sided_impact_oscillator-")) << code->info.identity;
+    EXPECT_NE(code->library, nullptr);
+    const model plugin = model::with_defaults(code);
+    const model builtin = model::builtin("two_sided_impact_oscillator");
+    expect_same_info(plugin.info(), builtin.info());
+    std::mt19937 gen(15);
+    expect_same_functions<3>(plugin, builtin, gen, 3.0);
+    // load_model_code and model::from_file dispatch on the extension; the same bytes have the same identity.
+    EXPECT_EQ(model::from_file(lib).info().identity, code->info.identity);
+
+    // A shared library without the entry point, and files that are neither.
+    const fs::path empty_src = dir / "empty.cpp", empty = dir / "libempty.so";
+    std::ofstream(empty_src) << "extern \"C\" int nothing_here() { return 0; }\n";
+    ASSERT_EQ(std::system(("c++ -fPIC -shared -o '" + empty.string() + "' '" + empty_src.string() + "'").c_str()), 0);
+    try {
+        (void)load_model_code(empty);
+        ADD_FAILURE();
+    } catch (const input_error& e) {
+        EXPECT_EQ(std::string(e.what()), "model library " + empty.string() +
+                                             " does not export vimpact_model() (a C++ model library is built with "
+                                             "VIMPACT_EXPORT_MODEL from vimpact/model/export.hpp)");
+    }
+    EXPECT_THROW((void)load_model_code(dir / "missing.toml"), input_error);
+    EXPECT_THROW((void)load_model_code(src), input_error);
+}
