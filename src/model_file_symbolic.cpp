@@ -135,9 +135,20 @@ constexpr int max_multiplied_power = 64;
 
 void print_numeric(const GiNaC::numeric& n, const c_printer& c, unsigned) { c.s << c_number(n.to_double()); }
 
-// The operands of sums and products are printed sorted by their text: GiNaC orders them by
-// hash values that depend on the serial numbers of the symbols, i.e. on what the process
-// did before, and the cache needs the same source for the same model in every process.
+void print_constant(const GiNaC::constant& k, const c_printer& c, unsigned)
+{
+    if (!ex(k).is_equal(GiNaC::Pi)) throw std::logic_error("model file: unexpected constant in an expression");
+    c.s << c_number(3.141592653589793);
+}
+
+// Sums and products are printed in a canonical form, because the cache needs the same
+// source for the same model in every process, and GiNaC's form is not canonical: it orders
+// the operands of sums and products by hash values that depend on the serial numbers of
+// the symbols and on addresses (so on what the process did before, and on ASLR), and it
+// makes a sum that is a factor of a product "unit normal" by the sign of whichever term
+// comes first, so that p*(a - b) may be stored as -p*(b - a). The printer therefore sorts
+// operands by their text and writes a sum inside a product (or an integer power of one)
+// with the sign that gives the smaller text, moving the sign into the coefficient.
 constexpr unsigned add_level = 40, mul_level = 50;  // GiNaC's precedences of add and mul
 
 std::string printed(const ex& e, const c_printer& c, unsigned level)
@@ -147,23 +158,94 @@ std::string printed(const ex& e, const c_printer& c, unsigned level)
     return s.str();
 }
 
-void sort_terms(std::vector<std::string>& terms)
+std::string_view unsigned_text(const std::string& t) { return std::string_view(t).substr(t.starts_with('-') ? 1 : 0); }
+
+std::string joined_sum(std::vector<std::string> terms)
 {
-    const auto unsigned_text = [](const std::string& t) { return std::string_view(t).substr(t.starts_with('-') ? 1 : 0); };
-    std::sort(terms.begin(), terms.end(), [&](const std::string& a, const std::string& b) {
+    std::sort(terms.begin(), terms.end(), [](const std::string& a, const std::string& b) {
         const auto ua = unsigned_text(a), ub = unsigned_text(b);
         return ua != ub ? ua < ub : a < b;
     });
+    std::string s;
+    for (const auto& t : terms) s += s.empty() || t.starts_with('-') ? t : "+" + t;
+    return s;
+}
+
+std::vector<std::string> sum_terms(const ex& sum, const c_printer& c)
+{
+    std::vector<std::string> terms;
+    for (std::size_t i = 0; i < sum.nops(); ++i) terms.push_back(printed(sum.op(i), c, add_level));
+    return terms;
+}
+
+// The text of S or of -S, whichever is smaller, and whether it is -S. (Every term prints
+// with its sign in front, so the terms of -S are those of S with the sign toggled.)
+std::string canonical_sum(const ex& sum, const c_printer& c, bool& negated)
+{
+    std::vector<std::string> terms = sum_terms(sum, c), flipped;
+    for (const auto& t : terms) flipped.push_back(t.starts_with('-') ? t.substr(1) : "-" + t);
+    std::string plus = joined_sum(std::move(terms)), minus = joined_sum(std::move(flipped));
+    negated = minus < plus;
+    return negated ? minus : plus;
 }
 
 void print_add(const GiNaC::add& a, const c_printer& c, unsigned level)
 {
-    std::vector<std::string> terms;
-    for (std::size_t i = 0; i < a.nops(); ++i) terms.push_back(printed(a.op(i), c, add_level));
-    sort_terms(terms);
-    std::string s;
-    for (const auto& t : terms) s += s.empty() || t.starts_with('-') ? t : "+" + t;
+    const std::string s = joined_sum(sum_terms(a, c));
     c.s << (level > 0 ? "(" + s + ")" : s);
+}
+
+// b^k, k > 0 an integer; `negative` when the text is that of (-b)^k with k odd (only if
+// `sign_free`: a sum under a root keeps its sign).
+std::string integer_power_text(const ex& b, int k, const c_printer& c, bool& negative, bool sign_free = true)
+{
+    negative = false;
+    std::string base;
+    if (is_a<GiNaC::add>(b) && sign_free) {
+        bool negated = false;
+        base = canonical_sum(b, c, negated);
+        negative = negated && k % 2 == 1;
+    } else if (is_a<GiNaC::symbol>(b)) {
+        return "(" + multiplication_chain(ex_to<GiNaC::symbol>(b).get_name(), k) + ")";
+    } else {
+        base = printed(b, c, 0);
+    }
+    if (k == 1) return "(" + base + ")";
+    c.powers->insert(k);
+    return "vimpact_pow" + std::to_string(k) + "(" + base + ")";
+}
+
+std::string power_text(const GiNaC::power& p, const c_printer& c, bool& negative)
+{
+    negative = false;
+    const ex b = p.op(0);
+    const ex e = p.op(1);
+    if (is_a<GiNaC::numeric>(e)) {
+        const GiNaC::numeric& n = ex_to<GiNaC::numeric>(e);
+        const GiNaC::numeric limit(max_multiplied_power);
+        if (n.is_integer() && GiNaC::abs(n) <= limit) {
+            const int k = n.to_int();
+            // 1.0/t as a product with no numerator prints (print_mul), which GiNaC may make of it
+            const std::string t = integer_power_text(b, std::abs(k), c, negative);
+            return k < 0 ? "1.0/" + t : t;
+        }
+        if (n.is_rational() && n.denom() == GiNaC::numeric(2) && GiNaC::abs(n) <= limit) {
+            const int k = n.numer().to_int();
+            const int m = (std::abs(k) - 1) / 2;
+            bool unused = false;
+            const std::string root = "sqrt(" + printed(b, c, 0) + ")";
+            const std::string t = m > 0 ? "(" + integer_power_text(b, m, c, unused, false) + "*" + root + ")" : root;
+            return k < 0 ? "(1.0/" + t + ")" : t;
+        }
+    }
+    return "pow(" + printed(b, c, 0) + "," + printed(e, c, 0) + ")";
+}
+
+void print_power(const GiNaC::power& p, const c_printer& c, unsigned)
+{
+    bool negative = false;
+    const std::string t = power_text(p, c, negative);
+    c.s << (negative ? "-" : "") << t;
 }
 
 void print_mul(const GiNaC::mul& m, const c_printer& c, unsigned)
@@ -172,14 +254,22 @@ void print_mul(const GiNaC::mul& m, const c_printer& c, unsigned)
     std::vector<std::string> numerator, denominator;
     for (std::size_t i = 0; i < m.nops(); ++i) {
         const ex f = m.op(i);
+        bool negative = false;
         if (is_a<GiNaC::numeric>(f)) {
             coefficient = coefficient.mul(ex_to<GiNaC::numeric>(f));
+        } else if (is_a<GiNaC::add>(f)) {
+            numerator.push_back("(" + canonical_sum(f, c, negative) + ")");
         } else if (is_a<GiNaC::power>(f) && is_a<GiNaC::numeric>(f.op(1)) &&
                    ex_to<GiNaC::numeric>(f.op(1)).is_integer() && ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
-            denominator.push_back(printed(GiNaC::pow(f.op(0), -f.op(1)), c, mul_level));
+            const int k = ex_to<GiNaC::numeric>(f.op(1)).to_int();
+            denominator.push_back(-k <= max_multiplied_power ? integer_power_text(f.op(0), -k, c, negative)
+                                                              : printed(GiNaC::pow(f.op(0), -f.op(1)), c, mul_level));
+        } else if (is_a<GiNaC::power>(f)) {
+            numerator.push_back(power_text(ex_to<GiNaC::power>(f), c, negative));
         } else {
             numerator.push_back(printed(f, c, mul_level));
         }
+        if (negative) coefficient = coefficient.mul(GiNaC::numeric(-1));
     }
     std::sort(numerator.begin(), numerator.end());
     std::sort(denominator.begin(), denominator.end());
@@ -193,67 +283,6 @@ void print_mul(const GiNaC::mul& m, const c_printer& c, unsigned)
     }
     for (const auto& d : denominator) s += "/" + d;
     c.s << s;
-}
-
-void print_constant(const GiNaC::constant& k, const c_printer& c, unsigned)
-{
-    if (!ex(k).is_equal(GiNaC::Pi)) throw std::logic_error("model file: unexpected constant in an expression");
-    c.s << c_number(3.141592653589793);
-}
-
-void print_integer_power(const ex& b, int k, const c_printer& c)
-{
-    if (k == 1) {
-        c.s << "(";
-        b.print(c);
-        c.s << ")";
-    } else if (is_a<GiNaC::symbol>(b)) {
-        c.s << "(" << multiplication_chain(ex_to<GiNaC::symbol>(b).get_name(), k) << ")";
-    } else {
-        c.powers->insert(k);
-        c.s << "vimpact_pow" << k << "(";
-        b.print(c);
-        c.s << ")";
-    }
-}
-
-void print_power(const GiNaC::power& p, const c_printer& c, unsigned)
-{
-    const ex b = p.op(0);
-    const ex e = p.op(1);
-    if (is_a<GiNaC::numeric>(e)) {
-        const GiNaC::numeric& n = ex_to<GiNaC::numeric>(e);
-        const GiNaC::numeric limit(max_multiplied_power);
-        if (n.is_integer() && GiNaC::abs(n) <= limit) {
-            const int k = n.to_int();
-            if (k < 0) {
-                c.s << "(1.0/";
-                print_integer_power(b, -k, c);
-                c.s << ")";
-            } else {
-                print_integer_power(b, k, c);
-            }
-            return;
-        }
-        if (n.is_rational() && n.denom() == GiNaC::numeric(2) && GiNaC::abs(n) <= limit) {
-            const int k = n.numer().to_int();
-            const int m = (std::abs(k) - 1) / 2;
-            c.s << (k < 0 ? "(1.0/(" : "((");
-            if (m > 0) {
-                print_integer_power(b, m, c);
-                c.s << "*";
-            }
-            c.s << "sqrt(";
-            b.print(c);
-            c.s << ")))";
-            return;
-        }
-    }
-    c.s << "pow(";
-    b.print(c);
-    c.s << ",";
-    e.print(c);
-    c.s << ")";
 }
 
 void set_up_ginac()
