@@ -1,119 +1,80 @@
 #pragma once
-// Grazing value: the barrier position at which the attracting barrier-free orbit just
-// touches the barrier, i.e. the minimum of y on that orbit. A barrier just above it is hit,
-// just below it is not.
+// Grazing: where the attracting surface-free orbit just touches each impact surface.
 //
-// The barrier-free flow is run past a transient; the minima of y (v = 0, v increasing) are
-// located on the interpolant, and the minimum over consecutive blocks of minima is compared
-// until two blocks agree within `tolerance`.
+// The surface-free flow (every surface off) runs past a transient; the minima of each gap
+// g_i along the orbit (zeros of g_i' going up) are located on the interpolant, and the
+// smallest over consecutive blocks of minima is compared until two blocks agree within
+// `tolerance`. That smallest gap is the surface's grazing margin: the orbit clears the
+// surface by it (a negative margin: the free orbit would cross the surface).
 //
-// The same run gives the barrier-free response (lock-in curves): the largest maximum of y in
-// the last block, hence the amplitude max |y|, and the mean angular frequency of y from the
-// times of the block's minima (2 pi (n - 1) / (t_n - t_1)). In the model's time unit the wake
-// oscillator's own angular frequency is 1, so omega is also the ratio to the wake frequency.
-#include <algorithm>
-#include <cmath>
+// In a parameter P that moves the surface without entering the vector field (the paper's
+// sigma, the stops' d), the grazing value P_graze solves g_i(x*, P) = 0 at the state x* of
+// the minimum: a barrier just on the admissible side of it is never hit, one just beyond it is.
+// For a gap affine in P (y - sigma, d - x) it is exact: sigma_graze is the minimum of y.
+//
+// The same run measures the surface-free response of one state variable (lock-in curves):
+// its largest and smallest extremum over the last block and its mean angular frequency from
+// the times of its minima, 2 pi (n - 1) / (t_n - t_1).
+#include <atomic>
 #include <limits>
-#include <numbers>
+#include <vector>
 
-#include "vimpact/hybrid/flow.hpp"
+#include <Eigen/Core>
+
+#include "vimpact/analysis/protocol.hpp"
 
 namespace vimpact {
 
 struct grazing_options {
     integrator_options integration{.rtol = 1e-12, .atol = 1e-12};
+    integration_method method = integration_method::dop853;
     double transient_time = 1000.0;
     int block = 16;              // minima per block
     double tolerance = 1e-11;    // agreement of successive block minima
     double t_max = 1e5;
+    int parameter = -1;          // >= 0: also the grazing value of this parameter, per surface
+    int response_variable = -1;  // >= 0: also the response of this state variable
     const std::atomic<bool>* cancel = nullptr;  // see flow_options::cancel
 };
 
-template <int N>
+struct surface_grazing {
+    bool converged = false;
+    double margin = std::numeric_limits<double>::quiet_NaN();           // smallest gap on the orbit
+    double change = std::numeric_limits<double>::quiet_NaN();           // last block-to-block change
+    double parameter_value = std::numeric_limits<double>::quiet_NaN();  // P_graze (parameter >= 0)
+    double t = 0.0;              // time of the minimum
+    Eigen::VectorXd x;           // state at the minimum
+    long minima = 0;
+};
+
 struct grazing_result {
     outcome status = outcome::ok;
-    bool converged = false;
-    double sigma_graze = std::numeric_limits<double>::quiet_NaN();
-    double change = std::numeric_limits<double>::quiet_NaN();  // last block-to-block change
-    double t_graze = 0.0;        // time of the minimum
-    vec<N> x_graze;              // state at the minimum
-    double y_max = std::numeric_limits<double>::quiet_NaN();  // largest maximum, last block
-    double omega = std::numeric_limits<double>::quiet_NaN();  // angular frequency of y, last block
-    long minima = 0;
+    bool converged = false;  // every surface converged
+    std::vector<surface_grazing> surfaces;
+    // The response of grazing_options::response_variable over the last block.
+    double response_max = std::numeric_limits<double>::quiet_NaN();
+    double response_min = std::numeric_limits<double>::quiet_NaN();
+    double response_omega = std::numeric_limits<double>::quiet_NaN();
     run_stats stats;
 };
 
-namespace detail {
-template <int N>
-struct grazing_observer : flow_observer {
-    const grazing_options& opt;
-    grazing_result<N>& res;
-    double block_min = std::numeric_limits<double>::infinity();
-    double block_t = 0.0;
-    vec<N> block_x;
-    double prev_block_min = std::numeric_limits<double>::quiet_NaN();
-    int in_block = 0;
-    double block_max = -std::numeric_limits<double>::infinity();
-    double block_first_t = 0.0;
+void validate(const grazing_options& o);
 
-    grazing_observer(const grazing_options& o, grazing_result<N>& r) : opt(o), res(r) {}
+// Throws input_error for bad options, or a parameter that enters the vector field or does not
+// move any surface.
+grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_options& o);
 
-    flow_control on_section(section_kind k, double t, const vec<N>& x)
-    {
-        if (t < opt.transient_time) return flow_control::proceed;
-        if (k == section_kind::maximum) {
-            block_max = std::max(block_max, x[0]);
-            return flow_control::proceed;
-        }
-        ++res.minima;
-        if (in_block == 0) block_first_t = t;
-        if (x[0] < block_min) {
-            block_min = x[0];
-            block_t = t;
-            block_x = x;
-        }
-        if (++in_block < opt.block) return flow_control::proceed;
-        res.change = std::abs(block_min - prev_block_min);
-        res.sigma_graze = block_min;
-        res.t_graze = block_t;
-        res.x_graze = block_x;
-        res.y_max = block_max;
-        res.omega = opt.block > 1 ? 2.0 * std::numbers::pi * (opt.block - 1) / (t - block_first_t)
-                                  : std::numeric_limits<double>::quiet_NaN();
-        block_max = -std::numeric_limits<double>::infinity();
-        prev_block_min = block_min;
-        block_min = std::numeric_limits<double>::infinity();
-        in_block = 0;
-        if (res.change <= opt.tolerance) {
-            res.converged = true;
-            return flow_control::stop;
-        }
-        return flow_control::proceed;
-    }
-};
-}  // namespace detail
+// The parameters that move surface i without entering the vector field: the candidates for a
+// grazing value (sigma for the paper's barrier, d for the two stops).
+std::vector<int> gap_parameters(const model& m, int surface);
 
-template <template <int> class Method = dop853, sticking_model Model>
-grazing_result<Model::dim> grazing_value(const Model& model, const vec<Model::dim>& x0,
-                                         const grazing_options& opt = {})
-{
-    if (opt.block < 1) throw input_error("grazing block must be >= 1 minima");
-    if (!(opt.tolerance > 0.0)) throw input_error("grazing tolerance must be > 0");
-    if (!x0.allFinite()) throw input_error("initial state must be finite");
-    flow_options fo;
-    fo.integration = opt.integration;
-    fo.barrier = false;
-    fo.track_maxima = true;
-    fo.track_minima = true;
-    fo.t_max = opt.t_max;
-    fo.cancel = opt.cancel;
-    hybrid_flow<Model, Method> flow(model, fo);
-    flow.start(0.0, x0);
-    grazing_result<Model::dim> res;
-    detail::grazing_observer<Model::dim> obs(opt, res);
-    res.status = flow.run(obs);
-    res.stats = flow.stats();
-    return res;
-}
+// P_graze of surface i at the state x*: the value of `parameter` with g_i(x*, P) = 0 (NaN if
+// the surface does not depend on it or the root leaves the parameter's range).
+double grazing_parameter_value(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star);
+
+// The tolerances of a grazing run inside a job (a sweep's grazing line, a response point): the
+// caller's, never looser than 1e-12, since the grazing value is wanted to about 1e-9.
+grazing_options job_grazing_options(const integrator_options& protocol_integration,
+                                    double transient_time = grazing_options{}.transient_time);
 
 }  // namespace vimpact

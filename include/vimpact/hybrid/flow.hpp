@@ -1,79 +1,106 @@
 #pragma once
-// The hybrid flow: smooth flight integrated by an adaptive Runge-Kutta method, impacts located
-// on the interpolant and mapped by the model's reset, sections recorded as events, and
-// chattering resolved into a sticking phase.
+// The hybrid flow: smooth flight integrated by an adaptive Runge-Kutta method, impacts on any
+// number of surfaces located on the interpolant and mapped by each surface's reset, section
+// crossings recorded as events, and chattering resolved into a contact phase where a surface
+// declares one.
 //
-// Chattering and sticking (the rule, see docs/model.md): an impact whose rebound velocity
-// u = r |v-| is below `sticking_velocity`, or whose hop height u^2 / (2 |a|) is below
-// sticking_height() (not resolvable in y near the barrier), while the free acceleration at rest on the barrier,
-// a(sigma, 0, x, w), does not point away from it (a <= 0) ends a chatter sequence: the
-// structure sticks, y = sigma and v = 0, and the rest of the state follows the model's
-// constrained field. It is released when a(X) crosses zero upwards. With r < 1 the rebound
-// velocities of a chatter sequence shrink geometrically, so the rule is reached after about
-// log(u_stop / v0) / log(r) impacts, u_stop = max(sticking_velocity, sqrt(2 |a| height)):
-// a bounded, not infinite, number. A step that leaves the barrier and ends below it without
-// the guard ever being positive (a hop below the resolution of y) also ends in sticking.
+// Surfaces. Surface i is a gap g_i(x) that the motion keeps >= 0; an impact is a crossing of
+// g_i from > 0 to <= 0 (terminal: the first in time among all surfaces; a tie goes to the
+// lower index). Each crossing is found grazing-safely: a dip of g_i below zero between two
+// positive step ends is found by splitting the step at the interior minimum
+// (integrate/event_location.hpp). The reset R_i maps the state at the crossing.
+//
+// Events. Besides the surfaces the flow watches a list of scalar event functions, each with
+// a direction: a model section s_k, or the rate of a gap g_i' = grad g_i . F (its upward
+// zeros are the minima of the gap, its downward zeros the maxima: grazing). Crossings before
+// the step's impact (or release) are reported in time order; the rest of the step is
+// discarded with the trajectory it belonged to.
+//
+// Chattering (the rule, docs/model.md). After an impact on surface i the rebound is the gap
+// rate u = g_i'(R_i(x)). Let a be the gap's acceleration at rest: the model's release
+// function at the rest state for a surface with a contact phase, g_i'' of the free flow
+// otherwise. The rebound is negligible when u < sticking_velocity, or when its hop height
+// u^2 / (2 |a|) is below the resolution of g_i (sticking_height; default 256 ulps of
+// max(1, sum_j |dg_i/dx_j x_j|), i.e. of max(1, |sigma|) for the paper's barrier). A
+// negligible rebound while a <= 0 (the surface pushes back) ends a chatter sequence:
+// - on a surface that declares a contact phase, the state is put at rest (the model's rest
+//   map) and follows the constrained vector field until the release function crosses zero
+//   upwards (located as an event);
+// - on any other surface the run ends with the outcome `chattering`: the impacts accumulate
+//   and the model says nothing about what happens after.
+// With restitution r < 1 the rebound velocities shrink by r per impact, so the rule is
+// reached after about log(u_stop / u_0) / log(r) impacts: a bounded number, never a hang. A
+// step that leaves a surface and ends below it without the gap ever turning positive (a hop
+// below the resolution of the gap) is treated the same way.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <limits>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
-#include "vimpact/hybrid/outcome.hpp"
+#include "vimpact/core/outcome.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/integrate/adaptive_integrator.hpp"
 #include "vimpact/integrate/event_location.hpp"
-#include "vimpact/model/concepts.hpp"
+#include "vimpact/model/engine_model.hpp"
 
 namespace vimpact {
 
-enum class section_kind { maximum, minimum };
 enum class flow_mode { free, sticking };
 enum class flow_control { proceed, stop };
 
+// A scalar event the flow watches: a model section, the rate of a gap, or the rate of a
+// state variable (F_j: its zeros are the extrema of x_j).
+struct flow_event {
+    enum class source { section, gap_rate, state_rate };
+    source kind = source::section;
+    int index = 0;                     // section k, surface i or state variable j
+    crossing direction = crossing::down;
+
+    static flow_event section(int k, crossing d) { return {source::section, k, d}; }
+    // Minima (up), maxima (down) or both extrema of gap i.
+    static flow_event gap_extrema(int i, crossing d) { return {source::gap_rate, i, d}; }
+    // Minima (up), maxima (down) or both extrema of state variable j.
+    static flow_event state_extrema(int j, crossing d) { return {source::state_rate, j, d}; }
+};
+
 struct flow_options {
     integrator_options integration{};
-    bool barrier = true;          // false: the barrier-free system (grazing analysis)
-    bool track_maxima = true;     // section v = 0, v decreasing (the paper's Sigma)
-    bool track_minima = false;    // v = 0, v increasing
+    bool surfaces = true;          // false: the surface-free system (grazing, response)
+    std::vector<flow_event> events{};
     double sticking_velocity = 1e-8;
-    // Hop height below which a rebound is not resolvable in y (< 0: 256 ulps of
-    // max(1, |sigma|)); see sticking_height().
-    double sticking_height = -1.0;
+    double sticking_height = -1.0;  // < 0: 256 ulps of the gap's scale (see the header)
     double t_max = std::numeric_limits<double>::infinity();
     long max_steps = 200'000'000;
     long max_impacts = std::numeric_limits<long>::max();
-    int event_subdivisions = 8;   // interpolant samples per step when an event may be inside
+    int event_subdivisions = 8;    // interpolant samples per step when an event may be inside
     // Polled after every step; when set, the run ends with outcome::interrupted. Lets a
     // caller (a Python session's Ctrl-C, a job loop being stopped) cut a long run short.
     const std::atomic<bool>* cancel = nullptr;
 };
 
-// The rebound hop height u^2 / (2 |a|) under which the structure counts as at rest.
-inline double sticking_height(const flow_options& o, double barrier)
-{
-    if (o.sticking_height >= 0.0) return o.sticking_height;
-    return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(barrier));
-}
-
 // Default (no-op) observer; derive and shadow what you need.
 struct flow_observer {
     [[nodiscard]] bool wants_segments() const { return false; }
+    // `event` indexes flow_options::events; `direction` is the way this crossing went.
     template <class X>
-    flow_control on_section(section_kind, double, const X&) { return flow_control::proceed; }
+    flow_control on_section(int /*event*/, crossing /*direction*/, double, const X&) { return flow_control::proceed; }
     template <class X>
-    flow_control on_impact(double, const X&, const X&) { return flow_control::proceed; }
+    flow_control on_impact(int /*surface*/, double, const X& /*pre*/, const X& /*post*/) { return flow_control::proceed; }
     template <class X>
-    void on_stick(double, const X&) {}
+    void on_stick(int /*surface*/, double, const X&) {}
     template <class X>
-    void on_release(double, const X&) {}
+    void on_release(int /*surface*/, double, const X&) {}
     template <class D>
     void on_segment(const D&, double, double, flow_mode) {}
     flow_control on_step_end(double) { return flow_control::proceed; }
 };
 
-template <sticking_model Model, template <int> class Method = dop853>
+template <engine_model Model, template <int> class Method = dop853>
 class hybrid_flow {
 public:
     static constexpr int N = Model::dim;
@@ -81,28 +108,32 @@ public:
     using integrator_type = adaptive_integrator<N, Method>;
     using dense_type = typename integrator_type::dense_type;
 
-    hybrid_flow(const Model& model, const flow_options& opt)
-        : m_model(model), m_opt(opt), m_integ(opt.integration)
+    hybrid_flow(const Model& model, const flow_options& opt) : m_model(model), m_opt(opt), m_integ(opt.integration)
     {
+        m_stats.impacts_by_surface.assign(static_cast<std::size_t>(m_model.surface_count()), 0);
     }
 
-    // Starts at (t, x). Throws input_error if x is not admissible (below the barrier).
+    // Starts at (t, x). Throws input_error if x is not admissible (beyond a surface). A state
+    // on a contact surface at rest, pushed into it, starts in the contact phase.
     void start(double t, const state& x)
     {
         if (!x.allFinite()) throw input_error("initial state must be finite");
         m_t = t;
         m_x = x;
         m_mode = flow_mode::free;
-        if (m_opt.barrier) {
-            const double g = m_model.guard(x);
-            const double rate = m_model.guard_gradient(x).dot(m_model.rhs(x));
-            if (g < 0.0 || (g == 0.0 && rate < 0.0))
-                throw input_error("initial state is not admissible: y = " + format_double(x[Model::position]) +
-                                  " must lie above the barrier sigma = " +
-                                  format_double(m_model.barrier()) +
-                                  " (or on it, moving away)");
-            if (g == 0.0 && x[Model::velocity] == 0.0 && m_model.free_acceleration(x) <= 0.0)
-                m_mode = flow_mode::sticking;
+        m_contact = -1;
+        if (m_opt.surfaces) {
+            const int bad = violated_surface(m_model, x);
+            if (bad >= 0)
+                throw input_error("initial state is not admissible: it lies beyond surface " + std::to_string(bad) +
+                                  " (gap " + format_double(m_model.gap(bad, x)) + " < 0, or 0 and decreasing)");
+            for (int i = 0; i < m_model.surface_count(); ++i)
+                if (m_model.sticks(i) && m_model.gap(i, x) == 0.0 && gap_rate(m_model, i, x) == 0.0 &&
+                    m_model.release(i, x) <= 0.0) {
+                    m_mode = flow_mode::sticking;
+                    m_contact = i;
+                    break;
+                }
         }
         restart(0.0);
     }
@@ -112,22 +143,25 @@ public:
     outcome run(Observer& obs)
     {
         m_stop = false;
+        m_end.reset();
         for (;;) {
-            if (m_integ.counters().steps >= m_opt.max_steps) return finish(outcome::step_limit);
-            if (m_t >= m_opt.t_max) return finish(outcome::time_limit);
-            if (m_stats.impacts >= m_opt.max_impacts) return finish(outcome::impact_limit);
-            if (m_opt.cancel && m_opt.cancel->load(std::memory_order_relaxed)) return finish(outcome::interrupted);
+            if (m_integ.counters().steps >= m_opt.max_steps) return outcome::step_limit;
+            if (m_t >= m_opt.t_max) return outcome::time_limit;
+            if (m_stats.impacts >= m_opt.max_impacts) return outcome::impact_limit;
+            if (m_opt.cancel && m_opt.cancel->load(std::memory_order_relaxed)) return outcome::interrupted;
             const step_status st = (m_mode == flow_mode::free) ? step_free(obs) : step_sticking(obs);
-            if (st == step_status::step_underflow) return finish(outcome::step_underflow);
-            if (st == step_status::non_finite) return finish(outcome::non_finite);
+            if (st == step_status::step_underflow) return outcome::step_underflow;
+            if (st == step_status::non_finite) return outcome::non_finite;
+            if (m_end) return *m_end;
             if (!m_stop && obs.on_step_end(m_t) == flow_control::stop) m_stop = true;
-            if (m_stop) return finish(outcome::ok);
+            if (m_stop) return outcome::ok;
         }
     }
 
     [[nodiscard]] double t() const { return m_t; }
     [[nodiscard]] const state& x() const { return m_x; }
     [[nodiscard]] flow_mode mode() const { return m_mode; }
+    [[nodiscard]] int contact_surface() const { return m_contact; }
     [[nodiscard]] const Model& model() const { return m_model; }
     [[nodiscard]] const flow_options& options() const { return m_opt; }
     [[nodiscard]] run_stats stats() const
@@ -143,27 +177,33 @@ public:
         return s;
     }
 
+    // The resolution of gap i near zero at x (see the header).
+    [[nodiscard]] double hop_resolution(int i, const state& x) const
+    {
+        if (m_opt.sticking_height >= 0.0) return m_opt.sticking_height;
+        const double scale = m_model.gap_gradient(i, x).cwiseProduct(x).cwiseAbs().sum();
+        return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, scale);
+    }
+
 private:
     auto free_rhs() const
     {
         return [this](const state& x) { return m_model.rhs(x); };
     }
-    auto sticking_rhs() const
+    auto contact_rhs() const
     {
-        return [this](const state& x) { return m_model.sticking_rhs(x); };
+        return [this](const state& x) { return m_model.sticking_rhs(m_contact, x); };
     }
-
-    outcome finish(outcome o) { return o; }
 
     void restart(double h_hint)
     {
         if (m_mode == flow_mode::free) m_integ.start(free_rhs(), m_t, m_x, h_hint);
-        else m_integ.start(sticking_rhs(), m_t, m_x, h_hint);
+        else m_integ.start(contact_rhs(), m_t, m_x, h_hint);
     }
 
-    // A scalar event function of the state as seen along the interpolant.
+    // A scalar function of the state and its gradient, as seen along the interpolant.
     template <class Rhs, class Value, class Gradient>
-    auto event_on_dense(Rhs& rhs, Value&& value, Gradient&& gradient)
+    auto on_dense(Rhs& rhs, Value&& value, Gradient&& gradient)
     {
         return [this, &rhs, value, gradient](double theta) {
             const dense_type& d = m_integ.dense(rhs);
@@ -171,6 +211,92 @@ private:
             d.value_and_slope(theta, p, dp);
             return scalar_sample{value(p), gradient(p).dot(dp)};
         };
+    }
+
+    // Puts a located crossing exactly on its surface when the event function is a coordinate
+    // (up to a constant: its gradient a unit vector e_j, e.g. a velocity section or the
+    // paper's gap y - sigma): one Newton step in x_j, exact there. Other functions are left
+    // with the root finder's residual of a few ulps.
+    static void polish(double value, const state& gradient, state& p)
+    {
+        int j = -1;
+        for (int k = 0; k < N; ++k) {
+            if (gradient[k] == 0.0) continue;
+            if (j >= 0 || std::abs(gradient[k]) != 1.0) return;
+            j = k;
+        }
+        if (j >= 0) p[j] -= value / gradient[j];
+    }
+
+    [[nodiscard]] double event_value(const flow_event& e, const state& x) const
+    {
+        switch (e.kind) {
+            case flow_event::source::section: return m_model.section(e.index, x);
+            case flow_event::source::gap_rate: return gap_rate(m_model, e.index, x);
+            case flow_event::source::state_rate: break;
+        }
+        return m_model.rhs(x)[e.index];
+    }
+    [[nodiscard]] state event_gradient(const flow_event& e, const state& x) const
+    {
+        switch (e.kind) {
+            case flow_event::source::section: return m_model.section_gradient(e.index, x);
+            case flow_event::source::gap_rate: return gap_rate_gradient(m_model, e.index, x);
+            case flow_event::source::state_rate: break;
+        }
+        return state_rate_gradient(m_model, e.index, x);
+    }
+
+    // The watched events' crossings in (0, theta_end], in time order, reported to the
+    // observer. f0, f1: the vector field at the step ends (the slopes there are exact).
+    template <class Observer, class Rhs>
+    void report_events(Observer& obs, Rhs& rhs, double theta_end, const state& f0, const state& f1)
+    {
+        if (m_opt.events.empty()) return;
+        const double h = m_integ.last_step();
+        const double t0 = m_integ.t_prev();
+        const state& x0 = m_integ.x_prev();
+        const state& x1 = m_integ.x();
+        struct found_event {
+            double theta;
+            int event;
+            crossing direction;
+        };
+        std::array<found_event, 16> found{};
+        int nfound = 0;
+        for (int e = 0; e < static_cast<int>(m_opt.events.size()); ++e) {
+            const flow_event& ev = m_opt.events[static_cast<std::size_t>(e)];
+            auto g = on_dense(
+                rhs, [this, &ev](const state& x) { return event_value(ev, x); },
+                [this, &ev](const state& x) { return event_gradient(ev, x); });
+            const scalar_sample s0{event_value(ev, x0), event_gradient(ev, x0).dot(f0) * h};
+            const scalar_sample s1{event_value(ev, x1), event_gradient(ev, x1).dot(f1) * h};
+            auto collect = [&](crossing dir) {
+                return [&, dir](double th) {
+                    if (th > theta_end || nfound >= static_cast<int>(found.size())) return false;
+                    found[static_cast<std::size_t>(nfound++)] = {th, e, dir};
+                    return true;
+                };
+            };
+            if (ev.direction != crossing::up)
+                find_crossings(crossing_direction::down, g, s0, s1, collect(crossing::down), m_opt.event_subdivisions);
+            if (ev.direction != crossing::down)
+                find_crossings(crossing_direction::up, g, s0, s1, collect(crossing::up), m_opt.event_subdivisions);
+        }
+        // Insertion sort: a handful of crossings (std::sort trips a false -Warray-bounds in
+        // GCC 12 here).
+        for (int i = 1; i < nfound; ++i)
+            for (int j = i; j > 0 && found[static_cast<std::size_t>(j)].theta < found[static_cast<std::size_t>(j - 1)].theta; --j)
+                std::swap(found[static_cast<std::size_t>(j)], found[static_cast<std::size_t>(j - 1)]);
+        for (int i = 0; i < nfound; ++i) {
+            ++m_stats.sections;
+            if (m_stop) continue;
+            const auto& fe = found[static_cast<std::size_t>(i)];
+            const flow_event& ev = m_opt.events[static_cast<std::size_t>(fe.event)];
+            state p = m_integ.dense(rhs).value_at(fe.theta);
+            polish(event_value(ev, p), event_gradient(ev, p), p);
+            if (obs.on_section(fe.event, fe.direction, t0 + fe.theta * h, p) == flow_control::stop) m_stop = true;
+        }
     }
 
     template <class Observer>
@@ -186,72 +312,35 @@ private:
         const state& x1 = m_integ.x();
         const state& f1 = m_integ.f();
 
-        // Terminal event: the first impact inside (t0, t1].
+        // Terminal event: the first crossing of any surface inside (t0, t1].
         double theta_impact = 2.0;
-        if (m_opt.barrier) {
-            auto g = event_on_dense(
-                rhs, [this](const state& x) { return m_model.guard(x); },
-                [this](const state& x) { return m_model.guard_gradient(x); });
-            const scalar_sample s0{m_model.guard(x0), m_model.guard_gradient(x0).dot(f0) * h};
-            const scalar_sample s1{m_model.guard(x1), m_model.guard_gradient(x1).dot(f1) * h};
-            find_crossings(crossing_direction::down, g, s0, s1,
-                           [&](double th) { theta_impact = th; return false; },
-                           m_opt.event_subdivisions);
-            // A rebound too small for doubles: the step left the barrier (g = 0) and ended
-            // below it without g ever being positive, so no crossing exists to find. The
-            // hop was below the resolution of y; the structure is at rest on the barrier.
-            if (theta_impact > 1.0 && s0.value == 0.0 && s1.value < 0.0) {
-                state rest = x0;
-                rest[Model::velocity] = 0.0;
-                if (m_model.free_acceleration(rest) <= 0.0) {
-                    enter_sticking(obs, t0, rest);
-                    return step_status::ok;
+        int surface = -1;
+        if (m_opt.surfaces) {
+            for (int i = 0; i < m_model.surface_count(); ++i) {
+                auto g = on_dense(
+                    rhs, [this, i](const state& x) { return m_model.gap(i, x); },
+                    [this, i](const state& x) { return m_model.gap_gradient(i, x); });
+                const scalar_sample s0{m_model.gap(i, x0), m_model.gap_gradient(i, x0).dot(f0) * h};
+                const scalar_sample s1{m_model.gap(i, x1), m_model.gap_gradient(i, x1).dot(f1) * h};
+                double theta = 2.0;
+                find_crossings(crossing_direction::down, g, s0, s1, [&](double th) { theta = th; return false; },
+                               m_opt.event_subdivisions);
+                if (theta < theta_impact) {
+                    theta_impact = theta;
+                    surface = i;
                 }
+                // A rebound too small for doubles: the step left the surface (g <= 0) and
+                // ended below it moving in, without the gap ever turning positive. The hop
+                // was below the resolution of the gap.
+                if (theta > 1.0 && s0.value <= 0.0 && s1.value < 0.0 && s1.slope <= 0.0 && unresolved_hop(obs, i, t0, x0))
+                    return step_status::ok;
             }
         }
 
-        // Sections (non-terminal) up to the impact, in time order.
-        if (m_opt.track_maxima || m_opt.track_minima) {
-            constexpr int V = Model::velocity;
-            auto gv = event_on_dense(
-                rhs, [](const state& x) { return x[V]; },
-                [](const state&) { state e = state::Zero(); e[V] = 1.0; return e; });
-            const scalar_sample s0{x0[V], f0[V] * h};
-            const scalar_sample s1{x1[V], f1[V] * h};
-            std::array<std::pair<double, section_kind>, 8> found{};
-            int nfound = 0;
-            auto collect = [&](section_kind k) {
-                return [&, k](double th) {
-                    if (th > theta_impact || nfound >= static_cast<int>(found.size())) return false;
-                    found[nfound++] = {th, k};
-                    return true;
-                };
-            };
-            if (m_opt.track_maxima)
-                find_crossings(crossing_direction::down, gv, s0, s1,
-                               collect(section_kind::maximum), m_opt.event_subdivisions);
-            if (m_opt.track_minima)
-                find_crossings(crossing_direction::up, gv, s0, s1,
-                               collect(section_kind::minimum), m_opt.event_subdivisions);
-            // Insertion sort: at most a handful of crossings (std::sort trips a false
-            // -Warray-bounds in GCC 12 here).
-            for (int i = 1; i < nfound; ++i)
-                for (int j = i; j > 0 && found[j].first < found[j - 1].first; --j)
-                    std::swap(found[j], found[j - 1]);
-            for (int i = 0; i < nfound; ++i) {
-                ++m_stats.sections;
-                if (m_stop) continue;
-                const auto& d = m_integ.dense(rhs);
-                state p = d.value_at(found[i].first);
-                p[V] = 0.0;  // on the section by definition; removes interpolation round-off
-                if (obs.on_section(found[i].second, t0 + found[i].first * h, p) == flow_control::stop)
-                    m_stop = true;
-            }
-        }
+        report_events(obs, rhs, theta_impact, f0, f1);
 
         if (theta_impact > 1.0) {
-            if (!m_stop && obs.wants_segments())
-                obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::free);
+            if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::free);
             m_t = m_integ.t();
             m_x = x1;
             return step_status::ok;
@@ -261,66 +350,100 @@ private:
         const double t_impact = (theta_impact >= 1.0) ? m_integ.t() : t0 + theta_impact * h;
         if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_impact, flow_mode::free);
         state pre = (theta_impact >= 1.0) ? x1 : d.value_at(theta_impact);
-        pre[Model::position] = m_model.barrier();
-        state post = m_model.reset(pre);
+        polish(m_model.gap(surface, pre), m_model.gap_gradient(surface, pre), pre);
+        const state post = m_model.reset(surface, pre);
         ++m_stats.impacts;
-        if (!m_stop && obs.on_impact(t_impact, pre, post) == flow_control::stop) m_stop = true;
-
+        ++m_stats.impacts_by_surface[static_cast<std::size_t>(surface)];
+        if (!m_stop && obs.on_impact(surface, t_impact, pre, post) == flow_control::stop) m_stop = true;
         m_t = t_impact;
         m_x = post;
-        state rest = post;
-        rest[Model::velocity] = 0.0;
-        const double a_rest = m_model.free_acceleration(rest);
-        const double u = post[Model::velocity];
-        // The rebound is negligible if slow, or if its hop height u^2 / (2 |a|) is too small
-        // to resolve in y near the barrier.
-        const double hop = sticking_height(m_opt, m_model.barrier());
-        const bool negligible = u < m_opt.sticking_velocity || (a_rest < 0.0 && u * u < 2.0 * hop * -a_rest);
-        if (negligible && a_rest <= 0.0) {
-            enter_sticking(obs, m_t, rest);
-            return step_status::ok;
-        }
-        restart(m_integ.step_size());
+        after_impact(obs, surface);
         return step_status::ok;
     }
 
+    // The rebound rule at (m_t, m_x), just after an impact on surface i.
     template <class Observer>
-    void enter_sticking(Observer& obs, double t, const state& rest)
+    void after_impact(Observer& obs, int i)
+    {
+        const double u = gap_rate(m_model, i, m_x);
+        if (m_model.sticks(i)) {
+            const state rest = m_model.rest(i, m_x);
+            const double a = m_model.release(i, rest);
+            if (negligible_rebound(i, rest, u, a) && a <= 0.0) {
+                enter_sticking(obs, i, m_t, rest);
+                return;
+            }
+        } else {
+            const double a = gap_rate_gradient(m_model, i, m_x).dot(m_model.rhs(m_x));
+            if (negligible_rebound(i, m_x, u, a) && a <= 0.0) {
+                m_end = outcome::chattering;
+                return;
+            }
+        }
+        restart(m_integ.step_size());
+    }
+
+    [[nodiscard]] bool negligible_rebound(int i, const state& at, double u, double a) const
+    {
+        const double hop = hop_resolution(i, at);
+        return u < m_opt.sticking_velocity || (a < 0.0 && u * u < 2.0 * hop * -a);
+    }
+
+    // Ends the step at its start in a contact phase or with the outcome chattering; false when
+    // the surface pushes the state away (the step then goes on as usual).
+    template <class Observer>
+    bool unresolved_hop(Observer& obs, int i, double t0, const state& x0)
+    {
+        if (m_model.sticks(i)) {
+            const state rest = m_model.rest(i, x0);
+            if (m_model.release(i, rest) > 0.0) return false;
+            enter_sticking(obs, i, t0, rest);
+            return true;
+        }
+        if (gap_rate_gradient(m_model, i, x0).dot(m_model.rhs(x0)) > 0.0) return false;
+        m_t = t0;
+        m_x = x0;
+        m_end = outcome::chattering;
+        return true;
+    }
+
+    template <class Observer>
+    void enter_sticking(Observer& obs, int i, double t, const state& rest)
     {
         m_t = t;
         m_x = rest;
         m_mode = flow_mode::sticking;
+        m_contact = i;
         ++m_stats.sticking_phases;
-        if (!m_stop) obs.on_stick(m_t, m_x);
+        if (!m_stop) obs.on_stick(i, m_t, m_x);
         restart(m_integ.step_size());
     }
 
     template <class Observer>
     step_status step_sticking(Observer& obs)
     {
-        auto rhs = sticking_rhs();
+        auto rhs = contact_rhs();
         const step_status st = m_integ.advance(rhs, m_opt.t_max);
         if (st != step_status::ok) return st;
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
         const state& x0 = m_integ.x_prev();
         const state& x1 = m_integ.x();
+        const int i = m_contact;
 
         double theta_release = 2.0;
-        auto ga = event_on_dense(
-            rhs, [this](const state& x) { return m_model.free_acceleration(x); },
-            [this](const state& x) { return m_model.free_acceleration_gradient(x); });
-        const scalar_sample s0{m_model.free_acceleration(x0),
-                               m_model.free_acceleration_gradient(x0).dot(m_integ.f_prev()) * h};
-        const scalar_sample s1{m_model.free_acceleration(x1),
-                               m_model.free_acceleration_gradient(x1).dot(m_integ.f()) * h};
-        find_crossings(crossing_direction::up, ga, s0, s1,
-                       [&](double th) { theta_release = th; return false; },
+        auto ga = on_dense(
+            rhs, [this, i](const state& x) { return m_model.release(i, x); },
+            [this, i](const state& x) { return m_model.release_gradient(i, x); });
+        const scalar_sample s0{m_model.release(i, x0), m_model.release_gradient(i, x0).dot(m_integ.f_prev()) * h};
+        const scalar_sample s1{m_model.release(i, x1), m_model.release_gradient(i, x1).dot(m_integ.f()) * h};
+        find_crossings(crossing_direction::up, ga, s0, s1, [&](double th) { theta_release = th; return false; },
                        m_opt.event_subdivisions);
 
+        report_events(obs, rhs, theta_release, m_integ.f_prev(), m_integ.f());
+
         if (theta_release > 1.0) {
-            if (!m_stop && obs.wants_segments())
-                obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::sticking);
+            if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::sticking);
             m_stats.sticking_time += m_integ.t() - m_t;
             m_t = m_integ.t();
             m_x = x1;
@@ -329,14 +452,13 @@ private:
         const auto& d = m_integ.dense(rhs);
         const double t_release = (theta_release >= 1.0) ? m_integ.t() : t0 + theta_release * h;
         if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_release, flow_mode::sticking);
-        state x = (theta_release >= 1.0) ? x1 : d.value_at(theta_release);
-        x[Model::position] = m_model.barrier();
-        x[Model::velocity] = 0.0;
+        const state x = m_model.rest(i, (theta_release >= 1.0) ? x1 : d.value_at(theta_release));
         m_stats.sticking_time += t_release - m_t;
         m_t = t_release;
         m_x = x;
         m_mode = flow_mode::free;
-        if (!m_stop) obs.on_release(m_t, m_x);
+        m_contact = -1;
+        if (!m_stop) obs.on_release(i, m_t, m_x);
         restart(m_integ.step_size());
         return step_status::ok;
     }
@@ -346,9 +468,11 @@ private:
     integrator_type m_integ;
     run_stats m_stats;
     flow_mode m_mode = flow_mode::free;
+    int m_contact = -1;
     double m_t = 0.0;
     state m_x = state::Zero();
     bool m_stop = false;
+    std::optional<outcome> m_end;
 };
 
 }  // namespace vimpact

@@ -48,10 +48,23 @@ double gap_rate(const M& m, int i, const vec<M::dim>& x)
     return m.gap_gradient(i, x).dot(m.rhs(x));
 }
 
+// A model may provide these itself when it knows a cheaper form (the tangent flow does: its
+// gaps read the reference state only).
 template <engine_model M>
 vec<M::dim> gap_rate_gradient(const M& m, int i, const vec<M::dim>& x)
 {
-    return m.gap_hessian(i, x) * m.rhs(x) + m.jacobian(x).transpose() * m.gap_gradient(i, x);
+    if constexpr (requires { { m.gap_rate_gradient(i, x) } -> std::convertible_to<vec<M::dim>>; })
+        return m.gap_rate_gradient(i, x);
+    else return m.gap_hessian(i, x) * m.rhs(x) + m.jacobian(x).transpose() * m.gap_gradient(i, x);
+}
+
+// The gradient of F_j, the rate of state variable j (its zeros are the extrema of x_j).
+template <engine_model M>
+vec<M::dim> state_rate_gradient(const M& m, int j, const vec<M::dim>& x)
+{
+    if constexpr (requires { { m.state_rate_gradient(j, x) } -> std::convertible_to<vec<M::dim>>; })
+        return m.state_rate_gradient(j, x);
+    else return m.jacobian(x).row(j).transpose();
 }
 
 // A state is admissible when every gap is positive, or zero and not decreasing.

@@ -2,16 +2,19 @@
 // The section map and its Jacobian, and Newton shooting for its fixed points: the building
 // blocks of Floquet analysis, reusable by a continuation solver.
 //
-// The section is Sigma = { v = 0, v decreasing } (the maxima of the impacting coordinate, the
-// paper's Sigma). A point of Sigma is given by its section coordinates z: the state without
-// the velocity component (which is 0 on Sigma). P^k(z) is the state at the k-th return to
-// Sigma, through any impacts on the way.
+// The section is one of the model's sections, Sigma = { s(x) = 0 } crossed in its direction.
+// A point of Sigma is given by chart coordinates z: the state without one coordinate x_c, the
+// one along which s changes fastest at the starting point (|ds/dx_c| largest; for the paper's
+// section s = ydot that is ydot itself). x_c follows from s(x) = 0 (Newton in x_c; exact in
+// one step for a coordinate section). P^k(z) is the point of the k-th return to Sigma,
+// through any impacts on the way.
 //
 // Jacobian. With Phi = dx(t)/dx0 at fixed t (flow STMs and impact jumps multiplied in order,
-// integrated as the tangent part of variational_model) and the return time t(x0) fixed by
-// v(x(t)) = 0, the derivative of the return point is
-//   dx_end/dx0 = (I - F(x_end) e_v^T / F_v(x_end)) Phi
-// and the section map's Jacobian is that matrix without the velocity row and column.
+// integrated as the tangent part of variational_model) and the return time fixed by
+// s(x(t)) = 0, the derivative of the return point is
+//   dx_end/dx0 = (I - F(x_end) grad s(x_end)^T / (grad s . F)(x_end)) Phi,
+// and in the chart dz_end/dz = [that without row c] E, where E = dx0/dz has the columns
+// e_j - (ds/dx_j / ds/dx_c) e_c, j != c.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,37 +22,93 @@
 
 #include <Eigen/LU>
 
-#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/core/outcome.hpp"
+#include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/flow.hpp"
-#include "vimpact/stability/variational.hpp"
+#include "vimpact/tangent/variational.hpp"
 
 namespace vimpact {
 
-template <class Model>
-using section_point = vec<Model::dim - 1>;
+template <int N>
+using chart_point = vec<N - 1>;
 
-// State on Sigma -> section coordinates (drop the velocity) and back.
-template <class Model>
-section_point<Model> to_section(const vec<Model::dim>& x)
-{
-    section_point<Model> z;
-    for (int i = 0, k = 0; i < Model::dim; ++i)
-        if (i != Model::velocity) z[k++] = x[i];
-    return z;
-}
+// The chart of a section near a point: which coordinate is solved for.
+template <engine_model Model>
+class section_chart {
+public:
+    static constexpr int N = Model::dim;
 
-template <class Model>
-vec<Model::dim> from_section(const section_point<Model>& z)
-{
-    vec<Model::dim> x;
-    for (int i = 0, k = 0; i < Model::dim; ++i) x[i] = (i == Model::velocity) ? 0.0 : z[k++];
-    return x;
-}
+    section_chart(const Model& m, int section, const vec<N>& near) : m_model(&m), m_section(section)
+    {
+        const vec<N> g = m.section_gradient(section, near);
+        m_dropped = 0;
+        for (int j = 1; j < N; ++j)
+            if (std::abs(g[j]) > std::abs(g[m_dropped])) m_dropped = j;
+    }
+
+    [[nodiscard]] int dropped() const { return m_dropped; }
+
+    [[nodiscard]] chart_point<N> to_chart(const vec<N>& x) const
+    {
+        chart_point<N> z;
+        for (int i = 0, k = 0; i < N; ++i)
+            if (i != m_dropped) z[k++] = x[i];
+        return z;
+    }
+
+    // The point of the section with chart coordinates z, x_c found by Newton's method from
+    // `guess` (NaN if it does not converge: the chart does not reach the section there).
+    [[nodiscard]] vec<N> from_chart(const chart_point<N>& z, const vec<N>& guess) const
+    {
+        vec<N> x;
+        for (int i = 0, k = 0; i < N; ++i) x[i] = (i == m_dropped) ? guess[i] : z[k++];
+        for (int it = 0; it < 30; ++it) {
+            const double s = m_model->section(m_section, x);
+            if (s == 0.0) return x;
+            const double ds = m_model->section_gradient(m_section, x)[m_dropped];
+            if (!(ds != 0.0)) break;
+            const double step = s / ds;
+            x[m_dropped] -= step;
+            if (std::abs(step) <= 4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(x[m_dropped])))
+                return x;
+        }
+        return vec<N>::Constant(std::numeric_limits<double>::quiet_NaN());
+    }
+
+    // dx/dz at x: the N x (N-1) matrix E of the header.
+    [[nodiscard]] Eigen::Matrix<double, N, N - 1> embedding(const vec<N>& x) const
+    {
+        const vec<N> g = m_model->section_gradient(m_section, x);
+        Eigen::Matrix<double, N, N - 1> E = Eigen::Matrix<double, N, N - 1>::Zero();
+        for (int j = 0, k = 0; j < N; ++j) {
+            if (j == m_dropped) continue;
+            E(j, k) = 1.0;
+            E(m_dropped, k) = -g[j] / g[m_dropped];
+            ++k;
+        }
+        return E;
+    }
+
+    [[nodiscard]] Eigen::Matrix<double, N - 1, N> projection() const
+    {
+        Eigen::Matrix<double, N - 1, N> P = Eigen::Matrix<double, N - 1, N>::Zero();
+        for (int i = 0, k = 0; i < N; ++i)
+            if (i != m_dropped) P(k++, i) = 1.0;
+        return P;
+    }
+
+private:
+    const Model* m_model;
+    int m_section;
+    int m_dropped = 0;
+};
 
 struct section_map_options {
     // Newton closes the orbit to 1e-11 only if the map itself is that accurate. t_max is the
-    // flight time allowed for the requested returns; the section flags are set by the map.
+    // flight time allowed for the requested returns; the analysis sets the events.
     flow_options flow{.integration{.rtol = 1e-12, .atol = 1e-12}, .t_max = 1e4, .max_steps = 50'000'000};
+    int section = 0;
     impact_tangent jump = impact_tangent::saltation;
     double sample_dt = 0.0;       // > 0: also sample the orbit (state part) every sample_dt
 };
@@ -63,11 +122,11 @@ struct section_return {
     double time = 0.0;                  // return time
     long impacts = 0;                   // impacts before the last return
     mat<N> monodromy;                   // dx(time)/dx0, impacts included
-    mat<N - 1> jacobian;                // D P^k in section coordinates
+    mat<N> return_derivative;           // dx_end/dx0 along the section (the projected monodromy)
     double divergence_integral = 0.0;   // integral of div F over [0, time]
     double log_det_jumps = 0.0;         // sum of ln|det(jump)| over the impacts
-    std::vector<impact_event<N>> impact_list;  // reference states at the impacts (t, pre, post)
-    std::vector<timed_state<N>> samples;       // the orbit every sample_dt (if asked)
+    impact_series impact_list{N};       // reference states at the impacts
+    state_series samples{N};            // the orbit every sample_dt (if asked)
     run_stats stats;
 
     [[nodiscard]] bool valid() const { return status == outcome::ok && sticking_phases == 0; }
@@ -89,9 +148,9 @@ public:
 
     // With sampling, the run goes on to the end of the step that holds the last return, so
     // that the step's interpolant is delivered (up to the return) before the stop.
-    flow_control on_section(section_kind k, double t, const typename VModel::state& X)
+    flow_control on_section(int, crossing, double t, const typename VModel::state& X)
     {
-        if (k != section_kind::maximum || reached()) return flow_control::proceed;
+        if (reached()) return flow_control::proceed;
         if (++m_seen < m_returns) return flow_control::proceed;
         m_end = X;
         m_out.time = t;
@@ -100,21 +159,21 @@ public:
     flow_control on_step_end(double)
     {
         if (!reached()) return flow_control::proceed;
-        if (m_dt > 0.0) m_out.samples.push_back({m_out.time, VModel::point(m_end)});
+        if (m_dt > 0.0) m_out.samples.push_back(m_out.time, VModel::point(m_end));
         return flow_control::stop;
     }
-    flow_control on_impact(double t, const typename VModel::state& pre, const typename VModel::state& post)
+    flow_control on_impact(int surface, double t, const typename VModel::state& pre, const typename VModel::state& post)
     {
         if (reached()) return flow_control::stop;  // after the last return, in its step
         const vec<N> x = VModel::point(pre);
-        m_out.impact_list.push_back({t, x, VModel::point(post)});
+        m_out.impact_list.push_back(t, surface, x, VModel::point(post));
         ++m_out.impacts;
-        const mat<N> jump = impact_jump_matrix(m_vm.base(), x, m_vm.jump());
+        const mat<N> jump = impact_jump_matrix(m_vm.base(), surface, x, m_vm.jump());
         m_out.log_det_jumps += std::log(std::abs(jump.determinant()));
         return flow_control::proceed;
     }
     template <class X>
-    void on_stick(double, const X&)
+    void on_stick(int, double, const X&)
     {
         if (!reached()) ++m_out.sticking_phases;
     }
@@ -123,7 +182,7 @@ public:
     {
         if (reached()) tb = std::min(tb, m_out.time);
         while (m_next < tb) {
-            if (m_next >= ta) m_out.samples.push_back({m_next, VModel::point(d.value(m_next))});
+            if (m_next >= ta) m_out.samples.push_back(m_next, VModel::point(d.value(m_next)));
             m_next = static_cast<double>(++m_index) * m_dt;
         }
     }
@@ -141,8 +200,8 @@ private:
 
 }  // namespace detail
 
-// P^returns from x0 (on Sigma: x0[velocity] == 0) with the tangent. Time starts at 0.
-template <template <int> class Method = dop853, tangent_model Model>
+// P^returns from x0 (on the section) with the tangent. Time starts at 0.
+template <template <int> class Method, engine_model Model>
 section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>& x0, int returns,
                                        const section_map_options& opt = {})
 {
@@ -152,13 +211,13 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     const VM vm(model, opt.jump);
     flow_options fo = opt.flow;
     fo.integration = VM::integration_options(opt.flow.integration);
-    fo.track_maxima = true;
-    fo.track_minima = false;
+    fo.surfaces = true;
+    fo.events = {flow_event::section(opt.section, model.section_direction(opt.section))};
     hybrid_flow<VM, Method> flow(vm, fo);
     section_return<N> out;
     out.x0 = x0;
     flow.start(0.0, VM::pack(x0, mat<N>::Identity(), 0.0));
-    if (opt.sample_dt > 0.0) out.samples.push_back({0.0, x0});
+    if (opt.sample_dt > 0.0) out.samples.push_back(0.0, x0);
     detail::section_return_observer<VM> obs(vm, returns, opt.sample_dt, out);
     out.status = flow.run(obs);
     out.stats = flow.stats();
@@ -166,7 +225,7 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     if (out.status != outcome::ok) {
         out.x_end = VM::point(flow.x());
         out.monodromy = VM::matrix(flow.x());
-        out.jacobian.setConstant(std::numeric_limits<double>::quiet_NaN());
+        out.return_derivative.setConstant(std::numeric_limits<double>::quiet_NaN());
         return out;
     }
     const auto& X = obs.end_state();
@@ -174,17 +233,9 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     out.monodromy = VM::matrix(X);
     out.divergence_integral = VM::divergence_integral(X);
     const vec<N> F = model.rhs(out.x_end);
-    mat<N> proj = mat<N>::Identity();
-    proj -= F * vec<N>::Unit(Model::velocity).transpose() / F[Model::velocity];
-    const mat<N> D = proj * out.monodromy;
-    for (int i = 0, ri = 0; i < N; ++i) {
-        if (i == Model::velocity) continue;
-        for (int j = 0, rj = 0; j < N; ++j) {
-            if (j == Model::velocity) continue;
-            out.jacobian(ri, rj++) = D(i, j);
-        }
-        ++ri;
-    }
+    const vec<N> g = model.section_gradient(opt.section, out.x_end);
+    const mat<N> proj = mat<N>::Identity() - F * g.transpose() / g.dot(F);
+    out.return_derivative = proj * out.monodromy;
     return out;
 }
 
@@ -196,23 +247,10 @@ struct shooting_options {
     int max_iterations = 20;
 };
 
-enum class shooting_status { converged, not_converged, flow_failed, sticking };
-
-constexpr const char* to_string(shooting_status s)
-{
-    switch (s) {
-        case shooting_status::converged: return "converged";
-        case shooting_status::not_converged: return "not_converged";
-        case shooting_status::flow_failed: return "flow_failed";
-        case shooting_status::sticking: return "sticking";
-    }
-    return "unknown";
-}
-
 template <int N>
 struct periodic_orbit {
-    shooting_status status = shooting_status::not_converged;
-    vec<N> x;                       // the refined point on Sigma
+    outcome status = outcome::not_converged;  // ok, not_converged, sticking, or the map's failure
+    vec<N> x;                       // the refined point on the section
     int returns = 0;
     double initial_closure = std::numeric_limits<double>::quiet_NaN();
     double closure = std::numeric_limits<double>::quiet_NaN();  // |P^k(z) - z|_inf at x
@@ -224,30 +262,32 @@ struct periodic_orbit {
 // Fixed point of P^returns near x_guess by Newton's method on P^k(z) - z = 0, with step
 // halving when the closure does not decrease. The result carries the last map evaluation
 // (monodromy, period, impacts) at the returned point.
-template <template <int> class Method = dop853, tangent_model Model>
-periodic_orbit<Model::dim> find_periodic_orbit(const Model& model, const vec<Model::dim>& x_guess,
-                                               int returns, const shooting_options& opt = {})
+template <template <int> class Method, engine_model Model>
+periodic_orbit<Model::dim> find_periodic_orbit(const Model& model, const vec<Model::dim>& x_guess, int returns,
+                                               const shooting_options& opt = {})
 {
     constexpr int N = Model::dim;
     constexpr int K = N - 1;
+    static_assert(N >= 2, "a section map needs at least two state variables");
     if (!(opt.tolerance > 0.0)) throw input_error("Newton tolerance must be > 0");
     if (opt.max_iterations < 0) throw input_error("Newton iterations must be >= 0");
     section_map_options mo = opt.map;
     mo.jump = impact_tangent::saltation;
     periodic_orbit<N> orb;
     orb.returns = returns;
+    const section_chart<Model> chart(model, mo.section, x_guess);
     auto residual_of = [&](const section_return<N>& r, const vec<N>& x) {
-        return vec<K>(to_section<Model>(state_difference(model, r.x_end, x)));
+        return vec<K>(chart.to_chart(model.state_difference(r.x_end, x)));
     };
     auto evaluate = [&](const vec<N>& x) {
         ++orb.map_evaluations;
         return section_map<Method>(model, x, returns, mo);
     };
-    vec<N> x = x_guess;
-    x[Model::velocity] = 0.0;
+    vec<N> x = chart.from_chart(chart.to_chart(x_guess), x_guess);
+    if (!x.allFinite()) x = x_guess;
     section_return<N> r = evaluate(x);
     auto failed = [&](const section_return<N>& e) {
-        orb.status = e.sticking_phases > 0 ? shooting_status::sticking : shooting_status::flow_failed;
+        orb.status = e.sticking_phases > 0 ? outcome::sticking : e.status;
         orb.x = x;
         orb.map = e;
         return orb;
@@ -257,14 +297,14 @@ periodic_orbit<Model::dim> find_periodic_orbit(const Model& model, const vec<Mod
     double norm = res.cwiseAbs().maxCoeff();
     orb.initial_closure = norm;
     for (int it = 0; it < opt.max_iterations && norm > opt.tolerance; ++it) {
-        const mat<K> A = r.jacobian - mat<K>::Identity();
+        const mat<K> A = chart.projection() * r.return_derivative * chart.embedding(x) - mat<K>::Identity();
         const vec<K> step = A.fullPivLu().solve(-res);
         if (!step.allFinite()) break;
         bool improved = false;
         double lambda = 1.0;
         for (int halving = 0; halving < 10; ++halving, lambda *= 0.5) {
-            const vec<N> xt = from_section<Model>(vec<K>(to_section<Model>(x) + lambda * step));
-            if (!(model.guard(xt) > 0.0)) continue;  // a trial point beyond the barrier
+            const vec<N> xt = chart.from_chart(vec<K>(chart.to_chart(x) + lambda * step), x);
+            if (!xt.allFinite() || !admissible(model, xt)) continue;  // beyond a surface, or off the chart
             section_return<N> rt = evaluate(xt);
             if (!rt.valid()) continue;
             const vec<K> rest = residual_of(rt, xt);
@@ -284,7 +324,7 @@ periodic_orbit<Model::dim> find_periodic_orbit(const Model& model, const vec<Mod
     orb.x = x;
     orb.closure = norm;
     orb.map = std::move(r);
-    orb.status = norm <= opt.tolerance ? shooting_status::converged : shooting_status::not_converged;
+    orb.status = norm <= opt.tolerance ? outcome::ok : outcome::not_converged;
     return orb;
 }
 

@@ -1,28 +1,26 @@
 #pragma once
-// How a deviation from a reference orbit crosses an impact (SPEC §4, the paper's Eq. 8 and
-// Appendix A, corrected).
+// How a deviation from a reference orbit crosses an impact on surface i (the paper's Eq. 8
+// and Appendix A, corrected).
 //
-// Notation: x is the reference state at the barrier just before the reset, F = F(x),
-// J = DF(x), F+ = F(R(x)), J+ = DF(R(x)), R' = DR(x), n = grad H(x), v_H = n . F < 0.
+// Notation: x is the reference state on the surface just before the reset, F = F(x),
+// J = DF(x), F+ = F(R(x)), J+ = DF(R(x)), R' = DR(x), n = grad g(x), v_g = n . F < 0.
 // A deviation y- of the reference at the impact time t_i (continued with the pre-impact field
 // if the perturbed orbit hits later or earlier) becomes the deviation y+ of the post-impact
-// orbit at t_i (continued with the post-impact field). The perturbed orbit reaches the guard
+// orbit at t_i (continued with the post-impact field). The perturbed orbit reaches the surface
 // after the flight time d = d1 + d2 + O(|y|^3).
 //
-// First order (saltation matrix, Eq. 8):   S = R' + (F+ - R' F) n^T / v_H,   y+ = S y-.
+// First order (saltation matrix, Eq. 8):   S = R' + (F+ - R' F) n^T / v_g,   y+ = S y-.
 // Second order (transverse discontinuity mapping):
-//   d1 = -(n . y) / v_H
-//   d2 = -(1/v_H) [ d1 n.J y + d1^2/2 n.J F + 1/2 (y + d1 F)^T D2H (y + d1 F) ]
+//   d1 = -(n . y) / v_g
+//   d2 = -(1/v_g) [ d1 n.J y + d1^2/2 n.J F + 1/2 (y + d1 F)^T D2g (y + d1 F) ]
 //   y+ = R' y + (d1 + d2)(R' F - F+) + d1 (R' J y - J+ R' y)
 //        + d1^2 (1/2 R' J F - J+ R' F + 1/2 J+ F+) + 1/2 R''[y + d1 F, y + d1 F]
 // obtained by expanding the perturbed flight x + y -> (flow for d) -> reset -> (flow for -d)
 // to second order in y; the vector field's own second derivative cancels at this order.
-#include <cmath>
-
 #include <Eigen/Core>
 
 #include "vimpact/core/state.hpp"
-#include "vimpact/model/concepts.hpp"
+#include "vimpact/model/engine_model.hpp"
 
 namespace vimpact {
 
@@ -31,7 +29,7 @@ namespace vimpact {
 // without the saltation correction (the trivial Floquet multiplier leaves 1).
 enum class impact_tangent { saltation, second_order, reset_jacobian, identity };
 
-constexpr const char* to_string(impact_tangent m)
+constexpr std::string_view to_string(impact_tangent m)
 {
     switch (m) {
         case impact_tangent::saltation: return "saltation";
@@ -42,33 +40,26 @@ constexpr const char* to_string(impact_tangent m)
     return "unknown";
 }
 
-template <class M>
-concept saltation_model = hybrid_model<M> && has_reset_jacobian<M>;
-
-template <class M>
-concept second_order_model = saltation_model<M> && has_jacobian<M> && has_guard_hessian<M> &&
-                             has_reset_second_derivative<M>;
-
-// Eq. 8 at the pre-impact state x (the guard must be crossed transversally, v_H != 0).
-template <saltation_model Model>
-mat<Model::dim> saltation_matrix(const Model& m, const vec<Model::dim>& x)
+// Eq. 8 at the pre-impact state x on surface i (crossed transversally, v_g != 0).
+template <engine_model Model>
+mat<Model::dim> saltation_matrix(const Model& m, int i, const vec<Model::dim>& x)
 {
     const vec<Model::dim> F = m.rhs(x);
-    const vec<Model::dim> Fp = m.rhs(m.reset(x));
-    const mat<Model::dim> Rp = m.reset_jacobian(x);
-    const vec<Model::dim> n = m.guard_gradient(x);
+    const vec<Model::dim> Fp = m.rhs(m.reset(i, x));
+    const mat<Model::dim> Rp = m.reset_jacobian(i, x);
+    const vec<Model::dim> n = m.gap_gradient(i, x);
     return Rp + (Fp - Rp * F) * n.transpose() / n.dot(F);
 }
 
-// The tangent jump chosen by `mode` for linear deviations (second_order falls back to
-// saltation here: as a linear map it is the saltation matrix).
-template <saltation_model Model>
-mat<Model::dim> impact_jump_matrix(const Model& m, const vec<Model::dim>& x, impact_tangent mode)
+// The tangent jump chosen by `mode` for linear deviations (second_order: as a linear map it
+// is the saltation matrix).
+template <engine_model Model>
+mat<Model::dim> impact_jump_matrix(const Model& m, int i, const vec<Model::dim>& x, impact_tangent mode)
 {
     switch (mode) {
-        case impact_tangent::reset_jacobian: return m.reset_jacobian(x);
+        case impact_tangent::reset_jacobian: return m.reset_jacobian(i, x);
         case impact_tangent::identity: return mat<Model::dim>::Identity();
-        default: return saltation_matrix(m, x);
+        default: return saltation_matrix(m, i, x);
     }
 }
 
@@ -76,26 +67,29 @@ mat<Model::dim> impact_jump_matrix(const Model& m, const vec<Model::dim>& x, imp
 // many deviation vectors.
 template <int N>
 struct impact_derivatives {
+    int surface = 0;
     vec<N> x, F, Fp, n, RpF, Fp_minus_RpF;
-    mat<N> J, Jp, Rp;
-    double vH = 0.0;
+    mat<N> J, Jp, Rp, H;               // H: the gap's Hessian
+    double vg = 0.0;
     double nJF = 0.0;                  // n . J F
     vec<N> quad_coefficient;           // 1/2 R' J F - J+ R' F + 1/2 J+ F+
 };
 
-template <second_order_model Model>
-impact_derivatives<Model::dim> prepare_impact(const Model& m, const vec<Model::dim>& x)
+template <engine_model Model>
+impact_derivatives<Model::dim> prepare_impact(const Model& m, int i, const vec<Model::dim>& x)
 {
     impact_derivatives<Model::dim> d;
+    d.surface = i;
     d.x = x;
     d.F = m.rhs(x);
-    const vec<Model::dim> post = m.reset(x);
+    const vec<Model::dim> post = m.reset(i, x);
     d.Fp = m.rhs(post);
-    d.n = m.guard_gradient(x);
+    d.n = m.gap_gradient(i, x);
+    d.H = m.gap_hessian(i, x);
     d.J = m.jacobian(x);
     d.Jp = m.jacobian(post);
-    d.Rp = m.reset_jacobian(x);
-    d.vH = d.n.dot(d.F);
+    d.Rp = m.reset_jacobian(i, x);
+    d.vg = d.n.dot(d.F);
     d.nJF = d.n.dot(d.J * d.F);
     d.RpF = d.Rp * d.F;
     d.Fp_minus_RpF = d.Fp - d.RpF;
@@ -108,14 +102,14 @@ struct second_order_jump {
     vec<N> y_plus;
     double d1 = 0.0;        // first-order flight time
     double d2 = 0.0;        // its second-order correction
-    // The flight-time quadratic  n.y + d (v_H + n.J y + y^T D2H F) + d^2/2 (n.J F + F^T D2H F)
-    // + 1/2 y^T D2H y = 0  has no real root: the perturbed orbit turns back before reaching the
-    // guard (it misses the barrier). The map is still the second-order Taylor polynomial.
+    // The flight-time quadratic  n.y + d (v_g + n.J y + y^T D2g F) + d^2/2 (n.J F + F^T D2g F)
+    // + 1/2 y^T D2g y = 0  has no real root: the perturbed orbit turns back before reaching the
+    // surface (it misses it). The map is still the second-order Taylor polynomial.
     bool misses = false;
 };
 
 // The second-order mapping of one finite deviation y.
-template <second_order_model Model>
+template <engine_model Model>
 second_order_jump<Model::dim> second_order_map(const Model& m, const impact_derivatives<Model::dim>& d,
                                                const vec<Model::dim>& y)
 {
@@ -123,28 +117,27 @@ second_order_jump<Model::dim> second_order_map(const Model& m, const impact_deri
     second_order_jump<N> out;
     const vec<N> Jy = d.J * y;
     const double ny = d.n.dot(y);
-    out.d1 = -ny / d.vH;
+    out.d1 = -ny / d.vg;
     const vec<N> u = y + out.d1 * d.F;
-    const double hess_u = m.guard_hessian(d.x, u, u);
-    out.d2 = -(out.d1 * d.n.dot(Jy) + 0.5 * out.d1 * out.d1 * d.nJF + 0.5 * hess_u) / d.vH;
+    const double hess_u = u.dot(d.H * u);
+    out.d2 = -(out.d1 * d.n.dot(Jy) + 0.5 * out.d1 * out.d1 * d.nJF + 0.5 * hess_u) / d.vg;
     const double delta = out.d1 + out.d2;
     const vec<N> Rpy = d.Rp * y;
     out.y_plus = Rpy - delta * d.Fp_minus_RpF + out.d1 * (d.Rp * Jy - d.Jp * Rpy) +
-                 (out.d1 * out.d1) * d.quad_coefficient +
-                 0.5 * m.reset_second_derivative(d.x, u, u);
+                 (out.d1 * out.d1) * d.quad_coefficient + 0.5 * m.reset_second_derivative(d.surface, d.x, u, u);
 
-    const double a2 = 0.5 * (d.nJF + m.guard_hessian(d.x, d.F, d.F));
-    const double a1 = d.vH + d.n.dot(Jy) + m.guard_hessian(d.x, y, d.F);
-    const double a0 = ny + 0.5 * m.guard_hessian(d.x, y, y);
+    const double a2 = 0.5 * (d.nJF + d.F.dot(d.H * d.F));
+    const double a1 = d.vg + d.n.dot(Jy) + y.dot(d.H * d.F);
+    const double a0 = ny + 0.5 * y.dot(d.H * y);
     out.misses = a1 * a1 - 4.0 * a2 * a0 < 0.0;
     return out;
 }
 
-template <second_order_model Model>
-second_order_jump<Model::dim> second_order_map(const Model& m, const vec<Model::dim>& x,
+template <engine_model Model>
+second_order_jump<Model::dim> second_order_map(const Model& m, int i, const vec<Model::dim>& x,
                                                const vec<Model::dim>& y)
 {
-    return second_order_map(m, prepare_impact(m, x), y);
+    return second_order_map(m, prepare_impact(m, i, x), y);
 }
 
 }  // namespace vimpact

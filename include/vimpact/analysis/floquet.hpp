@@ -1,0 +1,88 @@
+#pragma once
+// Floquet multipliers of a periodic orbit with impacts (the paper's Algorithm 1, Eq. 9-10),
+// with the orbit refined by Newton shooting before the monodromy is formed.
+//
+//  1. Run the protocol on a section of the model (transient impacts discarded, section points
+//     recorded) and classify the period; P0 orbits are periodic orbits too, classified on
+//     their own section points. Aperiodic or failed runs stop here: no multipliers.
+//  2. Newton shooting on P^k(z) = z (k = the section returns per period) from the first
+//     recorded point, until the closure |P^k(z) - z|_inf <= tolerance (1e-11).
+//  3. Monodromy Phi(T) = Phi_n S_n ... S_1 Phi_1 over exactly one period from the refined
+//     point: the tangent part of the variational flow, with the chosen jump at each impact.
+//  4. Multipliers = eigenvalues of Phi(T). The trivial multiplier is the one whose eigenvector
+//     is most nearly parallel to F(x*) (Phi F(x*) = F(x*) exactly for the true monodromy); its
+//     distance from 1 measures the accuracy.
+//
+// Identity checked by the tests: det Phi(T) = exp(integral of div F over T) * prod det S_i.
+#include <complex>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/analysis/period.hpp"
+#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/tangent/impact_jump.hpp"
+
+namespace vimpact {
+
+struct floquet_options {
+    protocol_options protocol{};       // transient impacts, recorded points, section (a crossing)
+    double period_tolerance = default_period_tolerance;  // for the period label
+    double newton_tolerance = 1e-11;   // closure |P^k(z) - z| to reach by shooting
+    int newton_iterations = 20;
+    // Tolerances of the tangent runs: Newton closes the orbit to 1e-11 only if the map is that
+    // accurate, so never looser than 1e-12 whatever the protocol's.
+    integrator_options tangent_integration{.rtol = 1e-12, .atol = 1e-12};
+    impact_tangent jump = impact_tangent::saltation;  // jump used in the final monodromy
+    double sample_dt = 0.0;            // > 0: sample the refined orbit over one period
+};
+
+struct floquet_result {
+    // ok, not_converged (Newton missed its tolerance; multipliers given), aperiodic, sticking,
+    // or the outcome of a failed run.
+    outcome status = outcome::ok;
+    std::string label;                 // the protocol's period label
+    int section_returns = 0;           // k: section points per period
+    double period = 0.0;               // T
+    long impacts_per_period = 0;
+    std::vector<long> impacts_by_surface;
+    double initial_closure = 0.0;      // |P^k(z) - z| at the protocol's point
+    double closure = 0.0;              // after Newton
+    int newton_iterations = 0;
+    Eigen::VectorXd orbit_point;       // refined point on the section
+    Eigen::MatrixXd monodromy;
+    // Trivial multiplier first, then the others by decreasing modulus.
+    std::vector<std::complex<double>> multipliers;
+    double trivial_error = 0.0;        // |mu_trivial - 1|
+    double trivial_residual = 0.0;     // |Phi F - mu_trivial F| / |F|
+    double max_nontrivial_modulus = 0.0;
+    double det_monodromy = 0.0;
+    double liouville_det = 0.0;        // exp(integral div F) * prod det(jump)
+    double divergence_integral = 0.0;
+    double log_det_jumps = 0.0;
+    impact_tangent jump = impact_tangent::saltation;
+    impact_series impacts;             // over one period
+    state_series orbit;                // samples over one period (sample_dt > 0)
+    state_series section_points;       // the protocol's recorded points (diagrams)
+    run_stats protocol_stats;
+    run_stats tangent_stats;           // the last map evaluation
+    long map_evaluations = 0;
+
+    [[nodiscard]] bool has_multipliers() const
+    {
+        return status == outcome::ok || status == outcome::not_converged;
+    }
+    [[nodiscard]] bool stable() const { return status == outcome::ok && max_nontrivial_modulus < 1.0; }
+};
+
+void validate(const model& m, const floquet_options& o);
+
+// The whole analysis from an initial state.
+floquet_result floquet(const model& m, const Eigen::VectorXd& x0, const floquet_options& o);
+
+// Steps 2-4 from a point near the orbit on the section, with a known number of returns.
+floquet_result floquet_from_point(const model& m, const Eigen::VectorXd& x_guess, int returns,
+                                  const floquet_options& o);
+
+}  // namespace vimpact

@@ -1,0 +1,115 @@
+#pragma once
+// The grazing run (analysis/grazing.hpp) on an engine model.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/hybrid/flow.hpp"
+
+namespace vimpact::engine {
+
+template <int N>
+struct grazing_observer : flow_observer {
+    const grazing_options& opt;
+    grazing_result& res;
+    struct block_state {
+        double min = std::numeric_limits<double>::infinity();
+        double t = 0.0;
+        vec<N> x = vec<N>::Zero();
+        double previous = std::numeric_limits<double>::quiet_NaN();
+        int count = 0;
+    };
+    std::vector<block_state> blocks;
+    // response variable: extrema of the current block and the times of its minima
+    double r_max = -std::numeric_limits<double>::infinity();
+    double r_min = std::numeric_limits<double>::infinity();
+    double r_first_t = 0.0;
+    int r_minima = 0;
+
+    grazing_observer(const grazing_options& o, grazing_result& r, int n_surfaces)
+        : opt(o), res(r), blocks(static_cast<std::size_t>(n_surfaces))
+    {
+    }
+
+    // Events: the response variable's extrema first (so that at a common time its minimum is
+    // counted before a gap's minimum may end the run), then each gap's minima.
+    flow_control on_section(int event, crossing dir, double t, const vec<N>& x)
+    {
+        if (t < opt.transient_time) return flow_control::proceed;
+        if (opt.response_variable < 0) return on_minimum(event, t, x);
+        if (event > 0) return on_minimum(event - 1, t, x);
+        const double v = x[opt.response_variable];
+        r_max = std::max(r_max, v);
+        r_min = std::min(r_min, v);
+        if (dir == crossing::up) {
+            if (r_minima == 0) r_first_t = t;
+            if (++r_minima == opt.block) close_response_block(t);
+        }
+        return flow_control::proceed;
+    }
+
+    flow_control on_minimum(int i, double t, const vec<N>& x)
+    {
+        auto& s = res.surfaces[static_cast<std::size_t>(i)];
+        auto& b = blocks[static_cast<std::size_t>(i)];
+        ++s.minima;
+        const double g = gap_value(i, x);
+        if (g < b.min) {
+            b.min = g;
+            b.t = t;
+            b.x = x;
+        }
+        if (++b.count < opt.block) return flow_control::proceed;
+        s.change = std::abs(b.min - b.previous);
+        s.margin = b.min;
+        s.t = b.t;
+        s.x = b.x;
+        b.previous = b.min;
+        b.min = std::numeric_limits<double>::infinity();
+        b.count = 0;
+        if (s.change <= opt.tolerance) s.converged = true;
+        const bool all = std::all_of(res.surfaces.begin(), res.surfaces.end(), [](const auto& q) { return q.converged; });
+        return all ? flow_control::stop : flow_control::proceed;
+    }
+
+    void close_response_block(double t)
+    {
+        res.response_max = r_max;
+        res.response_min = r_min;
+        res.response_omega = r_minima > 1 ? 2.0 * std::numbers::pi * (r_minima - 1) / (t - r_first_t)
+                                          : std::numeric_limits<double>::quiet_NaN();
+        r_max = -std::numeric_limits<double>::infinity();
+        r_min = std::numeric_limits<double>::infinity();
+        r_minima = 0;
+    }
+
+    std::function<double(int, const vec<N>&)> gap_value;
+};
+
+template <template <int> class Method, engine_model Model>
+grazing_result run_grazing(const Model& model, const vec<Model::dim>& x0, const grazing_options& opt)
+{
+    constexpr int N = Model::dim;
+    flow_options fo;
+    fo.integration = opt.integration;
+    fo.surfaces = false;
+    fo.t_max = opt.t_max;
+    fo.cancel = opt.cancel;
+    const int S = model.surface_count();
+    if (opt.response_variable >= 0) fo.events.push_back(flow_event::state_extrema(opt.response_variable, crossing::both));
+    for (int i = 0; i < S; ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
+    grazing_result res;
+    res.surfaces.resize(static_cast<std::size_t>(S));
+    hybrid_flow<Model, Method> flow(model, fo);
+    flow.start(0.0, x0);
+    grazing_observer<N> obs(opt, res, S);
+    obs.gap_value = [&model](int i, const vec<N>& x) { return model.gap(i, x); };
+    res.status = flow.run(obs);
+    res.stats = flow.stats();
+    res.converged = std::all_of(res.surfaces.begin(), res.surfaces.end(), [](const auto& q) { return q.converged; });
+    return res;
+}
+
+}  // namespace vimpact::engine

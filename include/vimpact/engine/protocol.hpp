@@ -1,0 +1,132 @@
+#pragma once
+// The protocol (analysis/protocol.hpp) on an engine model: the template every front end's
+// simulate() call ends in, instantiated by the library for each model kind.
+#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/hybrid/flow.hpp"
+
+namespace vimpact::engine {
+
+template <int N>
+class protocol_observer : public flow_observer {
+public:
+    protocol_observer(const protocol_options& opt, simulation& res) : m_opt(opt), m_res(res)
+    {
+        m_recording = opt.transient_impacts == 0;
+    }
+
+    [[nodiscard]] bool wants_segments() const { return m_recording && m_opt.sample_dt > 0.0; }
+
+    // After every accepted step: the quiet-time rule.
+    flow_control on_step_end(double t)
+    {
+        if (m_res.impacting && t - m_last_impact > m_opt.quiet_time) {
+            m_res.impacting = false;
+            m_res.transient_impacts = m_impacts;
+            m_res.points.clear();
+            m_res.impacts.clear();
+            m_res.series.clear();
+            begin_recording(t);
+            if (m_opt.section.type == section_choice::kind::impacts) m_done = true;
+        }
+        return m_done ? flow_control::stop : flow_control::proceed;
+    }
+    void set_start(double t)
+    {
+        m_last_impact = t;
+        if (m_recording) begin_recording(t);
+    }
+
+    // The flow watches one event: the chosen section.
+    flow_control on_section(int, crossing, double t, const vec<N>& x)
+    {
+        if (!m_recording) return flow_control::proceed;
+        m_res.points.push_back(t, x);
+        return finished() ? flow_control::stop : flow_control::proceed;
+    }
+
+    flow_control on_impact(int surface, double t, const vec<N>& pre, const vec<N>& post)
+    {
+        ++m_impacts;
+        m_last_impact = t;
+        if (!m_recording) {
+            if (m_impacts >= m_opt.transient_impacts) {
+                m_res.transient_impacts = m_impacts;
+                begin_recording(t);
+                if (m_opt.sample_dt > 0.0) m_res.series.push_back(t, post);
+            }
+            return flow_control::proceed;
+        }
+        m_res.impacts.push_back(t, surface, pre, post);
+        if (m_opt.sample_dt > 0.0) {
+            m_res.series.push_back(t, pre);
+            m_res.series.push_back(t, post);
+        }
+        if (m_opt.section.type == section_choice::kind::impacts &&
+            (m_opt.section.index < 0 || m_opt.section.index == surface))
+            m_res.points.push_back(t, post);
+        return finished() ? flow_control::stop : flow_control::proceed;
+    }
+
+    template <class D>
+    void on_segment(const D& d, double ta, double tb, flow_mode)
+    {
+        while (m_next_sample <= tb) {
+            if (m_next_sample > ta || (m_next_sample == ta && m_res.series.empty()))
+                m_res.series.push_back(m_next_sample, d.value(m_next_sample));
+            m_next_sample = m_res.t_record_start + static_cast<double>(++m_sample_index) * m_opt.sample_dt;
+        }
+    }
+
+private:
+    void begin_recording(double t)
+    {
+        m_recording = true;
+        m_res.t_record_start = t;
+        m_sample_index = 0;
+        m_next_sample = t;
+    }
+    [[nodiscard]] bool finished() const { return static_cast<long>(m_res.points.size()) >= m_opt.record_points; }
+
+    const protocol_options& m_opt;
+    simulation& m_res;
+    bool m_recording = false;
+    bool m_done = false;
+    long m_impacts = 0;
+    double m_last_impact = 0.0;
+    double m_next_sample = 0.0;
+    long m_sample_index = 0;
+};
+
+// The flow options of a protocol run: the surfaces on, the chosen section watched.
+inline flow_options protocol_flow(const protocol_options& opt, crossing direction)
+{
+    flow_options fo = opt.flow;
+    fo.surfaces = true;
+    fo.events.clear();
+    if (opt.section.type == section_choice::kind::crossing)
+        fo.events.push_back(flow_event::section(opt.section.index, direction));
+    return fo;
+}
+
+template <template <int> class Method, engine_model Model>
+simulation run_protocol(const Model& model, const vec<Model::dim>& x0, const protocol_options& opt)
+{
+    constexpr int N = Model::dim;
+    simulation res;
+    res.points = state_series(N);
+    res.impacts = impact_series(N);
+    res.series = state_series(N);
+    const crossing dir = opt.section.type == section_choice::kind::crossing
+                             ? model.section_direction(opt.section.index)
+                             : crossing::down;
+    hybrid_flow<Model, Method> flow(model, protocol_flow(opt, dir));
+    flow.start(0.0, x0);
+    protocol_observer<N> obs(opt, res);
+    obs.set_start(0.0);
+    res.status = flow.run(obs);
+    res.final_state = flow.x();
+    res.stats = flow.stats();
+    return res;
+}
+
+}  // namespace vimpact::engine

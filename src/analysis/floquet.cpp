@@ -1,0 +1,45 @@
+#include "vimpact/analysis/floquet.hpp"
+
+#include <cmath>
+
+#include "dispatch.hpp"
+#include "vimpact/core/format.hpp"
+
+namespace vimpact {
+
+void validate(const model& m, const floquet_options& o)
+{
+    validate(o.protocol);
+    validate(m, o.protocol.section);
+    validate(o.tangent_integration);
+    if (o.protocol.section.type != section_choice::kind::crossing)
+        throw input_error("Floquet analysis needs a section crossing (one of " + m.info().section_names() +
+                          "), not the impacts");
+    if (o.protocol.record_points < 2)
+        throw input_error("Floquet analysis needs at least 2 recorded section points (got " +
+                          std::to_string(o.protocol.record_points) + ")");
+    check_period_tolerance(o.period_tolerance);
+    if (!(o.newton_tolerance > 0.0) || !std::isfinite(o.newton_tolerance))
+        throw input_error("Newton tolerance must be > 0 (got " + format_double(o.newton_tolerance) + ")");
+    if (o.newton_iterations < 0 || o.newton_iterations > 1000)
+        throw input_error("Newton iterations must be in [0, 1000] (got " + std::to_string(o.newton_iterations) + ")");
+    if (!(o.sample_dt >= 0.0) || !std::isfinite(o.sample_dt)) throw input_error("sample_dt must be >= 0 and finite");
+    if (m.dim() < 2) throw input_error("Floquet analysis needs at least 2 state variables");
+}
+
+floquet_result floquet(const model& m, const Eigen::VectorXd& x0, const floquet_options& o)
+{
+    validate(m, o);
+    check_state_size(m, x0.size(), "the initial state");
+    return detail::with_engine(m, [&](const auto& em) { return detail::run_floquet(em, x0, o, m.info()); });
+}
+
+floquet_result floquet_from_point(const model& m, const Eigen::VectorXd& x_guess, int returns, const floquet_options& o)
+{
+    validate(m, o);
+    check_state_size(m, x_guess.size(), "the orbit point");
+    if (returns < 1) throw input_error("section returns must be >= 1 (got " + std::to_string(returns) + ")");
+    return detail::with_engine(m, [&](const auto& em) { return detail::run_floquet_from_point(em, x_guess, returns, o); });
+}
+
+}  // namespace vimpact

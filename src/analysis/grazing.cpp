@@ -1,0 +1,156 @@
+#include "vimpact/analysis/grazing.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include "dispatch.hpp"
+#include "vimpact/core/format.hpp"
+
+namespace vimpact {
+
+namespace {
+
+// States to probe a model's functions at: the initial state and a few spread around it.
+std::vector<Eigen::VectorXd> probe_states(const model& m)
+{
+    std::vector<Eigen::VectorXd> out{m.initial_state()};
+    for (int k = 1; k <= 3; ++k) {
+        Eigen::VectorXd x = m.initial_state();
+        for (int j = 0; j < x.size(); ++j) x[j] += 0.1 * k * (j % 2 == 0 ? 1.0 : -1.0) + 0.013 * j;
+        out.push_back(std::move(x));
+    }
+    return out;
+}
+
+bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b)
+{
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+Eigen::VectorXd field_at(const model& m, const Eigen::VectorXd& x)
+{
+    Eigen::VectorXd f(m.dim());
+    m.table().rhs(m.context(), x.data(), f.data());
+    return f;
+}
+
+double gap_at(const model& m, int i, const Eigen::VectorXd& x) { return m.table().gap(m.context(), i, x.data()); }
+
+// The model with parameter p moved a little (within its range), or nullopt.
+std::optional<model> nudged(const model& m, int p)
+{
+    const double v = m.parameter(p);
+    const double d = 1e-3 * std::max(1.0, std::abs(v));
+    for (const double w : {v + d, v - d}) {
+        try {
+            return m.with_parameter(p, w);
+        } catch (const input_error&) {
+        }
+    }
+    return std::nullopt;
+}
+
+bool enters_field(const model& m, const model& moved, const std::vector<Eigen::VectorXd>& states)
+{
+    for (const auto& x : states)
+        if (!same_bits(field_at(m, x), field_at(moved, x))) return true;
+    return false;
+}
+
+}  // namespace
+
+void validate(const grazing_options& o)
+{
+    validate(o.integration);
+    if (o.block < 1) throw input_error("grazing block must be >= 1 minima (got " + std::to_string(o.block) + ")");
+    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
+        throw input_error("grazing tolerance must be > 0 (got " + format_double(o.tolerance) + ")");
+    if (!(o.transient_time >= 0.0) || !std::isfinite(o.transient_time))
+        throw input_error("transient time must be >= 0 and finite (got " + format_double(o.transient_time) + ")");
+    if (!(o.t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(o.t_max) + ")");
+}
+
+std::vector<int> gap_parameters(const model& m, int surface)
+{
+    std::vector<int> out;
+    const auto states = probe_states(m);
+    for (int p = 0; p < static_cast<int>(m.parameters().size()); ++p) {
+        const auto moved = nudged(m, p);
+        if (!moved || enters_field(m, *moved, states)) continue;
+        bool moves = false;
+        for (const auto& x : states) moves = moves || gap_at(m, surface, x) != gap_at(*moved, surface, x);
+        if (moves) out.push_back(p);
+    }
+    return out;
+}
+
+double grazing_parameter_value(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star)
+{
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    if (x_star.size() != m.dim() || !x_star.allFinite()) return nan;
+    // Newton's method in P on g(x*, P) = 0 with central-difference slopes: exact in one or
+    // two steps for a gap affine in P, and the slope error only slows the last digits.
+    double P = m.parameter(parameter);
+    double g = gap_at(m, surface, x_star);
+    for (int it = 0; it < 40 && g != 0.0; ++it) {
+        const double h = 1e-6 * std::max(1.0, std::abs(P));
+        double slope = nan;
+        try {
+            slope = (gap_at(m.with_parameter(parameter, P + h), surface, x_star) -
+                     gap_at(m.with_parameter(parameter, P - h), surface, x_star)) /
+                    (2.0 * h);
+        } catch (const input_error&) {
+            return nan;
+        }
+        if (!(slope != 0.0) || !std::isfinite(slope)) return nan;
+        const double next = P - g / slope;
+        double g_next = nan;
+        try {
+            g_next = gap_at(m.with_parameter(parameter, next), surface, x_star);
+        } catch (const input_error&) {
+            return nan;
+        }
+        if (next == P || std::abs(g_next) >= std::abs(g)) {
+            if (std::abs(g_next) < std::abs(g)) P = next;
+            break;
+        }
+        P = next;
+        g = g_next;
+    }
+    return P;
+}
+
+grazing_options job_grazing_options(const integrator_options& protocol_integration, double transient_time)
+{
+    grazing_options go;
+    go.integration.rtol = std::min(protocol_integration.rtol, 1e-12);
+    go.integration.atol = std::min(protocol_integration.atol, 1e-12);
+    go.transient_time = transient_time;
+    return go;
+}
+
+grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_options& o)
+{
+    validate(o);
+    check_state_size(m, x0.size(), "the initial state");
+    if (!x0.allFinite()) throw input_error("initial state must be finite");
+    if (m.surface_count() == 0) throw input_error("model " + m.name() + " has no impact surface to graze");
+    if (o.response_variable >= m.dim()) throw input_error("response variable index out of range");
+    if (o.parameter >= 0) {
+        if (o.parameter >= static_cast<int>(m.parameters().size())) throw input_error("parameter index out of range");
+        const auto& name = m.info().parameters[static_cast<std::size_t>(o.parameter)].name;
+        const auto moved = nudged(m, o.parameter);
+        if (moved && enters_field(m, *moved, probe_states(m)))
+            throw input_error("parameter " + name + " enters the vector field of model " + m.name() +
+                              ": a grazing value is a parameter that only moves a surface");
+    }
+    auto res = detail::with_engine(m, [&](const auto& em) { return detail::run_grazing(em, x0, o); });
+    if (o.parameter >= 0)
+        for (int i = 0; i < m.surface_count(); ++i) {
+            auto& s = res.surfaces[static_cast<std::size_t>(i)];
+            if (s.x.size() == m.dim()) s.parameter_value = grazing_parameter_value(m, i, o.parameter, s.x);
+        }
+    return res;
+}
+
+}  // namespace vimpact

@@ -1,0 +1,61 @@
+#include "vimpact/analysis/protocol.hpp"
+
+#include <cmath>
+
+#include "dispatch.hpp"
+#include "vimpact/core/format.hpp"
+
+namespace vimpact {
+
+std::string section_choice_name(const model& m, const section_choice& s)
+{
+    if (s.type == section_choice::kind::crossing) return m.info().sections.at(static_cast<std::size_t>(s.index)).name;
+    if (s.index < 0) return "impacts";
+    return "impacts:" + m.info().surfaces.at(static_cast<std::size_t>(s.index)).name;
+}
+
+void validate(const model& m, const section_choice& s)
+{
+    if (s.type == section_choice::kind::crossing) {
+        if (s.index < 0 || s.index >= m.section_count())
+            throw input_error(m.section_count() == 0
+                                  ? "model " + m.name() + " declares no section: use the impacts"
+                                  : "section " + std::to_string(s.index) + " does not exist (model " + m.name() +
+                                        " has " + m.info().section_names() + ")");
+    } else if (s.index >= m.surface_count()) {
+        throw input_error("surface " + std::to_string(s.index) + " does not exist (model " + m.name() + " has " +
+                          m.info().surface_names() + ")");
+    }
+}
+
+void validate(const integrator_options& in)
+{
+    if (!(in.rtol > 0.0 && in.rtol < 1.0) || !std::isfinite(in.rtol))
+        throw input_error("rtol = " + format_double(in.rtol) + " is outside its valid range (0, 1)");
+    if (!(in.atol > 0.0 && in.atol < 1.0) || !std::isfinite(in.atol))
+        throw input_error("atol = " + format_double(in.atol) + " is outside its valid range (0, 1)");
+    if (in.rtol < 1e-15) throw input_error("rtol must be >= 1e-15 (double precision cannot do better)");
+    if (in.atol < 1e-300) throw input_error("atol must be >= 1e-300");
+}
+
+void validate(const protocol_options& o)
+{
+    if (o.transient_impacts < 0)
+        throw input_error("transient must be >= 0 impacts (got " + std::to_string(o.transient_impacts) + ")");
+    if (o.record_points < 1)
+        throw input_error("record must be >= 1 section points (got " + std::to_string(o.record_points) + ")");
+    if (!(o.quiet_time > 0.0)) throw input_error("quiet_time must be > 0");
+    if (!(o.sample_dt >= 0.0) || !std::isfinite(o.sample_dt)) throw input_error("sample_dt must be >= 0 and finite");
+    if (!(o.flow.t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(o.flow.t_max) + ")");
+    validate(o.flow.integration);
+}
+
+simulation simulate(const model& m, const Eigen::VectorXd& x0, const protocol_options& o)
+{
+    validate(o);
+    validate(m, o.section);
+    check_state_size(m, x0.size(), "the initial state");
+    return detail::with_engine(m, [&](const auto& em) { return detail::run_simulate(em, x0, o); });
+}
+
+}  // namespace vimpact

@@ -1,0 +1,47 @@
+#pragma once
+// From a runtime model to the compiled engine: the one place where the library chooses, for
+// each call, which instantiation of an analysis template runs. Built-in models run on their
+// native definitions (everything inlined); model files and plugins on table_model<N> for
+// their dimension N (one indirect call per model function).
+//
+// The analyses' templates are instantiated once per engine model, each model in a source
+// file of its own (src/instances/), so that the build spreads over the cores; the analysis
+// sources call the instantiations declared in engine_instances.hpp through with_engine.
+#include <optional>
+#include <utility>
+
+#include "engine_instances.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/model/model.hpp"
+
+namespace vimpact::detail {
+
+using model_dimensions = std::integer_sequence<int, VIMPACT_MODEL_DIMS>;
+
+template <class F, int First, int... Rest>
+auto with_table_dimension(std::integer_sequence<int, First, Rest...>, int dim, F&& f)
+{
+    using R = decltype(f.template operator()<First>());
+    std::optional<R> r;
+    ((dim == First ? (r.emplace(f.template operator()<First>()), true) : false) ||
+     ... || (dim == Rest ? (r.emplace(f.template operator()<Rest>()), true) : false));
+    if (!r) check_engine_dimension(dim, "model " + std::to_string(dim));
+    return std::move(*r);
+}
+
+// Calls f(engine_model) with the engine model of `m`; every call must return the same type.
+template <class F>
+auto with_engine(const model& m, F&& f)
+{
+    switch (m.native()) {
+        case native_kind::wake_impact: return f(native_model<wake_impact>(m.parameters()));
+        case native_kind::forced_impact_oscillator: return f(native_model<forced_impact_oscillator>(m.parameters()));
+        case native_kind::two_sided_impact_oscillator:
+            return f(native_model<two_sided_impact_oscillator>(m.parameters()));
+        case native_kind::none: break;
+    }
+    return with_table_dimension(model_dimensions{}, m.dim(),
+                                [&]<int N>() { return f(table_model<N>(m.table(), m.context())); });
+}
+
+}  // namespace vimpact::detail

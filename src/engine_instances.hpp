@@ -1,0 +1,29 @@
+#pragma once
+// The analyses on one engine model: declared here, defined in engine_instances.ipp, and
+// instantiated for every engine model in src/instances/ (one source file per model).
+#include <Eigen/Core>
+
+#include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/model/builtin/forced_impact_oscillator.hpp"
+#include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
+#include "vimpact/model/builtin/wake_impact.hpp"
+#include "vimpact/model/native_model.hpp"
+#include "vimpact/model/table_model.hpp"
+
+namespace vimpact::detail {
+
+template <class EM>
+simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_options& o);
+
+template <class EM>
+grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazing_options& o);
+
+template <class EM>
+floquet_result run_floquet(const EM& em, const Eigen::VectorXd& x0, const floquet_options& o, const model_info& info);
+
+template <class EM>
+floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, int returns, const floquet_options& o);
+
+}  // namespace vimpact::detail

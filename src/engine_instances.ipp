@@ -1,0 +1,69 @@
+// The definitions of engine_instances.hpp: included by the source files of src/instances/,
+// each of which instantiates them for one engine model with VIMPACT_INSTANTIATE_ENGINE.
+#include "engine_instances.hpp"
+#include "vimpact/engine/floquet.hpp"
+#include "vimpact/engine/grazing.hpp"
+#include "vimpact/engine/protocol.hpp"
+#include "vimpact/integrate/runge_kutta.hpp"
+
+namespace vimpact::detail {
+
+// f.template operator()<Method>() for the chosen integrator.
+template <class F>
+auto with_method(integration_method m, F&& f)
+{
+    if (m == integration_method::dopri5) return f.template operator()<dopri5>();
+    return f.template operator()<dop853>();
+}
+
+template <int N>
+vec<N> fixed(const Eigen::VectorXd& x)
+{
+    return x.head<N>();
+}
+
+template <class EM>
+simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_options& o)
+{
+    return with_method(o.method, [&]<template <int> class M>() { return engine::run_protocol<M>(em, fixed<EM::dim>(x0), o); });
+}
+
+template <class EM>
+grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazing_options& o)
+{
+    return with_method(o.method, [&]<template <int> class M>() { return engine::run_grazing<M>(em, fixed<EM::dim>(x0), o); });
+}
+
+// The tangent flows always integrate with DOP853: at the tolerances they need (1e-12) a
+// fifth-order pair takes several times the steps, and one instantiation of the large tangent
+// systems per model keeps the library's build time in bounds. The method chosen by the caller
+// integrates the protocol's runs.
+template <class EM>
+floquet_result run_floquet(const EM& em, const Eigen::VectorXd& x0, const floquet_options& o, const model_info& info)
+{
+    if constexpr (EM::dim < 2) return floquet_result{};
+    else {
+        // The protocol with the caller's method, then the tangent runs.
+        const simulation pr = run_simulate(em, x0, o.protocol);
+        return engine::floquet_after_protocol<dop853>(em, pr, o, info);
+    }
+}
+
+template <class EM>
+floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, int returns, const floquet_options& o)
+{
+    if constexpr (EM::dim < 2) return floquet_result{};
+    else return engine::floquet_from_point<dop853>(em, fixed<EM::dim>(x), returns, o);
+}
+
+}  // namespace vimpact::detail
+
+#define VIMPACT_INSTANTIATE_ENGINE(EM)                                                                           \
+    template vimpact::simulation vimpact::detail::run_simulate<EM>(const EM&, const Eigen::VectorXd&,            \
+                                                                    const vimpact::protocol_options&);           \
+    template vimpact::grazing_result vimpact::detail::run_grazing<EM>(const EM&, const Eigen::VectorXd&,         \
+                                                                       const vimpact::grazing_options&);         \
+    template vimpact::floquet_result vimpact::detail::run_floquet<EM>(                                           \
+        const EM&, const Eigen::VectorXd&, const vimpact::floquet_options&, const vimpact::model_info&);         \
+    template vimpact::floquet_result vimpact::detail::run_floquet_from_point<EM>(                                \
+        const EM&, const Eigen::VectorXd&, int, const vimpact::floquet_options&);

@@ -1,0 +1,4 @@
+// Every analysis on the built-in model two_sided_impact_oscillator, compiled natively (see src/dispatch.hpp).
+#include "engine_instances.ipp"
+
+VIMPACT_INSTANTIATE_ENGINE(vimpact::native_model<vimpact::two_sided_impact_oscillator>)
