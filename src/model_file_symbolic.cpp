@@ -72,7 +72,7 @@ struct function_spec {
     std::string_view name;
     std::size_t arity;
 };
-// The functions an expression may call; abs becomes vimpact_abs after parsing.
+// The functions an expression may call (abs is read as vimpact_abs).
 constexpr std::array<function_spec, 14> functions{{
     {"sin", 1}, {"cos", 1}, {"tan", 1}, {"asin", 1}, {"acos", 1}, {"atan", 1}, {"sinh", 1},
     {"cosh", 1}, {"tanh", 1}, {"exp", 1}, {"log", 1}, {"sqrt", 1}, {"abs", 1}, {"pow", 2},
@@ -111,7 +111,6 @@ void csgn_print_c(const ex& a, const GiNaC::print_context& c)
     a.print(c);
     c.s << ")";
 }
-
 
 // The shortest decimal that reads back as the double nearest to the exact value.
 std::string c_number(double v)

@@ -428,6 +428,26 @@ z = "pi/3"
     EXPECT_TRUE(found);
 }
 
+TEST(ModelFile, ExpressionsFollowTheUsualPrecedence)
+{
+    const std::string text = R"toml(
+name = "precedence"
+state = ["x", "y", "z"]
+[parameters]
+[derivatives]
+x = "x^-2 + y"
+y = "x - -y + z"
+z = "2*-x + y - x/-y + z - -x^2 + 2^3*x**2 - 2^-1"
+)toml";
+    const model m = model::from_toml(text, "precedence.toml");
+    const table_model<3> t(m.table(), m.context());
+    const double x = 2.0, y = 3.0, z = 5.0;
+    const vec<3> f = t.rhs(vec<3>(x, y, z));
+    EXPECT_TRUE(close(f[0], 1.0 / (x * x) + y, 1e-15));
+    EXPECT_TRUE(close(f[1], x + y + z, 1e-15));
+    EXPECT_TRUE(close(f[2], -2.0 * x + y + x / y + z + x * x + 8.0 * x * x - 0.5, 1e-15));
+}
+
 // ---- (c) bad files: one input_error naming the key
 
 TEST(ModelFile, SyntaxErrorNamesTheLine)
@@ -821,6 +841,10 @@ TEST(ModelFile, JsonDescriptionEqualsTheTomlFile)
         EXPECT_EQ(a.gap(1, x), b.gap(1, x));
         EXPECT_EQ(a.section_gradient(0, x), b.section_gradient(0, x));
     }
+    // A .json file loads like a .toml file.
+    const fs::path file = cache_environment::dir / "two_sided.json";
+    std::ofstream(file) << json.dump(2);
+    EXPECT_EQ(load_model_code(file)->info.identity, from_toml.info().identity);
     EXPECT_EQ(error_of("name = 3"), "model file bad.toml: name: expected a string, got a number");
     try {
         (void)compile_model_json(nlohmann::ordered_json::array(), "<dict>");

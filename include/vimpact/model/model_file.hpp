@@ -2,7 +2,8 @@
 // Loading models from files: a model file (TOML: equations as expressions, differentiated
 // symbolically with GiNaC and compiled to native code with the machine's C++ compiler, once,
 // cached by content hash) or a shared library that exports vimpact_model()
-// (model/export.hpp). docs/own-model.md describes the file format.
+// (model/export.hpp). docs/model-files.md describes the file format; the same description
+// as JSON (a .json file, or Python's dict) takes the same path.
 //
 // The cache directory is $VIMPACT_CACHE_DIR, else $XDG_CACHE_HOME/vimpact, else
 // ~/.cache/vimpact; the compiler is $CXX, else c++. Every problem with a file is an
@@ -17,7 +18,7 @@
 
 namespace vimpact {
 
-// A .toml model file or a shared library (.so), by extension.
+// A .toml (or .json) model file, or a shared library (.so, or any ELF file).
 std::shared_ptr<const model_code> load_model_code(const std::filesystem::path& path);
 
 // The text of a model file; `source` names it in messages.
