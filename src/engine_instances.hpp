@@ -5,6 +5,7 @@
 
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
+#include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/model/builtin/forced_impact_oscillator.hpp"
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
@@ -25,5 +26,8 @@ floquet_result run_floquet(const EM& em, const Eigen::VectorXd& x0, const floque
 
 template <class EM>
 floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, int returns, const floquet_options& o);
+
+template <class EM>
+lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyapunov_options& o);
 
 }  // namespace vimpact::detail

@@ -3,6 +3,7 @@
 #include "engine_instances.hpp"
 #include "vimpact/engine/floquet.hpp"
 #include "vimpact/engine/grazing.hpp"
+#include "vimpact/engine/lyapunov.hpp"
 #include "vimpact/engine/protocol.hpp"
 #include "vimpact/integrate/runge_kutta.hpp"
 
@@ -56,6 +57,13 @@ floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, in
     else return engine::floquet_from_point<dop853>(em, fixed<EM::dim>(x), returns, o);
 }
 
+template <class EM>
+lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyapunov_options& o)
+{
+    const simulation pr = run_simulate(em, x0, engine::lyapunov_transient(o, em.section_count() > 0));
+    return with_method(o.method, [&]<template <int> class M>() { return engine::lyapunov_after_transient<M>(em, pr, o); });
+}
+
 }  // namespace vimpact::detail
 
 #define VIMPACT_INSTANTIATE_ENGINE(EM)                                                                           \
@@ -66,4 +74,6 @@ floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, in
     template vimpact::floquet_result vimpact::detail::run_floquet<EM>(                                           \
         const EM&, const Eigen::VectorXd&, const vimpact::floquet_options&, const vimpact::model_info&);         \
     template vimpact::floquet_result vimpact::detail::run_floquet_from_point<EM>(                                \
-        const EM&, const Eigen::VectorXd&, int, const vimpact::floquet_options&);
+        const EM&, const Eigen::VectorXd&, int, const vimpact::floquet_options&);                                 \
+    template vimpact::lyapunov_result vimpact::detail::run_lyapunov<EM>(const EM&, const Eigen::VectorXd&,       \
+                                                                         const vimpact::lyapunov_options&);

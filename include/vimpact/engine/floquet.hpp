@@ -81,7 +81,7 @@ floquet_result floquet_from_point(const Model& model, const vec<Model::dim>& x_g
     res.initial_closure = orb.initial_closure;
     res.closure = orb.closure;
     res.newton_iterations = orb.iterations;
-    res.orbit_point = orb.x;
+    res.orbit_point = to_dynamic(orb.x);
     res.map_evaluations = orb.map_evaluations;
     res.tangent_stats = orb.map.stats;
     if (orb.status != outcome::ok && orb.status != outcome::not_converged) {
@@ -105,7 +105,7 @@ floquet_result floquet_from_point(const Model& model, const vec<Model::dim>& x_g
     res.impacts_per_period = map.impacts;
     res.impacts_by_surface.assign(static_cast<std::size_t>(model.surface_count()), 0);
     for (const int s : map.impact_list.surface) ++res.impacts_by_surface[static_cast<std::size_t>(s)];
-    res.monodromy = map.monodromy;
+    res.monodromy = to_dynamic(map.monodromy);
     res.divergence_integral = map.divergence_integral;
     res.log_det_jumps = map.log_det_jumps;
     res.det_monodromy = map.monodromy.determinant();

@@ -65,7 +65,7 @@ struct grazing_observer : flow_observer {
         s.change = std::abs(b.min - b.previous);
         s.margin = b.min;
         s.t = b.t;
-        s.x = b.x;
+        s.x = to_dynamic(b.x);
         b.previous = b.min;
         b.min = std::numeric_limits<double>::infinity();
         b.count = 0;

@@ -124,7 +124,7 @@ simulation run_protocol(const Model& model, const vec<Model::dim>& x0, const pro
     protocol_observer<N> obs(opt, res);
     obs.set_start(0.0);
     res.status = flow.run(obs);
-    res.final_state = flow.x();
+    res.final_state = to_dynamic(flow.x());
     res.stats = flow.stats();
     return res;
 }

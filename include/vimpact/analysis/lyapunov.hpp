@@ -1,0 +1,99 @@
+#pragma once
+// The Lyapunov spectrum of an orbit with impacts (the paper's Algorithm 2, Eq. 13).
+//
+// After a transient of impacts (state only), N deviation vectors of size r0 are carried along
+// the reference orbit. Every t0 they are re-orthonormalised by a QR decomposition, rescaled
+// to r0, and ln(R_ii / r0) is accumulated; after `warmup_intervals` intervals (not counted,
+// so the vectors align with the Lyapunov directions) the averages over the following impacts
+// (or time) are the exponents, sorted in descending order.
+//
+// How deviations cross an impact (`tdm`):
+//  - saltation:    the tangent (variational) flow with Y -> S Y at each impact (first order,
+//                  exact for infinitesimal deviations: the textbook Lyapunov spectrum);
+//  - second_order: the tangent flow between impacts, the second-order mapping
+//                  (tangent/impact_jump.hpp) applied to each finite deviation (size about r0)
+//                  at each impact;
+//  - trajectory:   Benettin's two-trajectory method: each x + y_i is integrated as a real
+//                  orbit with its own impacts, y_i = x_i - x at the end of each interval.
+// The sum of the exponents satisfies  sum = <div F> + (1/T) sum_impacts ln|det S|: reported as
+// `sum_rule` (tangent modes only: the trajectory mode does not integrate div F).
+// The tangent flows integrate with DOP853 whatever protocol.method (which integrates the
+// transient and the trajectory mode's orbits).
+#include <limits>
+#include <numbers>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/analysis/protocol.hpp"
+
+namespace vimpact {
+
+enum class lyapunov_tdm { saltation, second_order, trajectory };
+
+constexpr std::string_view to_string(lyapunov_tdm t)
+{
+    switch (t) {
+        case lyapunov_tdm::saltation: return "saltation";
+        case lyapunov_tdm::second_order: return "second-order";
+        case lyapunov_tdm::trajectory: return "trajectory";
+    }
+    return "unknown";
+}
+
+struct lyapunov_options {
+    long transient_impacts = 500;
+    double quiet_time = 2000.0;       // the protocol's P0 rule during the transient
+    flow_options flow{.t_max = 1e6};  // integration; t_max bounds the transient
+    integration_method method = integration_method::dop853;
+    lyapunov_tdm tdm = lyapunov_tdm::saltation;
+    double r0 = 1e-4;                 // size of the deviation vectors
+    double t0 = std::numbers::pi;     // re-orthonormalisation interval
+    long warmup_intervals = 16;       // intervals not counted
+    long impacts = 800;               // average over this many impacts of the reference ...
+    double time = 0.0;                // ... or, if > 0, over this much time
+    double p0_time = 1e4;             // averaging time of an orbit without impacts (P0)
+    double max_time = 1e6;            // averaging time limit (outcome time_limit)
+    // Integrate div F with the tangent (sum_rule); without it the tangent flow is about a
+    // third cheaper (28 -> 20 integrated components for the paper's model).
+    bool divergence = true;
+    // > 0: also record this many points of the section (a crossing) of the reference orbit in
+    // the averaging window: the bifurcation diagram under an exponent sweep.
+    long record_points = 0;
+    int section = 0;
+};
+
+struct lyapunov_result {
+    // ok, time_limit (averaging cut by max_time; exponents given), sticking, or a failed run's.
+    outcome status = outcome::ok;
+    lyapunov_tdm tdm = lyapunov_tdm::saltation;
+    bool impacting = true;            // false: no impact during the transient's quiet time
+    Eigen::VectorXd exponents;        // descending (NaN when none)
+    double lle_standard_error = std::numeric_limits<double>::quiet_NaN();  // from 8 block means
+    double t_start = 0.0;             // start of the averaging window
+    double time = 0.0;                // length of the averaging window
+    long impacts = 0;                 // impacts of the reference in the window
+    std::vector<long> impacts_by_surface;
+    long intervals = 0;               // counted intervals
+    double divergence_average = std::numeric_limits<double>::quiet_NaN();
+    double jump_log_det_rate = std::numeric_limits<double>::quiet_NaN();  // sum ln|det S| / time
+    double sum_rule = std::numeric_limits<double>::quiet_NaN();           // the two added
+    // second_order: deviations whose flight-time quadratic has no real root (they miss the
+    // surface to second order); trajectory: perturbed orbits whose impact count in an interval
+    // differs from the reference's.
+    long misses = 0;
+    std::vector<double> history_t;          // end of each counted interval
+    std::vector<Eigen::VectorXd> history;   // ln(R_ii / r0) of each counted interval (QR order)
+    state_series section_points;            // record_points points of the window
+    run_stats transient_stats;
+    run_stats stats;                        // summed over the interval runs (all orbits)
+
+    [[nodiscard]] bool has_exponents() const { return status == outcome::ok || status == outcome::time_limit; }
+};
+
+void validate(const model& m, const lyapunov_options& o);
+
+lyapunov_result lyapunov(const model& m, const Eigen::VectorXd& x0, const lyapunov_options& o);
+
+}  // namespace vimpact
