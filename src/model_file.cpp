@@ -52,8 +52,9 @@
 // ---- What happens
 //
 // 1. TOML -> nlohmann::ordered_json (toml++ iterates tables sorted by key; the keys are put
-//    back in the order of their position in the text, because the order of parameters and
-//    state variables is their index). compile_model_json is the one path from there.
+//    back in the order of their position in the text, because the order of parameters is
+//    their index). compile_model_json is the one path from there; it also serves .json
+//    files and Python's dicts.
 // 2. describe() checks keys, types, names and ranges (model_file_describe.cpp).
 // 3. generate_source() reads the expressions with GiNaC, differentiates them symbolically
 //    (Jacobian, second derivatives as bilinear forms, divergence, gap gradients and

@@ -272,7 +272,8 @@ loaded_library compile_cached(const std::string& source, const std::string& mode
     for (const auto& f : compile_flags()) h = fnv1a(f + "\n", h);
     h = fnv1a(cpu_identity() + "\n", h);
     h = fnv1a(source, h);
-    const std::string stem = model_name + "-" + hex64(h);
+    // The name only helps a reader of the directory; kept short for the file-name limit.
+    const std::string stem = model_name.substr(0, 64) + "-" + hex64(h);
     const fs::path so = dir / (stem + ".so");
     const fs::path cpp = dir / (stem + ".cpp");
     std::error_code ec;
