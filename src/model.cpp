@@ -246,6 +246,20 @@ void check_engine_dimension(int dim, std::string_view what)
                       " (configure with -DVIMPACT_MODEL_DIMS=... to add others)");
 }
 
+int violated_surface(const model& m, const Eigen::VectorXd& x)
+{
+    const auto& t = m.table();
+    Eigen::VectorXd f(m.dim()), n(m.dim());
+    t.rhs(m.context(), x.data(), f.data());
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const double g = t.gap(m.context(), i, x.data());
+        if (g > 0.0) continue;
+        t.gap_gradient(m.context(), i, x.data(), n.data());
+        if (g < 0.0 || n.dot(f) < 0.0) return i;
+    }
+    return -1;
+}
+
 void check_state_size(const model& m, Eigen::Index size, std::string_view what)
 {
     if (size != m.dim())

@@ -129,21 +129,25 @@ grazing_options job_grazing_options(const integrator_options& protocol_integrati
     return go;
 }
 
-grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_options& o)
+void validate(const model& m, const grazing_options& o)
 {
     validate(o);
-    check_state_size(m, x0.size(), "the initial state");
-    if (!x0.allFinite()) throw input_error("initial state must be finite");
     if (m.surface_count() == 0) throw input_error("model " + m.name() + " has no impact surface to graze");
     if (o.response_variable >= m.dim()) throw input_error("response variable index out of range");
-    if (o.parameter >= 0) {
-        if (o.parameter >= static_cast<int>(m.parameters().size())) throw input_error("parameter index out of range");
-        const auto& name = m.info().parameters[static_cast<std::size_t>(o.parameter)].name;
-        const auto moved = nudged(m, o.parameter);
-        if (moved && enters_field(m, *moved, probe_states(m)))
-            throw input_error("parameter " + name + " enters the vector field of model " + m.name() +
-                              ": a grazing value is a parameter that only moves a surface");
-    }
+    if (o.parameter < 0) return;
+    if (o.parameter >= static_cast<int>(m.parameters().size())) throw input_error("parameter index out of range");
+    const auto& name = m.info().parameters[static_cast<std::size_t>(o.parameter)].name;
+    const auto moved = nudged(m, o.parameter);
+    if (moved && enters_field(m, *moved, probe_states(m)))
+        throw input_error("parameter " + name + " enters the vector field of model " + m.name() +
+                          ": a grazing value is one of a parameter that only moves a surface");
+}
+
+grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_options& o)
+{
+    validate(m, o);
+    check_state_size(m, x0.size(), "the initial state");
+    if (!x0.allFinite()) throw input_error("initial state must be finite");
     auto res = detail::with_engine(m, [&](const auto& em) { return detail::run_grazing(em, x0, o); });
     if (o.parameter >= 0)
         for (int i = 0; i < m.surface_count(); ++i) {
@@ -151,6 +155,12 @@ grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_
             if (s.x.size() == m.dim()) s.parameter_value = grazing_parameter_value(m, i, o.parameter, s.x);
         }
     return res;
+}
+
+bool parameter_enters_field(const model& m, int parameter)
+{
+    const auto moved = nudged(m, parameter);
+    return moved && enters_field(m, *moved, probe_states(m));
 }
 
 }  // namespace vimpact

@@ -59,6 +59,8 @@ struct grazing_result {
 };
 
 void validate(const grazing_options& o);
+// Also: the model has a surface, the parameter moves one without entering the vector field.
+void validate(const model& m, const grazing_options& o);
 
 // Throws input_error for bad options, or a parameter that enters the vector field or does not
 // move any surface.
@@ -67,6 +69,10 @@ grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_
 // The parameters that move surface i without entering the vector field: the candidates for a
 // grazing value (sigma for the paper's barrier, d for the two stops).
 std::vector<int> gap_parameters(const model& m, int surface);
+
+// Whether changing the parameter changes the vector field (probed at a few states around the
+// model's initial state; a parameter that only moves surfaces does not).
+bool parameter_enters_field(const model& m, int parameter);
 
 // P_graze of surface i at the state x*: the value of `parameter` with g_i(x*, P) = 0 (NaN if
 // the surface does not depend on it or the root leaves the parameter's range).

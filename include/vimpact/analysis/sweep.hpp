@@ -1,55 +1,71 @@
 #pragma once
-// One point of a sweep, map or basin: the paper's protocol from an initial state, then the
-// period classification of its section points. Also the grid of parameter values and the
-// hand-over of a final state to the next point of a branch-following sweep.
-#include <cmath>
-#include <string>
+// Bifurcation diagrams: the protocol and its period label at every value of one parameter.
+//
+// Starts: fixed (every point from the same initial state, the paper's way) or followed (each
+// point from the final state of the previous one, continue_from below, so that a branch is
+// followed up and down; with direction both, the two branches run in parallel). Optionally the
+// grazing value of a parameter that moves the surfaces, per surface, at every point.
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/jobs/job_options.hpp"
 
 namespace vimpact {
 
-template <int N>
-struct classified_run {
-    protocol_result<N> run;
-    period_label label;
+enum class sweep_direction { up, down, both };
+
+constexpr std::string_view to_string(sweep_direction d)
+{
+    switch (d) {
+        case sweep_direction::up: return "up";
+        case sweep_direction::down: return "down";
+        case sweep_direction::both: return "both";
+    }
+    return "unknown";
+}
+
+struct sweep_options {
+    int parameter = 0;
+    std::vector<double> values;
+    Eigen::VectorXd initial_state;  // empty: the model's
+    bool follow = false;            // false: fixed starts
+    sweep_direction direction = sweep_direction::up;  // both: needs follow
+    protocol_options protocol{};
+    double period_tolerance = default_period_tolerance;
+    int grazing_parameter = -1;     // >= 0: its grazing value per surface at every point
 };
 
-template <template <int> class Method = dop853, sticking_model Model>
-classified_run<Model::dim> run_and_classify(const Model& model, const vec<Model::dim>& x0,
-                                            const protocol_options& opt, double period_tol)
-{
-    classified_run<Model::dim> out{run_protocol<Method>(model, x0, opt), {}};
-    out.label = classify_period(model, out.run, period_tol);
-    return out;
-}
+struct sweep_point {
+    int branch = 0;                 // 0 up, 1 down
+    double value = 0.0;
+    period_label label;
+    outcome status = outcome::ok;
+    state_series points;            // the recorded section points
+    Eigen::VectorXd final_state;
+    std::vector<double> grazing;    // per surface (grazing_parameter >= 0), NaN where none
+    run_stats stats;
+};
+
+struct sweep_result {
+    std::vector<sweep_point> points;  // job order: up then down branch interleaved when both
+    job_report jobs;
+};
+
+// Throws input_error for bad options or an inadmissible start.
+sweep_result sweep(const model& m, const sweep_options& o, const job_options& j = {});
 
 // n values from a to b inclusive, evenly spaced (n = 1: a). Computed as a + i (b - a)/(n - 1)
-// so every value depends only on (a, b, n, i), never on accumulated rounding.
-inline std::vector<double> grid_values(double a, double b, long n)
-{
-    if (n < 1) throw input_error("a range needs n >= 1 points (got " + std::to_string(n) + ")");
-    if (!std::isfinite(a) || !std::isfinite(b)) throw input_error("range ends must be finite");
-    std::vector<double> v(static_cast<std::size_t>(n));
-    for (long i = 0; i < n; ++i)
-        v[static_cast<std::size_t>(i)] = n == 1 ? a : (i == n - 1 ? b : a + static_cast<double>(i) * (b - a) / static_cast<double>(n - 1));
-    return v;
-}
+// so every value depends only on (a, b, n, i), never on accumulated rounding; the last is b.
+// n is limited to 1e8 (more points than any run can use).
+std::vector<double> grid_values(double a, double b, long n);
 
-// The final state of one sweep point as the start of the next: unchanged when admissible for
-// the next point's barrier; otherwise (the barrier moved above it) placed on the barrier with
-// its velocity pointing away, so the orbit continues as closely as the new barrier allows.
-template <sticking_model Model>
-vec<Model::dim> continue_from(const Model& next, vec<Model::dim> x)
-{
-    constexpr int p = Model::position, v = Model::velocity;
-    if (next.guard(x) < 0.0 || (next.guard(x) == 0.0 && x[v] < 0.0)) {
-        x[p] = x[p] - next.guard(x);  // onto the barrier (guard is position - barrier)
-        x[v] = std::abs(x[v]);
-    }
-    return x;
-}
+// The final state of one point as the start of the next: unchanged when admissible for the
+// next point's surfaces; otherwise put on the surface it violates (a Newton projection along
+// the gap's gradient) and, if it moves into it, mapped by that surface's reset (an impact),
+// so the orbit continues as closely as the moved surface allows.
+Eigen::VectorXd continue_from(const model& next, const Eigen::VectorXd& x);
 
 }  // namespace vimpact

@@ -75,9 +75,14 @@ inline void validate(const shard_spec& s)
                           " is invalid (need 0 <= i < n, n >= 1)");
 }
 
+// The most worker threads any analysis starts.
+inline constexpr int max_threads = 1024;
+
 inline int resolve_threads(int requested)
 {
-    if (requested < 0) throw input_error("threads must be >= 1 (or 0 for all cores)");
+    if (requested < 0 || requested > max_threads)
+        throw input_error("threads = " + std::to_string(requested) + " is outside its valid range [0, " +
+                          std::to_string(max_threads) + "] (0: every core)");
     if (requested > 0) return requested;
     const unsigned hw = std::thread::hardware_concurrency();
     return hw == 0 ? 1 : static_cast<int>(hw);

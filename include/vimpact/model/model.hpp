@@ -92,6 +92,10 @@ private:
 const std::vector<int>& engine_dimensions();
 void check_engine_dimension(int dim, std::string_view what);
 
+// The first surface a state lies beyond (gap < 0, or 0 and decreasing), -1 if none: a state
+// is admissible when none.
+int violated_surface(const model& m, const Eigen::VectorXd& x);
+
 // The message for a state of the wrong size: "<what> needs 4 numbers (y, ydot, x, xdot), got 3".
 void check_state_size(const model& m, Eigen::Index size, std::string_view what);
 

@@ -1,0 +1,47 @@
+#pragma once
+// Basins of attraction: the protocol from every initial state of a grid over two state
+// variables (the others from a base state), the attractor each start reaches identified by
+// its section points (analysis/attractor.hpp). A cell whose start lies beyond a surface is
+// "inadmissible" (attractor -1).
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/analysis/attractor.hpp"
+#include "vimpact/analysis/period.hpp"
+#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/jobs/job_options.hpp"
+
+namespace vimpact {
+
+struct basins_options {
+    int x_state = 0, y_state = 1;   // the state variables on the axes
+    std::vector<double> x_values, y_values;
+    Eigen::VectorXd initial_state;  // the other components; empty: the model's
+    protocol_options protocol{};
+    double period_tolerance = default_period_tolerance;
+    attractor_match_options match{};
+};
+
+struct basin_cell {
+    bool admissible = false;
+    period_label label;             // "inadmissible" when not admissible
+    outcome status = outcome::ok;
+    long steps = 0;
+    attractor_signature signature;
+    int attractor = -1;
+};
+
+struct basins_result {
+    std::vector<basin_cell> cells;  // job order: cell (ix, iy) is job ix + nx iy
+    std::vector<attractor_catalogue::entry> attractors;  // ids in order of first appearance
+    job_report jobs;
+};
+
+basins_result basins(const model& m, const basins_options& o, const job_options& j = {});
+
+// The attractor signature of a run: label, cycle or bounding box of its section points, in
+// coordinates where phases are (cos, sin) pairs scaled by period / 2 pi (analysis/attractor.hpp).
+attractor_signature signature_of(const model& m, const simulation& run, const period_label& label);
+
+}  // namespace vimpact

@@ -1,0 +1,46 @@
+#pragma once
+// Periodicity maps: the period label over a grid of two parameters, every cell from the same
+// initial state; optionally the grazing line of a parameter that moves the surfaces (one of
+// the axes) as a function of the other axis.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/analysis/period.hpp"
+#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/jobs/job_options.hpp"
+
+namespace vimpact {
+
+struct map_axis {
+    int parameter = 0;
+    std::vector<double> values;
+};
+
+struct map_options {
+    map_axis x, y;
+    Eigen::VectorXd initial_state;  // empty: the model's
+    protocol_options protocol{};
+    double period_tolerance = default_period_tolerance;
+    bool grazing = false;  // the grazing line: the axis parameter that moves the surfaces against the other
+};
+
+struct map_cell {
+    period_label label;
+    outcome status = outcome::ok;
+    long steps = 0;
+};
+
+struct map_result {
+    std::vector<map_cell> cells;  // job order: cell (ix, iy) is job ix + nx iy
+    // The grazing line: for each value of the other axis, the grazing value of the axis
+    // parameter per surface (NaN where none).
+    int grazing_axis = -1;        // 0: x is the grazing parameter, 1: y
+    std::vector<double> grazing_other;
+    std::vector<std::vector<double>> grazing_values;
+    job_report jobs;
+};
+
+map_result map2d(const model& m, const map_options& o, const job_options& j = {});
+
+}  // namespace vimpact

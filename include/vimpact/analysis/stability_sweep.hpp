@@ -1,0 +1,52 @@
+#pragma once
+// Floquet multipliers and Lyapunov exponents over a range of one parameter (the paper's
+// Figures 14-17), one analysis per value from the same initial state, through the job loop.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/jobs/job_options.hpp"
+
+namespace vimpact {
+
+struct floquet_sweep_options {
+    int parameter = 0;
+    std::vector<double> values;
+    Eigen::VectorXd initial_state;  // empty: the model's
+    floquet_options floquet{};
+};
+
+struct floquet_sweep_point {
+    double value = 0.0;
+    floquet_result result;  // without the orbit samples
+};
+
+struct floquet_sweep_result {
+    std::vector<floquet_sweep_point> points;
+    job_report jobs;
+};
+
+floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& o, const job_options& j = {});
+
+struct lyapunov_sweep_options {
+    int parameter = 0;
+    std::vector<double> values;
+    Eigen::VectorXd initial_state;  // empty: the model's
+    lyapunov_options lyapunov{};
+};
+
+struct lyapunov_sweep_point {
+    double value = 0.0;
+    lyapunov_result result;  // without the interval history
+};
+
+struct lyapunov_sweep_result {
+    std::vector<lyapunov_sweep_point> points;
+    job_report jobs;
+};
+
+lyapunov_sweep_result lyapunov_sweep(const model& m, const lyapunov_sweep_options& o, const job_options& j = {});
+
+}  // namespace vimpact

@@ -1,0 +1,130 @@
+#include "vimpact/analysis/basins.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "io/json_codec.hpp"
+#include "jobs/journal.hpp"
+
+namespace vimpact {
+
+namespace {
+
+using detail::json;
+
+json encode(const basin_cell& c)
+{
+    json cycle = json::array();
+    for (const auto& p : c.signature.cycle) cycle.push_back(detail::vector_json(p));
+    return {{"admissible", c.admissible},
+            {"label", detail::to_json(c.label)},
+            {"status", std::string(to_string(c.status))},
+            {"steps", c.steps},
+            {"signature", {{"label", c.signature.label},
+                           {"period", c.signature.period},
+                           {"cycle", cycle},
+                           {"lo", detail::vector_json(c.signature.lo)},
+                           {"hi", detail::vector_json(c.signature.hi)}}}};
+}
+
+basin_cell decode(const json& j)
+{
+    basin_cell c;
+    c.admissible = j.at("admissible").get<bool>();
+    c.label = detail::label_from(j.at("label"));
+    c.status = detail::outcome_from(j.at("status"));
+    c.steps = j.at("steps").get<long>();
+    const auto& s = j.at("signature");
+    c.signature.label = s.at("label").get<std::string>();
+    c.signature.period = s.at("period").get<int>();
+    for (const auto& p : s.at("cycle")) c.signature.cycle.push_back(detail::vector_from(p));
+    c.signature.lo = detail::vector_from(s.at("lo"));
+    c.signature.hi = detail::vector_from(s.at("hi"));
+    return c;
+}
+
+}  // namespace
+
+attractor_signature signature_of(const model& m, const simulation& run, const period_label& label)
+{
+    // Phases as (cos, sin) scaled by period / 2 pi: states a period apart coincide, and small
+    // differences keep their size in the phase's own unit.
+    const auto& state = m.info().state;
+    std::vector<Eigen::VectorXd> coords;
+    coords.reserve(run.points.size());
+    for (std::size_t i = 0; i < run.points.size(); ++i) {
+        std::vector<double> v;
+        for (std::size_t k = 0; k < state.size(); ++k) {
+            const double x = run.points.x(i, static_cast<int>(k));
+            const double p = state[k].period;
+            if (p > 0.0) {
+                const double s = p / (2.0 * std::numbers::pi);
+                v.push_back(s * std::cos(x / s));
+                v.push_back(s * std::sin(x / s));
+            } else {
+                v.push_back(x);
+            }
+        }
+        coords.emplace_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+    }
+    return make_signature(label.label, label.period, coords);
+}
+
+basins_result basins(const model& m, const basins_options& o, const job_options& j)
+{
+    validate(o.protocol);
+    validate(m, o.protocol.section);
+    check_period_tolerance(o.period_tolerance);
+    if (!(o.match.tolerance > 0.0)) throw input_error("the attractor match tolerance must be > 0");
+    if (o.x_state < 0 || o.x_state >= m.dim() || o.y_state < 0 || o.y_state >= m.dim())
+        throw input_error("basin axis state index out of range");
+    if (o.x_state == o.y_state)
+        throw input_error("the basin axes must be different state variables (both are " +
+                          m.info().state[static_cast<std::size_t>(o.x_state)].name + ")");
+    if (o.x_values.empty() || o.y_values.empty()) throw input_error("a basin axis needs at least one value");
+    for (const auto* axis : {&o.x_values, &o.y_values})
+        for (const double v : *axis)
+            if (!std::isfinite(v)) throw input_error("basin axis values must be finite");
+    const Eigen::VectorXd base = o.initial_state.size() ? o.initial_state : m.initial_state();
+    check_state_size(m, base.size(), "the initial state");
+    protocol_options po = o.protocol;
+    po.flow.cancel = j.stop;
+    const long nx = static_cast<long>(o.x_values.size()), ny = static_cast<long>(o.y_values.size());
+    const json spec = {{"analysis", "basins"},
+                       {"model", detail::to_json(m)},
+                       {"x", {{"state", o.x_state}, {"values", detail::numbers(o.x_values)}}},
+                       {"y", {{"state", o.y_state}, {"values", detail::numbers(o.y_values)}}},
+                       {"initial_state", detail::vector_json(base)},
+                       {"protocol", detail::to_json(o.protocol)},
+                       {"period_tolerance", detail::number(o.period_tolerance)},
+                       {"match_tolerance", detail::number(o.match.tolerance)}};
+    auto run = [&](long job, const basin_cell*) {
+        Eigen::VectorXd x0 = base;
+        x0[o.x_state] = o.x_values[static_cast<std::size_t>(job % nx)];
+        x0[o.y_state] = o.y_values[static_cast<std::size_t>(job / nx)];
+        basin_cell c;
+        if (violated_surface(m, x0) >= 0) {
+            c.status = outcome::inadmissible;
+            c.label.label = std::string(to_string(c.status));
+            return c;
+        }
+        const auto r = run_and_classify(m, x0, po, o.period_tolerance);
+        c.admissible = true;
+        c.label = r.label;
+        c.status = r.run.status;
+        c.steps = r.run.stats.steps;
+        c.signature = signature_of(m, r.run, r.label);
+        return c;
+    };
+    basins_result res;
+    auto records = detail::run_journaled<basin_cell>(spec, {nx * ny, 0}, j, run, encode, decode, res.jobs);
+    for (auto& [job, c] : records) res.cells.push_back(std::move(c));
+    if (res.jobs.complete()) {
+        attractor_catalogue catalogue(o.match);
+        for (auto& c : res.cells) c.attractor = c.admissible ? catalogue.identify(c.signature) : -1;
+        res.attractors = catalogue.entries();
+    }
+    return res;
+}
+
+}  // namespace vimpact

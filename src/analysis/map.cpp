@@ -1,0 +1,131 @@
+#include "vimpact/analysis/map.hpp"
+
+#include <cmath>
+
+#include "io/json_codec.hpp"
+#include "jobs/journal.hpp"
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/core/format.hpp"
+
+namespace vimpact {
+
+namespace {
+
+using detail::json;
+
+struct map_record {
+    map_cell cell;
+    std::vector<double> grazing;  // per surface, on the jobs that compute the grazing line
+};
+
+json encode(const map_record& r)
+{
+    return {{"label", detail::to_json(r.cell.label)},
+            {"status", std::string(to_string(r.cell.status))},
+            {"steps", r.cell.steps},
+            {"grazing", detail::numbers(r.grazing)}};
+}
+
+map_record decode(const json& j)
+{
+    map_record r;
+    r.cell.label = detail::label_from(j.at("label"));
+    r.cell.status = detail::outcome_from(j.at("status"));
+    r.cell.steps = j.at("steps").get<long>();
+    r.grazing = detail::numbers_from(j.at("grazing"));
+    return r;
+}
+
+bool moves_a_surface(const model& m, int parameter)
+{
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const auto g = gap_parameters(m, i);
+        if (std::find(g.begin(), g.end(), parameter) != g.end()) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+map_result map2d(const model& m, const map_options& o, const job_options& j)
+{
+    validate(o.protocol);
+    validate(m, o.protocol.section);
+    check_period_tolerance(o.period_tolerance);
+    const int P = static_cast<int>(m.parameters().size());
+    if (o.x.parameter < 0 || o.x.parameter >= P || o.y.parameter < 0 || o.y.parameter >= P)
+        throw input_error("map axis parameter index out of range");
+    const auto& info = m.info();
+    const auto& xname = info.parameters[static_cast<std::size_t>(o.x.parameter)].name;
+    const auto& yname = info.parameters[static_cast<std::size_t>(o.y.parameter)].name;
+    if (o.x.parameter == o.y.parameter)
+        throw input_error("the map's axes must be different parameters (both are " + xname + ")");
+    if (o.x.values.empty() || o.y.values.empty()) throw input_error("a map axis needs at least one value");
+    const Eigen::VectorXd ic = o.initial_state.size() ? o.initial_state : m.initial_state();
+    check_state_size(m, ic.size(), "the initial state");
+    for (const double yv : o.y.values) {
+        const model my = m.with_parameter(o.y.parameter, yv);
+        for (const double xv : o.x.values) {
+            const model mxy = my.with_parameter(o.x.parameter, xv);
+            if (violated_surface(mxy, ic) >= 0)
+                throw input_error("the initial state lies beyond a surface at " + xname + " = " + format_double(xv) +
+                                  ", " + yname + " = " + format_double(yv) + "; choose another initial state or ranges");
+        }
+    }
+    int grazing_axis = -1;
+    if (o.grazing) {
+        if (moves_a_surface(m, o.y.parameter)) grazing_axis = 1;
+        else if (moves_a_surface(m, o.x.parameter)) grazing_axis = 0;
+        else
+            throw input_error("the grazing line needs an axis parameter that moves a surface without entering the "
+                              "vector field (" + xname + " and " + yname + " do not)");
+    }
+    grazing_options go = job_grazing_options(o.protocol.flow.integration);
+    go.method = o.protocol.method;
+    go.parameter = grazing_axis == 1 ? o.y.parameter : o.x.parameter;
+    go.cancel = j.stop;
+    protocol_options po = o.protocol;
+    po.flow.cancel = j.stop;
+
+    const long nx = static_cast<long>(o.x.values.size()), ny = static_cast<long>(o.y.values.size());
+    const json spec = {{"analysis", "map"},
+                       {"model", detail::to_json(m)},
+                       {"x", {{"parameter", o.x.parameter}, {"values", detail::numbers(o.x.values)}}},
+                       {"y", {{"parameter", o.y.parameter}, {"values", detail::numbers(o.y.values)}}},
+                       {"initial_state", detail::vector_json(ic)},
+                       {"protocol", detail::to_json(o.protocol)},
+                       {"period_tolerance", detail::number(o.period_tolerance)},
+                       {"grazing", o.grazing}};
+    auto computes_grazing = [&](long ix, long iy) {
+        return (grazing_axis == 1 && iy == 0) || (grazing_axis == 0 && ix == 0);
+    };
+    auto run = [&](long job, const map_record*) {
+        const long ix = job % nx, iy = job / nx;
+        const model mxy = m.with_parameter(o.x.parameter, o.x.values[static_cast<std::size_t>(ix)])
+                              .with_parameter(o.y.parameter, o.y.values[static_cast<std::size_t>(iy)]);
+        const auto r = run_and_classify(mxy, ic, po, o.period_tolerance);
+        map_record rec;
+        rec.cell.label = r.label;
+        rec.cell.status = r.run.status;
+        rec.cell.steps = r.run.stats.steps;
+        if (computes_grazing(ix, iy)) {
+            const auto g = grazing(mxy, ic, go);
+            for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);
+        }
+        return rec;
+    };
+    map_result res;
+    auto records = detail::run_journaled<map_record>(spec, {nx * ny, 0}, j, run, encode, decode, res.jobs);
+    res.grazing_axis = grazing_axis;
+    for (auto& [job, r] : records) {
+        if (computes_grazing(job % nx, job / nx)) {
+            res.grazing_other.push_back(grazing_axis == 1 ? o.x.values[static_cast<std::size_t>(job % nx)]
+                                                          : o.y.values[static_cast<std::size_t>(job / nx)]);
+            res.grazing_values.push_back(r.grazing);
+        }
+        res.cells.push_back(std::move(r.cell));
+    }
+    return res;
+}
+
+}  // namespace vimpact

@@ -1,0 +1,114 @@
+#include "vimpact/analysis/response.hpp"
+
+#include <cmath>
+
+#include "io/json_codec.hpp"
+#include "jobs/journal.hpp"
+#include "vimpact/core/format.hpp"
+
+namespace vimpact {
+
+namespace {
+
+using detail::json;
+
+json encode(const response_point& p)
+{
+    return {{"curve", p.curve},
+            {"value", detail::number(p.value)},
+            {"amplitude", detail::number(p.amplitude)},
+            {"maximum", detail::number(p.maximum)},
+            {"minimum", detail::number(p.minimum)},
+            {"frequency", detail::number(p.frequency)},
+            {"grazing", detail::numbers(p.grazing)},
+            {"converged", p.converged},
+            {"status", std::string(to_string(p.status))},
+            {"stats", detail::to_json(p.stats)}};
+}
+
+response_point decode(const json& j)
+{
+    response_point p;
+    p.curve = j.at("curve").get<int>();
+    p.value = detail::number_from(j.at("value"));
+    p.amplitude = detail::number_from(j.at("amplitude"));
+    p.maximum = detail::number_from(j.at("maximum"));
+    p.minimum = detail::number_from(j.at("minimum"));
+    p.frequency = detail::number_from(j.at("frequency"));
+    p.grazing = detail::numbers_from(j.at("grazing"));
+    p.converged = j.at("converged").get<bool>();
+    p.status = detail::outcome_from(j.at("status"));
+    p.stats = detail::stats_from(j.at("stats"));
+    return p;
+}
+
+model curve_model(const model& m, const std::vector<std::pair<int, double>>& curve)
+{
+    model c = m;
+    for (const auto& [p, v] : curve) c = c.with_parameter(p, v);
+    return c;
+}
+
+}  // namespace
+
+response_result response(const model& m, const response_options& o, const job_options& j)
+{
+    const int P = static_cast<int>(m.parameters().size());
+    if (o.parameter < 0 || o.parameter >= P) throw input_error("response parameter index out of range");
+    if (o.values.empty()) throw input_error("a response needs at least one value");
+    if (o.variable < 0 || o.variable >= m.dim()) throw input_error("response variable index out of range");
+    const auto& pname = m.info().parameters[static_cast<std::size_t>(o.parameter)].name;
+    if (!parameter_enters_field(m, o.parameter))
+        throw input_error("parameter " + pname + " does not enter the vector field of model " + m.name() +
+                          ": the surface-free response does not depend on it");
+    grazing_options go = o.grazing;
+    go.response_variable = o.variable;
+    validate(m, go);
+    const auto curves = o.curves.empty() ? std::vector<std::vector<std::pair<int, double>>>{{}} : o.curves;
+    for (const auto& c : curves) {
+        for (const auto& [p, v] : c) {
+            if (p < 0 || p >= P) throw input_error("curve parameter index out of range");
+            if (p == o.parameter)
+                throw input_error("a curve sets " + pname + ", the swept parameter (its values come from the range)");
+        }
+        const model mc = curve_model(m, c);  // validates the curve's values
+        for (const double v : o.values) (void)mc.with_parameter(o.parameter, v);
+    }
+    const Eigen::VectorXd ic = o.initial_state.size() ? o.initial_state : m.initial_state();
+    check_state_size(m, ic.size(), "the initial state");
+    go.cancel = j.stop;
+    json cj = json::array();
+    for (const auto& c : curves) {
+        json one = json::array();
+        for (const auto& [p, v] : c) one.push_back({p, detail::number(v)});
+        cj.push_back(one);
+    }
+    const json spec = {{"analysis", "response"},          {"model", detail::to_json(m)},
+                       {"parameter", o.parameter},         {"values", detail::numbers(o.values)},
+                       {"curves", cj},                     {"variable", o.variable},
+                       {"initial_state", detail::vector_json(ic)}, {"grazing", detail::to_json(go)}};
+    const long n = static_cast<long>(o.values.size()), nc = static_cast<long>(curves.size());
+    auto run = [&](long job, const response_point*) {
+        const long k = job / n, i = job % n;
+        response_point p;
+        p.curve = static_cast<int>(k);
+        p.value = o.values[static_cast<std::size_t>(i)];
+        const model mv = curve_model(m, curves[static_cast<std::size_t>(k)]).with_parameter(o.parameter, p.value);
+        const auto g = grazing(mv, ic, go);
+        p.maximum = g.response_max;
+        p.minimum = g.response_min;
+        p.amplitude = std::max(std::abs(g.response_max), std::abs(g.response_min));
+        p.frequency = g.response_omega;
+        for (const auto& s : g.surfaces) p.grazing.push_back(go.parameter >= 0 ? s.parameter_value : s.margin);
+        p.converged = g.converged;
+        p.status = g.status;
+        p.stats = g.stats;
+        return p;
+    };
+    response_result res;
+    auto records = detail::run_journaled<response_point>(spec, {n * nc, 0}, j, run, encode, decode, res.jobs);
+    for (auto& [job, p] : records) res.points.push_back(std::move(p));
+    return res;
+}
+
+}  // namespace vimpact

@@ -1,0 +1,189 @@
+#include "vimpact/analysis/sweep.hpp"
+
+#include <cmath>
+
+#include "io/json_codec.hpp"
+#include "jobs/journal.hpp"
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/core/format.hpp"
+
+namespace vimpact {
+
+namespace {
+
+using detail::json;
+
+// Which job is which point: job j of a sweep over n values is value index `index` on branch
+// `branch` (0 up, 1 down). Fixed starts: independent jobs in the sweep's direction. Followed
+// branches: one chain per direction; with both directions the chains interleave (job 2k is
+// the k-th point up, job 2k + 1 the k-th point down), so the two run in parallel.
+struct sweep_plan {
+    long values = 0;
+    bool follow = false;
+    sweep_direction direction = sweep_direction::up;
+
+    [[nodiscard]] bool both() const { return direction == sweep_direction::both; }
+    [[nodiscard]] job_schedule schedule() const
+    {
+        return {both() ? 2 * values : values, follow ? (both() ? 2 : 1) : 0};
+    }
+    [[nodiscard]] std::pair<int, long> at(long job) const
+    {
+        if (both()) return {static_cast<int>(job % 2), job % 2 == 0 ? job / 2 : values - 1 - job / 2};
+        if (direction == sweep_direction::down) return {1, values - 1 - job};
+        return {0, job};
+    }
+};
+
+json encode(const sweep_point& p)
+{
+    return {{"branch", p.branch},
+            {"value", detail::number(p.value)},
+            {"label", detail::to_json(p.label)},
+            {"status", std::string(to_string(p.status))},
+            {"points", detail::to_json(p.points)},
+            {"final_state", detail::vector_json(p.final_state)},
+            {"grazing", detail::numbers(p.grazing)},
+            {"stats", detail::to_json(p.stats)}};
+}
+
+sweep_point decode(const json& j)
+{
+    sweep_point p;
+    p.branch = j.at("branch").get<int>();
+    p.value = detail::number_from(j.at("value"));
+    p.label = detail::label_from(j.at("label"));
+    p.status = detail::outcome_from(j.at("status"));
+    p.points = detail::series_from(j.at("points"));
+    p.final_state = detail::vector_from(j.at("final_state"));
+    p.grazing = detail::numbers_from(j.at("grazing"));
+    p.stats = detail::stats_from(j.at("stats"));
+    return p;
+}
+
+}  // namespace
+
+std::vector<double> grid_values(double a, double b, long n)
+{
+    if (n < 1 || n > 100'000'000)
+        throw input_error("a range needs 1 <= n <= 1e8 points (got " + std::to_string(n) + ")");
+    if (!std::isfinite(a) || !std::isfinite(b)) throw input_error("range ends must be finite");
+    std::vector<double> v(static_cast<std::size_t>(n));
+    for (long i = 0; i < n; ++i)
+        v[static_cast<std::size_t>(i)] =
+            n == 1 ? a : (i == n - 1 ? b : a + static_cast<double>(i) * (b - a) / static_cast<double>(n - 1));
+    return v;
+}
+
+Eigen::VectorXd continue_from(const model& next, const Eigen::VectorXd& x_in)
+{
+    Eigen::VectorXd x = x_in;
+    const auto& t = next.table();
+    Eigen::VectorXd n(next.dim()), f(next.dim());
+    for (int pass = 0; pass < 4; ++pass) {
+        const int i = violated_surface(next, x);
+        if (i < 0) break;
+        // Onto the surface: Newton steps along the gap's gradient.
+        for (int it = 0; it < 20; ++it) {
+            const double g = t.gap(next.context(), i, x.data());
+            if (g >= 0.0) break;
+            t.gap_gradient(next.context(), i, x.data(), n.data());
+            const double nn = n.squaredNorm();
+            if (!(nn > 0.0)) break;
+            x -= (g / nn) * n;
+        }
+        // Moving into it: an impact.
+        t.rhs(next.context(), x.data(), f.data());
+        t.gap_gradient(next.context(), i, x.data(), n.data());
+        if (n.dot(f) < 0.0) {
+            Eigen::VectorXd post(next.dim());
+            t.reset(next.context(), i, x.data(), post.data());
+            x = post;
+        }
+    }
+    return x;
+}
+
+sweep_result sweep(const model& m, const sweep_options& o, const job_options& j)
+{
+    validate(o.protocol);
+    validate(m, o.protocol.section);
+    check_period_tolerance(o.period_tolerance);
+    const int P = static_cast<int>(m.parameters().size());
+    if (o.parameter < 0 || o.parameter >= P) throw input_error("sweep parameter index out of range");
+    if (o.values.empty()) throw input_error("a sweep needs at least one value");
+    if (o.direction == sweep_direction::both && !o.follow)
+        throw input_error("a sweep in both directions needs followed starts (with fixed starts both directions "
+                          "are the same runs)");
+    if (o.grazing_parameter >= P) throw input_error("grazing parameter index out of range");
+    const Eigen::VectorXd ic = o.initial_state.size() ? o.initial_state : m.initial_state();
+    check_state_size(m, ic.size(), "the initial state");
+    const auto& pname = m.info().parameters[static_cast<std::size_t>(o.parameter)].name;
+    for (const double v : o.values) {
+        const model mv = m.with_parameter(o.parameter, v);  // validates the value
+        if (!o.follow && violated_surface(mv, ic) >= 0)
+            throw input_error("the initial state lies beyond surface " +
+                              mv.info().surfaces[static_cast<std::size_t>(violated_surface(mv, ic))].name + " at " +
+                              pname + " = " + format_double(v) + "; choose another initial state or range");
+    }
+    if (o.follow) {
+        const double first = o.direction == sweep_direction::down ? o.values.back() : o.values.front();
+        if (violated_surface(m.with_parameter(o.parameter, first), ic) >= 0)
+            throw input_error("the initial state lies beyond a surface at the first point of the sweep (" + pname +
+                              " = " + format_double(first) + ")");
+    }
+    grazing_options go = job_grazing_options(o.protocol.flow.integration);
+    go.parameter = o.grazing_parameter;
+    go.method = o.protocol.method;
+    if (o.grazing_parameter >= 0) validate(m, go);
+
+    const sweep_plan plan{static_cast<long>(o.values.size()), o.follow, o.direction};
+    const json spec = {{"analysis", "sweep"},
+                       {"model", detail::to_json(m)},
+                       {"parameter", o.parameter},
+                       {"values", detail::numbers(o.values)},
+                       {"initial_state", detail::vector_json(ic)},
+                       {"follow", o.follow},
+                       {"direction", std::string(to_string(o.direction))},
+                       {"protocol", detail::to_json(o.protocol)},
+                       {"period_tolerance", detail::number(o.period_tolerance)},
+                       {"grazing_parameter", o.grazing_parameter}};
+    protocol_options po = o.protocol;
+    po.flow.cancel = j.stop;
+    go.cancel = j.stop;
+    auto run = [&](long job, const sweep_point* prev) {
+        const auto [branch, i] = plan.at(job);
+        sweep_point p;
+        p.branch = branch;
+        p.value = o.values[static_cast<std::size_t>(i)];
+        const model mv = m.with_parameter(o.parameter, p.value);
+        const Eigen::VectorXd x0 = prev ? continue_from(mv, prev->final_state) : ic;
+        p.grazing.assign(static_cast<std::size_t>(m.surface_count()), std::numeric_limits<double>::quiet_NaN());
+        if (violated_surface(mv, x0) >= 0) {
+            p.status = outcome::inadmissible;
+            p.label.label = std::string(to_string(p.status));
+            p.points = state_series(m.dim());
+            p.final_state = x0;
+            return p;
+        }
+        auto r = run_and_classify(mv, x0, po, o.period_tolerance);
+        p.label = std::move(r.label);
+        p.status = r.run.status;
+        p.points = std::move(r.run.points);
+        p.final_state = r.run.final_state;
+        p.stats = r.run.stats;
+        if (o.grazing_parameter >= 0) {
+            const auto g = grazing(mv, ic, go);
+            for (std::size_t s = 0; s < g.surfaces.size(); ++s) p.grazing[s] = g.surfaces[s].parameter_value;
+        }
+        return p;
+    };
+    sweep_result res;
+    auto records = detail::run_journaled<sweep_point>(spec, plan.schedule(), j, run, encode, decode, res.jobs);
+    if (res.jobs.complete()) res.points = detail::in_job_order(std::move(records));
+    else
+        for (auto& [job, p] : records) res.points.push_back(std::move(p));
+    return res;
+}
+
+}  // namespace vimpact
