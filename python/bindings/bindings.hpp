@@ -4,10 +4,10 @@
 
 namespace vimpact::python {
 
-void bind_models(pybind11::module_& m);  // WakeImpact, ForcedImpactOscillator
-void bind_runs(pybind11::module_& m);    // _simulate, _period, _grazing
-void bind_jobs(pybind11::module_& m);    // _sweep, _map, _basins, _response (the job loop)
-void bind_stability(pybind11::module_& m);  // _floquet, _lyapunov
+void bind_models(pybind11::module_& m);     // _Model: the library's model handle
+void bind_runs(pybind11::module_& m);       // _simulate, _period, _grazing
+void bind_jobs(pybind11::module_& m);       // _sweep, _map, _basins, _response (the job loop)
+void bind_stability(pybind11::module_& m);  // _floquet, _lyapunov and their sweeps
 void bind_dimension(pybind11::module_& m);  // _dimension
 
 }  // namespace vimpact::python

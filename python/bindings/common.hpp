@@ -1,6 +1,7 @@
 #pragma once
 // What every binding shares: running library work with the GIL released and Ctrl-C honoured,
-// numpy conversions, and the protocol options built from keyword arguments.
+// numpy conversions of the library's values, and the options read from the keyword dicts
+// that vimpact/_api.py sends. Nothing here analyses anything: it converts.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -8,18 +9,29 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <cstdint>
+#include <cstring>
 #include <exception>
+#include <filesystem>
+#include <functional>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
-#include "vimpact/analysis/job_points.hpp"
+#include <Eigen/Core>
+
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/format.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
+#include "vimpact/jobs/job_options.hpp"
+#include "vimpact/model/model.hpp"
 
 namespace vimpact::python {
 
@@ -27,8 +39,6 @@ namespace py = pybind11;
 
 // Any array-like of numbers, read as contiguous float64.
 using input_array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-inline constexpr input_spelling spelling = input_spelling::python;
 
 // How often the calling thread looks for Ctrl-C (and reports progress) while the work runs.
 inline constexpr std::chrono::milliseconds poll_interval{50};
@@ -103,48 +113,51 @@ auto run_released(Work&& work)
 
 // ---------------------------------------------------------------- numpy
 
-inline py::array_t<double> new_array(py::ssize_t n) { return py::array_t<double>(n); }
-inline py::array_t<double> new_array(py::ssize_t rows, py::ssize_t cols)
+inline py::array_t<double> vector_array(const double* data, py::ssize_t n)
 {
-    return py::array_t<double>({rows, cols});
-}
-
-template <int N>
-py::array_t<double> vector_array(const vec<N>& x)
-{
-    auto a = new_array(N);
-    auto v = a.mutable_unchecked<1>();
-    for (int i = 0; i < N; ++i) v(i) = x[i];
+    py::array_t<double> a(n);
+    if (n > 0) std::memcpy(a.mutable_data(), data, static_cast<std::size_t>(n) * sizeof(double));
     return a;
 }
 
-// Rows of states, (n, N), and their times, (n,).
-template <int N, class Range, class Get>
-py::array_t<double> state_rows(const Range& items, Get&& get)
+inline py::array_t<double> vector_array(const std::vector<double>& v)
 {
-    auto a = new_array(static_cast<py::ssize_t>(items.size()), N);
-    auto v = a.template mutable_unchecked<2>();
-    py::ssize_t r = 0;
-    for (const auto& it : items) {
-        const vec<N>& x = get(it);
-        for (int i = 0; i < N; ++i) v(r, i) = x[i];
-        ++r;
-    }
+    return vector_array(v.data(), static_cast<py::ssize_t>(v.size()));
+}
+
+inline py::array_t<double> vector_array(const Eigen::VectorXd& v) { return vector_array(v.data(), v.size()); }
+
+// (rows, cols) float64 from row-major data.
+inline py::array_t<double> rows_array(const double* data, py::ssize_t rows, py::ssize_t cols)
+{
+    py::array_t<double> a({rows, cols});
+    if (rows * cols > 0) std::memcpy(a.mutable_data(), data, static_cast<std::size_t>(rows * cols) * sizeof(double));
     return a;
 }
 
-template <class Range, class Get>
-py::array_t<double> scalar_rows(const Range& items, Get&& get)
+// An Eigen matrix as a C-ordered numpy array (element by element: Eigen is column-major).
+inline py::array_t<double> matrix_array(const Eigen::MatrixXd& m)
 {
-    auto a = new_array(static_cast<py::ssize_t>(items.size()));
-    auto v = a.template mutable_unchecked<1>();
-    py::ssize_t r = 0;
-    for (const auto& it : items) v(r++) = get(it);
+    py::array_t<double> a({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+    auto v = a.mutable_unchecked<2>();
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (Eigen::Index j = 0; j < m.cols(); ++j) v(i, j) = m(i, j);
+    return a;
+}
+
+// Rows of equal-length vectors, (n, cols); NaN where a vector is shorter (a failed job).
+inline py::array_t<double> rows_array(const std::vector<Eigen::VectorXd>& v, py::ssize_t cols)
+{
+    py::array_t<double> a({static_cast<py::ssize_t>(v.size()), cols});
+    auto av = a.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < v.size(); ++i)
+        for (py::ssize_t c = 0; c < cols; ++c)
+            av(static_cast<py::ssize_t>(i), c) = c < v[i].size() ? v[i][c] : std::nan("");
     return a;
 }
 
 template <class T, class Range, class Get>
-py::array_t<T> typed_rows(const Range& items, Get&& get)
+py::array_t<T> column(const Range& items, Get&& get)
 {
     py::array_t<T> a(static_cast<py::ssize_t>(items.size()));
     auto v = a.template mutable_unchecked<1>();
@@ -153,35 +166,41 @@ py::array_t<T> typed_rows(const Range& items, Get&& get)
     return a;
 }
 
-// A state given from Python: exactly Model::dim numbers.
-template <class Model>
-vec<Model::dim> state_of(const Model& m, const input_array& a, const char* what)
+template <class Range, class Get>
+py::list string_list(const Range& items, Get&& get)
 {
-    if (a.ndim() != 1 || a.shape(0) != Model::dim) {
-        std::string names;
-        for (const auto& n : state_axis_names(m)) names += (names.empty() ? "" : ", ") + std::string(n);
-        std::string shape = "(";
-        for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
-        shape += a.ndim() == 1 ? ",)" : ")";
-        throw input_error(std::string(what) + " must hold " + std::to_string(Model::dim) + " numbers (" + names +
-                          "), got shape " + shape);
-    }
-    vec<Model::dim> x;
-    for (int i = 0; i < Model::dim; ++i) x[i] = a.at(i);
-    return x;
+    py::list l;
+    for (const auto& it : items) l.append(py::str(std::string(get(it))));
+    return l;
 }
 
-// Values of a swept parameter or a grid axis: a non-empty 1-D sequence of finite numbers.
-inline std::vector<double> values_of(const input_array& a, const std::string& what)
+template <class T>
+py::array_t<std::int64_t> int_array(const std::vector<T>& v)
 {
-    if (a.ndim() != 1) throw input_error(what + " must be a 1-D sequence of numbers");
-    if (a.shape(0) < 1) throw input_error(what + " must hold at least one value");
-    std::vector<double> v(a.data(), a.data() + a.shape(0));
-    for (std::size_t i = 0; i < v.size(); ++i)
-        if (!std::isfinite(v[i]))
-            throw input_error(what + " must be finite (got " + format_double(v[i]) + " at index " +
-                              std::to_string(i) + ")");
-    return v;
+    return column<std::int64_t>(v, [](T x) { return x; });
+}
+
+// A state series as its times (n,) and states (n, dim).
+inline py::tuple series_arrays(const state_series& s)
+{
+    return py::make_tuple(vector_array(s.times()),
+                          rows_array(s.values().data(), static_cast<py::ssize_t>(s.size()), s.dim()));
+}
+
+inline void put_series(py::dict& d, const std::string& prefix, const state_series& s)
+{
+    d[py::str(prefix + "_t")] = vector_array(s.times());
+    d[py::str(prefix)] = rows_array(s.values().data(), static_cast<py::ssize_t>(s.size()), s.dim());
+}
+
+// Impacts: times, surfaces, states before and after.
+inline void put_impacts(py::dict& d, const std::string& prefix, const impact_series& s)
+{
+    d[py::str(prefix + "_t")] = vector_array(s.pre.times());
+    d[py::str(prefix + "_surface")] = int_array(s.surface);
+    d[py::str(prefix + "_pre")] = rows_array(s.pre.values().data(), static_cast<py::ssize_t>(s.size()), s.pre.dim());
+    d[py::str(prefix + "_post")] =
+        rows_array(s.post.values().data(), static_cast<py::ssize_t>(s.size()), s.post.dim());
 }
 
 inline py::dict stats_dict(const run_stats& s)
@@ -191,6 +210,7 @@ inline py::dict stats_dict(const run_stats& s)
     d["rejected"] = s.rejected;
     d["rhs_calls"] = s.rhs_calls;
     d["impacts"] = s.impacts;
+    d["impacts_by_surface"] = py::cast(s.impacts_by_surface);
     d["sections"] = s.sections;
     d["sticking_phases"] = s.sticking_phases;
     d["sticking_time"] = s.sticking_time;
@@ -202,64 +222,227 @@ inline py::dict stats_dict(const run_stats& s)
 
 // ---------------------------------------------------------------- options
 
-// The protocol's options from keyword arguments; validated by the library (same messages as
-// the command line).
-inline protocol_options protocol_of(long transient, long record, double rtol, double atol, const std::string& section,
-                                    double sample_dt, double quiet_time, double t_max)
+// The keyword dict of one call, read key by key. Every key must be read: a key left over is
+// a mistake in vimpact/_api.py, not the user's, and fails loudly (TypeError).
+class options {
+public:
+    explicit options(py::dict d) : m_d(std::move(d)) {}
+
+    [[nodiscard]] bool has(const char* key) const { return m_d.contains(key) && !m_d[key].is_none(); }
+
+    template <class T>
+    T get(const char* key, T fallback)
+    {
+        m_used.insert(key);
+        if (!has(key)) return fallback;
+        return cast<T>(key);
+    }
+    template <class T>
+    T need(const char* key)
+    {
+        m_used.insert(key);
+        if (!has(key)) throw py::type_error(std::string("internal: option '") + key + "' missing");
+        return cast<T>(key);
+    }
+    py::object object(const char* key)
+    {
+        m_used.insert(key);
+        return m_d.contains(key) ? py::object(m_d[key]) : py::object(py::none());
+    }
+    void finish() const
+    {
+        for (const auto& [k, v] : m_d) {
+            const std::string key = py::str(k);
+            if (!m_used.count(key)) throw py::type_error("internal: unknown option '" + key + "'");
+        }
+    }
+
+private:
+    template <class T>
+    T cast(const char* key)
+    {
+        try {
+            return m_d[key].cast<T>();
+        } catch (const py::cast_error&) {
+            throw py::type_error(std::string(key) + " has the wrong type (got " +
+                                 std::string(py::str(py::type::of(m_d[key]).attr("__name__"))) + ")");
+        }
+    }
+
+    py::dict m_d;
+    std::set<std::string> m_used;
+};
+
+// Name lookups: the library addresses everything by index (model_info), the front end by name.
+inline int parameter_index(const model& m, const std::string& name, const std::string& what)
+{
+    const int i = m.info().parameter_index(name);
+    if (i < 0)
+        throw input_error(what + ": model " + m.name() + " has no parameter '" + name + "' (parameters: " +
+                          m.info().parameter_names() + ")");
+    return i;
+}
+
+inline int state_index(const model& m, const std::string& name, const std::string& what)
+{
+    const int i = m.info().state_index(name);
+    if (i < 0)
+        throw input_error(what + ": model " + m.name() + " has no state variable '" + name + "' (state: " +
+                          m.info().state_names() + ")");
+    return i;
+}
+
+// "maxima" (a section of the model), "impacts" (every surface) or "impacts:SURFACE".
+inline section_choice section_of(const model& m, const std::string& name)
+{
+    const auto& info = m.info();
+    if (name == "impacts") return section_choice::impacts(-1);
+    if (name.rfind("impacts:", 0) == 0) {
+        const std::string surface = name.substr(8);
+        const int i = info.surface_index(surface);
+        if (i < 0)
+            throw input_error("section '" + name + "': model " + m.name() + " has no surface '" + surface +
+                              "' (surfaces: " + info.surface_names() + ")");
+        return section_choice::impacts(i);
+    }
+    const int k = info.section_index(name);
+    if (k < 0) {
+        std::string valid = info.section_names();
+        valid += std::string(valid.empty() ? "" : ", ") + "impacts";
+        for (const auto& s : info.surfaces) valid += ", impacts:" + s.name;
+        throw input_error("section '" + name + "' is not one of model " + m.name() + "'s: " + valid);
+    }
+    return section_choice::crossings(k);
+}
+
+inline integration_method method_of(const std::string& s)
+{
+    if (s == "dop853") return integration_method::dop853;
+    if (s == "dopri5") return integration_method::dopri5;
+    throw input_error("method '" + s + "' is not one of dop853, dopri5");
+}
+
+// A state given from Python: exactly dim numbers (empty: the library takes the model's).
+inline Eigen::VectorXd state_of(const model& m, const py::object& a, const char* what)
+{
+    if (a.is_none()) return {};
+    const auto arr = a.cast<input_array>();
+    if (arr.ndim() != 1) throw input_error(std::string(what) + " must be a 1-D sequence of " + std::to_string(m.dim()) +
+                                           " numbers (" + m.info().state_names() + ")");
+    check_state_size(m, arr.shape(0), what);
+    return Eigen::Map<const Eigen::VectorXd>(arr.data(), arr.shape(0));
+}
+
+// Values of a swept parameter or a grid axis: a 1-D sequence of numbers.
+inline std::vector<double> values_of(const py::object& a, const std::string& what)
+{
+    const auto arr = a.cast<input_array>();
+    if (arr.ndim() != 1) throw input_error(what + " must be a 1-D sequence of numbers");
+    return {arr.data(), arr.data() + arr.shape(0)};
+}
+
+// The protocol's options (keys as in vimpact.simulate).
+inline protocol_options protocol_of(const model& m, options& o)
 {
     protocol_options po;
-    po.transient_impacts = transient;
-    po.record_points = record;
-    po.section = parse_section_choice(section, spelling);
-    po.sample_dt = sample_dt;
-    po.quiet_time = quiet_time;
-    po.flow.integration.rtol = rtol;
-    po.flow.integration.atol = atol;
-    if (!(t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(t_max) + ")");
-    po.flow.t_max = t_max;
-    validate(po);
+    po.transient_impacts = o.get<long>("transient", po.transient_impacts);
+    po.record_points = o.get<long>("record", po.record_points);
+    po.section = section_of(m, o.need<std::string>("section"));
+    po.quiet_time = o.get<double>("quiet_time", po.quiet_time);
+    po.sample_dt = o.get<double>("sample_dt", po.sample_dt);
+    po.flow.integration.rtol = o.get<double>("rtol", po.flow.integration.rtol);
+    po.flow.integration.atol = o.get<double>("atol", po.flow.integration.atol);
+    po.flow.t_max = o.get<double>("t_max", po.flow.t_max);
+    po.method = method_of(o.get<std::string>("method", "dop853"));
     return po;
 }
 
-// Integration tolerances alone, checked by the protocol's rule.
-inline integrator_options tolerances_of(double rtol, double atol)
-{
-    protocol_options probe;
-    probe.flow.integration.rtol = rtol;
-    probe.flow.integration.atol = atol;
-    validate(probe);
-    return probe.flow.integration;
-}
+// ---------------------------------------------------------------- job options
 
 // Progress of a job loop for a Python callback progress(done, total), called from the polling
 // thread (which holds the GIL then), never from a worker.
 class progress_reporter {
 public:
-    progress_reporter(py::object callback, long total) : m_callback(std::move(callback)), m_total(total) {}
+    explicit progress_reporter(py::object callback) : m_callback(std::move(callback)) {}
 
     std::function<void(long, long)> sink()
     {
-        return [this](long done, long) { m_done.store(done, std::memory_order_relaxed); };
+        return [this](long done, long total) {
+            m_total.store(total, std::memory_order_relaxed);
+            m_done.store(done, std::memory_order_relaxed);
+        };
     }
     void poll()
     {
         if (m_callback.is_none()) return;
         const long d = m_done.load(std::memory_order_relaxed);
-        if (d == m_reported) return;
+        const long t = m_total.load(std::memory_order_relaxed);
+        if (t < 0 || d == m_reported) return;
         m_reported = d;
-        m_callback(d, m_total);
-    }
-    void finish()
-    {
-        m_done.store(m_total);
-        poll();
+        m_callback(d, t);
     }
 
 private:
     py::object m_callback;
-    long m_total;
     std::atomic<long> m_done{0};
+    std::atomic<long> m_total{-1};
     long m_reported = -1;
 };
+
+// threads, shard (i, n), journal (a directory), resume; the stop flag and the progress sink are
+// the caller's (run_jobs below).
+inline job_options job_options_of(options& o)
+{
+    job_options j;
+    j.threads = o.get<int>("threads", 0);
+    if (o.has("shard")) {
+        const auto s = o.need<std::pair<long, long>>("shard");
+        j.shard = {s.first, s.second};
+    }
+    (void)o.object("shard");
+    if (o.has("journal")) j.journal = std::filesystem::path(o.need<std::string>("journal"));
+    (void)o.object("journal");
+    j.resume = o.get<bool>("resume", false);
+    return j;
+}
+
+inline py::dict report_dict(const job_report& r)
+{
+    py::dict d;
+    d["jobs"] = r.jobs;
+    d["owned"] = r.owned;
+    d["resumed"] = r.resumed;
+    d["computed"] = r.computed;
+    d["done"] = r.done;
+    d["stopped"] = r.stopped;
+    d["complete"] = r.complete();
+    d["threads"] = r.threads;
+    return d;
+}
+
+// Runs analysis(job_options) with the GIL released: Ctrl-C and an exception from the progress
+// callback set the stop flag, which ends the job loop and every running flow; the finished
+// jobs are in the journal (if any) for a later resume.
+template <class Analysis>
+auto run_job_analysis(job_options j, const py::object& progress, Analysis&& analysis)
+{
+    progress_reporter reporter(progress);
+    auto result = run_released(
+        [&](const std::atomic<bool>& cancel) {
+            job_options c = j;
+            c.stop = &cancel;
+            c.progress = reporter.sink();
+            return analysis(static_cast<const job_options&>(c));
+        },
+        [&] { reporter.poll(); });
+    reporter.poll();  // the last report, often after the last wake-up
+    return result;
+}
+
+// After a complete run the journal has served its purpose (the caller holds the result).
+inline void finish_journal(const job_options& j, const job_report& r, bool keep)
+{
+    if (j.journal && r.complete() && !keep) remove_journal(*j.journal);
+}
 
 }  // namespace vimpact::python

@@ -12,6 +12,7 @@
 #include "bindings.hpp"
 #include "common.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
+#include "vimpact/jobs/job_loop.hpp"
 
 namespace vimpact::python {
 namespace {
@@ -30,7 +31,7 @@ py::dict dimension(const input_array& points, const std::string& estimator, long
     dimension_options o;
     if (estimator == "correlation_sum") o.estimator = dimension_estimator::correlation_sum;
     else if (estimator == "centres") o.estimator = dimension_estimator::centres;
-    else throw input_error(input_name(spelling, "estimator") + " '" + estimator + "' is not one of correlation_sum, centres");
+    else throw input_error("estimator '" + estimator + "' is not one of correlation_sum, centres");
     o.correlation.theiler_window = theiler;
     o.centre.theiler_window = theiler;
     o.centre.centres = centres;
@@ -43,7 +44,7 @@ py::dict dimension(const input_array& points, const std::string& estimator, long
     if (search == "grid") o.correlation.search = pair_search::grid;
     else if (search == "kd_tree") o.correlation.search = pair_search::kd_tree;
     else if (search == "brute_force") o.correlation.search = pair_search::brute_force;
-    else throw input_error(input_name(spelling, "search") + " '" + search + "' is not one of grid, kd_tree, brute_force");
+    else throw input_error("search '" + search + "' is not one of grid, kd_tree, brute_force");
     o.correlation.threads = resolve_threads(threads);
     o.scaling.slope_tolerance = slope_tolerance;
     o.scaling.slope_window = slope_window;
@@ -70,11 +71,11 @@ py::dict dimension(const input_array& points, const std::string& estimator, long
     d["fitted"] = f.fitted;
     d["fit_first"] = f.first;
     d["fit_last"] = f.last;
-    d["r"] = scalar_rows(r.curve.r, [](double x) { return x; });
-    d["pairs"] = typed_rows<std::int64_t>(r.curve.pairs, [](std::uint64_t p) { return p; });
+    d["r"] = vector_array(r.curve.r);
+    d["pairs"] = column<std::int64_t>(r.curve.pairs, [](std::uint64_t p) { return p; });
     d["total_pairs"] = r.curve.total_pairs;
-    d["local_slope"] = scalar_rows(f.local_slope, [](double x) { return x; });
-    d["centres"] = typed_rows<std::int64_t>(r.centres, [](std::size_t c) { return c; });
+    d["local_slope"] = vector_array(f.local_slope);
+    d["centres"] = column<std::int64_t>(r.centres, [](std::size_t c) { return c; });
     d["r_cap"] = r.r_cap;
     d["all_pairs"] = r.all_pairs;
     return d;

@@ -1,211 +1,164 @@
-// The models as Python classes: immutable values with their parameters as attributes.
+// The library's model handle as _Model: how it is made (built-in, file, TOML text, JSON
+// description), what it says about itself, copies with other parameters, and its vector
+// field. vimpact/_model.py builds the user's vimpact.Model on it.
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
-#include <cmath>
-#include <functional>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "bindings.hpp"
 #include "common.hpp"
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/model/model_file.hpp"
 
 namespace vimpact::python {
 namespace {
 
-template <class Model>
-const auto& table_of()
-{
-    if constexpr (std::is_same_v<Model, wake_impact>) return wake_impact_parameter_table();
-    else return forced_impact_parameter_table();
-}
-
-template <class Model>
-Model make_model(typename Model::parameters p, const py::dict& kwargs)
-{
-    for (const auto& [key, value] : kwargs) {
-        const std::string name = py::str(key);
-        double v = 0.0;
-        try {
-            v = value.template cast<double>();
-        } catch (const py::cast_error&) {
-            throw py::type_error("parameter " + name + " must be a number (got " +
-                                 std::string(py::str(py::type::of(value).attr("__name__"))) + ")");
-        }
-        set_parameter(p, table_of<Model>(), name, v);
-    }
-    return Model(p);
-}
-
-template <class Model>
-py::dict parameters_dict(const Model& m)
+py::dict range_dict(const value_range& r)
 {
     py::dict d;
-    for (const auto& info : table_of<Model>()) d[py::str(std::string(info.name))] = m.params().*(info.member);
+    d["lower"] = r.lower;
+    d["upper"] = r.upper;
+    d["lower_inclusive"] = r.lower_inclusive;
+    d["upper_inclusive"] = r.upper_inclusive;
+    d["text"] = r.text();
     return d;
 }
 
-template <class Model>
-std::string parameters_text(const Model& m)
+py::dict info_dict(const model_info& info)
 {
-    std::string s;
-    for (const auto& info : table_of<Model>())
-        s += (s.empty() ? "" : ", ") + std::string(info.name) + "=" + format_double(m.params().*(info.member));
-    return s;
-}
-
-// "name : float, default D\n    meaning; valid range R." for every parameter.
-template <class Model>
-std::string parameters_doc()
-{
-    const typename Model::parameters defaults{};
-    std::string s;
-    for (const auto& info : table_of<Model>())
-        s += std::string(info.name) + " : float, default " + format_double(defaults.*(info.member)) + "\n    " +
-             std::string(info.meaning) + "; valid range " + info.range_text() + ".\n";
-    return s;
-}
-
-template <class Model>
-std::size_t parameters_hash(const Model& m)
-{
-    std::size_t h = 0;
-    for (const auto& info : table_of<Model>())
-        h = h * 1000003u ^ std::hash<double>{}(m.params().*(info.member));
-    return h;
-}
-
-template <class Model, class Class>
-void bind_common(Class& cls)
-{
-    for (const auto& info : table_of<Model>()) {
-        const auto member = info.member;
-        const std::string doc = std::string(info.meaning) + " (valid range " + info.range_text() + ")";
-        cls.def_property_readonly(
-            std::string(info.name).c_str(), [member](const Model& m) { return m.params().*member; }, doc.c_str());
+    py::dict d;
+    d["name"] = info.name;
+    d["description"] = info.description;
+    d["source"] = info.source;
+    d["identity"] = info.identity;
+    py::list state, parameters, surfaces, sections, presets;
+    for (const auto& s : info.state) {
+        py::dict e;
+        e["name"] = s.name;
+        e["meaning"] = s.meaning;
+        e["unit"] = s.unit;
+        e["period"] = s.period;
+        state.append(e);
     }
-    py::tuple names(table_of<Model>().size());
-    std::size_t k = 0;
-    for (const auto& info : table_of<Model>()) names[k++] = py::str(std::string(info.name));
-    cls.attr("parameter_names") = names;
-    const auto axes = state_axis_names(Model{});
-    py::tuple states(axes.size());
-    for (std::size_t i = 0; i < axes.size(); ++i) states[i] = py::str(std::string(axes[i]));
-    cls.attr("state_names") = states;
-    cls.attr("dim") = Model::dim;
+    for (const auto& p : info.parameters) {
+        py::dict e;
+        e["name"] = p.name;
+        e["meaning"] = p.meaning;
+        e["unit"] = p.unit;
+        e["default"] = p.default_value;
+        e["range"] = range_dict(p.range);
+        parameters.append(e);
+    }
+    for (const auto& s : info.surfaces) {
+        py::dict e;
+        e["name"] = s.name;
+        e["meaning"] = s.meaning;
+        e["sticks"] = s.sticks;
+        surfaces.append(e);
+    }
+    for (const auto& s : info.sections) {
+        py::dict e;
+        e["name"] = s.name;
+        e["meaning"] = s.meaning;
+        e["direction"] = std::string(to_string(s.direction));
+        sections.append(e);
+    }
+    for (const auto& p : info.presets) {
+        py::dict e, values;
+        e["name"] = p.name;
+        e["meaning"] = p.meaning;
+        for (const auto& [i, v] : p.values) values[py::str(info.parameters[static_cast<std::size_t>(i)].name)] = v;
+        e["values"] = values;
+        presets.append(e);
+    }
+    d["state"] = state;
+    d["parameters"] = parameters;
+    d["surfaces"] = surfaces;
+    d["sections"] = sections;
+    d["presets"] = presets;
+    d["initial_state"] = vector_array(info.initial_state);
+    return d;
+}
 
-    cls.def(
-        "with_", [](const Model& m, const py::kwargs& kw) { return make_model<Model>(m.params(), kw); },
-        "A copy with the given parameters changed, e.g. ``m.with_(r=0.7, sigma=-0.1)``.\n\n"
-        "Raises ValueError (vimpact.InputError) for an unknown name or a value outside its range.");
-    cls.def_property_readonly("parameters", &parameters_dict<Model>,
-                              "All parameters as a dict, in the library's order.");
-    cls.def_property_readonly(
-        "default_ic", [](const Model& m) { return vector_array(default_initial_state(m)); },
-        "The initial state used when none is given (numpy float64, shape (dim,)).");
-    cls.def(
-        "rhs", [](const Model& m, const input_array& x) { return vector_array<Model::dim>(m.rhs(state_of(m, x, "x"))); },
-        py::arg("x"), "The vector field F(x) between impacts (numpy float64, shape (dim,)).");
-    cls.def(
-        "jacobian",
-        [](const Model& m, const input_array& x) {
-            const mat<Model::dim> J = m.jacobian(state_of(m, x, "x"));
-            auto a = new_array(Model::dim, Model::dim);
-            auto v = a.template mutable_unchecked<2>();
-            for (int i = 0; i < Model::dim; ++i)
-                for (int j = 0; j < Model::dim; ++j) v(i, j) = J(i, j);
-            return a;
-        },
-        py::arg("x"), "The Jacobian DF(x) (numpy float64, shape (dim, dim)), analytic.");
-    cls.def(
-        "__eq__",
-        [](const Model& a, const Model& b) {
-            for (const auto& info : table_of<Model>())
-                if (!(a.params().*(info.member) == b.params().*(info.member))) return false;
-            return true;
-        },
-        py::is_operator());
-    cls.def("__hash__", &parameters_hash<Model>);
-    cls.def(py::pickle([](const Model& m) { return parameters_dict(m); },
-                       [](const py::dict& d) { return make_model<Model>(typename Model::parameters{}, d); }));
+Eigen::VectorXd point_of(const model& m, const input_array& x)
+{
+    if (x.ndim() != 1)
+        throw input_error("x must be a 1-D sequence of " + std::to_string(m.dim()) + " numbers (" +
+                          m.info().state_names() + ")");
+    check_state_size(m, x.shape(0), "x");
+    return Eigen::Map<const Eigen::VectorXd>(x.data(), x.shape(0));
 }
 
 }  // namespace
 
 void bind_models(py::module_& m)
 {
-    const std::string wake_doc = R"(The paper's wake-induced vibro-impacting oscillator.
-
-A damped linear structure y coupled by acceleration coupling to a Van der Pol wake
-oscillator x (Facchinetti et al. 2004), with a rigid barrier at y = sigma::
-
-    y' = v,  v' = a(X) = -delta^2 y - alpha v + M x
-    x' = w,  w' = -x - eps (x^2 - 1) w + A a(X)
-    delta = 1/(St Ur),  alpha = 2 xi delta + gamma/mu,  M = CL0 / (16 pi^2 St^2 mu)
-
-An impact happens when y decreases through sigma; the reset is
-(y, v, x, w) -> (sigma, -r v, x, w). State order: (y, ydot, x, xdot).
-
-Parameters
-----------
-Keyword arguments; those not given take the ``paper`` preset's values.
-
-)" + parameters_doc<wake_impact>() +
-                                 R"(
-Attributes
-----------
-Each parameter above (read-only: use ``with_`` for a changed copy), and the derived
-``delta``, ``alpha`` and ``M``.
-
-Examples
---------
->>> m = vimpact.WakeImpact(Ur=16, sigma=-0.1377)
->>> m.with_(r=0.7).r
-0.7
->>> vimpact.WakeImpact.preset("facchinetti").CL0
-0.3
-)";
-    py::class_<wake_impact> wake(m, "WakeImpact", wake_doc.c_str());
-    wake.def(py::init([](const py::kwargs& kw) { return make_model<wake_impact>(wake_impact_preset("paper"), kw); }));
-    bind_common<wake_impact>(wake);
-    wake.def_static(
-        "preset",
-        [](const std::string& name, const py::kwargs& kw) { return make_model<wake_impact>(wake_impact_preset(name), kw); },
-        py::arg("name"),
-        ("The model of a named preset, with keyword overrides: ``WakeImpact.preset(\"facchinetti\", Ur=25)``.\n\n"
-         "Presets: " + wake_impact_preset_names() +
-         ". ``paper`` (the default) has M = 0.05/mu at St = 0.2, with which the paper's grazing "
-         "values are reproduced; ``facchinetti`` has CL0 = 0.3 (amplitudes about 8 % smaller).")
-            .c_str());
-    wake.def_property_readonly("delta", &wake_impact::delta, "delta = 1/(St Ur), the structure's natural frequency.");
-    wake.def_property_readonly("alpha", &wake_impact::alpha, "alpha = 2 xi delta + gamma/mu, the damping.");
-    wake.def_property_readonly("M", &wake_impact::coupling_M, "M = CL0 / (16 pi^2 St^2 mu), the wake forcing.");
-    wake.def("__repr__", [](const wake_impact& w) {
-        return "WakeImpact(" + parameters_text(w) + ") with delta=" + format_double(w.delta()) +
-               ", alpha=" + format_double(w.alpha()) + ", M=" + format_double(w.coupling_M());
-    });
-
-    const std::string forced_doc = R"(The classic harmonically forced linear impact oscillator.
-
-In autonomous form with a phase::
-
-    y' = v,  v' = -y - 2 zeta v + F cos(theta),  theta' = omega
-
-with the same barrier law as WakeImpact: impact when y decreases through sigma, reset
-(y, v, theta) -> (sigma, -r v, theta). Between impacts the flow is known in closed form,
-which makes it the model to check numerics against. State order: (y, ydot, theta).
-
-Parameters
-----------
-Keyword arguments; those not given take the defaults below.
-
-)" + parameters_doc<forced_impact_oscillator>();
-    py::class_<forced_impact_oscillator> forced(m, "ForcedImpactOscillator", forced_doc.c_str());
-    forced.def(py::init([](const py::kwargs& kw) {
-        return make_model<forced_impact_oscillator>(forced_impact_parameters{}, kw);
-    }));
-    bind_common<forced_impact_oscillator>(forced);
-    forced.def("__repr__", [](const forced_impact_oscillator& f) {
-        return "ForcedImpactOscillator(" + parameters_text(f) + ")";
-    });
+    py::class_<model> cls(m, "_Model", "Internal: the library's model handle; see vimpact.Model.");
+    cls.def_static("builtin", &model::builtin, py::arg("name"));
+    cls.def_static("builtin_names", &model::builtin_names);
+    cls.def_static(
+        "from_file",
+        [](const std::string& path) {
+            return run_released([&](const std::atomic<bool>&) { return model::from_file(path); });
+        },
+        py::arg("path"));
+    cls.def_static(
+        "from_toml",
+        [](const std::string& text, const std::string& source) {
+            return run_released([&](const std::atomic<bool>&) { return model::from_toml(text, source); });
+        },
+        py::arg("text"), py::arg("source"));
+    // The description as JSON text (Python's json.dumps keeps the dict's key order, which is
+    // the order of the parameters).
+    cls.def_static(
+        "from_json",
+        [](const std::string& text, const std::string& source) {
+            nlohmann::ordered_json tree;
+            try {
+                tree = nlohmann::ordered_json::parse(text);
+            } catch (const nlohmann::json::exception& e) {
+                throw input_error("model description " + source + ": " + e.what());
+            }
+            return run_released([&](const std::atomic<bool>&) {
+                return model::with_defaults(compile_model_json(tree, source));
+            });
+        },
+        py::arg("text"), py::arg("source"));
+    cls.def_property_readonly("info", [](const model& x) { return info_dict(x.info()); });
+    cls.def_property_readonly("identity", [](const model& x) { return x.info().identity; });
+    cls.def_property_readonly("parameters", [](const model& x) { return x.parameters(); });
+    cls.def("with_parameters",
+            [](const model& x, const std::vector<double>& values) { return x.with_parameters(values); });
+    cls.def("with_preset", &model::with_preset);
+    cls.def(
+        "rhs", [](const model& x, const input_array& p) {
+            const Eigen::VectorXd s = point_of(x, p);
+            Eigen::VectorXd f(x.dim());
+            x.table().rhs(x.context(), s.data(), f.data());
+            return vector_array(f);
+        });
+    cls.def(
+        "jacobian", [](const model& x, const input_array& p) {
+            const Eigen::VectorXd s = point_of(x, p);
+            Eigen::MatrixXd J(x.dim(), x.dim());  // column-major, as the table writes it
+            x.table().jacobian(x.context(), s.data(), J.data());
+            return matrix_array(J);
+        });
+    cls.def(
+        "gaps", [](const model& x, const input_array& p) {
+            const Eigen::VectorXd s = point_of(x, p);
+            std::vector<double> g;
+            for (int i = 0; i < x.surface_count(); ++i) g.push_back(x.table().gap(x.context(), i, s.data()));
+            return vector_array(g);
+        });
+    cls.def("gap_parameters", [](const model& x, int surface) { return gap_parameters(x, surface); });
+    cls.def("parameter_enters_field", [](const model& x, int p) { return parameter_enters_field(x, p); });
+    cls.def("__eq__", [](const model& a, const model& b) { return a == b; }, py::is_operator());
 }
 
 }  // namespace vimpact::python

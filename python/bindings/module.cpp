@@ -8,30 +8,30 @@
 #include "common.hpp"
 #include "vimpact/analysis/attractor.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
+#include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
+#include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/io/build_info.hpp"
-#include "vimpact/jobs/job_loop.hpp"
-#include "vimpact/stability/floquet.hpp"
-#include "vimpact/stability/lyapunov.hpp"
 
 namespace py = pybind11;
 using namespace vimpact;
 
 namespace {
 
-// The library's defaults, so that the Python signatures show them without restating them.
+// The library's defaults, so that the Python signatures and docstrings show them without
+// restating them.
 py::dict defaults()
 {
     const protocol_options po;
     const grazing_options go;
+    const job_options jo;
     py::dict d;
     d["transient"] = po.transient_impacts;
     d["record"] = po.record_points;
     d["rtol"] = po.flow.integration.rtol;
     d["atol"] = po.flow.integration.atol;
-    d["method"] = "dop853";
-    d["section"] = std::string(to_string(po.section));
+    d["method"] = std::string(to_string(po.method));
     d["sample_dt"] = po.sample_dt;
     d["quiet_time"] = po.quiet_time;
     d["t_max"] = po.flow.t_max;
@@ -43,15 +43,23 @@ py::dict defaults()
     d["grazing_block"] = go.block;
     d["grazing_t_max"] = go.t_max;
     d["match_tol"] = attractor_match_options{}.tolerance;
-    d["threads"] = job_loop_options{}.threads;
+    d["box_fraction"] = attractor_match_options{}.box_fraction;
+    d["threads"] = jo.threads;
     const floquet_options fo;
-    d["newton_tol"] = fo.shooting.tolerance;
-    d["newton_iterations"] = fo.shooting.max_iterations;
+    d["newton_tol"] = fo.newton_tolerance;
+    d["newton_iterations"] = fo.newton_iterations;
+    d["tangent_rtol"] = fo.tangent_integration.rtol;
+    d["tangent_atol"] = fo.tangent_integration.atol;
+    d["impact_map"] = std::string(to_string(fo.jump));
     const lyapunov_options lo;
+    d["tdm"] = std::string(to_string(lo.tdm));
     d["r0"] = lo.r0;
     d["t0"] = lo.t0;
     d["lyapunov_impacts"] = lo.impacts;
+    d["lyapunov_time"] = lo.time;
     d["warmup"] = lo.warmup_intervals;
+    d["p0_time"] = lo.p0_time;
+    d["max_time"] = lo.max_time;
     const dimension_options dop;
     d["centres"] = dop.centre.centres;
     d["radii"] = py::make_tuple(dop.centre.r_min, dop.centre.r_max, dop.centre.r_step);
@@ -70,27 +78,18 @@ py::dict defaults()
 PYBIND11_MODULE(_vimpact, m)
 {
     m.doc() = "vimpact's compiled core; use the package vimpact.";
-    // Bad input (the library's input_error) is a ValueError carrying the library's message,
-    // the same text the command line prints after "vimpact: error: ".
+    // Bad input (the library's input_error) is a ValueError carrying the library's message.
     py::register_exception<input_error>(m, "InputError", PyExc_ValueError);
     m.attr("__version__") = std::string(version());
     m.attr("git_hash") = std::string(git_hash());
     m.attr("defaults") = defaults();
     m.def(
         "grid",
-        [](double a, double b, long n) {
-            const auto v = grid_values(a, b, n);
-            return vimpact::python::scalar_rows(v, [](double x) { return x; });
-        },
-        py::arg("a"), py::arg("b"), py::arg("n"),
-          R"(n values from a to b inclusive, evenly spaced: the command line's range a:b:n.
-
-Value i is computed as a + i (b - a)/(n - 1) and the last is b exactly, so the values are
-bit-for-bit those of ``vimpact sweep --range a:b:n`` (numpy.linspace rounds differently).
-
-Returns
--------
-ndarray, float64, shape (n,))");
+        [](double a, double b, long n) { return vimpact::python::vector_array(grid_values(a, b, n)); },
+        py::arg("a"), py::arg("b"), py::arg("n"), "Internal: see vimpact.grid.");
+    m.def(
+        "remove_journal", [](const std::string& dir) { remove_journal(dir); }, py::arg("directory"),
+        "Internal: removes a journal directory.");
     vimpact::python::bind_models(m);
     vimpact::python::bind_runs(m);
     vimpact::python::bind_jobs(m);

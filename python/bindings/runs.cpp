@@ -1,8 +1,9 @@
-// Single runs: the protocol (simulate), its period label (period) and the grazing value.
+// Single runs: the protocol (simulate), its period label (period) and the grazing analysis.
 // Each returns a dict of numpy arrays and numbers; vimpact/_api.py turns it into a result
 // object and documents it.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include <string>
 
@@ -10,125 +11,130 @@
 #include "common.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/period.hpp"
-#include "vimpact/analysis/sweep.hpp"
 
 namespace vimpact::python {
 namespace {
 
-template <int N>
-py::dict simulation_dict(const protocol_result<N>& r)
+py::dict simulation_dict(const simulation& r)
 {
     py::dict d;
     d["outcome"] = std::string(to_string(r.status));
     d["impacting"] = r.impacting;
     d["transient_impacts"] = r.transient_impacts;
     d["t_record_start"] = r.t_record_start;
-    d["final_state"] = vector_array<N>(r.final_state);
-    d["section_t"] = scalar_rows(r.points, [](const auto& p) { return p.t; });
-    d["section"] = state_rows<N>(r.points, [](const auto& p) -> const vec<N>& { return p.x; });
-    d["impact_t"] = scalar_rows(r.impacts, [](const auto& e) { return e.t; });
-    d["impact_pre"] = state_rows<N>(r.impacts, [](const auto& e) -> const vec<N>& { return e.pre; });
-    d["impact_post"] = state_rows<N>(r.impacts, [](const auto& e) -> const vec<N>& { return e.post; });
-    d["series_t"] = scalar_rows(r.series, [](const auto& p) { return p.t; });
-    d["series"] = state_rows<N>(r.series, [](const auto& p) -> const vec<N>& { return p.x; });
+    d["final_state"] = vector_array(r.final_state);
+    put_series(d, "section", r.points);
+    put_impacts(d, "impact", r.impacts);
+    put_series(d, "series", r.series);
     d["stats"] = stats_dict(r.stats);
     return d;
 }
 
-template <class Model>
-py::dict simulate(const Model& model, const input_array& ic, long transient, long record, double rtol, double atol,
-                  const std::string& method, const std::string& section, double sample_dt, double quiet_time,
-                  double t_max)
+py::dict label_dict(const period_label& l)
 {
-    const auto x0 = state_of(model, ic, "ic");
-    const protocol_options po = protocol_of(transient, record, rtol, atol, section, sample_dt, quiet_time, t_max);
-    const integration_method im = parse_integration_method(method, spelling);
+    py::dict d;
+    d["label"] = l.label;
+    d["period"] = l.period;
+    d["impacts"] = l.impacts_per_period;
+    d["impacts_by_surface"] = py::cast(l.impacts_by_surface);
+    d["closure"] = l.closure;
+    return d;
+}
+
+py::dict simulate(const model& m, const py::object& ic, const py::dict& kw)
+{
+    options o(kw);
+    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const protocol_options po = protocol_of(m, o);
+    o.finish();
     const auto r = run_released([&](const std::atomic<bool>& cancel) {
-        protocol_options o = po;
-        o.flow.cancel = &cancel;
-        return with_integration_method(im, [&]<template <int> class M>() { return run_protocol<M>(model, x0, o); });
+        protocol_options c = po;
+        c.flow.cancel = &cancel;
+        return simulate(m, x0.size() ? x0 : m.initial_state(), c);
     });
     return simulation_dict(r);
 }
 
-template <class Model>
-py::dict period(const Model& model, const input_array& ic, double tol, long transient, long record, double rtol,
-                double atol, const std::string& method, const std::string& section, double quiet_time, double t_max)
+py::dict period(const model& m, const py::object& ic, const py::dict& kw)
 {
-    const auto x0 = state_of(model, ic, "ic");
-    const protocol_options po = protocol_of(transient, record, rtol, atol, section, 0.0, quiet_time, t_max);
-    const integration_method im = parse_integration_method(method, spelling);
-    check_period_tolerance(tol, spelling);
+    options o(kw);
+    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const protocol_options po = protocol_of(m, o);
+    const double tol = o.need<double>("tol");
+    o.finish();
     const auto r = run_released([&](const std::atomic<bool>& cancel) {
-        protocol_options o = po;
-        o.flow.cancel = &cancel;
-        return with_integration_method(
-            im, [&]<template <int> class M>() { return run_and_classify<M>(model, x0, o, tol); });
+        protocol_options c = po;
+        c.flow.cancel = &cancel;
+        return run_and_classify(m, x0.size() ? x0 : m.initial_state(), c, tol);
     });
-    py::dict d;
-    d["label"] = r.label.label;
-    d["period"] = r.label.period;
-    d["impacts"] = r.label.impacts_per_period;
-    d["closure"] = r.label.closure;
-    // The distinct section values of y of one period (the picture's "PN" points).
-    std::vector<double> ys;
-    for (int i = 0; i < r.label.period; ++i) ys.push_back(r.run.points[static_cast<std::size_t>(i)].x[Model::position]);
-    d["section_y"] = scalar_rows(ys, [](double y) { return y; });
+    py::dict d = label_dict(r.label);
     d["simulation"] = simulation_dict(r.run);
     return d;
 }
 
-template <class Model>
-py::dict grazing(const Model& model, const input_array& ic, double tol, double transient_time, double rtol, double atol,
-                 const std::string& method, int block, double t_max)
+grazing_options grazing_of(const model& m, options& o)
 {
-    const auto x0 = state_of(model, ic, "ic");
-    check_transient_time(transient_time, spelling);
-    grazing_options go = job_grazing_options(tolerances_of(rtol, atol), transient_time);
-    go.tolerance = tol;
-    go.block = block;
-    if (!(t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(t_max) + ")");
-    go.t_max = t_max;
-    const integration_method im = parse_integration_method(method, spelling);
-    const auto g = run_released([&](const std::atomic<bool>& cancel) {
-        grazing_options o = go;
-        o.cancel = &cancel;
-        return with_integration_method(im, [&]<template <int> class M>() { return grazing_value<M>(model, x0, o); });
-    });
-    py::dict d;
-    d["sigma_graze"] = g.sigma_graze;
-    d["converged"] = g.converged;
-    d["change"] = g.change;
-    d["t_graze"] = g.t_graze;
-    d["x_graze"] = vector_array<Model::dim>(std::isfinite(g.sigma_graze) ? g.x_graze : vec<Model::dim>::Constant(std::nan("")));
-    d["y_max"] = g.y_max;
-    d["omega"] = g.omega;
-    d["minima"] = g.minima;
-    d["outcome"] = std::string(to_string(g.status));
-    d["stats"] = stats_dict(g.stats);
-    d["rtol"] = go.integration.rtol;
-    d["atol"] = go.integration.atol;
-    return d;
+    grazing_options go;
+    go.integration.rtol = o.get<double>("rtol", go.integration.rtol);
+    go.integration.atol = o.get<double>("atol", go.integration.atol);
+    go.method = method_of(o.get<std::string>("method", "dop853"));
+    go.transient_time = o.get<double>("transient_time", go.transient_time);
+    go.block = o.get<int>("block", go.block);
+    go.tolerance = o.get<double>("tol", go.tolerance);
+    go.t_max = o.get<double>("t_max", go.t_max);
+    if (o.has("param")) go.parameter = parameter_index(m, o.need<std::string>("param"), "param");
+    (void)o.object("param");
+    if (o.has("variable")) go.response_variable = state_index(m, o.need<std::string>("variable"), "variable");
+    (void)o.object("variable");
+    return go;
 }
 
-template <class Model>
-void bind_for(py::module_& m)
+py::dict grazing_run(const model& m, const py::object& ic, const py::dict& kw)
 {
-    using namespace pybind11::literals;
-    m.def("_simulate", &simulate<Model>, "model"_a, "ic"_a, "transient"_a, "record"_a, "rtol"_a, "atol"_a, "method"_a,
-          "section"_a, "sample_dt"_a, "quiet_time"_a, "t_max"_a, "Internal: see vimpact.simulate.");
-    m.def("_period", &period<Model>, "model"_a, "ic"_a, "tol"_a, "transient"_a, "record"_a, "rtol"_a, "atol"_a,
-          "method"_a, "section"_a, "quiet_time"_a, "t_max"_a, "Internal: see vimpact.period.");
-    m.def("_grazing", &grazing<Model>, "model"_a, "ic"_a, "tol"_a, "transient_time"_a, "rtol"_a, "atol"_a, "method"_a,
-          "block"_a, "t_max"_a, "Internal: see vimpact.grazing.");
+    options o(kw);
+    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const grazing_options go = grazing_of(m, o);
+    o.finish();
+    const auto g = run_released([&](const std::atomic<bool>& cancel) {
+        grazing_options c = go;
+        c.cancel = &cancel;
+        return grazing(m, x0.size() ? x0 : m.initial_state(), c);
+    });
+    py::dict d;
+    d["outcome"] = std::string(to_string(g.status));
+    d["converged"] = g.converged;
+    const auto& s = g.surfaces;
+    d["surface_converged"] = column<bool>(s, [](const auto& x) { return x.converged; });
+    d["margin"] = column<double>(s, [](const auto& x) { return x.margin; });
+    d["change"] = column<double>(s, [](const auto& x) { return x.change; });
+    d["value"] = column<double>(s, [](const auto& x) { return x.parameter_value; });
+    d["t"] = column<double>(s, [](const auto& x) { return x.t; });
+    d["minima"] = column<std::int64_t>(s, [](const auto& x) { return x.minima; });
+    std::vector<Eigen::VectorXd> xs;
+    for (const auto& x : s) xs.push_back(x.x);
+    d["x"] = rows_array(xs, m.dim());
+    d["response_max"] = g.response_max;
+    d["response_min"] = g.response_min;
+    d["response_omega"] = g.response_omega;
+    d["stats"] = stats_dict(g.stats);
+    return d;
 }
 
 }  // namespace
 
 void bind_runs(py::module_& m)
 {
-    bind_for<wake_impact>(m);
-    bind_for<forced_impact_oscillator>(m);
+    using namespace pybind11::literals;
+    m.def("_simulate", &simulate, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.simulate.");
+    m.def("_period", &period, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.period.");
+    m.def("_grazing", &grazing_run, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.grazing.");
+    m.def(
+        "_grazing_parameter_value",
+        [](const model& x, int surface, int parameter, const input_array& state) {
+            return grazing_parameter_value(x, surface, parameter,
+                                           Eigen::Map<const Eigen::VectorXd>(state.data(), state.shape(0)));
+        },
+        "model"_a, "surface"_a, "parameter"_a, "x"_a, "Internal: see vimpact.grazing.");
 }
 
 }  // namespace vimpact::python

@@ -1,9 +1,11 @@
-// Stability of the attractor: Floquet multipliers of a periodic orbit (include/vimpact/
-// stability/floquet.hpp) and the Lyapunov spectrum (lyapunov.hpp). Dicts of numpy arrays;
-// vimpact/_api.py makes result objects of them.
+// Stability of the attractor: Floquet multipliers of a periodic orbit
+// (include/vimpact/analysis/floquet.hpp), the Lyapunov spectrum (lyapunov.hpp) and both over
+// a range of one parameter (stability_sweep.hpp). Dicts of numpy arrays; vimpact/_api.py makes
+// result objects of them.
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include <complex>
 #include <cstdint>
@@ -12,73 +14,99 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
-#include "vimpact/stability/floquet.hpp"
-#include "vimpact/stability/lyapunov.hpp"
+#include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/analysis/stability_sweep.hpp"
 
 namespace vimpact::python {
 namespace {
 
-template <int N>
-py::array_t<double> matrix_array(const mat<N>& m)
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+impact_tangent jump_of(const std::string& s)
 {
-    auto a = new_array(N, N);
-    auto v = a.template mutable_unchecked<2>();
-    for (int i = 0; i < N; ++i)
-        for (int j = 0; j < N; ++j) v(i, j) = m(i, j);
-    return a;
+    for (const auto j : {impact_tangent::saltation, impact_tangent::second_order, impact_tangent::reset_jacobian,
+                         impact_tangent::identity})
+        if (s == to_string(j)) return j;
+    throw input_error("impact_map '" + s + "' is not one of saltation, second-order, reset-jacobian, identity");
 }
 
-impact_tangent parse_impact_map(const std::string& s)
+lyapunov_tdm tdm_of(const std::string& s)
 {
-    if (s == "saltation") return impact_tangent::saltation;
-    if (s == "reset-jacobian") return impact_tangent::reset_jacobian;
-    if (s == "identity") return impact_tangent::identity;
-    throw input_error(input_name(spelling, "impact_map") + " '" + s +
-                      "' is not one of saltation, reset-jacobian, identity");
+    for (const auto t : {lyapunov_tdm::saltation, lyapunov_tdm::second_order, lyapunov_tdm::trajectory})
+        if (s == to_string(t)) return t;
+    throw input_error("tdm '" + s + "' is not one of saltation, second-order, trajectory");
 }
 
-template <class Model>
-py::dict floquet(const Model& model, const input_array& ic, double tol, double newton_tol, int newton_iterations,
-                 const std::string& impact_map, double sample_dt, long transient, long record, double rtol,
-                 double atol, const std::string& method, double quiet_time, double t_max)
+floquet_options floquet_of(const model& m, options& o)
 {
-    constexpr int N = Model::dim;
-    const auto x0 = state_of(model, ic, "ic");
     floquet_options fo;
-    fo.protocol = protocol_of(transient, record, rtol, atol, "maxima", 0.0, quiet_time, t_max);
-    fo.period_tolerance = tol;
-    fo.shooting.tolerance = newton_tol;
-    fo.shooting.max_iterations = newton_iterations;
-    fo.shooting.map.flow.integration = tangent_integration_options(fo.protocol.flow.integration);
-    fo.jump = parse_impact_map(impact_map);
-    if (!(sample_dt >= 0.0) || !std::isfinite(sample_dt)) throw input_error("sample_dt must be >= 0 and finite");
-    fo.sample_dt = sample_dt;
-    const integration_method im = parse_integration_method(method, spelling);
-    const auto r = run_released([&](const std::atomic<bool>& cancel) {
-        floquet_options o = fo;
-        o.protocol.flow.cancel = &cancel;
-        o.shooting.map.flow.cancel = &cancel;
-        return with_integration_method(im, [&]<template <int> class M>() { return floquet_analysis<M>(model, x0, o); });
-    });
-    const bool have = r.status == floquet_status::ok || r.status == floquet_status::not_converged;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
+    fo.protocol = protocol_of(m, o);
+    fo.period_tolerance = o.need<double>("tol");
+    fo.newton_tolerance = o.get<double>("newton_tol", fo.newton_tolerance);
+    fo.newton_iterations = o.get<int>("newton_iterations", fo.newton_iterations);
+    fo.tangent_integration.rtol = o.get<double>("tangent_rtol", fo.tangent_integration.rtol);
+    fo.tangent_integration.atol = o.get<double>("tangent_atol", fo.tangent_integration.atol);
+    fo.jump = jump_of(o.get<std::string>("impact_map", "saltation"));
+    fo.sample_dt = o.get<double>("sample_dt", fo.sample_dt);
+    return fo;
+}
+
+// The protocol's sample_dt belongs to simulate; Floquet samples the refined orbit instead.
+void no_protocol_samples(floquet_options& fo) { fo.protocol.sample_dt = 0.0; }
+
+lyapunov_options lyapunov_of(const model& m, options& o)
+{
+    lyapunov_options lo;
+    lo.transient_impacts = o.get<long>("transient", lo.transient_impacts);
+    lo.quiet_time = o.get<double>("quiet_time", lo.quiet_time);
+    lo.flow.integration.rtol = o.get<double>("rtol", lo.flow.integration.rtol);
+    lo.flow.integration.atol = o.get<double>("atol", lo.flow.integration.atol);
+    lo.flow.t_max = o.get<double>("t_max", lo.flow.t_max);
+    lo.method = method_of(o.get<std::string>("method", "dop853"));
+    lo.tdm = tdm_of(o.get<std::string>("tdm", "saltation"));
+    lo.r0 = o.get<double>("r0", lo.r0);
+    lo.t0 = o.get<double>("t0", lo.t0);
+    lo.warmup_intervals = o.get<long>("warmup", lo.warmup_intervals);
+    lo.impacts = o.get<long>("impacts", lo.impacts);
+    lo.time = o.get<double>("time", lo.time);
+    lo.p0_time = o.get<double>("p0_time", lo.p0_time);
+    lo.max_time = o.get<double>("max_time", lo.max_time);
+    lo.divergence = o.get<bool>("divergence", lo.divergence);
+    lo.record_points = o.get<long>("record", lo.record_points);
+    if (o.has("section")) {
+        const section_choice s = section_of(m, o.need<std::string>("section"));
+        if (s.type != section_choice::kind::crossing)
+            throw input_error("the Lyapunov analysis records a section crossing (one of " + m.info().section_names() +
+                              "), not the impacts");
+        lo.section = s.index;
+    }
+    (void)o.object("section");
+    return lo;
+}
+
+py::dict floquet_dict(const model& m, const floquet_result& r)
+{
+    const bool have = r.has_multipliers();
+    py::dict d;
+    d["status"] = std::string(to_string(r.status));
+    d["label"] = r.label;
+    d["section_returns"] = r.section_returns;
+    d["period"] = have ? r.period : nan;
+    d["impacts_per_period"] = have ? r.impacts_per_period : 0L;
+    d["impacts_by_surface"] = py::cast(r.impacts_by_surface);
+    d["initial_closure"] = r.section_returns > 0 ? r.initial_closure : nan;
+    d["closure"] = r.section_returns > 0 ? r.closure : nan;
+    d["newton_iterations"] = r.newton_iterations;
+    d["orbit_point"] = have && r.orbit_point.size() ? vector_array(r.orbit_point)
+                                                    : vector_array(Eigen::VectorXd::Constant(m.dim(), nan));
+    d["monodromy"] = have && r.monodromy.size() ? matrix_array(r.monodromy)
+                                                : matrix_array(Eigen::MatrixXd::Constant(m.dim(), m.dim(), nan));
     py::array_t<std::complex<double>> mults(static_cast<py::ssize_t>(r.multipliers.size()));
     {
         auto mv = mults.mutable_unchecked<1>();
         for (std::size_t i = 0; i < r.multipliers.size(); ++i) mv(static_cast<py::ssize_t>(i)) = r.multipliers[i];
     }
-    py::dict d;
-    d["status"] = std::string(to_string(r.status));
-    d["flow_outcome"] = r.flow_outcome;
-    d["label"] = r.label;
-    d["section_returns"] = r.section_returns;
-    d["period"] = have ? r.period : nan;
-    d["impacts_per_period"] = have ? r.impacts_per_period : 0L;
-    d["initial_closure"] = r.section_returns > 0 ? r.initial_closure : nan;
-    d["closure"] = r.section_returns > 0 ? r.closure : nan;
-    d["newton_iterations"] = r.newton_iterations;
-    d["orbit_point"] = vector_array<N>(have ? r.orbit_point : vec<N>::Constant(nan));
-    d["monodromy"] = matrix_array<N>(have ? r.monodromy : mat<N>::Constant(nan));
     d["multipliers"] = mults;
     d["trivial_error"] = have ? r.trivial_error : nan;
     d["trivial_residual"] = have ? r.trivial_residual : nan;
@@ -86,87 +114,131 @@ py::dict floquet(const Model& model, const input_array& ic, double tol, double n
     d["stable"] = have ? py::object(py::bool_(r.stable())) : py::object(py::none());
     d["det_monodromy"] = have ? r.det_monodromy : nan;
     d["liouville_det"] = have ? r.liouville_det : nan;
+    d["divergence_integral"] = have ? r.divergence_integral : nan;
+    d["log_det_jumps"] = have ? r.log_det_jumps : nan;
     d["impact_map"] = std::string(to_string(r.jump));
-    d["tangent_rtol"] = fo.shooting.map.flow.integration.rtol;
-    d["impact_t"] = scalar_rows(r.impacts, [](const auto& e) { return e.t; });
-    d["impact_pre"] = state_rows<N>(r.impacts, [](const auto& e) -> const vec<N>& { return e.pre; });
-    d["impact_post"] = state_rows<N>(r.impacts, [](const auto& e) -> const vec<N>& { return e.post; });
-    d["orbit_t"] = scalar_rows(r.orbit, [](const auto& p) { return p.t; });
-    d["orbit"] = state_rows<N>(r.orbit, [](const auto& p) -> const vec<N>& { return p.x; });
+    put_impacts(d, "impact", r.impacts);
+    put_series(d, "orbit", r.orbit);
+    put_series(d, "section", r.section_points);
     d["protocol_stats"] = stats_dict(r.protocol_stats);
     d["tangent_stats"] = stats_dict(r.tangent_stats);
     d["map_evaluations"] = r.map_evaluations;
     return d;
 }
 
-template <class Model>
-py::dict lyapunov(const Model& model, const input_array& ic, const std::string& tdm, double r0, double t0,
-                  long impacts, double time, long warmup, long transient, double rtol, double atol,
-                  const std::string& method, double quiet_time, double t_max)
+py::dict lyapunov_dict(const model& m, const lyapunov_result& r)
 {
-    constexpr int N = Model::dim;
-    const auto x0 = state_of(model, ic, "ic");
-    lyapunov_options lo;
-    // The protocol's checks for what the transient shares with it (one recorded point).
-    const protocol_options po = protocol_of(transient, 1, rtol, atol, "maxima", 0.0, quiet_time, t_max);
-    if (tdm == "saltation") lo.tdm = lyapunov_tdm::saltation;
-    else if (tdm == "second-order") lo.tdm = lyapunov_tdm::second_order;
-    else if (tdm == "trajectory") lo.tdm = lyapunov_tdm::trajectory;
-    else throw input_error(input_name(spelling, "tdm") + " '" + tdm + "' is not one of saltation, second-order, trajectory");
-    lo.r0 = r0;
-    lo.t0 = t0;
-    lo.impacts = impacts;
-    lo.time = time;
-    lo.warmup_intervals = warmup;
-    lo.transient_impacts = transient;
-    lo.quiet_time = quiet_time;
-    lo.flow = po.flow;
-    const integration_method im = parse_integration_method(method, spelling);
-    const auto r = run_released([&](const std::atomic<bool>& cancel) {
-        lyapunov_options o = lo;
-        o.flow.cancel = &cancel;
-        return with_integration_method(im, [&]<template <int> class M>() { return lyapunov_spectrum<M>(model, x0, o); });
-    });
     py::dict d;
     d["status"] = std::string(to_string(r.status));
-    d["flow_outcome"] = r.flow_outcome;
     d["tdm"] = std::string(to_string(r.tdm));
     d["impacting"] = r.impacting;
-    d["exponents"] = vector_array<N>(r.exponents);
+    d["exponents"] = r.exponents.size() ? vector_array(r.exponents) : vector_array(Eigen::VectorXd::Constant(m.dim(), nan));
     d["lle_standard_error"] = r.lle_standard_error;
     d["t_start"] = r.t_start;
     d["time"] = r.time;
     d["impacts"] = r.impacts;
+    d["impacts_by_surface"] = py::cast(r.impacts_by_surface);
     d["intervals"] = r.intervals;
     d["divergence_average"] = r.divergence_average;
     d["jump_log_det_rate"] = r.jump_log_det_rate;
     d["sum_rule"] = r.sum_rule;
     d["misses"] = r.misses;
-    d["history_t"] = scalar_rows(r.history, [](const auto& s) { return s.t; });
-    d["history_growth"] = state_rows<N>(r.history, [](const auto& s) -> const vec<N>& { return s.growth; });
+    d["history_t"] = vector_array(r.history_t);
+    d["history_growth"] = rows_array(r.history, m.dim());
+    put_series(d, "section", r.section_points);
     d["transient_stats"] = stats_dict(r.transient_stats);
-    d["tangent_stats"] = stats_dict(r.stats);
+    d["stats"] = stats_dict(r.stats);
     return d;
 }
 
-template <class Model>
-void bind_for(py::module_& m)
+py::dict floquet_run(const model& m, const py::object& ic, const py::dict& kw)
 {
-    using namespace pybind11::literals;
-    m.def("_floquet", &floquet<Model>, "model"_a, "ic"_a, "tol"_a, "newton_tol"_a, "newton_iterations"_a,
-          "impact_map"_a, "sample_dt"_a, "transient"_a, "record"_a, "rtol"_a, "atol"_a, "method"_a, "quiet_time"_a,
-          "t_max"_a, "Internal: see vimpact.floquet.");
-    m.def("_lyapunov", &lyapunov<Model>, "model"_a, "ic"_a, "tdm"_a, "r0"_a, "t0"_a, "impacts"_a, "time"_a,
-          "warmup"_a, "transient"_a, "rtol"_a, "atol"_a, "method"_a, "quiet_time"_a, "t_max"_a,
-          "Internal: see vimpact.lyapunov.");
+    options o(kw);
+    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    floquet_options fo = floquet_of(m, o);
+    no_protocol_samples(fo);
+    o.finish();
+    const auto r = run_released([&](const std::atomic<bool>& cancel) {
+        floquet_options c = fo;
+        c.protocol.flow.cancel = &cancel;
+        return floquet(m, x0.size() ? x0 : m.initial_state(), c);
+    });
+    return floquet_dict(m, r);
+}
+
+py::dict lyapunov_run(const model& m, const py::object& ic, const py::dict& kw)
+{
+    options o(kw);
+    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const lyapunov_options lo = lyapunov_of(m, o);
+    o.finish();
+    const auto r = run_released([&](const std::atomic<bool>& cancel) {
+        lyapunov_options c = lo;
+        c.flow.cancel = &cancel;
+        return lyapunov(m, x0.size() ? x0 : m.initial_state(), c);
+    });
+    return lyapunov_dict(m, r);
+}
+
+// The per-value results as lists of dicts (each value's analysis is a whole result).
+py::dict floquet_sweep_run(const model& m, const py::dict& kw)
+{
+    options o(kw);
+    floquet_sweep_options so;
+    so.parameter = parameter_index(m, o.need<std::string>("param"), "param");
+    so.values = values_of(o.object("values"), "values");
+    so.initial_state = state_of(m, o.object("ic"), "ic");
+    so.floquet = floquet_of(m, o);
+    no_protocol_samples(so.floquet);
+    const job_options j = job_options_of(o);
+    const bool keep = o.get<bool>("keep_journal", false);
+    const py::object progress = o.object("progress");
+    o.finish();
+    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return floquet_sweep(m, so, c); });
+    py::dict d;
+    d["jobs"] = report_dict(r.jobs);
+    if (!r.jobs.complete()) return d;
+    finish_journal(j, r.jobs, keep);
+    d["value"] = column<double>(r.points, [](const auto& p) { return p.value; });
+    py::list results;
+    for (const auto& p : r.points) results.append(floquet_dict(m, p.result));
+    d["results"] = results;
+    return d;
+}
+
+py::dict lyapunov_sweep_run(const model& m, const py::dict& kw)
+{
+    options o(kw);
+    lyapunov_sweep_options so;
+    so.parameter = parameter_index(m, o.need<std::string>("param"), "param");
+    so.values = values_of(o.object("values"), "values");
+    so.initial_state = state_of(m, o.object("ic"), "ic");
+    so.lyapunov = lyapunov_of(m, o);
+    const job_options j = job_options_of(o);
+    const bool keep = o.get<bool>("keep_journal", false);
+    const py::object progress = o.object("progress");
+    o.finish();
+    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return lyapunov_sweep(m, so, c); });
+    py::dict d;
+    d["jobs"] = report_dict(r.jobs);
+    if (!r.jobs.complete()) return d;
+    finish_journal(j, r.jobs, keep);
+    d["value"] = column<double>(r.points, [](const auto& p) { return p.value; });
+    py::list results;
+    for (const auto& p : r.points) results.append(lyapunov_dict(m, p.result));
+    d["results"] = results;
+    return d;
 }
 
 }  // namespace
 
 void bind_stability(py::module_& m)
 {
-    bind_for<wake_impact>(m);
-    bind_for<forced_impact_oscillator>(m);
+    using namespace pybind11::literals;
+    m.def("_floquet", &floquet_run, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.floquet.");
+    m.def("_lyapunov", &lyapunov_run, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.lyapunov.");
+    m.def("_floquet_sweep", &floquet_sweep_run, "model"_a, "options"_a, "Internal: see vimpact.floquet_sweep.");
+    m.def("_lyapunov_sweep", &lyapunov_sweep_run, "model"_a, "options"_a, "Internal: see vimpact.lyapunov_sweep.");
 }
 
 }  // namespace vimpact::python
