@@ -1,43 +1,50 @@
-"""vimpact: nonlinear dynamics of a wake-induced vibro-impacting oscillator.
+"""vimpact: nonlinear dynamics of impacting systems, at C++ speed, with numpy arrays in and out.
 
-The C++ library's analyses at C++ speed, with numpy arrays in and out::
+::
 
     import vimpact
-    m = vimpact.WakeImpact(Ur=16, sigma=-0.150298)       # the paper's model, paper preset
-    p = vimpact.period(m)                                 # p.label == 'P2'
+    m = vimpact.Model("wake_impact", Ur=16)            # the paper's model
+    p = vimpact.period(m)                               # p.label == 'P2'
     s = vimpact.sweep(m, "Ur", vimpact.grid(12, 25, 131))
     vimpact.plot.bifurcation(s, "sweep.png")
 
-Models: ``WakeImpact`` (parameters as attributes, ``with_``, ``preset``) and
-``ForcedImpactOscillator``. Analyses: ``simulate``, ``period``, ``grazing`` (single runs) and
-``sweep``, ``map``, ``basins``, ``response`` (the library's threaded, deterministic job loop);
-stability: ``floquet``, ``lyapunov``; ``dimension`` of a point set.
-Each returns a result object (``vimpact.results``) with numpy arrays and run statistics; the
-same objects load the command line's output directories (``vimpact.Sweep.load(DIR)``).
-Plots: ``vimpact.plot``. Bad input raises ValueError (``vimpact.InputError``) with the
-library's message; long calls release the GIL and stop on Ctrl-C.
+Models: ``Model`` (a built-in by name, a model file ``.toml``/``.json``, a plugin ``.so``, or
+a dict with a model file's keys), with ``WakeImpact``, ``ForcedImpactOscillator`` and
+``TwoSidedImpactOscillator`` as shortcuts for the built-ins. Analyses: ``simulate``,
+``period``, ``grazing`` (single runs); ``sweep``, ``map``, ``basins``, ``response`` (the
+library's threaded, deterministic, resumable job loop); stability: ``floquet``, ``lyapunov``,
+``floquet_sweep``, ``lyapunov_sweep``; ``dimension`` of a point set. Each returns a result
+object (``vimpact.results``) with numpy arrays and run statistics; the same objects load the
+command line's output directories (``vimpact.Sweep.load(DIR)``). Plots: ``vimpact.plot``.
+Bad input raises ValueError (``vimpact.InputError``) with the library's message; long calls
+release the GIL and stop on Ctrl-C.
 
 The compiled part lives in the build tree (``PYTHONPATH=build/python``). Without it,
 ``vimpact.plot`` and ``vimpact.results`` still work (the command line draws its PNGs with them).
 """
 import importlib
 
-from .results import (Attractor, Basins, Dimension, Floquet, Grazing, Lyapunov, Map, Period, Response,  # noqa: F401
-                      RunStats, Simulation, Sweep)
+from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport,  # noqa: F401
+                      Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
+
+_COMPILED = ("Model", "WakeImpact", "ForcedImpactOscillator", "TwoSidedImpactOscillator", "InputError", "git_hash",
+             "basins", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov", "lyapunov_sweep", "map",
+             "period", "response", "simulate", "sweep")
 
 try:
-    from ._vimpact import ForcedImpactOscillator, InputError, WakeImpact, __version__, git_hash  # noqa: F401
-    from ._api import (basins, dimension, floquet, grazing, grid, lyapunov, map, period, response,  # noqa: F401
-                       simulate, sweep)
+    from ._vimpact import InputError, __version__, git_hash  # noqa: F401
+    from ._model import ForcedImpactOscillator, Model, TwoSidedImpactOscillator, WakeImpact  # noqa: F401
+    from ._api import (basins, dimension, floquet, floquet_sweep, grazing, grid, lyapunov,  # noqa: F401
+                       lyapunov_sweep, map, period, response, simulate, sweep)
 except ImportError as _error:  # the compiled module is not built or not on the path
     _import_error = _error
+    __version__ = "unknown (the compiled module vimpact._vimpact is not built)"
 else:
     _import_error = None
-    for _f in (basins, dimension, floquet, grazing, grid, lyapunov, map, period, response, simulate, sweep):
+    Model.__module__ = __name__
+    for _f in (basins, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep, map, period,
+               response, simulate, sweep):
         _f.__module__ = __name__  # help() and tracebacks name them vimpact.sweep, not vimpact._api.sweep
-
-_COMPILED = {"ForcedImpactOscillator", "InputError", "WakeImpact", "__version__", "git_hash", "basins", "dimension",
-             "floquet", "grazing", "grid", "lyapunov", "map", "period", "response", "simulate", "sweep"}
 
 
 def __getattr__(name):
@@ -47,6 +54,6 @@ def __getattr__(name):
         return importlib.import_module(".plot", __name__)
     if name in _COMPILED and _import_error is not None:
         raise ImportError(f"vimpact.{name} needs the compiled module vimpact._vimpact, which could not be "
-                          f"imported ({_import_error}). Build it (cmake --build build) and put build/python "
-                          f"on PYTHONPATH.")
+                          f"imported ({_import_error}). Build it (cmake --build build --target _vimpact) and put "
+                          f"build/python on PYTHONPATH.")
     raise AttributeError(f"module 'vimpact' has no attribute {name!r}")

@@ -1,57 +1,116 @@
 """The analyses, as Python functions over the compiled core (vimpact._vimpact).
 
-Each function checks nothing itself: the library checks every input with the messages the
-command line prints (a ValueError, vimpact.InputError), runs with the GIL released (other
-Python threads keep running) and stops within about 0.1 s on Ctrl-C (KeyboardInterrupt).
+Each function is one library analysis of (model, options[, job options]): it fills in the
+defaults, names the model's parameters, state variables, surfaces and sections, and shapes
+the library's numbers into a result object. The library checks every input (a ValueError,
+vimpact.InputError, with its message), runs with the GIL released (other Python threads keep
+running) and stops within about 0.1 s on Ctrl-C (KeyboardInterrupt).
 """
 import math
+import os
 import string
 import time
 
 import numpy as np
 
 from . import _vimpact
-from ._vimpact import ForcedImpactOscillator, WakeImpact
-from .results import (Attractor, Basins, Dimension, Floquet, Grazing, Lyapunov, Map, Period, Response, RunStats,
-                      Simulation, Sweep)
+from ._model import Model
+from ._vimpact import InputError
+from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
+                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
 
 _D = _vimpact.defaults
 
 
 def _with_defaults(f):
     """Fills ``$name`` in the docstring with the library's default, so the text cannot drift
-    from the numbers."""
-    f.__doc__ = string.Template(f.__doc__).substitute({k: repr(v) for k, v in _D.items()})
+    from the numbers; and the shared paragraphs ``<protocol>``, ``<jobs>``."""
+    doc = f.__doc__.replace("    <protocol>", _PROTOCOL_DOC).replace("    <jobs>", _JOBS_DOC)
+    f.__doc__ = string.Template(doc).substitute({k: repr(v) for k, v in _D.items()})
     return f
 
 
-_MODELS = (WakeImpact, ForcedImpactOscillator)
+_PROTOCOL_DOC = """    transient : int, default $transient
+        Impacts discarded before recording (the paper: 500).
+    record : int, default $record
+        Section points kept (the paper: 200).
+    section : str, optional
+        Where points are recorded: a section of the model (``model.sections``, e.g.
+        ``"maxima"``), ``"impacts"`` (the state just after every impact) or
+        ``"impacts:SURFACE"`` (after impacts on one surface). Default: the model's first
+        section, or the impacts if it declares none.
+    rtol, atol : float, default $rtol, $atol
+        Relative and absolute tolerances of the adaptive integrator.
+    method : {"dop853", "dopri5"}, default $method
+        Runge-Kutta pair: DOP853 (8th order, 7th-order interpolant) or DOPRI5.
+    quiet_time : float, default $quiet_time
+        No impact for this long means the orbit has left the surfaces (label P0); the points
+        recorded from then on describe the surface-free steady state.
+    t_max : float, default $t_max
+        The run ends with outcome ``time_limit`` at this time."""
+
+_JOBS_DOC = """    threads : int, default $threads
+        Worker threads, 0 = every core. Results never depend on it.
+    journal : str or path, optional
+        A directory where every finished job is recorded as it finishes: a run stopped by
+        Ctrl-C, an exception from ``progress`` or a kill keeps its finished jobs, and the same
+        call with ``resume=True`` computes only the others. Removed when the run completes
+        (unless ``keep_journal``).
+    resume : bool, default False
+        Continue the run recorded in ``journal`` (which must be of the same analysis, model
+        and options). Without it an existing journal of a whole run is refused.
+    shard : (int, int), optional
+        ``(i, n)``: compute only shard i of n (every n-th job), in n processes that share
+        ``journal``; a shard returns a JobReport unless the others have finished.
+    progress : callable, optional
+        ``progress(done, total)``, called from the calling thread while the jobs run (at most
+        every 50 ms). An exception raised in it stops the run and propagates.
+    keep_journal : bool, default False
+        Keep the journal after a complete run."""
 
 
 def _model(model):
-    if not isinstance(model, _MODELS):
-        raise TypeError(f"model must be a vimpact.WakeImpact or vimpact.ForcedImpactOscillator "
-                        f"(got {type(model).__name__})")
+    if not isinstance(model, Model):
+        raise TypeError(f"model must be a vimpact.Model (got {type(model).__name__}); "
+                        f"e.g. vimpact.Model('wake_impact') or vimpact.Model.from_file(PATH)")
     return model
 
 
-def _ic(model, ic):
-    return model.default_ic if ic is None else np.asarray(ic, dtype=float)
+def _ic(ic):
+    return None if ic is None else np.asarray(ic, dtype=float)
 
 
-def _options(model, ic, **kw):
-    o = {"ic": [float(v) for v in np.ravel(_ic(model, ic))]}
-    o.update(kw)
-    return o
+def _section(model, section):
+    if section is not None:
+        return str(section)
+    return model.sections[0] if model.sections else "impacts"
 
 
-def _simulation(d, model, options):
-    return Simulation(outcome=d["outcome"], impacting=d["impacting"], transient_impacts=d["transient_impacts"],
-                      t_record_start=d["t_record_start"], final_state=d["final_state"], section_t=d["section_t"],
-                      section=d["section"], impact_t=d["impact_t"], impact_pre=d["impact_pre"],
-                      impact_post=d["impact_post"], series_t=d["series_t"], series=d["series"],
-                      stats=RunStats.from_dict(d["stats"]), parameters=model.parameters,
-                      state_names=model.state_names, model=model, options=options)
+def _context(model, options):
+    return dict(parameters=model.parameters, state_names=model.state_names, surfaces=model.surfaces,
+                plot_variable=model.state_names[0], model=model, options=options, model_name=model.name)
+
+
+def _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, **extra):
+    return dict(transient=transient, record=record, section=_section(model, section), rtol=rtol, atol=atol,
+                method=method, quiet_time=quiet_time, t_max=t_max, **extra)
+
+
+def _jobs(threads, journal, resume, shard, progress, keep_journal):
+    return dict(threads=threads, journal=None if journal is None else os.fspath(journal), resume=resume,
+                shard=None if shard is None else (int(shard[0]), int(shard[1])), progress=progress,
+                keep_journal=keep_journal)
+
+
+def _run_jobs(call, options):
+    """Runs a job analysis; the JobReport alone when the run is not complete."""
+    start = time.perf_counter()
+    d = call()
+    report = JobReport.from_dict(d["jobs"], journal=options.get("journal"))
+    if not report.complete:
+        return None, report
+    d["wall_time"] = time.perf_counter() - start
+    return d, report
 
 
 def _strings(items, shape=None):
@@ -59,54 +118,41 @@ def _strings(items, shape=None):
     return a.reshape(shape) if shape is not None else a
 
 
-def _timed(call):
-    start = time.perf_counter()
-    d = call()
-    d["stats"]["wall_time"] = time.perf_counter() - start
-    return d
+def _simulation(d, model, options):
+    return Simulation(outcome=d["outcome"], impacting=d["impacting"], transient_impacts=d["transient_impacts"],
+                      t_record_start=d["t_record_start"], final_state=d["final_state"], section_t=d["section_t"],
+                      section=d["section"], impact_t=d["impact_t"], impact_surface=d["impact_surface"],
+                      impact_pre=d["impact_pre"], impact_post=d["impact_post"], series_t=d["series_t"],
+                      series=d["series"], stats=RunStats.from_dict(d["stats"], model.surfaces),
+                      **_context(model, options))
 
 
-_PROTOCOL_DOC = """    transient : int, default $transient
-        Impacts discarded before recording (the paper: 500).
-    record : int, default $record
-        Section points kept (the paper: 200).
-    rtol, atol : float, default $rtol, $atol
-        Relative and absolute tolerances of the adaptive integrator.
-    method : {"dop853", "dopri5"}, default $method
-        Runge-Kutta pair: DOP853 (8th order, 7th-order interpolant) or DOPRI5.
-    section : {"maxima", "minima", "impacts"}, default $section
-        The section: maxima of y (ydot = 0 with ydot decreasing, the paper's Sigma), minima,
-        or the state just after each impact.
-    quiet_time : float, default $quiet_time
-        The P0 rule: no impact for this long means the orbit has left the barrier; the points
-        recorded from then on describe the barrier-free steady state.
-    t_max : float, default $t_max
-        The run ends with outcome ``time_limit`` at this time."""
+def _options(ic, **kw):
+    o = {"ic": None if ic is None else [float(v) for v in np.ravel(ic)]}
+    o.update({k: v for k, v in kw.items() if k not in ("progress",)})
+    return o
 
 
-def _doc(f):
-    f.__doc__ = f.__doc__.replace("    <protocol>", _PROTOCOL_DOC)
-    return _with_defaults(f)
+# ---------------------------------------------------------------- single runs
 
-
-@_doc
-def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], rtol=_D["rtol"], atol=_D["atol"],
-             method=_D["method"], section=_D["section"], sample_dt=_D["sample_dt"], quiet_time=_D["quiet_time"],
+@_with_defaults
+def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
+             atol=_D["atol"], method=_D["method"], sample_dt=_D["sample_dt"], quiet_time=_D["quiet_time"],
              t_max=_D["t_max"]):
-    """Run the paper's protocol: discard a transient of impacts, then record section points.
+    """Run the simulation protocol: discard a transient of impacts, then record section points.
 
     From ``ic`` at t = 0 the hybrid flow runs: smooth flight integrated by an adaptive
-    Runge-Kutta method, impacts located on its interpolant and mapped by the reset
-    (y, v) -> (sigma, -r v), chattering resolved into sticking (docs/model.md). After
+    Runge-Kutta method, impacts on every surface located on its interpolant and mapped by the
+    surface's reset, chattering ended by a contact phase where the surface declares one. After
     ``transient`` impacts, the next ``record`` section points are kept, with the impacts in
     between and, when ``sample_dt > 0``, the time series of that window.
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
     ic : array_like, shape (dim,), optional
-        Initial state (y, ydot, x, xdot); default ``model.default_ic``, the paper's
-        (0, 0, 0, 0.1). It must lie above the barrier (y >= sigma).
+        Initial state, in the order of ``model.state_names``; default ``model.default_ic``.
+        It must be admissible (no surface's gap negative).
     <protocol>
     sample_dt : float, default $sample_dt
         > 0: also sample the recorded window every ``sample_dt`` (``series``).
@@ -115,8 +161,8 @@ def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], 
     -------
     Simulation
         ``section`` (n, dim) float64 and ``section_t`` (n,), ``impact_t`` (k,),
-        ``impact_pre``/``impact_post`` (k, dim), ``series`` (m, dim) and ``series_t`` (m,),
-        ``outcome``, ``stats``.
+        ``impact_surface`` (k,) int64, ``impact_pre``/``impact_post`` (k, dim), ``series``
+        (m, dim) and ``series_t`` (m,), ``outcome``, ``stats``.
 
     Raises
     ------
@@ -127,33 +173,29 @@ def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], 
 
     Examples
     --------
-    >>> s = vimpact.simulate(vimpact.WakeImpact(Ur=21.5), sample_dt=0.05)
+    >>> s = vimpact.simulate(vimpact.Model("wake_impact", Ur=21.5), sample_dt=0.05)
     >>> s.section.shape
     (200, 4)
     """
     model = _model(model)
-    d = _vimpact._simulate(model, _ic(model, ic), transient, record, rtol, atol, method, section, sample_dt,
-                           quiet_time, t_max)
-    opts = _options(model, ic, transient=transient, record=record, rtol=rtol, atol=atol, method=method,
-                    section=section, sample_dt=sample_dt, quiet_time=quiet_time, t_max=t_max)
-    return _simulation(d, model, opts)
+    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, sample_dt=sample_dt)
+    d = _vimpact._simulate(model._handle, _ic(ic), o)
+    return _simulation(d, model, _options(ic, **o))
 
 
-@_doc
-def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], record=_D["record"],
-           rtol=_D["rtol"], atol=_D["atol"], method=_D["method"], section=_D["section"],
-           quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+@_with_defaults
+def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], record=_D["record"], section=None,
+           rtol=_D["rtol"], atol=_D["atol"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
     """Classify the attractor reached from ``ic``: P0, P1, P2, ..., aperiodic.
 
-    Runs the protocol (see ``simulate``) and labels its section points c_i (the model's
-    section coordinates, (y, x, xdot) for WakeImpact: the full state, not y alone) with the
-    smallest N <= record/2 such that max_i |c_{i+N} - c_i| <= tol: ``PN``. No such N:
-    ``aperiodic``. No impact after the transient: ``P0``. A failed run is labelled by its
-    outcome.
+    Runs the protocol (see ``simulate``) and labels its section points with the smallest N <=
+    record/2 such that points N apart agree within ``tol`` in the max norm over the full state
+    (phases compared modulo their period): ``PN``. No such N: ``aperiodic``. No impact after
+    the transient: ``P0``. A failed run is labelled by its outcome.
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
     tol : float, default $period_tol
@@ -163,47 +205,65 @@ def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], r
     Returns
     -------
     Period
-        ``label``, ``period`` (int), ``impacts`` per period, ``closure``, ``section_y``
-        (period,) float64, and the classified run as ``simulation``.
+        ``label``, ``period`` (int), ``impacts`` per period, ``impacts_by_surface`` (dict
+        surface -> impacts per period), ``closure``, ``cycle`` (period, dim), and the
+        classified run as ``simulation``.
 
     Examples
     --------
-    >>> vimpact.period(vimpact.WakeImpact(Ur=19)).label
+    >>> vimpact.period(vimpact.Model("wake_impact", Ur=19)).label
     'P3'
     """
     model = _model(model)
-    d = _vimpact._period(model, _ic(model, ic), tol, transient, record, rtol, atol, method, section, quiet_time,
-                         t_max)
-    opts = _options(model, ic, tol=tol, transient=transient, record=record, rtol=rtol, atol=atol, method=method,
-                    section=section, quiet_time=quiet_time, t_max=t_max)
-    return Period(label=d["label"], period=d["period"], impacts=d["impacts"], closure=d["closure"], tol=tol,
-                  section_y=d["section_y"], simulation=_simulation(d["simulation"], model, opts))
+    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, tol=tol)
+    d = _vimpact._period(model._handle, _ic(ic), o)
+    opts = _options(ic, **o)
+    by = dict(zip(model.surfaces, d["impacts_by_surface"]))
+    return Period(label=d["label"], period=d["period"], impacts=d["impacts"], impacts_by_surface=by,
+                  closure=d["closure"], tol=tol, simulation=_simulation(d["simulation"], model, opts))
+
+
+def _default_gap_parameter(model):
+    """The first parameter that moves a surface without entering the vector field, or None."""
+    for s in model.surfaces:
+        params = model.gap_parameters(s)
+        if params:
+            return params[0]
+    return None
 
 
 @_with_defaults
-def grazing(model, ic=None, *, tol=_D["grazing_tol"], transient_time=_D["grazing_transient_time"],
-            rtol=_D["grazing_rtol"], atol=_D["grazing_atol"], method=_D["method"], block=_D["grazing_block"],
-            t_max=_D["grazing_t_max"]):
-    """The grazing value: the minimum of y on the attracting barrier-free orbit.
+def grazing(model, ic=None, *, param=None, variable=None, tol=_D["grazing_tol"],
+            transient_time=_D["grazing_transient_time"], rtol=_D["grazing_rtol"], atol=_D["grazing_atol"],
+            method=_D["method"], block=_D["grazing_block"], t_max=_D["grazing_t_max"]):
+    """Where the attracting surface-free orbit just touches each surface.
 
-    The barrier-free system (sigma plays no part) runs from ``ic``; after ``transient_time``
-    the minima of y (ydot = 0, ydot increasing), located on the interpolant, are taken in
-    blocks of ``block``; when the smallest minimum of two successive blocks agrees within
-    ``tol`` it is sigma_graze. A barrier just above sigma_graze is hit, just below it is not.
-    The same run gives the largest maximum and the frequency of y (see ``response``).
+    The system runs with every surface switched off from ``ic``; after ``transient_time`` the
+    minima of each surface's gap along the orbit, located on the interpolant, are taken in
+    blocks of ``block``, until the smallest of two successive blocks agree within ``tol``. That
+    smallest gap is the surface's margin; the state where it occurs gives the grazing value of
+    a parameter P that moves the surface (g(x*, P) = 0): a surface just on the admissible
+    side of it is never hit, one just beyond it is (for the paper's barrier, sigma_graze is
+    the minimum of y).
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
+    param : str, optional
+        The parameter whose grazing value to give for every surface; it must move a surface
+        and not enter the vector field. Default: for each surface, the first parameter that
+        does (``model.gap_parameters(surface)``), none where none does.
+    variable : str, optional
+        Also measure the response of this state variable: its largest and smallest extremum
+        over the last block and its angular frequency (see ``response``).
     tol : float, default $grazing_tol
         Agreement of successive block minima.
     transient_time : float, default $grazing_transient_time
         Time discarded before minima count.
     rtol, atol : float, default $grazing_rtol, $grazing_atol
-        Tolerances; looser ones are tightened to 1e-12 (the grazing value is wanted to about
-        1e-9), as the command line does.
+        Tolerances (the grazing value is wanted to about 1e-9).
     method : {"dop853", "dopri5"}, default $method
     block : int, default $grazing_block
         Minima per block.
@@ -213,29 +273,55 @@ def grazing(model, ic=None, *, tol=_D["grazing_tol"], transient_time=_D["grazing
     Returns
     -------
     Grazing
-        ``sigma_graze``, ``converged``, ``change``, ``t_graze``, ``x_graze`` (dim,) float64,
-        ``y_max``, ``omega``, ``minima``, ``outcome``, ``stats``.
+        Per surface (arrays in the order of ``surfaces``): ``param``, ``value``, ``margin``,
+        ``surface_converged``, ``change``, ``t``, ``x`` (surfaces, dim), ``minima``; and
+        ``converged``, ``response_max``, ``response_min``, ``response_omega``, ``outcome``,
+        ``stats``; ``by_surface`` as a dict.
 
     Examples
     --------
-    >>> round(vimpact.grazing(vimpact.WakeImpact(Ur=25)).sigma_graze, 6)   # the paper's sigma
+    >>> g = vimpact.grazing(vimpact.Model("wake_impact", Ur=25))
+    >>> round(g.by_surface["barrier"]["value"], 6)   # the paper's sigma
     -0.150298
     """
     model = _model(model)
-    d = _vimpact._grazing(model, _ic(model, ic), tol, transient_time, rtol, atol, method, block, t_max)
-    opts = _options(model, ic, tol=tol, transient_time=transient_time, rtol=d["rtol"], atol=d["atol"],
-                    method=method, block=block, t_max=t_max)
-    return Grazing(sigma_graze=d["sigma_graze"], converged=d["converged"], change=d["change"],
-                   t_graze=d["t_graze"], x_graze=d["x_graze"], y_max=d["y_max"], omega=d["omega"],
-                   minima=d["minima"], outcome=d["outcome"], stats=RunStats.from_dict(d["stats"]),
-                   parameters=model.parameters, model=model, options=opts)
+    o = dict(param=param, variable=variable, tol=tol, transient_time=transient_time, rtol=rtol, atol=atol,
+             method=method, block=block, t_max=t_max)
+    d = _vimpact._grazing(model._handle, _ic(ic), o)
+    names = model.parameter_names
+    value = np.array(d["value"], dtype=float)
+    if param is None:
+        # Each surface's own gap parameter, evaluated at the minimum the run found (the library
+        # function the analysis itself uses for one parameter).
+        params = []
+        for i, s in enumerate(model.surfaces):
+            p = model.gap_parameters(s)
+            params.append(p[0] if p else None)
+            if p and np.isfinite(d["x"][i]).all():
+                value[i] = _vimpact._grazing_parameter_value(model._handle, i, names.index(p[0]), d["x"][i])
+    else:
+        params = [param] * len(model.surfaces)
+    return Grazing(param=tuple(params), value=value, margin=d["margin"], converged=d["converged"],
+                   surface_converged=d["surface_converged"], change=d["change"], t=d["t"], x=d["x"],
+                   minima=d["minima"], variable=variable, response_max=d["response_max"],
+                   response_min=d["response_min"], response_omega=d["response_omega"], outcome=d["outcome"],
+                   stats=RunStats.from_dict(d["stats"], model.surfaces), **_context(model, _options(ic, **o)))
 
 
-@_doc
+# ---------------------------------------------------------------- many-job analyses
+
+def _labels(d, shape, model):
+    by = np.asarray(d["impacts_by_surface"], dtype=np.int64)
+    return dict(label=_strings(d["label"], shape), period=d["period"].reshape(shape),
+                impacts=d["impacts"].reshape(shape), impacts_by_surface=by.reshape(shape + (by.shape[-1],)),
+                closure=d["closure"].reshape(shape), outcome=_strings(d["outcome"], shape))
+
+
+@_with_defaults
 def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol=_D["period_tol"], grazing=False,
-          threads=_D["threads"], progress=None, transient=_D["transient"], record=_D["record"], rtol=_D["rtol"],
-          atol=_D["atol"], method=_D["method"], section=_D["section"], quiet_time=_D["quiet_time"],
-          t_max=_D["t_max"]):
+          transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
+          method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"],
+          journal=None, resume=False, shard=None, progress=None, keep_journal=False):
     """Bifurcation diagram: the protocol and the period label at every value of one parameter.
 
     Each value is one job of the library's job loop: ``threads`` workers, results delivered
@@ -245,239 +331,260 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
         Every parameter but ``param`` is taken from it.
     param : str
-        The parameter to vary (``"Ur"``, ``"sigma"``, ``"r"``, ...).
+        The parameter to vary (one of ``model.parameter_names``).
     values : array_like, shape (n,)
-        Its values, finite. ``vimpact.grid(a, b, n)`` gives the command line's ``a:b:n``
-        bit for bit.
+        Its values. ``vimpact.grid(a, b, n)`` gives the command line's ``a:b:n`` bit for bit.
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
     ic_mode : {"fixed", "follow"}, default "fixed"
-        ``fixed``: every point starts from ``ic`` (the paper's way; ``ic`` must be above the
-        barrier at every point). ``follow``: each point starts from the previous point's final
-        state, so the sweep stays on its attractor while it exists (hysteresis, coexisting
-        attractors); a state below the next barrier is put on it, moving away.
+        ``fixed``: every point starts from ``ic`` (the paper's way; ``ic`` must be admissible
+        at every point). ``follow``: each point starts from the previous point's final state,
+        so the sweep stays on its attractor while it exists (hysteresis, coexisting
+        attractors); a state beyond the next point's surface is put on it.
     direction : {"up", "down", "both"}, default "up"
         Order of the values; ``both`` (follow only) runs the upward and downward branches as
         two chains in parallel.
     tol : float, default $period_tol
         Period tolerance.
-    grazing : bool, default False
-        Also compute the grazing value at every point (barrier-free, from ``ic``).
-    threads : int, default $threads
-        Worker threads; 0 means one per core. The result does not depend on it.
-    progress : callable, optional
-        Called as ``progress(done, total)`` from the calling thread while jobs finish (at
-        most every 50 ms, and once at the end), e.g. to drive a progress bar.
+    grazing : bool or str, default False
+        Also compute, at every point, the grazing value per surface of a parameter that moves
+        the surfaces (from ``ic``, surface-free): of this parameter, or with True of the first
+        one found (``sigma`` for the paper's model, ``d`` for the two stops).
     <protocol>
+    <jobs>
 
     Returns
     -------
     Sweep
-        Per run (job order; ``both`` interleaves up and down): ``branch``, ``value``,
-        ``label``, ``period``, ``impacts``, ``closure``, ``outcome``, ``sigma_graze``,
-        ``final_state`` (runs, dim), ``steps``; all section points ``points`` (P, dim) float64
-        with ``point_run`` (P,) int64 (``point_value``, ``point_branch``); ``stats``.
-
-    Raises
-    ------
-    ValueError
-        (vimpact.InputError) the command line's messages, naming the argument as spelled
-        here (``ic_mode`` for ``--ic-mode``).
-    KeyboardInterrupt
-        Ctrl-C: no new job starts, running ones stop at their next step.
+        Per run (job order): ``branch``, ``value``, ``label``, ``period``, ``impacts``,
+        ``impacts_by_surface`` (runs, surfaces), ``closure``, ``outcome``, ``grazing`` (runs,
+        surfaces), ``final_state`` (runs, dim), ``steps``; all section points ``points``
+        (P, dim) with ``point_run``; ``stats``; ``jobs`` (JobReport). A shard whose partners
+        have not finished returns only the JobReport.
 
     Examples
     --------
-    >>> s = vimpact.sweep(vimpact.WakeImpact(), "Ur", vimpact.grid(16, 19, 2))
-    >>> list(s.label)
-    ['P2', 'P3']
+    >>> s = vimpact.sweep(vimpact.Model("wake_impact"), "Ur", vimpact.grid(15, 20, 6))
+    >>> s.label.tolist()
+    ['P2', 'P2', 'P2', 'P3', 'P3', 'P3']
     """
     model = _model(model)
-    vals = np.asarray(values, dtype=float)
-    d = _timed(lambda: _vimpact._sweep(model, param, vals, _ic(model, ic), ic_mode, direction, tol, grazing,
-                                       threads, transient, record, rtol, atol, method, section, quiet_time, t_max,
-                                       progress))
-    opts = _options(model, ic, ic_mode=ic_mode, direction=direction, tol=tol, grazing=grazing,
-                    transient=transient, record=record, rtol=rtol, atol=atol, method=method, section=section,
-                    quiet_time=quiet_time, t_max=t_max)
-    return Sweep(param=param, values=vals.copy(), ic_mode=ic_mode, direction=direction, tol=tol, branch=d["branch"],
-                 value=d["value"], label=_strings(d["label"]), period=d["period"], impacts=d["impacts"],
-                 closure=d["closure"], outcome=_strings(d["outcome"]), sigma_graze=d["sigma_graze"],
-                 final_state=d["final_state"], steps=d["steps"], points=d["points"], point_run=d["point_run"],
-                 stats=d["stats"], parameters=model.parameters, state_names=model.state_names, model=model,
-                 options=opts)
+    gparam = (_default_gap_parameter(model) if grazing is True else (grazing or None))
+    if grazing is True and gparam is None:
+        raise InputError(f"grazing: no parameter of model {model.name} moves a surface without entering the "
+                         f"vector field")
+    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, param=param,
+                  values=np.asarray(values, dtype=float), ic=_ic(ic), ic_mode=ic_mode, direction=direction, tol=tol,
+                  grazing=gparam)
+    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    d, report = _run_jobs(lambda: _vimpact._sweep(model._handle, o), o)
+    if d is None:
+        return report
+    runs = len(d["value"])
+    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
+    return Sweep(param=param, values=np.array(o["values"]), ic_mode=ic_mode, direction=direction, tol=tol,
+                 branch=d["branch"], value=d["value"], **_labels(d, (runs,), model), grazing_param=gparam,
+                 grazing=d["grazing"], final_state=d["final_state"], steps=d["steps"], points=d["points"],
+                 point_run=d["point_run"],
+                 stats={"steps": d["steps_total"], "rhs_calls": d["rhs_calls_total"], "threads": report.threads,
+                        "jobs": report.computed, "wall_time": d["wall_time"]},
+                 jobs=report, **_context(model, opts))
 
 
 def _axis(axis, what):
     try:
-        name, vals = axis
+        name, values = axis
     except (TypeError, ValueError):
-        raise TypeError(f"{what} must be a pair (name, values), e.g. (\"Ur\", vimpact.grid(16, 25, 10))") from None
-    return str(name), np.asarray(vals, dtype=float)
+        raise TypeError(f"{what} must be a pair (name, values), e.g. ('Ur', vimpact.grid(16, 25, 10))") from None
+    return str(name), np.asarray(values, dtype=float)
 
 
-@_doc
-def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, threads=_D["threads"], progress=None,
-        transient=_D["transient"], record=_D["record"], rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
-        section=_D["section"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+@_with_defaults
+def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=_D["transient"],
+        record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+        quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None, resume=False,
+        shard=None, progress=None, keep_journal=False):
     """Periodicity map: the period label over a grid of two parameters.
 
-    One job per grid point (threaded, deterministic, see ``sweep``); each runs the protocol
-    from ``ic`` on the model with both parameters set and labels it as ``period`` does.
+    Every cell runs the protocol from the same ``ic`` on the model with both parameters set
+    (one job each, threaded and deterministic, see ``sweep``).
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
     x, y : (str, array_like)
-        The axes: a parameter name and its values, e.g. ``x=("Ur", vimpact.grid(16, 25, 10))``,
-        ``y=("sigma", vimpact.grid(-0.16, -0.02, 8))``.
+        The parameters on the axes and their values, e.g. ``("Ur", vimpact.grid(16, 25, 10))``.
     ic : array_like, shape (dim,), optional
-        Initial state of every run; default ``model.default_ic``.
+        Initial state; default ``model.default_ic``. It must be admissible at every cell.
     tol : float, default $period_tol
-        Period tolerance (the paper's Figure 4: 1e-5).
     grazing : bool, default False
-        With sigma on one axis: also compute sigma_graze of the other parameter, the boundary
-        between P0 (barrier out of reach) and impacting motion.
-    threads : int, default $threads
-    progress : callable, optional
-        ``progress(done, total)``, see ``sweep``.
+        Also compute the grazing line: the grazing value per surface of the axis parameter
+        that moves the surfaces without entering the vector field (``y`` if it does, else
+        ``x``), against the other axis.
     <protocol>
+    <jobs>
 
     Returns
     -------
     Map
-        ``label`` (ny, nx) str, ``period``/``impacts``/``steps`` (ny, nx) int64,
-        ``closure`` (ny, nx) float64, ``outcome`` (ny, nx) str, ``x_values`` (nx,),
-        ``y_values`` (ny,), ``grazing`` (k, 2) float64 or None, ``stats``. Index ``[iy, ix]``.
+        ``label``, ``period``, ``impacts``, ``closure``, ``outcome``, ``steps`` of shape
+        (ny, nx) (``[iy, ix]``), ``impacts_by_surface`` (ny, nx, surfaces); with grazing
+        ``grazing_param``, ``grazing_other`` (k,) and ``grazing`` (k, surfaces); ``jobs``.
     """
     model = _model(model)
-    xn, xs = _axis(x, "x")
-    yn, ys = _axis(y, "y")
-    d = _timed(lambda: _vimpact._map(model, xn, xs, yn, ys, _ic(model, ic), tol, grazing, threads, transient, record,
-                                     rtol, atol, method, section, quiet_time, t_max, progress))
+    xname, xs = _axis(x, "x")
+    yname, ys = _axis(y, "y")
+    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, x=xname, x_values=xs,
+                  y=yname, y_values=ys, ic=_ic(ic), tol=tol, grazing=bool(grazing))
+    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    d, report = _run_jobs(lambda: _vimpact._map(model._handle, o), o)
+    if d is None:
+        return report
     shape = (len(ys), len(xs))
-    opts = _options(model, ic, tol=tol, grazing=grazing, transient=transient, record=record, rtol=rtol, atol=atol,
-                    method=method, section=section, quiet_time=quiet_time, t_max=t_max)
-    return Map(x=xn, y=yn, x_values=xs.copy(), y_values=ys.copy(), tol=tol, label=_strings(d["label"], shape),
-               period=d["period"].reshape(shape), impacts=d["impacts"].reshape(shape),
-               closure=d["closure"].reshape(shape), outcome=_strings(d["outcome"], shape),
-               steps=d["steps"].reshape(shape), grazing=d["grazing"], stats=d["stats"],
-               parameters=model.parameters, model=model, options=opts)
+    axis = d["grazing_axis"]
+    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "x_values", "y_values")})
+    return Map(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, **_labels(d, shape, model),
+               steps=d["steps"].reshape(shape), grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
+               grazing_other=None if axis < 0 else d["grazing_other"], grazing=None if axis < 0 else d["grazing"],
+               stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]}, jobs=report,
+               **_context(model, opts))
 
 
-@_doc
-def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_tol"], threads=_D["threads"],
-           progress=None, transient=_D["transient"], record=_D["record"], rtol=_D["rtol"], atol=_D["atol"],
-           method=_D["method"], section=_D["section"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
-    """Basins of attraction over a grid of initial states.
+@_with_defaults
+def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_tol"],
+           box_fraction=_D["box_fraction"], transient=_D["transient"], record=_D["record"], section=None,
+           rtol=_D["rtol"], atol=_D["atol"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
+           threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+    """Basins of attraction: the attractor reached from every initial state of a grid.
 
-    One job per initial state (threaded, deterministic, see ``sweep``): two state components
-    vary over the grid, the others come from ``ic``. Each run is reduced to a signature and
-    the attractors are numbered in job order: periodic runs with the same label whose cycle
-    points match within ``match_tol`` (max norm, any cyclic order) reached the same attractor;
-    aperiodic runs when their section points' bounding boxes agree within 5 % of their
-    extent; failed runs form one class per outcome. Starts below the barrier get id -1.
+    The grid spans two state variables; the others are taken from ``ic``. Every admissible
+    start runs the protocol (one job each, threaded and deterministic); two runs reached the
+    same attractor when they carry the same label and, if periodic, the same cycle of section
+    points within ``match_tol`` (in any cyclic order), or, if aperiodic, bounding boxes of
+    their section points that agree within ``box_fraction`` of their extent. Attractors are
+    numbered in order of first appearance (job order). Starts beyond a surface are
+    ``inadmissible`` (attractor -1).
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
     x, y : (str, array_like)
-        State components and values, e.g. ``x=("y", vimpact.grid(-0.2, 0.25, 46))``,
-        ``y=("ydot", ...)``; names from ``model.state_names`` (``y``, ``ydot``, ``x``,
-        ``xdot``).
+        The state variables on the axes and their values, e.g. ``("y", vimpact.grid(-0.2,
+        0.2, 41))``.
     ic : array_like, shape (dim,), optional
-        The other state components; default ``model.default_ic``.
+        The other components of the starts; default ``model.default_ic``.
     tol : float, default $period_tol
-        Period tolerance.
     match_tol : float, default $match_tol
-        Cycle points closer than this are the same attractor.
-    threads : int, default $threads
-    progress : callable, optional
-        ``progress(done, total)``, see ``sweep``.
+        Cycle points of one attractor agree within this.
+    box_fraction : float, default $box_fraction
+        Aperiodic attractors: bounding boxes agree within this fraction of their extent.
     <protocol>
+    <jobs>
 
     Returns
     -------
     Basins
-        ``attractor`` (ny, nx) int64 (-1: start below the barrier), ``label`` (ny, nx) str,
-        ``period``/``steps`` (ny, nx) int64, ``outcome`` (ny, nx) str, ``attractors`` (a
-        list of Attractor: id, label, cells, cycle (N, k) float64, box (2, k)), ``stats``.
+        ``attractor`` (ny, nx) int64, ``label``, ``period``, ``outcome``, ``steps`` (ny, nx),
+        ``attractors`` (list of Attractor: id, label, cells, cycle, box), ``jobs``.
     """
     model = _model(model)
-    xn, xs = _axis(x, "x")
-    yn, ys = _axis(y, "y")
-    d = _timed(lambda: _vimpact._basins(model, xn, xs, yn, ys, _ic(model, ic), tol, match_tol, threads, transient,
-                                        record, rtol, atol, method, section, quiet_time, t_max, progress))
+    xname, xs = _axis(x, "x")
+    yname, ys = _axis(y, "y")
+    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, x=xname, x_values=xs,
+                  y=yname, y_values=ys, ic=_ic(ic), tol=tol, match_tol=match_tol, box_fraction=box_fraction)
+    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    d, report = _run_jobs(lambda: _vimpact._basins(model._handle, o), o)
+    if d is None:
+        return report
     shape = (len(ys), len(xs))
-    opts = _options(model, ic, tol=tol, match_tol=match_tol, transient=transient, record=record, rtol=rtol,
-                    atol=atol, method=method, section=section, quiet_time=quiet_time, t_max=t_max)
     attractors = [Attractor(id=a["id"], label=a["label"], cells=a["cells"], cycle=a["cycle"], box=a["box"])
                   for a in d["attractors"]]
-    return Basins(x=xn, y=yn, x_values=xs.copy(), y_values=ys.copy(), tol=tol, match_tol=match_tol,
-                  attractor=d["attractor"].reshape(shape), label=_strings(d["label"], shape),
-                  period=d["period"].reshape(shape), outcome=_strings(d["outcome"], shape),
-                  steps=d["steps"].reshape(shape), attractors=attractors, stats=d["stats"],
-                  parameters=model.parameters, model=model, options=opts)
+    labels = _labels(d, shape, model)
+    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "x_values", "y_values")})
+    return Basins(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, match_tol=match_tol,
+                  attractor=d["attractor"].reshape(shape), label=labels["label"], period=labels["period"],
+                  outcome=labels["outcome"], steps=d["steps"].reshape(shape), attractors=attractors,
+                  stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
+                  jobs=report, **_context(model, opts))
 
 
 @_with_defaults
-def response(model, param, values, ic=None, *, curves=None, transient_time=_D["grazing_transient_time"],
-             rtol=_D["grazing_rtol"], atol=_D["grazing_atol"], method=_D["method"], threads=_D["threads"],
-             progress=None):
-    """Lock-in curves of the barrier-free system: amplitude and frequency over a parameter.
+def response(model, param, values, ic=None, *, curves=None, variable=None, grazing=True,
+             transient_time=_D["grazing_transient_time"], tol=_D["grazing_tol"], rtol=_D["grazing_rtol"],
+             atol=_D["grazing_atol"], method=_D["method"], block=_D["grazing_block"], t_max=_D["grazing_t_max"],
+             threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+    """The surface-free response over a parameter (lock-in curves, the paper's Figure 10a, b).
 
     One job per (curve, value) (threaded, deterministic, see ``sweep``). Each runs the
-    barrier-free system of ``model.with_(A=A, eps=eps, param=value)`` as ``grazing`` does
-    and measures, over the last block of 16 minima: sigma_graze (the smallest minimum of y),
-    y_max (the largest maximum), the amplitude max|y| = max(|y_max|, |sigma_graze|) and the
-    angular frequency of y, 2 pi 15 / (t_16 - t_1), relative to the wake's (which is 1 in the
-    model's time unit). The paper's Figure 10a, b.
+    surface-free system as ``grazing`` does and measures, over the last block of minima, the
+    largest and smallest extremum of ``variable``, its amplitude max(|max|, |min|) and its
+    angular frequency, and for each surface its grazing value (or margin).
 
     Parameters
     ----------
-    model : WakeImpact
+    model : Model
     param : str
-        The parameter to vary (usually ``"Ur"``; not ``"sigma"``, which has no effect here).
+        The parameter to vary; it must enter the vector field (a parameter that only moves a
+        surface does not change the surface-free response).
     values : array_like, shape (n,)
-    ic : array_like, shape (4,), optional
+    ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
-    curves : sequence of (A, eps), optional
-        One curve per pair; default ``[(model.A, model.eps)]``.
+    curves : list of dict, optional
+        One curve per dict of parameter values, e.g. ``[{"A": 12, "eps": 0.3}, {"A": 14,
+        "eps": 0.35}]``; default one curve at the model's values.
+    variable : str, optional
+        The state variable measured; default the model's first (``model.state_names[0]``).
+    grazing : bool or str, default True
+        Per surface, the grazing value of this parameter, or with True of the first
+        parameter that moves a surface (none: the margin); with False the margin, the smallest
+        gap.
     transient_time : float, default $grazing_transient_time
         Time discarded before measuring.
-    rtol, atol : float, default $grazing_rtol, $grazing_atol
-        Looser values are tightened to 1e-12, as for ``grazing``.
-    method : {"dop853", "dopri5"}, default $method
-    threads : int, default $threads
-    progress : callable, optional
-        ``progress(done, total)``, see ``sweep``.
+    tol, rtol, atol, method, block, t_max
+        As for ``grazing`` (defaults $grazing_tol, $grazing_rtol, $grazing_atol, $method,
+        $grazing_block, $grazing_t_max).
+    <jobs>
 
     Returns
     -------
     Response
-        ``values`` (n,), ``curves`` (c, 2); per curve and value, shape (c, n):
-        ``amplitude``, ``y_max``, ``sigma_graze``, ``frequency_ratio``,
-        ``structure_frequency`` (float64), ``converged`` (bool), ``outcome`` (str),
-        ``steps`` (int64); ``stats``.
+        ``values`` (n,), ``curves``; per curve and value, shape (c, n): ``amplitude``,
+        ``maximum``, ``minimum``, ``frequency`` (float64), ``converged`` (bool), ``outcome``
+        (str), ``steps`` (int64); ``grazing`` (c, n, surfaces); ``jobs``.
     """
-    if not isinstance(model, WakeImpact):
-        raise TypeError(f"response needs a vimpact.WakeImpact model (got {type(model).__name__})")
+    model = _model(model)
+    var = model.state_names[0] if variable is None else variable
+    gparam = _default_gap_parameter(model) if grazing is True else (grazing or None)
+    if gparam == param:
+        gparam = None
+    cs = [{}] if curves is None else [dict(c) for c in curves]
+    for c in cs:
+        for k, v in c.items():
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.number)):
+                raise TypeError(f"curves: the value of {k} must be a number (got {type(v).__name__})")
     vals = np.asarray(values, dtype=float)
-    pairs = [(model.A, model.eps)] if curves is None else [(float(a), float(e)) for a, e in curves]
-    d = _timed(lambda: _vimpact._response(model, param, vals, pairs, _ic(model, ic), transient_time, rtol, atol,
-                                          method, threads, progress))
-    shape = (len(pairs), len(vals))
-    opts = _options(model, ic, curves=pairs, transient_time=transient_time, rtol=rtol, atol=atol, method=method)
-    return Response(param=param, values=vals.copy(), curves=np.array(pairs, dtype=float).reshape(-1, 2),
-                    amplitude=d["amplitude"].reshape(shape), y_max=d["y_max"].reshape(shape),
-                    sigma_graze=d["sigma_graze"].reshape(shape), frequency_ratio=d["frequency_ratio"].reshape(shape),
-                    structure_frequency=d["structure_frequency"].reshape(shape),
+    o = dict(param=param, values=vals, curves=[{k: float(v) for k, v in c.items()} for c in cs], variable=var,
+             ic=_ic(ic), grazing=gparam, transient_time=transient_time, tol=tol, rtol=rtol, atol=atol, method=method,
+             block=block, t_max=t_max)
+    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    d, report = _run_jobs(lambda: _vimpact._response(model._handle, o), o)
+    if d is None:
+        return report
+    shape = (len(cs), len(vals))
+    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
+    ctx = _context(model, opts)
+    ctx["plot_variable"] = var
+    return Response(param=param, values=vals.copy(), curves=o["curves"], variable=var,
+                    amplitude=d["amplitude"].reshape(shape), maximum=d["maximum"].reshape(shape),
+                    minimum=d["minimum"].reshape(shape), frequency=d["frequency"].reshape(shape),
+                    grazing_param=gparam, grazing=d["grazing"].reshape(shape + (-1,)),
                     converged=d["converged"].reshape(shape), outcome=_strings(d["outcome"], shape),
-                    steps=d["steps"].reshape(shape), stats=d["stats"], parameters=model.parameters, model=model,
-                    options=opts)
+                    steps=d["steps"].reshape(shape),
+                    stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
+                    jobs=report, **ctx)
 
 
 def grid(a, b, n):
@@ -490,29 +597,52 @@ def grid(a, b, n):
     -------
     ndarray, float64, shape (n,)
     """
-    return _vimpact.grid(a, b, n)
+    return _vimpact.grid(float(a), float(b), int(n))
+
+
+# ---------------------------------------------------------------- stability
+
+def _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, sample_dt, tangent_rtol, tangent_atol,
+                     transient, record, section, rtol, atol, method, quiet_time, t_max):
+    return _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, tol=tol,
+                     newton_tol=newton_tol, newton_iterations=newton_iterations, impact_map=impact_map,
+                     sample_dt=sample_dt, tangent_rtol=tangent_rtol, tangent_atol=tangent_atol)
+
+
+def _floquet_result(d, model, opts):
+    stats = {"protocol": RunStats.from_dict(d["protocol_stats"], model.surfaces),
+             "tangent": RunStats.from_dict(d["tangent_stats"], model.surfaces),
+             "map_evaluations": d["map_evaluations"]}
+    keys = ("status", "label", "section_returns", "period", "impacts_per_period", "initial_closure", "closure",
+            "newton_iterations", "orbit_point", "monodromy", "multipliers", "trivial_error", "trivial_residual",
+            "max_nontrivial_modulus", "stable", "det_monodromy", "liouville_det", "divergence_integral",
+            "log_det_jumps", "impact_map", "orbit_t", "orbit", "impact_t", "impact_surface", "impact_pre",
+            "impact_post", "section_t", "section")
+    return Floquet(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
+                   stats=stats, **_context(model, opts))
 
 
 @_with_defaults
 def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
-            newton_iterations=_D["newton_iterations"], impact_map="saltation", sample_dt=0.0,
-            transient=_D["transient"], record=_D["record"], rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+            newton_iterations=_D["newton_iterations"], impact_map=_D["impact_map"], sample_dt=0.0,
+            tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"], transient=_D["transient"],
+            record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
             quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
     """Floquet multipliers of the periodic orbit reached from ``ic`` (the paper's Algorithm 1).
 
-    1. The protocol (see ``simulate``; section: maxima) and its period label, as ``period``.
-       An aperiodic or failed run stops here: no multipliers.
-    2. Newton shooting on P^k(z) = z, k the maxima per period, from the first recorded point,
-       until the closure |P^k(z) - z|_inf <= ``newton_tol``.
+    1. The protocol (see ``simulate``; on a section crossing) and its period label, as
+       ``period``. An aperiodic or failed run stops here: no multipliers.
+    2. Newton shooting on P^k(z) = z, k the section returns per period, from the first
+       recorded point, until the closure |P^k(z) - z|_inf <= ``newton_tol``.
     3. The monodromy Phi(T) = Phi_n S_n ... S_1 Phi_1 over one period from the refined point:
        the variational flow between impacts, the saltation matrix
-       S = R' + (F+ - R' F) grad(h)^T / (grad(h) . F) at each impact (Eq. 8).
+       S = R' + (F+ - R' F) grad(g)^T / (grad(g) . F) at each impact (Eq. 8).
     4. The multipliers are its eigenvalues; the trivial one (for the flow direction) is 1 up
        to the accuracy of the monodromy and comes first.
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
     tol : float, default $period_tol
@@ -520,15 +650,14 @@ def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"]
     newton_tol : float, default $newton_tol
         Closure to reach by Newton shooting.
     newton_iterations : int, default $newton_iterations
-    impact_map : {"saltation", "reset-jacobian", "identity"}, default "saltation"
-        The tangent jump at impacts: saltation is correct; the other two are wrong and there
-        to show it (the trivial multiplier moves off 1).
+    impact_map : {"saltation", "second-order", "reset-jacobian", "identity"}, default $impact_map
+        The tangent jump at impacts in the final monodromy: saltation is correct; the last two
+        are wrong and there to show it (the trivial multiplier moves off 1).
     sample_dt : float, default 0
         > 0: also sample the refined orbit over one period (``orbit``).
-    transient, record, rtol, atol, method, quiet_time, t_max
-        The protocol's, as for ``simulate`` (defaults $transient, $record, $rtol, $atol,
-        $method, $quiet_time, $t_max). The tangent runs integrate at min(rtol, 1e-12), as the
-        command line does.
+    tangent_rtol, tangent_atol : float, default $tangent_rtol, $tangent_atol
+        Tolerances of the tangent runs (Newton closes the orbit only as far as they allow).
+    <protocol>
 
     Returns
     -------
@@ -538,56 +667,76 @@ def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"]
 
     Examples
     --------
-    >>> f = vimpact.floquet(vimpact.WakeImpact(Ur=16))
+    >>> f = vimpact.floquet(vimpact.Model("wake_impact", Ur=16))
     >>> f.label, f.stable
     ('P2', True)
     """
     model = _model(model)
-    d = _vimpact._floquet(model, _ic(model, ic), tol, newton_tol, newton_iterations, impact_map, sample_dt,
-                          transient, record, rtol, atol, method, quiet_time, t_max)
-    opts = _options(model, ic, tol=tol, newton_tol=newton_tol, newton_iterations=newton_iterations,
-                    impact_map=impact_map, sample_dt=sample_dt, transient=transient, record=record, rtol=rtol,
-                    atol=atol, tangent_rtol=d["tangent_rtol"], method=method, quiet_time=quiet_time, t_max=t_max)
-    stats = {"protocol": RunStats.from_dict(d["protocol_stats"]), "tangent": RunStats.from_dict(d["tangent_stats"]),
-             "map_evaluations": d["map_evaluations"]}
-    keys = ("status", "flow_outcome", "label", "section_returns", "period", "impacts_per_period", "initial_closure",
-            "closure", "newton_iterations", "orbit_point", "monodromy", "multipliers", "trivial_error",
-            "trivial_residual", "max_nontrivial_modulus", "stable", "det_monodromy", "liouville_det", "impact_map",
-            "orbit_t", "orbit", "impact_t", "impact_pre", "impact_post")
-    return Floquet(**{k: d[k] for k in keys}, stats=stats, parameters=model.parameters, model=model, options=opts)
+    o = _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, sample_dt, tangent_rtol,
+                         tangent_atol, transient, record, section, rtol, atol, method, quiet_time, t_max)
+    d = _vimpact._floquet(model._handle, _ic(ic), o)
+    return _floquet_result(d, model, _options(ic, **o))
+
+
+def _lyapunov_options(tdm, r0, t0, impacts, time_, warmup, p0_time, max_time, divergence, record, section,
+                      transient, rtol, atol, method, quiet_time, t_max):
+    return dict(tdm=tdm, r0=r0, t0=t0, impacts=impacts, time=time_, warmup=warmup, p0_time=p0_time,
+                max_time=max_time, divergence=divergence, record=record, section=section, transient=transient,
+                rtol=rtol, atol=atol, method=method, quiet_time=quiet_time, t_max=t_max)
+
+
+def _lyapunov_result(d, model, opts):
+    stats = {"transient": RunStats.from_dict(d["transient_stats"], model.surfaces),
+             "tangent": RunStats.from_dict(d["stats"], model.surfaces)}
+    keys = ("status", "tdm", "impacting", "exponents", "lle_standard_error", "t_start", "time", "impacts",
+            "intervals", "divergence_average", "jump_log_det_rate", "sum_rule", "misses", "history_t",
+            "history_growth", "section_t", "section")
+    return Lyapunov(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
+                    stats=stats, **_context(model, opts))
 
 
 @_with_defaults
-def lyapunov(model, ic=None, *, tdm="saltation", r0=_D["r0"], t0=_D["t0"], impacts=_D["lyapunov_impacts"],
-             time=0.0, warmup=_D["warmup"], transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"],
+def lyapunov(model, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"], impacts=_D["lyapunov_impacts"],
+             time=_D["lyapunov_time"], warmup=_D["warmup"], p0_time=_D["p0_time"], max_time=_D["max_time"],
+             divergence=True, record=0, section=None, transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"],
              method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
     """The Lyapunov spectrum of the attractor reached from ``ic`` (the paper's Algorithm 2).
 
     After ``transient`` impacts, dim deviation vectors of size ``r0`` follow the orbit; every
     ``t0`` they are re-orthonormalised by a QR decomposition and ln(R_ii / r0) is accumulated.
     After ``warmup`` intervals (not counted) the averages over the next ``impacts`` impacts
-    (or ``time``) are the exponents, lambda_i = (1/T) sum ln(R_ii / r0), in descending order
-    (Eq. 13). Their sum must equal <div F> + (1/T) sum ln|det S| (``sum_rule``).
+    (or ``time``) are the exponents, in descending order (Eq. 13). Their sum must equal
+    <div F> + (1/T) sum ln|det S| (``sum_rule``).
 
     Parameters
     ----------
-    model : WakeImpact or ForcedImpactOscillator
+    model : Model
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
-    tdm : {"saltation", "second-order", "trajectory"}, default "saltation"
+    tdm : {"saltation", "second-order", "trajectory"}, default $tdm
         How deviations cross an impact: the saltation matrix (first order, the textbook
-        spectrum), the second-order discontinuity mapping (SPEC section 4) applied to the
-        finite deviations, or two-trajectory integration (Benettin).
+        spectrum), the second-order discontinuity mapping applied to the finite deviations, or
+        two-trajectory integration (Benettin).
     r0 : float, default $r0
         Size of the deviation vectors.
     t0 : float, default $t0
         Re-orthonormalisation interval (pi, the paper's).
     impacts : int, default $lyapunov_impacts
         Average over this many impacts (the paper: 800) ...
-    time : float, default 0
+    time : float, default $lyapunov_time
         ... or, if > 0, over this much time.
     warmup : int, default $warmup
         Intervals not counted while the vectors align.
+    p0_time : float, default $p0_time
+        Averaging time of an orbit without impacts.
+    max_time : float, default $max_time
+        Averaging time limit (status ``time_limit``).
+    divergence : bool, default True
+        Integrate div F for ``sum_rule`` (without it the tangent flow is cheaper).
+    record : int, default 0
+        > 0: also record this many section points in the averaging window (``section``).
+    section : str, optional
+        The section crossing those points lie on (default the model's first).
     transient, rtol, atol, method, quiet_time, t_max
         As for ``simulate`` (defaults $transient, $rtol, $atol, $method, $quiet_time, $t_max).
 
@@ -598,23 +747,151 @@ def lyapunov(model, ic=None, *, tdm="saltation", r0=_D["r0"], t0=_D["t0"], impac
         ``history_t`` (h,) and ``history_growth`` (h, dim), ``running_exponents``, ``status``.
     """
     model = _model(model)
-    d = _vimpact._lyapunov(model, _ic(model, ic), tdm, r0, t0, impacts, time, warmup, transient, rtol, atol, method,
-                           quiet_time, t_max)
-    opts = _options(model, ic, tdm=tdm, r0=r0, t0=t0, impacts=impacts, time=time, warmup=warmup, transient=transient,
-                    rtol=rtol, atol=atol, method=method, quiet_time=quiet_time, t_max=t_max)
-    stats = {"transient": RunStats.from_dict(d["transient_stats"]), "tangent": RunStats.from_dict(d["tangent_stats"])}
-    keys = ("status", "flow_outcome", "tdm", "impacting", "exponents", "lle_standard_error", "t_start", "time",
-            "impacts", "intervals", "divergence_average", "jump_log_det_rate", "sum_rule", "misses", "history_t",
-            "history_growth")
-    return Lyapunov(**{k: d[k] for k in keys}, stats=stats, parameters=model.parameters, model=model, options=opts)
+    o = _lyapunov_options(tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, record, section,
+                          transient, rtol, atol, method, quiet_time, t_max)
+    d = _vimpact._lyapunov(model._handle, _ic(ic), o)
+    return _lyapunov_result(d, model, _options(ic, **o))
+
+
+def _sweep_points(results, dim):
+    pts = [r.section for r in results]
+    run = np.concatenate([np.full(len(p), i, dtype=np.int64) for i, p in enumerate(pts)]) if pts else \
+        np.empty(0, dtype=np.int64)
+    return (np.vstack(pts) if pts else np.empty((0, dim))), run
 
 
 @_with_defaults
-def dimension(points, *, estimator="correlation_sum", theiler=0, centres=_D["centres"], radii=_D["radii"],
-              fit_range=None, slope_tolerance=_D["slope_tolerance"], slope_window=_D["slope_window"],
-              min_extent=_D["min_extent"], min_pairs=_D["min_pairs"], max_correlation=_D["max_correlation"],
-              r_max=math.inf, max_pairs=_D["max_pairs"], bins_per_octave=_D["bins_per_octave"], search="grid",
-              threads=1):
+def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
+                  newton_iterations=_D["newton_iterations"], impact_map=_D["impact_map"],
+                  tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"], transient=_D["transient"],
+                  record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+                  quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None,
+                  resume=False, shard=None, progress=None, keep_journal=False):
+    """Floquet multipliers at every value of one parameter (the paper's Figures 14, 15).
+
+    One ``floquet`` analysis per value, each from ``ic`` on ``model.with_(param=value)``, as
+    jobs of the library's job loop (threaded, deterministic, resumable: see ``sweep``).
+
+    Parameters
+    ----------
+    model : Model
+    param : str
+    values : array_like, shape (n,)
+    ic : array_like, shape (dim,), optional
+    tol, newton_tol, newton_iterations, impact_map, tangent_rtol, tangent_atol
+        As for ``floquet`` (defaults $period_tol, $newton_tol, $newton_iterations,
+        $impact_map, $tangent_rtol, $tangent_atol).
+    <protocol>
+    <jobs>
+
+    Returns
+    -------
+    FloquetSweep
+        ``value`` (n,), ``results`` (a Floquet per value), ``label`` (n,), ``multipliers``
+        (n, dim) complex128 (NaN rows without), ``stable``, ``points``/``point_run`` (the
+        section points underneath), ``jobs``.
+    """
+    model = _model(model)
+    o = _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, 0.0, tangent_rtol, tangent_atol,
+                         transient, record, section, rtol, atol, method, quiet_time, t_max)
+    o.update(param=param, values=np.asarray(values, dtype=float), ic=_ic(ic))
+    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    d, report = _run_jobs(lambda: _vimpact._floquet_sweep(model._handle, o), o)
+    if d is None:
+        return report
+    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
+    results = [_floquet_result(r, model, opts) for r in d["results"]]
+    n, dim = len(results), model.dim
+    mus = np.full((n, dim), np.nan + 0j)
+    trivial = np.zeros((n, dim), dtype=bool)
+    for i, r in enumerate(results):
+        mus[i, :len(r.multipliers)] = r.multipliers
+        trivial[i, 0] = len(r.multipliers) > 0
+    pts, run = _sweep_points(results, dim)
+    return FloquetSweep(param=param, value=d["value"], results=results, label=_strings([r.label for r in results]),
+                        multipliers=mus, trivial=trivial, stable=np.array([r.stable for r in results], dtype=object),
+                        points=pts, point_run=run,
+                        stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
+                        jobs=report, **_context(model, opts))
+
+
+@_with_defaults
+def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"],
+                   impacts=_D["lyapunov_impacts"], time=_D["lyapunov_time"], warmup=_D["warmup"],
+                   p0_time=_D["p0_time"], max_time=_D["max_time"], divergence=True, record=0, section=None,
+                   transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+                   quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None,
+                   resume=False, shard=None, progress=None, keep_journal=False):
+    """Lyapunov exponents at every value of one parameter (the paper's Figures 16, 17).
+
+    One ``lyapunov`` analysis per value, each from ``ic`` on ``model.with_(param=value)``, as
+    jobs of the library's job loop (threaded, deterministic, resumable: see ``sweep``).
+
+    Parameters
+    ----------
+    model : Model
+    param : str
+    values : array_like, shape (n,)
+    ic : array_like, shape (dim,), optional
+    tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, section
+        As for ``lyapunov`` (defaults $tdm, $r0, $t0, $lyapunov_impacts, $lyapunov_time,
+        $warmup, $p0_time, $max_time, True, the model's first section).
+    record : int, default 0
+        > 0: section points per value in the averaging window (the diagram underneath).
+    transient, rtol, atol, method, quiet_time, t_max
+        As for ``simulate``.
+    <jobs>
+
+    Returns
+    -------
+    LyapunovSweep
+        ``value`` (n,), ``results`` (a Lyapunov per value), ``exponents`` (n, dim), ``lle``,
+        ``lle_standard_error``, ``status``, ``points``/``point_run``, ``jobs``.
+    """
+    model = _model(model)
+    o = _lyapunov_options(tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, record, section,
+                          transient, rtol, atol, method, quiet_time, t_max)
+    o.update(param=param, values=np.asarray(values, dtype=float), ic=_ic(ic))
+    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    d, report = _run_jobs(lambda: _vimpact._lyapunov_sweep(model._handle, o), o)
+    if d is None:
+        return report
+    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
+    results = [_lyapunov_result(r, model, opts) for r in d["results"]]
+    pts, run = _sweep_points(results, model.dim)
+    exps = np.vstack([r.exponents for r in results]) if results else np.empty((0, model.dim))
+    return LyapunovSweep(param=param, value=d["value"], results=results, exponents=exps,
+                         lle_standard_error=np.array([r.lle_standard_error for r in results], dtype=float),
+                         status=_strings([r.status for r in results]), points=pts, point_run=run, tdm=tdm,
+                         stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
+                         jobs=report, **_context(model, opts))
+
+
+# ---------------------------------------------------------------- correlation dimension
+
+def _points_of(points, columns):
+    """An array of points, or a result's section points in the named state columns (default:
+    every column that varies; the section fixes one, e.g. ydot = 0 on the maxima)."""
+    if hasattr(points, "section") and hasattr(points, "state_names"):
+        names = tuple(points.state_names)
+        sec = np.asarray(points.section, dtype=float)
+        if columns is None:
+            columns = tuple(n for i, n in enumerate(names) if len(sec) and np.ptp(sec[:, i]) > 0)
+        missing = [c for c in columns if c not in names]
+        if missing:
+            raise InputError(f"columns: no state variable {missing[0]!r} (state: {', '.join(names)})")
+        return sec[:, [names.index(c) for c in columns]], tuple(columns)
+    if columns is not None:
+        raise TypeError("columns names state variables of a result (a Simulation, say), not of an array")
+    return np.asarray(points, dtype=float), None
+
+
+@_with_defaults
+def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, centres=_D["centres"],
+              radii=_D["radii"], fit_range=None, slope_tolerance=_D["slope_tolerance"],
+              slope_window=_D["slope_window"], min_extent=_D["min_extent"], min_pairs=_D["min_pairs"],
+              max_correlation=_D["max_correlation"], r_max=math.inf, max_pairs=_D["max_pairs"],
+              bins_per_octave=_D["bins_per_octave"], search="grid", threads=1):
     """The correlation dimension of a point set (Grassberger & Procaccia; the paper's Eq. 5).
 
     The correlation curve C(r) is either the Grassberger-Procaccia sum over all pairs,
@@ -628,9 +905,11 @@ def dimension(points, *, estimator="correlation_sum", theiler=0, centres=_D["cen
 
     Parameters
     ----------
-    points : array_like, shape (n, d)
-        One point per row, e.g. ``vimpact.simulate(m, record=20000).section[:, [0, 2, 3]]``
-        (the section coordinates y, x, xdot, as the command line uses).
+    points : array_like, shape (n, d), or a result with section points
+        One point per row; or a Simulation (Period, ...) whose ``section`` points are used.
+    columns : sequence of str, optional
+        With a result: the state variables to use; default every one that varies over the
+        points (on the wake model's maxima: y, x, xdot).
     estimator : {"correlation_sum", "centres"}, default "correlation_sum"
     theiler : int, default 0
         Pairs at most this many rows apart are not counted.
@@ -664,7 +943,7 @@ def dimension(points, *, estimator="correlation_sum", theiler=0, centres=_D["cen
     -----
     This computation has no cancel flag in the library: Ctrl-C takes effect when it returns.
     """
-    pts = np.asarray(points, dtype=float)
+    pts, cols = _points_of(points, columns)
     fr = None if fit_range is None else (float(fit_range[0]), float(fit_range[1]))
     d = _vimpact._dimension(pts, estimator, theiler, centres, tuple(float(v) for v in radii), fr, slope_tolerance,
                             slope_window, min_extent, int(min_pairs), max_correlation, r_max, int(max_pairs),
@@ -676,4 +955,4 @@ def dimension(points, *, estimator="correlation_sum", theiler=0, centres=_D["cen
     keys = ("dimension", "found", "automatic", "fit_range", "r2", "slope_error", "slope_spread", "intercept", "fitted",
             "fit_first", "fit_last", "r", "pairs", "total_pairs", "local_slope", "centres", "r_cap", "all_pairs",
             "estimator", "points", "embedding")
-    return Dimension(**{k: d[k] for k in keys}, options=opts)
+    return Dimension(**{k: d[k] for k in keys}, columns=cols, options=opts)

@@ -1,16 +1,19 @@
-"""Plots of vimpact results (matplotlib), for Python users and the command line alike.
+"""Plots of vimpact results (matplotlib), for Python users and the command line alike, for
+any model.
 
 Every function takes a result and returns the matplotlib Figure; given ``path`` it also
 writes the picture there. A result is what the analyses return (``vimpact.sweep(...)``), what
 ``vimpact.Sweep.load(DIR)`` reads from the command line's output, or any object with the same
 attribute names::
 
-    s = vimpact.sweep(vimpact.WakeImpact(), "Ur", vimpact.grid(12, 25, 131))
+    s = vimpact.sweep(vimpact.Model("wake_impact"), "Ur", vimpact.grid(12, 25, 131))
     vimpact.plot.bifurcation(s, "sweep.png")
 
 ``phase`` (a Simulation: time series and phase portrait), ``sections`` (section points of a
 Period or Simulation), ``bifurcation`` (Sweep), ``map`` (Map), ``basins`` (Basins),
-``response`` (Response), ``timeseries_overlay`` (several Simulations).
+``response`` (Response), ``timeseries_overlay`` (several Simulations), ``floquet``,
+``lyapunov``, ``floquet_sweep``, ``lyapunov_sweep``. The state variable drawn is the result's
+``plot_variable`` (the model's first state variable).
 
 Command line: ``vimpact COMMAND ... --out DIR`` runs ``python3 -m vimpact.plot KIND DIR``,
 which loads DIR into the result object of KIND and draws DIR/plot.png with the same function.
@@ -20,9 +23,11 @@ import sys
 
 import numpy as np
 
-from .plot_sweeps import (basins, bifurcation, finish_figure, new_figure, periodicity_map,  # noqa: F401
-                          response, section_name, timeseries_overlay, title)
-from .results import Basins, Map, Period, Response, Simulation, Sweep, read_csv  # noqa: F401
+from .plot_common import finish_figure, new_figure, plot_index, section_name, state_name, surface_levels, title
+from .plot_stability import floquet, floquet_sweep, lyapunov, lyapunov_sweep  # noqa: F401
+from .plot_sweeps import basins, bifurcation, periodicity_map, response, timeseries_overlay  # noqa: F401
+from .results import (Basins, Floquet, FloquetSweep, Lyapunov, LyapunovSweep, Map, Period, Response,  # noqa: F401
+                      Simulation, Sweep, read_csv)
 
 map = periodicity_map  # vimpact.plot.map(result): the periodicity map
 
@@ -32,14 +37,18 @@ def _simulation(result):
 
 
 def phase(result, path=None, window=200.0):
-    """Time series of y with impacts and section points, and the (y, ydot) phase portrait.
+    """Time series of the plot variable with impacts and section points, and a phase portrait.
+
+    The portrait shows the plot variable against the next state variable (its velocity in
+    the usual order: y and ydot for the paper's model). A surface whose impacts all lie at one
+    value of the plot variable (a barrier y = sigma) is drawn as a dashed line.
 
     Parameters
     ----------
     result : Simulation (or Period: its simulation)
         Uses ``series_t``, ``series`` (from ``sample_dt > 0``; without them only the section
         points and impacts are drawn), ``section_t``, ``section``, ``impact_t``,
-        ``impact_pre``, ``outcome``, ``parameters``.
+        ``impact_pre``, ``impact_surface``, ``outcome``, ``state_names``, ``plot_variable``.
     path : str, optional
         Write the picture there (PNG at 120 dpi).
     window : float, default 200
@@ -51,7 +60,9 @@ def phase(result, path=None, window=200.0):
     matplotlib.figure.Figure
     """
     r = _simulation(result)
-    sigma = (r.parameters or {}).get("sigma")
+    k = plot_index(r)
+    dim = len(r.state_names)
+    j = k + 1 if k + 1 < dim else (0 if k else min(1, dim - 1))
     fig, (ax1, ax2) = new_figure(path, None, figsize=(12, 4.5), nrows=1, ncols=2,
                                  gridspec_kw={"width_ratios": [1.6, 1]})
     ts_t, ts = np.asarray(r.series_t), np.asarray(r.series)
@@ -60,41 +71,47 @@ def phase(result, path=None, window=200.0):
     ends = [a[-1] for a in (ts_t, sec_t, imp_t) if len(a)]
     t_end = max(ends) if ends else 0.0
     keep = ts_t >= t_end - window
-    ax1.plot(ts_t[keep], ts[keep, 0] if len(ts) else [], lw=0.8, color="C0", label="y")
-    if sigma is not None:
-        ax1.axhline(sigma, color="k", lw=1.0, ls="--", label=f"barrier sigma = {sigma:g}")
+    name = state_name(r, k)
+    ax1.plot(ts_t[keep], ts[keep, k] if len(ts) else [], lw=0.8, color="C0", label=name)
+    levels = surface_levels(r, k)
+    for n, level in levels.items():
+        ax1.axhline(level, color="k", lw=1.0, ls="--", label=f"{n}: {name} = {level:g}")
     ki = imp_t >= t_end - window
     if ki.any():
-        ax1.plot(imp_t[ki], imp[ki, 0], "rv", ms=3, label="impacts")
+        ax1.plot(imp_t[ki], imp[ki, k], "rv", ms=3, label="impacts")
     ks = sec_t >= t_end - window
     if ks.any():
-        ax1.plot(sec_t[ks], sec[ks, 0], "g^", ms=4, label="section points")
+        ax1.plot(sec_t[ks], sec[ks, k], "g^", ms=4, label="section points")
     ax1.set_xlabel("t")
-    ax1.set_ylabel("y")
+    ax1.set_ylabel(name)
     ax1.legend(loc="upper right", fontsize=8)
     ax1.set_title(f"time series, last {window:g} time units (outcome {r.outcome})", fontsize=10)
 
     if len(ts):
-        ax2.plot(ts[:, 0], ts[:, 1], lw=0.6, color="C0")
-    if sigma is not None:
-        ax2.axvline(sigma, color="k", lw=1.0, ls="--")
+        ax2.plot(ts[:, k], ts[:, j], lw=0.6, color="C0")
+    for level in levels.values():
+        ax2.axvline(level, color="k", lw=1.0, ls="--")
     if len(sec):
-        ax2.plot(sec[:, 0], sec[:, 1], "g^", ms=4)
-    ax2.set_xlabel("y")
-    ax2.set_ylabel("dy/dt")
+        ax2.plot(sec[:, k], sec[:, j], "g^", ms=4)
+    if len(imp):
+        ax2.plot(imp[:, k], imp[:, j], "rv", ms=3)
+    ax2.set_xlabel(name)
+    ax2.set_ylabel(state_name(r, j))
     ax2.set_title("phase portrait", fontsize=10)
-    fig.suptitle(title(r), fontsize=10)
+    fig.suptitle(title(r), fontsize=9)
     return finish_figure(fig, path, dpi=120)
 
 
 def sections(result, path=None, ax=None):
-    """The recorded section points in the (y, x) plane, titled with the period label.
+    """The recorded section points in the plane of the plot variable and the next state
+    variable that varies on the section, titled with the period label.
 
     Parameters
     ----------
     result : Period or Simulation
         Uses ``section`` (and ``label`` for a Period).
-    path, ax : see ``vimpact.plot.bifurcation``.
+    path : str, optional
+    ax : matplotlib Axes, optional
 
     Returns
     -------
@@ -104,11 +121,14 @@ def sections(result, path=None, ax=None):
     r = _simulation(result)
     fig, ax = new_figure(path, ax, figsize=(6, 4.5))
     sec = np.asarray(r.section)
-    names = getattr(r, "state_names", ("y", "ydot", "x", "xdot"))
+    k = plot_index(r)
+    varying = [i for i in range(sec.shape[1]) if i != k and len(sec) and np.ptp(sec[:, i]) > 0] if sec.ndim == 2 \
+        else []
+    j = varying[0] if varying else (k + 1) % max(len(r.state_names), 1)
     if len(sec):
-        ax.plot(sec[:, 0], sec[:, 2], "o", ms=3)
-    ax.set_xlabel(f"{names[0]} at section ({section_name(r)})")
-    ax.set_ylabel(f"{names[2]} at section")
+        ax.plot(sec[:, k], sec[:, j], "o", ms=3)
+    ax.set_xlabel(f"{state_name(r, k)} at the section ({section_name(r)})")
+    ax.set_ylabel(f"{state_name(r, j)} at the section")
     label = getattr(result, "label", None)
     ax.set_title(f"{label + ': ' if label else ''}{len(sec)} section points", fontsize=10)
     if own:
@@ -126,10 +146,8 @@ def _draw(loader, drawer):
 
 
 def _kinds():
-    """Plot kind (the first argument of ``python3 -m vimpact.plot``) -> function(directory).
-
-    Kinds of other analyses live in their own modules (plot_<topic>.py) and are listed here."""
-    from . import plot_dimension, plot_stability
+    """Plot kind (the first argument of ``python3 -m vimpact.plot``) -> function(directory)."""
+    from . import plot_dimension
 
     return {
         "simulate": _draw(Simulation.load, phase),
@@ -139,10 +157,10 @@ def _kinds():
         "basins": _draw(Basins.load, basins),
         "response": _draw(Response.load, response),
         "dimension": plot_dimension.dimension,
-        "floquet": plot_stability.floquet,
-        "lyapunov": plot_stability.lyapunov,
-        "floquet_sweep": plot_stability.floquet_sweep,
-        "lyapunov_sweep": plot_stability.lyapunov_sweep,
+        "floquet": _draw(Floquet.load, floquet),
+        "lyapunov": _draw(Lyapunov.load, lyapunov),
+        "floquet_sweep": _draw(FloquetSweep.load, floquet_sweep),
+        "lyapunov_sweep": _draw(LyapunovSweep.load, lyapunov_sweep),
     }
 
 

@@ -30,10 +30,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from vimpact.plot import read_csv  # noqa: E402
-from vimpact.results import save_in  # noqa: E402
+from .plot_common import save_in  # noqa: E402
+from .results import _context, read_csv  # noqa: E402
 
-_LABELS = {"y": "y", "ydot": "dy/dt", "x": "x", "xdot": "dx/dt"}
+_LABELS = {}  # column name -> axis label (the names themselves: they are the model's)
 
 
 def _load(directory):
@@ -43,21 +43,37 @@ def _load(directory):
     return record, points, curve
 
 
+def _parameters(record):
+    return _context(record)["parameters"] if (record.get("model") or record.get("config", {}).get("parameters")) \
+        else {}
+
+
 def _title(record):
     cfg = record.get("config", {})
-    if "parameters" in cfg:
-        p = cfg["parameters"]
-        return (f"Ur = {p['Ur']:g}, sigma = {p['sigma']:g}, r = {p['r']:g}, A = {p['A']:g}, "
-                f"eps = {p['eps']:g} ({cfg['preset']} preset), section {cfg['section']}")
+    p = _parameters(record)
+    if p:
+        ctx = _context(record)
+        text = ", ".join(f"{k} = {v:g}" for k, v in p.items() if isinstance(v, (int, float)))
+        head = f"{ctx['model_name']}: " if ctx["model_name"] else ""
+        section = f", section {cfg['section']}" if cfg.get("section") else ""
+        return head + text + section
     return f"points from {cfg.get('points_file', '?')}"
 
 
-def _run_label(record):
+def _run_label(record, varied=()):
     cfg = record.get("config", {})
-    if "parameters" in cfg:
-        p = cfg["parameters"]
-        return f"Ur = {p['Ur']:g}, sigma = {p['sigma']:g}"
+    p = _parameters(record)
+    if p:
+        shown = [k for k in p if k in varied] or list(p)[:2]
+        return ", ".join(f"{k} = {p[k]:g}" for k in shown)
     return os.path.basename(cfg.get("points_file", "points"))
+
+
+def _varied(records):
+    """Parameters whose values differ between runs."""
+    ps = [_parameters(r) for r in records]
+    keys = list(ps[0]) if ps else []
+    return tuple(k for k in keys if any(p.get(k) != ps[0].get(k) for p in ps))
 
 
 def _projection(ax, points, names, i, j, centres=None):
@@ -129,12 +145,13 @@ def overlay(out_png, directories, columns=(0, 1)):
     """Points of several runs in one projection (Figure 6c, d)."""
     fig, ax = plt.subplots(figsize=(7, 5.5))
     names = None
-    for k, directory in enumerate(directories):
-        record, points, _ = _load(directory)
+    loaded = [_load(d) for d in directories]
+    varied = _varied([r for r, _, _ in loaded])
+    for k, (record, points, _) in enumerate(loaded):
         names = list(points.keys())
         i, j = columns
         d = record["result"]["dimension"]
-        label = _run_label(record) + (f": nu = {d:.2f}" if d is not None else "")
+        label = _run_label(record, varied) + (f": nu = {d:.2f}" if d is not None else "")
         ax.plot(points[names[i]], points[names[j]], ",", color=f"C{k % 10}")
         ax.plot([], [], "s", color=f"C{k % 10}", label=label)
     if names:
@@ -150,20 +167,22 @@ def overlay(out_png, directories, columns=(0, 1)):
 
 def table(directories):
     """A Markdown table of the results of several ``vimpact dimension --out`` directories."""
-    rows = ["| run | Ur | sigma | transient | label | points | estimator | nu | fit range r | r2 | region |",
-            "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for directory in directories:
-        record = json.load(open(os.path.join(directory, "run.json")))
+    records = [json.load(open(os.path.join(d, "run.json"))) for d in directories]
+    varied = _varied(records)
+    rows = ["| run | " + "".join(f"{k} | " for k in varied) + "transient | label | points | estimator | nu | "
+            "fit range r | r2 | region |",
+            "|---|" + "---|" * len(varied) + "---|---|---|---|---|---|---|---|"]
+    for directory, record in zip(directories, records):
         res = record["result"]
         cfg = record.get("config", {})
-        p = cfg.get("parameters", {})
-        src = res["source"]
+        p = _parameters(record)
+        src = res.get("source", {})
         nu = res["dimension"]
         lo, hi = res["fit_range"]
         r2 = res["r2"]
-        rows.append("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
+        rows.append("| {} | {}{} | {} | {} | {} | {} | {} | {} | {} |".format(
             os.path.relpath(directory, os.path.dirname(os.path.normpath(directories[0]))),
-            f"{p['Ur']:g}" if p else "-", f"{p['sigma']:g}" if p else "-",
+            "".join(f"{p[k]:g} | " if k in p else "- | " for k in varied),
             cfg.get("transient", "-"), src.get("label", "-"), res["points"], res["estimator"],
             f"{nu:.3f}" if nu is not None else "-",
             f"{lo:.2g} .. {hi:.2g}" if lo is not None else "-",
@@ -174,7 +193,8 @@ def table(directories):
 def divergence(sections_a, sections_b, out_csv):
     """Separation of two runs started 1e-9 apart, section point by section point.
 
-    d_n = |c_n - c'_n| over the section coordinates (y, x, xdot). On a chaotic attractor it
+    d_n = |c_n - c'_n| over the section coordinates (every state column that varies: y, x, xdot
+    on the wake model's maxima). On a chaotic attractor it
     grows like exp(lambda n) until it reaches the size of the attractor; on a stable periodic
     orbit it shrinks. lambda (per section return) is the least-squares slope of ln d_n from the
     first return up to the last one before d_n first reaches 1e-3 (beyond that the separation
@@ -182,8 +202,8 @@ def divergence(sections_a, sections_b, out_csv):
     returns fitted, mean return time, d at the first and last fitted return)."""
     a, b = read_csv(sections_a), read_csv(sections_b)
     n = min(len(a["t"]), len(b["t"]))
-    d = np.sqrt((a["y"][:n] - b["y"][:n]) ** 2 + (a["x"][:n] - b["x"][:n]) ** 2 +
-                (a["xdot"][:n] - b["xdot"][:n]) ** 2)
+    cols = [k for k in a if k != "t" and k in b and n and np.ptp(a[k][:n]) > 0]
+    d = np.sqrt(sum((a[k][:n] - b[k][:n]) ** 2 for k in cols)) if cols else np.zeros(n)
     with open(out_csv, "w") as f:
         f.write("n,t,d\n")
         for i in range(n):

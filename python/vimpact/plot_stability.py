@@ -1,182 +1,201 @@
-"""Pictures of the stability commands (docs/stability.md). Each function reads a
-``vimpact floquet|lyapunov ... --out DIR`` directory and writes DIR/plot.png (or ``out_name``).
+"""Pictures of the stability analyses (docs/stability.md), for any model: each function takes
+a result (``vimpact.floquet(...)``, or ``vimpact.Floquet.load(DIR)`` for the command line's
+``--out DIR``), returns the Figure and, given ``path``, writes it there.
 
-``floquet(DIR)``: the multipliers in the complex plane with the unit circle (trivial one
-marked), and the refined periodic orbit (y, dy/dt) over one period with its impacts.
-``lyapunov(DIR)``: the running estimates of the exponents against time (Eq. 13), which show
+``floquet``: the multipliers in the complex plane with the unit circle (trivial one marked),
+and the refined periodic orbit over one period with its impacts.
+``lyapunov``: the running estimates of the exponents against time (Eq. 13), which show
 whether the average has converged.
+``floquet_sweep``, ``lyapunov_sweep``: multipliers or the largest exponent against the swept
+parameter over the bifurcation diagram (the paper's Figures 14-17).
 """
-import json
-import os
+import numpy as np
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .results import read_csv, save_in  # noqa: E402,F401
+from .plot_common import finish_figure, new_figure, plot_index, state_name, surface_levels, title
 
 
+def floquet(result, path=None):
+    """Multipliers on the unit circle, and the periodic orbit they belong to.
 
-def _title(record, swept=None):
-    """The parameters of the run; a swept one is named as the axis, not given a value."""
-    p = record["config"]["parameters"]
-    parts = [f"{k} = {p[k]:g}" for k in ("Ur", "sigma", "r", "A", "eps") if k != swept]
-    return ", ".join(parts) + f"  ({record['config']['preset']} preset)"
+    Parameters
+    ----------
+    result : Floquet
+        Uses ``multipliers`` (trivial first), ``trivial_error``, ``label``, ``period``,
+        ``impacts_per_period``, ``stable``, ``status``, ``orbit`` (from ``sample_dt > 0``),
+        ``impact_pre``/``impact_post``, ``state_names``, ``plot_variable``.
+    path : str, optional
 
-
-def _record(directory):
-    with open(os.path.join(directory, "run.json")) as f:
-        return json.load(f)
-
-
-def floquet(directory, out_name="plot.png"):
-    """Multipliers on the unit circle, and the periodic orbit they belong to."""
-    record = _record(directory)
-    res = record["result"]
-    mult = read_csv(os.path.join(directory, "multipliers.csv"))
-    orbit = read_csv(os.path.join(directory, "orbit.csv"))
-    imp = read_csv(os.path.join(directory, "impacts.csv"))
-    sigma = record["config"]["parameters"]["sigma"]
-
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax1, ax2) = new_figure(path, None, figsize=(11, 5), nrows=1, ncols=2)
     phi = np.linspace(0.0, 2.0 * np.pi, 400)
     ax1.plot(np.cos(phi), np.sin(phi), "k-", lw=0.8, label="unit circle")
     ax1.axhline(0.0, color="0.8", lw=0.6)
     ax1.axvline(0.0, color="0.8", lw=0.6)
-    if len(mult["re"]):
-        trivial = mult["trivial"] > 0.5
-        ax1.plot(mult["re"][~trivial], mult["im"][~trivial], "o", color="C0", ms=7, label="multipliers")
-        ax1.plot(mult["re"][trivial], mult["im"][trivial], "s", mfc="none", color="C3", ms=9,
-                 label=f"trivial (|mu - 1| = {res['trivial_error']:.1e})")
+    mus = np.asarray(result.multipliers if result.multipliers is not None else [], dtype=complex)
+    if len(mus):
+        ax1.plot(mus[1:].real, mus[1:].imag, "o", color="C0", ms=7, label="multipliers")
+        ax1.plot(mus[:1].real, mus[:1].imag, "s", mfc="none", color="C3", ms=9,
+                 label=f"trivial (|mu - 1| = {result.trivial_error:.1e})")
     ax1.set_aspect("equal")
-    ax1.set_xlim(-1.3, 1.3)
-    ax1.set_ylim(-1.3, 1.3)
+    lim = max(1.3, 1.1 * float(np.max(np.abs(mus)))) if len(mus) else 1.3
+    ax1.set_xlim(-lim, lim)
+    ax1.set_ylim(-lim, lim)
     ax1.set_xlabel("Re mu")
     ax1.set_ylabel("Im mu")
     ax1.legend(loc="lower left", fontsize=8)
-    status = res["outcome"]
-    if res.get("period") is not None:
-        head = (f"{res['label']}: T = {res['period']:.6g}, {res['impacts_per_period']} impact(s), "
-                f"{'stable' if res['stable'] else 'unstable'}")
+    if len(mus):
+        head = (f"{result.label}: T = {result.period:.6g}, {result.impacts_per_period} impact(s), "
+                f"{'stable' if result.stable else 'unstable'}")
     else:
-        head = f"{res['label']}: no multipliers ({status})"
+        head = f"{result.label}: no multipliers ({result.status})"
     ax1.set_title(head, fontsize=10)
 
-    if len(orbit["t"]):
-        ax2.plot(orbit["y"], orbit["ydot"], lw=1.0, color="C0", label="periodic orbit")
-        ax2.plot(orbit["y"][:1], orbit["ydot"][:1], "g^", ms=6, label="start on the section")
-    if len(imp["t"]):
-        ax2.plot(imp["y"], imp["ydot_before"], "rv", ms=5, label="impact (before)")
-        ax2.plot(imp["y"], imp["ydot_after"], "r^", ms=5, label="impact (after)")
-    ax2.axvline(sigma, color="k", ls="--", lw=1.0, label=f"barrier sigma = {sigma:g}")
-    ax2.set_xlabel("y")
-    ax2.set_ylabel("dy/dt")
-    ax2.legend(loc="upper right", fontsize=8)
-    ax2.set_title("the orbit over one period", fontsize=10)
-    fig.suptitle(_title(record), fontsize=10)
-    return save_in(fig, directory, out_name)
+    k = plot_index(result)
+    j = k + 1 if k + 1 < len(result.state_names) else 0
+    orbit = np.asarray(result.orbit if result.orbit is not None else np.empty((0, 0)))
+    if orbit.ndim == 2 and len(orbit):
+        ax2.plot(orbit[:, k], orbit[:, j], lw=1.0, color="C0", label="periodic orbit")
+        ax2.plot(orbit[:1, k], orbit[:1, j], "g^", ms=6, label="start on the section")
+    pre = np.asarray(result.impact_pre if result.impact_pre is not None else np.empty((0, 0)))
+    post = np.asarray(result.impact_post if result.impact_post is not None else np.empty((0, 0)))
+    if pre.ndim == 2 and len(pre):
+        ax2.plot(pre[:, k], pre[:, j], "rv", ms=5, label="impact (before)")
+        ax2.plot(post[:, k], post[:, j], "r^", ms=5, label="impact (after)")
+    for name, level in surface_levels(result, k).items():
+        ax2.axvline(level, color="k", ls="--", lw=1.0, label=f"{name}: {state_name(result, k)} = {level:g}")
+    ax2.set_xlabel(state_name(result, k))
+    ax2.set_ylabel(state_name(result, j))
+    if ax2.get_legend_handles_labels()[0]:
+        ax2.legend(loc="upper right", fontsize=8)
+    ax2.set_title("the orbit over one period" if len(orbit) else "impacts over one period (sample_dt = 0)",
+                  fontsize=10)
+    fig.suptitle(title(result), fontsize=9)
+    return finish_figure(fig, path, dpi=120)
 
 
-def lyapunov(directory, out_name="plot.png"):
-    """Running estimates of the exponents (cumulative QR growth / elapsed time)."""
-    record = _record(directory)
-    res = record["result"]
-    conv = read_csv(os.path.join(directory, "convergence.csv"))
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True,
-                                   gridspec_kw={"height_ratios": [1, 1.4]})
-    names = [k for k in conv if k.startswith("lambda")]
-    if len(conv["t"]):
-        t = conv["t"] - res["t_start"]
-        for i, k in enumerate(names):
-            ax2.plot(t, conv[k], lw=1.0, color=f"C{i}", label=k)
+def lyapunov(result, path=None):
+    """Running estimates of the exponents (cumulative QR growth / elapsed time).
+
+    Parameters
+    ----------
+    result : Lyapunov
+        Uses ``history_t``, ``running_exponents``, ``t_start``, ``lle``,
+        ``lle_standard_error``, ``tdm``, ``impacts``, ``time``, ``status``.
+    path : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax1, ax2) = new_figure(path, None, figsize=(9, 7), nrows=2, ncols=1, sharex=True,
+                                 gridspec_kw={"height_ratios": [1, 1.4]})
+    ht = np.asarray(result.history_t if result.history_t is not None else [])
+    if len(ht):
+        t = ht - result.t_start
+        run = result.running_exponents
+        for i in range(run.shape[1]):
+            ax2.plot(t, run[:, i], lw=1.0, color=f"C{i}", label=f"lambda{i + 1}")
         # The largest on its own scale: whether it settles at 0 or above is the question.
-        lead = max(names, key=lambda k: conv[k][-1])
-        ax1.plot(t, conv[lead], color=f"C{names.index(lead)}", lw=1.0)
+        lead = int(np.argmax(run[-1]))
+        ax1.plot(t, run[:, lead], color=f"C{lead}", lw=1.0)
         ax1.axhline(0.0, color="k", lw=0.6)
-        lle = res.get("lle")
-        if lle is not None:
-            se = res.get("lle_standard_error") or 0.0
-            ax1.axhspan(lle - se, lle + se, color=f"C{names.index(lead)}", alpha=0.15, label=f"LLE = {lle:.4g} +- {se:.1g}")
+        exps = np.asarray(result.exponents, dtype=float)
+        if len(exps) and np.isfinite(exps[0]):
+            se = result.lle_standard_error if np.isfinite(result.lle_standard_error) else 0.0
+            ax1.axhspan(exps[0] - se, exps[0] + se, color=f"C{lead}", alpha=0.15,
+                        label=f"LLE = {exps[0]:.4g} +- {se:.1g}")
             ax1.legend(loc="upper right", fontsize=8)
-        span = np.abs(conv[lead][len(conv[lead]) // 10:]).max() if len(conv[lead]) > 10 else 1.0
+        tail = run[len(run) // 10:, lead]
+        span = float(np.abs(tail).max()) if len(run) > 10 and np.abs(tail).max() > 0 else 1.0
         ax1.set_ylim(-1.5 * span, 1.5 * span)
+        ax2.legend(loc="lower right", fontsize=8)
     ax1.set_ylabel("largest exponent")
-    ax1.set_title(f"mapping at impacts: {res['tdm']}; {res['impacts']} impacts, t = {res['time']:.6g} "
-                  f"({res['outcome']})", fontsize=10)
+    ax1.set_title(f"mapping at impacts: {result.tdm}; {result.impacts} impacts, t = {result.time:.6g} "
+                  f"({result.status})", fontsize=10)
     ax2.axhline(0.0, color="k", lw=0.6)
     ax2.set_xlabel("time since the start of the average")
     ax2.set_ylabel("running estimate")
-    ax2.legend(loc="lower right", fontsize=8)
-    fig.suptitle(_title(record), fontsize=10)
-    return save_in(fig, directory, out_name)
+    fig.suptitle(title(result), fontsize=9)
+    return finish_figure(fig, path, dpi=120)
 
 
-def _read_table(path):
-    """A CSV with text cells as a dict of column lists of strings."""
-    import csv
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return {name: [r[i] for r in rows[1:]] for i, name in enumerate(rows[0])}
+def _diagram(ax, result):
+    """The bifurcation diagram underneath: the plot variable at the section of every value."""
+    k = plot_index(result)
+    pts = np.asarray(result.points if result.points is not None else np.empty((0, 0)))
+    if pts.ndim == 2 and len(pts):
+        ax.plot(result.point_value, pts[:, k], "k.", ms=1.2)
+    ax.set_xlabel(result.param)
+    ax.set_ylabel(f"{state_name(result, k)} at the section")
 
 
-def _diagram(ax, directory, param):
-    """The bifurcation diagram underneath: y at the section maxima of every run."""
-    pts = read_csv(os.path.join(directory, "points.csv"))
-    if len(pts[param]):
-        ax.plot(pts[param], pts["y"], "k.", ms=1.2)
-    ax.set_xlabel(param)
-    ax.set_ylabel("y at the section")
+def floquet_sweep(result, path=None):
+    """Multipliers against the swept parameter (the paper's Figures 14, 15), the band
+    -1 <= mu <= 1 shaded, over the bifurcation diagram.
 
+    Parameters
+    ----------
+    result : FloquetSweep
+    path : str, optional
 
-def floquet_sweep(directory, out_name="plot.png"):
-    """Multipliers against the swept parameter (the paper's Figures 14, 15), the unit-circle
-    band -1 <= mu <= 1 shaded, over the bifurcation diagram."""
-    record = _record(directory)
-    res = record["result"]
-    param = res["param"]
-    mult = read_csv(os.path.join(directory, "multipliers.csv"))
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax1, ax2) = new_figure(path, None, figsize=(9, 8), nrows=2, ncols=1, sharex=True,
+                                 gridspec_kw={"height_ratios": [1.2, 1]})
     ax1.axhspan(-1.0, 1.0, color="C2", alpha=0.08, label="|mu| <= 1 (stable)")
     ax1.axhline(1.0, color="k", lw=0.6)
     ax1.axhline(-1.0, color="k", lw=0.6)
-    if len(mult[param]):
-        trivial = mult["trivial"] > 0.5
-        real = np.abs(mult["im"]) <= 1e-12
-        sel = ~trivial & real
-        ax1.plot(mult[param][sel], mult["re"][sel], ".", color="C0", ms=3, label="real multipliers")
-        sel = ~trivial & ~real
-        ax1.plot(mult[param][sel], mult["modulus"][sel], "^", color="C1", ms=3, label="|mu| of complex pairs")
-        ax1.plot(mult[param][trivial], mult["re"][trivial], "x", color="0.6", ms=3, label="trivial")
+    mus = np.asarray(result.multipliers, dtype=complex)
+    if mus.size:
+        v = np.repeat(np.asarray(result.value, dtype=float)[:, None], mus.shape[1], axis=1)
+        trivial = np.asarray(result.trivial, dtype=bool)
+        have = np.isfinite(mus.real)
+        real = np.abs(mus.imag) <= 1e-12
+        sel = have & ~trivial & real
+        ax1.plot(v[sel], mus.real[sel], ".", color="C0", ms=3, label="real multipliers")
+        sel = have & ~trivial & ~real
+        ax1.plot(v[sel], np.abs(mus[sel]), "^", color="C1", ms=3, label="|mu| of complex pairs")
+        sel = have & trivial
+        ax1.plot(v[sel], mus.real[sel], "x", color="0.6", ms=3, label="trivial")
     ax1.set_ylim(-1.6, 1.6)
     ax1.set_ylabel("Floquet multipliers")
-    counts = ", ".join(f"{k} {v}" for k, v in res["label_counts"].items())
-    ax1.set_title(f"multipliers over {param} ({counts}; aperiodic points have none)", fontsize=10)
+    counts = ", ".join(f"{k} {n}" for k, n in result.label_counts.items())
+    ax1.set_title(f"multipliers over {result.param} ({counts}; aperiodic points have none)", fontsize=10)
     ax1.legend(loc="lower left", fontsize=8, markerscale=2)
-    _diagram(ax2, directory, param)
-    fig.suptitle(_title(record, param), fontsize=10)
-    return save_in(fig, directory, out_name)
+    _diagram(ax2, result)
+    fig.suptitle(title(result, (result.param,)), fontsize=9)
+    return finish_figure(fig, path, dpi=120)
 
 
-def lyapunov_sweep(directory, out_name="plot.png"):
+def lyapunov_sweep(result, path=None):
     """The largest Lyapunov exponent against the swept parameter (the paper's Figures 16, 17)
-    with its standard error, over the bifurcation diagram."""
-    record = _record(directory)
-    res = record["result"]
-    param = res["param"]
-    tab = _read_table(os.path.join(directory, "exponents.csv"))
-    v = np.array([float(x) for x in tab[param]])
-    lle = np.array([float(x) for x in tab["lambda1"]])
-    se = np.array([float(x) for x in tab["lle_standard_error"]])
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 8), sharex=True, gridspec_kw={"height_ratios": [1, 1]})
+    with its standard error, over the bifurcation diagram.
+
+    Parameters
+    ----------
+    result : LyapunovSweep
+    path : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax1, ax2) = new_figure(path, None, figsize=(9, 8), nrows=2, ncols=1, sharex=True)
     ax1.axhline(0.0, color="k", lw=0.6)
+    v = np.asarray(result.value, dtype=float)
+    lle = np.asarray(result.lle, dtype=float)
+    se = np.asarray(result.lle_standard_error, dtype=float)
     ok = np.isfinite(lle)
     ax1.errorbar(v[ok], lle[ok], yerr=np.where(np.isfinite(se[ok]), se[ok], 0.0), fmt=".-", color="C3", ms=4,
                  lw=0.8, elinewidth=0.8, capsize=1.5)
     ax1.set_ylabel("largest Lyapunov exponent")
-    ax1.set_title(f"mapping at impacts: {res['tdm']}; {res['positive']} of {res['values']} values above 3 "
-                  f"standard errors", fontsize=10)
-    _diagram(ax2, directory, param)
-    fig.suptitle(_title(record, param), fontsize=10)
-    return save_in(fig, directory, out_name)
+    ax1.set_title(f"mapping at impacts: {result.tdm}; {result.positive} of {len(v)} values above 3 standard errors",
+                  fontsize=10)
+    _diagram(ax2, result)
+    fig.suptitle(title(result, (result.param,)), fontsize=9)
+    return finish_figure(fig, path, dpi=120)

@@ -1,13 +1,14 @@
 """Result objects of vimpact's analyses, and readers that load the command line's output
 directories (``vimpact COMMAND ... --out DIR``) into the same objects.
 
-Pure Python and numpy: the plotting helpers (``vimpact.plot``), and through them the command
-line's PNGs, use this module without the compiled extension.
+Pure Python and numpy (no matplotlib, no compiled module): the plotting modules import this
+one, never the reverse, and the command line's PNGs are drawn through it.
 
-Every result carries the model's ``parameters`` (a dict), the effective ``options`` of the run,
-its ``stats`` and numpy arrays whose shapes and dtypes are listed in each class. Arrays of a
-grid are indexed ``[iy, ix]`` (rows follow the y axis), as the command line's JSON. A field that
-a directory does not record is ``None`` in a loaded result (said per class).
+Every result carries the model's ``parameters`` (a dict), its ``state_names`` (state columns
+of every array of states are in this order), its ``surfaces``, the ``plot_variable`` its
+pictures show, the effective ``options`` of the run, its ``stats`` and numpy arrays whose
+shapes and dtypes are listed in each class. Arrays of a grid are indexed ``[iy, ix]`` (rows
+follow the y axis). A field that a directory does not record is ``None`` in a loaded result.
 """
 import csv
 import json
@@ -18,28 +19,17 @@ from typing import Optional
 
 import numpy as np
 
-WAKE_STATE_NAMES = ("y", "ydot", "x", "xdot")
 
+# ---------------------------------------------------------------- reading the command line's files
 
 def read_csv(path):
     """A vimpact CSV of numbers (a header line, then rows) as a dict of float64 column arrays."""
     with open(path) as f:
-        header = f.readline().strip().split(",")
+        header = [h.strip() for h in f.readline().strip().split(",")]
     data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     if data.size == 0:
         data = np.empty((0, len(header)))
     return {name: data[:, i] for i, name in enumerate(header)}
-
-def save_in(fig, directory, out_name):
-    """Lays out `fig`, writes it to directory/out_name (120 dpi), closes it; returns the path."""
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    path = os.path.join(directory, out_name)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
 
 
 def read_table(path):
@@ -48,6 +38,18 @@ def read_table(path):
         rows = list(csv.reader(f))
     header, body = rows[0], rows[1:]
     return {name: [r[i] for r in body] for i, name in enumerate(header)}
+
+
+def read_mixed(path):
+    """A CSV with numeric and text columns (impacts.csv names the surface): numeric columns as
+    float64 arrays, the others as lists of strings."""
+    out = {}
+    for name, cells in read_table(path).items():
+        try:
+            out[name] = np.array([float(c) for c in cells], dtype=float)
+        except ValueError:
+            out[name] = cells
+    return out
 
 
 def read_record(directory):
@@ -69,7 +71,7 @@ def label_order(labels):
 
 def label_counts(labels):
     """How many cells or runs carry each label, in ``label_order``."""
-    flat = list(np.asarray(labels).ravel())
+    flat = [str(x) for x in np.asarray(labels).ravel()]
     return {lab: flat.count(lab) for lab in label_order(flat)}
 
 
@@ -84,10 +86,91 @@ def _str_array(items, shape=None):
     return a.reshape(shape) if shape is not None else a
 
 
-def _config_fields(record):
-    cfg = record.get("config", {})
-    return cfg.get("parameters", {}), cfg.get("preset"), cfg
+# The paper's model, for directories written before run.json named the state variables.
+_LEGACY_STATE_NAMES = ("y", "ydot", "x", "xdot")
 
+
+def _context(record):
+    """What every loaded result carries, from run.json: the model's parameters, state names,
+    surfaces, plot variable, options and preset."""
+    cfg = record.get("config", {}) or {}
+    model = record.get("model", cfg.get("model", {}))
+    model = model if isinstance(model, dict) else {"name": model}
+    parameters = cfg.get("parameters", model.get("parameters", {})) or {}
+    if isinstance(parameters, list):
+        names = model.get("parameter_names") or [f"p{i}" for i in range(len(parameters))]
+        parameters = dict(zip(names, parameters))
+    state = record.get("state_names") or model.get("state_names") or cfg.get("state_names") or _LEGACY_STATE_NAMES
+    surfaces = record.get("surfaces") or model.get("surfaces") or ()
+    surfaces = tuple(s["name"] if isinstance(s, dict) else s for s in surfaces)
+    return dict(parameters=dict(parameters), state_names=tuple(state), surfaces=surfaces,
+                plot_variable=record.get("plot_variable") or state[0], options=cfg, preset=cfg.get("preset"),
+                model_name=model.get("name") or cfg.get("model_name"))
+
+
+def _states(columns, names, n=None):
+    """The state columns of a CSV as an (n, dim) array."""
+    if n is None:
+        n = len(next(iter(columns.values()))) if columns else 0
+    if not n:
+        return np.empty((0, len(names)))
+    return np.column_stack([columns[k] for k in names])
+
+
+def _impact_states(columns, names, when):
+    """States before or after impacts: columns NAME_before / NAME_after where the CSV has
+    them (the variables an impact changes), NAME otherwise."""
+    n = len(columns.get("t", ()))
+    if not n:
+        return np.empty((0, len(names)))
+    out = []
+    for k in names:
+        for key in (f"{k}_{when}", f"{k}_{'pre' if when == 'before' else 'post'}", k):
+            if key in columns:
+                out.append(columns[key])
+                break
+        else:
+            out.append(np.full(n, np.nan))
+    return np.column_stack(out)
+
+
+def _surface_column(table, surfaces):
+    """Surface indices of impacts from a column of names or numbers."""
+    cells = table.get("surface")
+    if cells is None:
+        return np.zeros(len(table.get("t", ())), dtype=np.int64)
+    out = []
+    for c in cells:
+        c = str(c).strip()
+        if c.endswith(".0"):
+            c = c[:-2]
+        if c in surfaces:
+            out.append(surfaces.index(c))
+        else:
+            try:
+                out.append(int(float(c)))
+            except ValueError:
+                out.append(-1)
+    return np.array(out, dtype=np.int64)
+
+
+def _grazing_columns(table, surfaces, runs):
+    """Per-surface grazing values of a CSV: columns grazing_SURFACE, else grazing, else the
+    legacy sigma_graze; NaN where none."""
+    keys = [f"grazing_{s}" for s in surfaces]
+    if surfaces and all(k in table for k in keys):
+        cols = [table[k] for k in keys]
+    elif "grazing" in table:
+        cols = [table["grazing"]]
+    elif "sigma_graze" in table:
+        cols = [table["sigma_graze"]]
+    else:
+        return np.full((runs, max(len(surfaces), 1)), np.nan)
+    return np.column_stack([np.array([_num(None if v in ("", "nan", None) else v) for v in c], dtype=float)
+                            for c in cols]) if runs else np.empty((0, len(cols)))
+
+
+# ---------------------------------------------------------------- run statistics and job reports
 
 @dataclass(frozen=True)
 class RunStats:
@@ -95,75 +178,150 @@ class RunStats:
     steps: int = 0              #: accepted steps
     rejected: int = 0           #: rejected trial steps
     rhs_calls: int = 0          #: vector-field evaluations
-    impacts: int = 0            #: impacts, transient included
+    impacts: int = 0            #: impacts on every surface, transient included
+    impacts_by_surface: dict = field(default_factory=dict)  #: surface name -> impacts
     sections: int = 0           #: section crossings located
-    sticking_phases: int = 0    #: chatter sequences ended by sticking
+    sticking_phases: int = 0    #: chatter sequences ended by a contact phase
     sticking_time: float = 0.0
     h_min: float = np.inf       #: smallest accepted step
     h_max: float = 0.0          #: largest accepted step
     t_final: float = 0.0        #: time at the end of the run
 
     @classmethod
-    def from_dict(cls, d):
-        return cls(**{k: (np.inf if k == "h_min" and v is None else v) for k, v in d.items()})
+    def from_dict(cls, d, surfaces=()):
+        d = dict(d or {})
+        by = d.get("impacts_by_surface", {})
+        if not isinstance(by, dict):
+            names = list(surfaces) + [str(i) for i in range(len(surfaces), len(by))]
+            by = dict(zip(names, (int(v) for v in by)))
+        d["impacts_by_surface"] = by
+        if d.get("h_min") is None:
+            d["h_min"] = np.inf
+        known = cls.__dataclass_fields__
+        return cls(**{k: v for k, v in d.items() if k in known})
 
     def as_dict(self):
         return dict(self.__dict__)
 
 
+def _by_surface(counts, surfaces):
+    """A list of per-surface counts as a dict surface name -> count."""
+    return {name: int(counts[i]) if i < len(counts) else 0 for i, name in enumerate(surfaces)}
+
+
 @dataclass(repr=False)
-class Simulation:
+class JobReport:
+    """What a many-job run did, and all it returns when it is not complete: a shard whose
+    partners have not finished (run again with ``resume=True`` and the same journal, without
+    ``shard``, once they have: that call computes nothing and returns the whole result).
+
+    Attributes
+    ----------
+    jobs : int
+        Jobs of the whole run.
+    owned : int
+        Jobs of this shard.
+    resumed : int
+        Of them, found in the journal.
+    computed : int
+        Computed by this call.
+    done : int
+        Jobs of the whole run with a result.
+    complete : bool
+    threads : int
+    journal : str or None
+    """
+    jobs: int
+    owned: int
+    resumed: int
+    computed: int
+    done: int
+    complete: bool
+    threads: int
+    stopped: bool = False
+    journal: Optional[str] = None
+
+    @classmethod
+    def from_dict(cls, d, journal=None):
+        return cls(**{k: d[k] for k in ("jobs", "owned", "resumed", "computed", "done", "complete", "threads",
+                                         "stopped")}, journal=journal)
+
+    def __repr__(self):
+        return (f"JobReport({self.done} of {self.jobs} jobs done: {self.computed} computed now, {self.resumed} "
+                f"resumed; {'complete' if self.complete else 'incomplete'})")
+
+
+# What every result carries: the model's description and the run's options. A base class, so
+# the results' own fields (all with defaults) follow it.
+@dataclass(repr=False)
+class _Context:
+    parameters: dict = field(default_factory=dict)
+    state_names: tuple = ()
+    surfaces: tuple = ()
+    plot_variable: Optional[str] = None
+    model: object = None
+    options: dict = field(default_factory=dict)
+    preset: Optional[str] = None
+    model_name: Optional[str] = None
+
+    def state_index(self, name):
+        """The column of a state variable in this result's arrays of states."""
+        return self.state_names.index(name)
+
+    @property
+    def plot_index(self):
+        """The column of ``plot_variable``."""
+        names = tuple(self.state_names)
+        return names.index(self.plot_variable) if self.plot_variable in names else 0
+
+
+# ---------------------------------------------------------------- single runs
+
+@dataclass(repr=False)
+class Simulation(_Context):
     """A run of the protocol (``vimpact.simulate``, the command ``simulate``).
 
     Attributes
     ----------
     outcome : str
-        ``ok`` or how the run ended early (``time_limit``, ``step_limit``, ``non_finite``, ...).
+        ``ok`` or how the run ended early (``time_limit``, ``step_limit``, ``non_finite``,
+        ``chattering``, ...).
     impacting : bool
-        False when no impact happened for ``quiet_time`` (the P0 rule): the recorded points
-        then describe the barrier-free steady state.
+        False when no impact happened for ``quiet_time``: the recorded points then describe
+        the surface-free steady state (label P0).
     transient_impacts : int
         Impacts discarded before recording (None when loaded).
     t_record_start : float
         Time at which recording began.
     final_state : ndarray, float64, shape (dim,)
     section_t : ndarray, float64, shape (n,)
-        Times of the recorded section points.
     section : ndarray, float64, shape (n, dim)
-        The recorded section points (states; for ``maxima``, ydot = 0 exactly).
+        The recorded section points (states, columns as ``state_names``).
     impact_t : ndarray, float64, shape (k,)
         Times of the impacts in the recorded window.
+    impact_surface : ndarray, int64, shape (k,)
+        The surface hit (an index into ``surfaces``).
     impact_pre, impact_post : ndarray, float64, shape (k, dim)
-        States just before and just after each of them. (Loaded: y of ``impact_post`` is the
-        pre-impact y, since the CSV stores one y.)
+        States just before and just after each impact.
     series_t : ndarray, float64, shape (m,)
     series : ndarray, float64, shape (m, dim)
-        The recorded window sampled every ``sample_dt``, plus the states before and after each
-        impact (empty when ``sample_dt = 0``).
+        The recorded window sampled every ``sample_dt`` (empty when ``sample_dt = 0``).
     stats : RunStats
-    parameters : dict
-        The model's parameters.
-    state_names : tuple of str
-        Names of the state components, ``("y", "ydot", "x", "xdot")`` for WakeImpact.
     """
-    outcome: str
-    impacting: Optional[bool]
-    transient_impacts: Optional[int]
-    t_record_start: Optional[float]
-    final_state: Optional[np.ndarray]
-    section_t: np.ndarray
-    section: np.ndarray
-    impact_t: np.ndarray
-    impact_pre: np.ndarray
-    impact_post: np.ndarray
-    series_t: np.ndarray
-    series: np.ndarray
-    stats: RunStats
-    parameters: dict
-    state_names: tuple = WAKE_STATE_NAMES
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    outcome: str = "ok"
+    impacting: Optional[bool] = None
+    transient_impacts: Optional[int] = None
+    t_record_start: Optional[float] = None
+    final_state: Optional[np.ndarray] = None
+    section_t: np.ndarray = None
+    section: np.ndarray = None
+    impact_t: np.ndarray = None
+    impact_surface: np.ndarray = None
+    impact_pre: np.ndarray = None
+    impact_post: np.ndarray = None
+    series_t: np.ndarray = None
+    series: np.ndarray = None
+    stats: RunStats = field(default_factory=RunStats)
 
     def __repr__(self):
         return (f"Simulation(outcome={self.outcome!r}, {len(self.section_t)} section points, "
@@ -174,29 +332,29 @@ class Simulation:
     def load(cls, directory):
         """The run of ``vimpact simulate --out DIR`` (or the points of ``period --out DIR``)."""
         record = read_record(directory)
-        parameters, preset, cfg = _config_fields(record)
+        ctx = _context(record)
+        names = ctx["state_names"]
         res = record.get("result", {})
-        names = WAKE_STATE_NAMES
 
         def states(path):
             if not os.path.exists(path):
                 return np.empty(0), np.empty((0, len(names)))
             c = read_csv(path)
-            return c["t"], np.column_stack([c[n] for n in names]) if len(c["t"]) else np.empty((0, len(names)))
+            return c["t"], _states(c, names, len(c["t"]))
 
         sec_t, sec = states(os.path.join(directory, "sections.csv"))
         ser_t, ser = states(os.path.join(directory, "timeseries.csv"))
-        imp = read_csv(os.path.join(directory, "impacts.csv"))
-        k = len(imp["t"])
-        pre = np.column_stack([imp["y"], imp["ydot_before"], imp["x"], imp["xdot"]]) if k else np.empty((0, 4))
-        post = np.column_stack([imp["y"], imp["ydot_after"], imp["x"], imp["xdot"]]) if k else np.empty((0, 4))
+        path = os.path.join(directory, "impacts.csv")
+        imp = read_mixed(path) if os.path.exists(path) else {"t": np.empty(0)}
+        surface = _surface_column(imp, list(ctx["surfaces"]))
         fs = res.get("final_state")
         return cls(outcome=res.get("outcome", "ok"), impacting=res.get("impacting"), transient_impacts=None,
                    t_record_start=res.get("t_record_start"),
                    final_state=None if fs is None else np.array(fs, dtype=float),
-                   section_t=sec_t, section=sec, impact_t=imp["t"], impact_pre=pre, impact_post=post,
-                   series_t=ser_t, series=ser, stats=RunStats.from_dict(res.get("stats", {})),
-                   parameters=parameters, state_names=names, options=cfg, preset=preset)
+                   section_t=sec_t, section=sec, impact_t=imp["t"], impact_surface=surface,
+                   impact_pre=_impact_states(imp, names, "before"), impact_post=_impact_states(imp, names, "after"),
+                   series_t=ser_t, series=ser, stats=RunStats.from_dict(res.get("stats", {}), ctx["surfaces"]),
+                   **ctx)
 
 
 @dataclass(repr=False)
@@ -211,47 +369,39 @@ class Period:
     period : int
         N for PN, 0 for P0, -1 for aperiodic or failed runs.
     impacts : int
-        Impacts per period.
+        Impacts per period, on every surface.
+    impacts_by_surface : dict
+        Surface name -> impacts per period.
     closure : float
         Largest max-norm distance between section points one period apart.
     tol : float
         The period tolerance used.
-    section_y : ndarray, float64, shape (period,)
-        y at the section points of one period (empty unless periodic).
     simulation : Simulation
         The run that was classified (its section points, impacts and statistics).
     """
     label: str
     period: int
     impacts: int
+    impacts_by_surface: dict
     closure: float
-    tol: float
-    section_y: np.ndarray
+    tol: Optional[float]
     simulation: Simulation
 
-    @property
-    def outcome(self):
-        return self.simulation.outcome
+    def __getattr__(self, name):
+        # The run's context (parameters, state_names, model, stats, outcome, ...).
+        if name.startswith("__") or name == "simulation":
+            raise AttributeError(name)
+        return getattr(self.simulation, name)
 
     @property
-    def stats(self):
-        return self.simulation.stats
-
-    @property
-    def parameters(self):
-        return self.simulation.parameters
-
-    @property
-    def preset(self):
-        return self.simulation.preset
-
-    @property
-    def model(self):
-        return self.simulation.model
+    def cycle(self):
+        """ndarray, float64, shape (period, dim): the section points of one period (empty
+        unless periodic)."""
+        return self.simulation.section[:max(self.period, 0)]
 
     def __repr__(self):
         extra = f", {self.impacts} impact(s) per period, closure {self.closure:.3g}" if self.period > 0 else ""
-        return f"Period(label={self.label!r}{extra}, outcome={self.outcome!r})"
+        return f"Period(label={self.label!r}{extra}, outcome={self.simulation.outcome!r})"
 
     @classmethod
     def load(cls, directory):
@@ -260,64 +410,84 @@ class Period:
         sim = Simulation.load(directory)
         sim.outcome = res.get("outcome", sim.outcome)
         period = res["period"] if res.get("period") is not None else -1
-        return cls(label=res["label"], period=period, impacts=res.get("impacts", 0), closure=res.get("closure", 0.0),
-                   tol=res.get("tolerance"), section_y=np.array(res.get("section_y", []), dtype=float),
-                   simulation=sim)
+        by = res.get("impacts_by_surface", {})
+        if not isinstance(by, dict):
+            by = _by_surface(by, sim.surfaces)
+        return cls(label=res["label"], period=period, impacts=res.get("impacts", 0), impacts_by_surface=by,
+                   closure=res.get("closure", 0.0), tol=res.get("tolerance"), simulation=sim)
 
 
 @dataclass(repr=False)
-class Grazing:
-    """The grazing value (``vimpact.grazing``, the command ``grazing``).
+class Grazing(_Context):
+    """Where the attracting surface-free orbit just touches each surface (``vimpact.grazing``,
+    the command ``grazing``).
 
     Attributes
     ----------
-    sigma_graze : float
-        The smallest minimum of y on the attracting barrier-free orbit: a barrier just above it
-        is hit, just below it is not. NaN if no block of minima completed.
+    param : tuple of (str or None)
+        Per surface, the parameter whose grazing value ``value`` gives (None: no parameter
+        moves that surface).
+    value : ndarray, float64, shape (surfaces,)
+        The grazing value of ``param`` per surface: a surface just on the admissible side of
+        it is never hit, one just beyond it is (NaN where none).
+    margin : ndarray, float64, shape (surfaces,)
+        The smallest gap on the surface-free orbit (negative: the free orbit crosses it).
     converged : bool
-        Two successive blocks of minima agreed within ``tol``.
-    change : float
-        The last block-to-block change of the minimum.
-    t_graze : float
-        Time of the smallest minimum.
-    x_graze : ndarray, float64, shape (dim,)
-        State there (NaN before the first block completes).
-    y_max : float
-        Largest maximum of y in the last block.
-    omega : float
-        Angular frequency of y over the last block, 2 pi (block - 1) / (t_last - t_first).
-    minima : int
-        Minima counted after the transient.
+        Every surface's minimum settled within ``tol``.
+    surface_converged : ndarray, bool, shape (surfaces,)
+    change : ndarray, float64, shape (surfaces,)
+        The last block-to-block change of the minimum gap.
+    t : ndarray, float64, shape (surfaces,)
+        Time of the minimum gap.
+    x : ndarray, float64, shape (surfaces, dim)
+        State there (NaN before a block completes).
+    minima : ndarray, int64, shape (surfaces,)
+    variable : str or None
+        The state variable whose response was measured: ``response_max``,
+        ``response_min`` (extrema over the last block) and ``response_omega`` (its angular
+        frequency).
     outcome : str
     stats : RunStats
     """
-    sigma_graze: float
-    converged: bool
-    change: float
-    t_graze: float
-    x_graze: Optional[np.ndarray]
-    y_max: Optional[float]
-    omega: Optional[float]
-    minima: int
-    outcome: str
-    stats: RunStats
-    parameters: dict
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    param: tuple = ()
+    value: np.ndarray = None
+    margin: np.ndarray = None
+    converged: bool = False
+    surface_converged: np.ndarray = None
+    change: np.ndarray = None
+    t: np.ndarray = None
+    x: np.ndarray = None
+    minima: np.ndarray = None
+    variable: Optional[str] = None
+    response_max: float = np.nan
+    response_min: float = np.nan
+    response_omega: float = np.nan
+    outcome: str = "ok"
+    stats: RunStats = field(default_factory=RunStats)
+
+    @property
+    def by_surface(self):
+        """dict: surface name -> {param, value, margin, converged, change, t, x, minima}."""
+        return {s: dict(param=self.param[i], value=float(self.value[i]), margin=float(self.margin[i]),
+                        converged=bool(self.surface_converged[i]), change=float(self.change[i]), t=float(self.t[i]),
+                        x=self.x[i], minima=int(self.minima[i])) for i, s in enumerate(self.surfaces)}
 
     def __repr__(self):
-        conv = "" if self.converged else f", NOT converged (last change {self.change:.3g})"
-        return f"Grazing(sigma_graze={self.sigma_graze!r}{conv}, outcome={self.outcome!r})"
+        parts = ", ".join(f"{s}: {p} = {v:.10g}" if p else f"{s}: margin {m:.10g}"
+                          for s, p, v, m in zip(self.surfaces, self.param, self.value, self.margin))
+        conv = "" if self.converged else ", NOT converged"
+        return f"Grazing({parts}{conv}, outcome={self.outcome!r})"
 
+
+# ---------------------------------------------------------------- many-job analyses
 
 @dataclass(repr=False)
-class Sweep:
+class Sweep(_Context):
     """A bifurcation diagram (``vimpact.sweep``, the command ``sweep``).
 
     Runs are in job order: the values in the sweep's direction; with ``direction="both"``
     the upward and downward branches interleave (run 2k is the k-th point up, 2k + 1 the k-th
-    point down), as in the command line's ``labels.csv``.
+    point down).
 
     Attributes
     ----------
@@ -335,10 +505,14 @@ class Sweep:
     label : ndarray, str, shape (runs,)
     period, impacts : ndarray, int64, shape (runs,)
         Period N (0 for P0, -1 aperiodic or failed) and impacts per period.
+    impacts_by_surface : ndarray, int64, shape (runs, surfaces)
+        Impacts per period on each surface.
     closure : ndarray, float64, shape (runs,)
     outcome : ndarray, str, shape (runs,)
-    sigma_graze : ndarray, float64, shape (runs,)
-        Grazing value at each point with ``grazing=True``, else NaN.
+    grazing_param : str or None
+        The parameter whose grazing value ``grazing`` holds.
+    grazing : ndarray, float64, shape (runs, surfaces)
+        Its grazing value per surface at each point (NaN where none or not asked).
     final_state : ndarray, float64, shape (runs, dim)
         Where each run ended (the start of the next one in follow mode). None when loaded.
     steps : ndarray, int64, shape (runs,)
@@ -348,31 +522,30 @@ class Sweep:
     point_run : ndarray, int64, shape (points,)
         The run of each point; ``point_value`` and ``point_branch`` follow from it.
     stats : dict
-        ``jobs``, ``threads``, ``steps`` and ``rhs_calls`` in all, ``wall_time`` in seconds.
+        ``steps`` and ``rhs_calls`` in all, ``wall_time`` in seconds.
+    jobs : JobReport
     """
-    param: str
-    values: np.ndarray
-    ic_mode: str
-    direction: str
-    tol: Optional[float]
-    branch: np.ndarray
-    value: np.ndarray
-    label: np.ndarray
-    period: np.ndarray
-    impacts: np.ndarray
-    closure: np.ndarray
-    outcome: np.ndarray
-    sigma_graze: np.ndarray
-    final_state: Optional[np.ndarray]
-    steps: Optional[np.ndarray]
-    points: np.ndarray
-    point_run: np.ndarray
-    stats: dict
-    parameters: dict
-    state_names: tuple = WAKE_STATE_NAMES
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    param: str = ""
+    values: np.ndarray = None
+    ic_mode: str = "fixed"
+    direction: str = "up"
+    tol: Optional[float] = None
+    branch: np.ndarray = None
+    value: np.ndarray = None
+    label: np.ndarray = None
+    period: np.ndarray = None
+    impacts: np.ndarray = None
+    impacts_by_surface: Optional[np.ndarray] = None
+    closure: Optional[np.ndarray] = None
+    outcome: np.ndarray = None
+    grazing_param: Optional[str] = None
+    grazing: np.ndarray = None
+    final_state: Optional[np.ndarray] = None
+    steps: Optional[np.ndarray] = None
+    points: np.ndarray = None
+    point_run: np.ndarray = None
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
 
     @property
     def point_value(self):
@@ -397,34 +570,41 @@ class Sweep:
     def load(cls, directory):
         """The result of ``vimpact sweep --out DIR``."""
         record = read_record(directory)
-        parameters, preset, cfg = _config_fields(record)
+        ctx = _context(record)
+        names = ctx["state_names"]
         res = record["result"]
         param = res["param"]
         lab = read_table(os.path.join(directory, "labels.csv"))
         pts = read_csv(os.path.join(directory, "points.csv"))
-        branch = np.array(lab["branch"], dtype=float).astype(np.int64)
-        value = np.array(lab[param], dtype=float)
-        # The points are written run after run; runs without points (failed) are skipped.
-        pb, pv = pts["branch"].astype(np.int64), pts[param]
-        point_run = np.empty(len(pv), dtype=np.int64)
-        run = 0
-        for k in range(len(pv)):
-            while run < len(value) and (branch[run] != pb[k] or value[run] != pv[k]):
-                run += 1
-            point_run[k] = run
-        order = np.unique(value)
-        return cls(param=param, values=order, ic_mode=res.get("ic_mode", "fixed"),
+        branch = np.array(lab["branch"], dtype=float).astype(np.int64) if "branch" in lab else \
+            np.zeros(len(lab["label"]), dtype=np.int64)
+        value = np.array(lab[param] if param in lab else lab["value"], dtype=float)
+        # Points are written run after run; runs without points (failed) have none.
+        pv = pts[param] if param in pts else pts.get("value", np.empty(0))
+        pb = pts["branch"].astype(np.int64) if "branch" in pts else np.zeros(len(pv), dtype=np.int64)
+        if "run" in pts:
+            point_run = pts["run"].astype(np.int64)
+        else:
+            point_run = np.empty(len(pv), dtype=np.int64)
+            run = 0
+            for k in range(len(pv)):
+                while run < len(value) and (branch[run] != pb[k] or value[run] != pv[k]):
+                    run += 1
+                point_run[k] = run
+        runs = len(value)
+        surfaces = ctx["surfaces"]
+        return cls(param=param, values=np.unique(value), ic_mode=res.get("ic_mode", "fixed"),
                    direction=res.get("direction", "up"), tol=None, branch=branch, value=value,
                    label=_str_array(lab["label"]), period=np.array(lab["period"], dtype=np.int64),
-                   impacts=np.array(lab["impacts"], dtype=np.int64),
-                   closure=np.array(lab["closure"], dtype=float), outcome=_str_array(lab["outcome"]),
-                   sigma_graze=np.array(lab["sigma_graze"], dtype=float), final_state=None, steps=None,
-                   points=np.column_stack([pts[n] for n in WAKE_STATE_NAMES]) if len(pv) else np.empty((0, 4)),
-                   point_run=point_run, stats={}, parameters=parameters, options=cfg, preset=preset)
+                   impacts=np.array(lab["impacts"], dtype=np.int64), impacts_by_surface=None,
+                   closure=np.array(lab["closure"], dtype=float) if "closure" in lab else None,
+                   outcome=_str_array(lab["outcome"]), grazing_param=res.get("grazing_param"),
+                   grazing=_grazing_columns(lab, surfaces, runs), final_state=None, steps=None,
+                   points=_states(pts, names, len(pv)), point_run=point_run, **ctx)
 
 
 @dataclass(repr=False)
-class Map:
+class Map(_Context):
     """A periodicity map over two parameters (``vimpact.map``, the command ``map``).
 
     Attributes
@@ -437,33 +617,40 @@ class Map:
     label : ndarray, str, shape (ny, nx)
         ``P0``, ``P1``, ..., ``aperiodic`` or a failed run's outcome; ``label[iy, ix]``.
     period, impacts : ndarray, int64, shape (ny, nx)
+    impacts_by_surface : ndarray, int64, shape (ny, nx, surfaces)
+        None when loaded.
     closure : ndarray, float64, shape (ny, nx)
         None when loaded.
     outcome : ndarray, str, shape (ny, nx)
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
-    grazing : ndarray, float64, shape (k, 2), or None
-        With ``grazing=True``: rows (value of the other parameter, sigma_graze), the P0 /
-        impacting boundary.
+    grazing_param : str or None
+        With ``grazing=True``: the axis parameter that moves the surfaces.
+    grazing_other : ndarray, float64, shape (k,)
+        Values of the other axis along the grazing line.
+    grazing : ndarray, float64, shape (k, surfaces), or None
+        The grazing value of ``grazing_param`` per surface at each of them: the boundary
+        between impacting and surface-free motion.
     stats : dict
+    jobs : JobReport
     """
-    x: str
-    y: str
-    x_values: np.ndarray
-    y_values: np.ndarray
-    tol: Optional[float]
-    label: np.ndarray
-    period: np.ndarray
-    impacts: np.ndarray
-    closure: Optional[np.ndarray]
-    outcome: np.ndarray
-    steps: Optional[np.ndarray]
-    grazing: Optional[np.ndarray]
-    stats: dict
-    parameters: dict
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    x: str = ""
+    y: str = ""
+    x_values: np.ndarray = None
+    y_values: np.ndarray = None
+    tol: Optional[float] = None
+    label: np.ndarray = None
+    period: np.ndarray = None
+    impacts: np.ndarray = None
+    impacts_by_surface: Optional[np.ndarray] = None
+    closure: Optional[np.ndarray] = None
+    outcome: np.ndarray = None
+    steps: Optional[np.ndarray] = None
+    grazing_param: Optional[str] = None
+    grazing_other: Optional[np.ndarray] = None
+    grazing: Optional[np.ndarray] = None
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
 
     @property
     def label_counts(self):
@@ -477,19 +664,31 @@ class Map:
     def load(cls, directory):
         """The result of ``vimpact map --out DIR``."""
         record = read_record(directory)
-        parameters, preset, cfg = _config_fields(record)
+        ctx = _context(record)
         res = record["result"]
         xs, ys = np.array(res["x_values"], dtype=float), np.array(res["y_values"], dtype=float)
         shape = (len(ys), len(xs))
         lab = read_table(os.path.join(directory, "labels.csv"))
-        g = res.get("grazing")
+        gparam, gother, graze = res.get("grazing_param"), None, None
+        path = os.path.join(directory, "grazing.csv")
+        if os.path.exists(path):
+            g = read_table(path)
+            other = [k for k in g if k not in ("surface",) and not k.startswith("grazing") and k != "sigma_graze"]
+            if other:
+                gother = np.array(g[other[0]], dtype=float)
+                graze = _grazing_columns(g, ctx["surfaces"], len(gother))
+                if gparam is None:
+                    gparam = res["y"] if other[0] == res["x"] else res["x"]
+        elif res.get("grazing") is not None:  # legacy: pairs (other, sigma_graze) in run.json
+            pairs = np.array([[_num(a), _num(b)] for a, b in res["grazing"]], dtype=float).reshape(-1, 2)
+            gother, graze = pairs[:, 0], pairs[:, 1:]
+            gparam = gparam or "sigma"
         return cls(x=res["x"], y=res["y"], x_values=xs, y_values=ys, tol=None,
                    label=_str_array(lab["label"], shape),
                    period=np.array(lab["period"], dtype=np.int64).reshape(shape),
-                   impacts=np.array(lab["impacts"], dtype=np.int64).reshape(shape), closure=None,
-                   outcome=_str_array(lab["outcome"], shape), steps=None,
-                   grazing=None if g is None else np.array([[_num(a), _num(b)] for a, b in g], dtype=float).reshape(-1, 2),
-                   stats={}, parameters=parameters, options=cfg, preset=preset)
+                   impacts=np.array(lab["impacts"], dtype=np.int64).reshape(shape),
+                   outcome=_str_array(lab["outcome"], shape), grazing_param=gparam, grazing_other=gother,
+                   grazing=graze, **ctx)
 
 
 @dataclass(repr=False)
@@ -504,8 +703,9 @@ class Attractor:
     cells : int
         Grid cells whose runs reached it.
     cycle : ndarray, float64, shape (N, k)
-        For a periodic attractor, its N section points in the model's section coordinates
-        ((y, x, xdot) for WakeImpact); empty otherwise.
+        For a periodic attractor, its N section points in the signature's coordinates (the
+        state, with each phase as a (cos, sin) pair scaled by its period / 2 pi); empty
+        otherwise.
     box : ndarray, float64, shape (2, k), or None
         Bounding box (lower, upper row) of the first run's section points; None when loaded.
     """
@@ -520,47 +720,44 @@ class Attractor:
 
 
 @dataclass(repr=False)
-class Basins:
+class Basins(_Context):
     """Basins of attraction over a grid of initial states (``vimpact.basins``, the command
     ``basins``).
 
     Attributes
     ----------
     x, y : str
-        The state components on the axes (``y``, ``ydot``, ``x``, ``xdot``); the others are
-        taken from ``ic``.
+        The state variables on the axes; the others are taken from ``ic``.
     x_values : ndarray, float64, shape (nx,)
     y_values : ndarray, float64, shape (ny,)
     attractor : ndarray, int64, shape (ny, nx)
-        The attractor id reached from each initial state; -1 for a start below the barrier.
+        The attractor id reached from each initial state; -1 for a start beyond a surface.
     label : ndarray, str, shape (ny, nx)
-        Its label (``inadmissible`` for a start below the barrier).
+        Its label (``inadmissible`` for a start beyond a surface).
     period : ndarray, int64, shape (ny, nx)
         None when loaded.
     outcome : ndarray, str, shape (ny, nx)
-        ``none`` for inadmissible starts. None when loaded.
+        None when loaded.
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
     attractors : list of Attractor
     stats : dict
+    jobs : JobReport
     """
-    x: str
-    y: str
-    x_values: np.ndarray
-    y_values: np.ndarray
-    tol: Optional[float]
-    match_tol: Optional[float]
-    attractor: np.ndarray
-    label: np.ndarray
-    period: Optional[np.ndarray]
-    outcome: Optional[np.ndarray]
-    steps: Optional[np.ndarray]
-    attractors: list
-    stats: dict
-    parameters: dict
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    x: str = ""
+    y: str = ""
+    x_values: np.ndarray = None
+    y_values: np.ndarray = None
+    tol: Optional[float] = None
+    match_tol: Optional[float] = None
+    attractor: np.ndarray = None
+    label: np.ndarray = None
+    period: Optional[np.ndarray] = None
+    outcome: Optional[np.ndarray] = None
+    steps: Optional[np.ndarray] = None
+    attractors: list = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
 
     @property
     def inadmissible_cells(self):
@@ -575,43 +772,47 @@ class Basins:
     def load(cls, directory):
         """The result of ``vimpact basins --out DIR``."""
         record = read_record(directory)
-        parameters, preset, cfg = _config_fields(record)
+        ctx = _context(record)
         res = record["result"]
         sx, sy = res["x"], res["y"]
         ny, nx = res["shape"]
         tab = read_table(os.path.join(directory, "cells.csv"))
         xs = np.array(tab[sx], dtype=float)[:nx]
         ys = np.array(tab[sy], dtype=float)[::nx]
-        attractors = [Attractor(id=t["id"], label=t["label"], cells=t["cells"],
-                                cycle=np.array(t["section_points"], dtype=float).reshape(len(t["section_points"]), -1)
-                                if t["section_points"] else np.empty((0, 3)))
-                      for t in res["attractors"]["table"]]
-        return cls(x=sx, y=sy, x_values=xs, y_values=ys, tol=None, match_tol=None,
-                   attractor=np.array(tab["attractor"], dtype=np.int64).reshape(ny, nx),
-                   label=_str_array(tab["label"], (ny, nx)), period=None, outcome=None, steps=None,
-                   attractors=attractors, stats={}, parameters=parameters, options=cfg, preset=preset)
+        table = res["attractors"]["table"] if isinstance(res["attractors"], dict) else res["attractors"]
+        attractors = []
+        for t in table:
+            pts = t.get("section_points") or t.get("cycle") or []
+            attractors.append(Attractor(id=t["id"], label=t["label"], cells=t["cells"],
+                                        cycle=np.array(pts, dtype=float).reshape(len(pts), -1) if pts
+                                        else np.empty((0, 0))))
+        return cls(x=sx, y=sy, x_values=xs, y_values=ys, attractor=np.array(tab["attractor"], dtype=np.int64)
+                   .reshape(ny, nx), label=_str_array(tab["label"], (ny, nx)), attractors=attractors, **ctx)
 
 
 @dataclass(repr=False)
-class Response:
-    """Barrier-free lock-in curves (``vimpact.response``, the command ``response``).
+class Response(_Context):
+    """The surface-free response over a parameter (lock-in curves; ``vimpact.response``, the
+    command ``response``).
 
     Attributes
     ----------
     param : str
     values : ndarray, float64, shape (n,)
-    curves : ndarray, float64, shape (c, 2)
-        The (A, eps) pair of each curve.
+    curves : list of dict
+        The parameter values each curve sets (parameter name -> value).
+    variable : str
+        The state variable measured.
     amplitude : ndarray, float64, shape (c, n)
-        max |y| on the barrier-free attractor, max(|y_max|, |sigma_graze|).
-    y_max : ndarray, float64, shape (c, n)
-        Largest maximum of y.
-    sigma_graze : ndarray, float64, shape (c, n)
-        Smallest minimum of y (the grazing value).
-    frequency_ratio : ndarray, float64, shape (c, n)
-        Angular frequency of y over the wake's (the wake oscillator's own frequency is 1).
-    structure_frequency : ndarray, float64, shape (c, n)
-        The structure's natural frequency delta = 1/(St Ur) in the same unit.
+        max(|maximum|, |minimum|) of the variable on the surface-free attractor.
+    maximum, minimum : ndarray, float64, shape (c, n)
+        Its largest maximum and smallest minimum over the last block.
+    frequency : ndarray, float64, shape (c, n)
+        Its angular frequency in the model's time unit.
+    grazing_param : str or None
+        The parameter whose grazing value ``grazing`` holds (None: ``grazing`` holds each
+        surface's margin, the smallest gap).
+    grazing : ndarray, float64, shape (c, n, surfaces)
     converged : ndarray, bool, shape (c, n)
         The minima settled (False: a quasi-periodic response, say).
     outcome : ndarray, str, shape (c, n)
@@ -619,56 +820,67 @@ class Response:
     steps : ndarray, int64, shape (c, n)
         None when loaded.
     stats : dict
+    jobs : JobReport
     """
-    param: str
-    values: np.ndarray
-    curves: np.ndarray
-    amplitude: np.ndarray
-    y_max: np.ndarray
-    sigma_graze: np.ndarray
-    frequency_ratio: np.ndarray
-    structure_frequency: np.ndarray
-    converged: np.ndarray
-    outcome: Optional[np.ndarray]
-    steps: Optional[np.ndarray]
-    stats: dict
-    parameters: dict
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    param: str = ""
+    values: np.ndarray = None
+    curves: list = field(default_factory=list)
+    variable: str = ""
+    amplitude: np.ndarray = None
+    maximum: np.ndarray = None
+    minimum: np.ndarray = None
+    frequency: np.ndarray = None
+    grazing_param: Optional[str] = None
+    grazing: np.ndarray = None
+    converged: np.ndarray = None
+    outcome: Optional[np.ndarray] = None
+    steps: Optional[np.ndarray] = None
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
 
     @property
     def not_converged(self):
         """ndarray, int64, shape (c,): points of each curve whose minima did not settle."""
         return (~self.converged).sum(axis=1)
 
+    def curve_label(self, k):
+        """``A = 12, eps = 0.3``: what curve k sets."""
+        return ", ".join(f"{n} = {v:g}" for n, v in self.curves[k].items()) or "model's values"
+
     def __repr__(self):
-        peaks = ", ".join(f"A={a:g}, eps={e:g}: peak {np.nanmax(amp):.6g}"
-                          for (a, e), amp in zip(self.curves, self.amplitude))
-        return f"Response(param={self.param!r}, {len(self.values)} values; {peaks})"
+        peaks = "; ".join(f"{self.curve_label(k)}: peak {np.nanmax(a):.6g}" if np.isfinite(a).any()
+                          else f"{self.curve_label(k)}: no amplitude" for k, a in enumerate(self.amplitude))
+        return f"Response(param={self.param!r}, {len(self.values)} values, {self.variable}; {peaks})"
 
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact response --out DIR``."""
         record = read_record(directory)
-        parameters, preset, cfg = _config_fields(record)
+        ctx = _context(record)
         res = record["result"]
         param = res["param"]
         data = read_csv(os.path.join(directory, "response.csv"))
-        curves = np.array([[c["A"], c["eps"]] for c in res["curves"]], dtype=float)
+        curves = [dict(c) for c in res.get("curves", [{}])] or [{}]
         c = len(curves)
         n = len(data[param]) // c if c else 0
 
-        def grid(name):
-            return data[name].reshape(c, n)
-        return cls(param=param, values=data[param][:n].copy(), curves=curves, amplitude=grid("amplitude"),
-                   y_max=grid("y_max"), sigma_graze=grid("sigma_graze"), frequency_ratio=grid("frequency_ratio"),
-                   structure_frequency=grid("structure_frequency"), converged=grid("converged") != 0,
-                   outcome=None, steps=None, stats={}, parameters=parameters, options=cfg, preset=preset)
+        def grid(*names):
+            for name in names:
+                if name in data:
+                    return data[name].reshape(c, n)
+            return np.full((c, n), np.nan)
+        g = _grazing_columns(data, ctx["surfaces"], c * n)
+        return cls(param=param, values=data[param][:n].copy(), curves=curves,
+                   variable=res.get("variable", ctx["plot_variable"]), amplitude=grid("amplitude"),
+                   maximum=grid("maximum", "y_max"), minimum=grid("minimum", "sigma_graze"),
+                   frequency=grid("frequency", "frequency_ratio"), grazing_param=res.get("grazing_param"),
+                   grazing=g.reshape(c, n, -1), converged=grid("converged") != 0, **ctx)
 
+
+# ---------------------------------------------------------------- stability
 
 @dataclass(repr=False)
-class Floquet:
+class Floquet(_Context):
     """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
     ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting).
 
@@ -677,14 +889,16 @@ class Floquet:
     status : str
         ``ok``, ``aperiodic`` (no period within the tolerance: no multipliers),
         ``not_converged`` (Newton did not reach ``newton_tol``; multipliers of the last
-        iterate), ``sticking`` or ``flow_failed`` (``flow_outcome`` says how).
+        iterate), ``sticking``, or how the protocol's run failed.
     label : str
         The protocol's period label.
     section_returns : int
-        Maxima per period.
+        Section points per period.
     period : float
         The period T (NaN without multipliers).
     impacts_per_period : int
+    impacts_by_surface : dict
+        Surface name -> impacts per period.
     initial_closure, closure : float
         |P^k(z) - z| before and after Newton shooting.
     newton_iterations : int
@@ -692,8 +906,8 @@ class Floquet:
         The refined point of the orbit on the section.
     monodromy : ndarray, float64, shape (dim, dim)
     multipliers : ndarray, complex128, shape (dim,)
-        The trivial multiplier (the one for the flow direction, 1 up to the error) first, then
-        by decreasing modulus; empty without multipliers.
+        The trivial multiplier (the flow direction's, 1 up to the error) first, then by
+        decreasing modulus; empty without multipliers.
     trivial_error : float
         |mu_trivial - 1|: the accuracy of the monodromy.
     max_nontrivial_modulus : float
@@ -703,59 +917,87 @@ class Floquet:
         det Phi(T) and exp(integral of div F) * prod det S: equal for a correct monodromy.
     orbit_t, orbit : ndarray, float64, shapes (m,), (m, dim)
         The refined orbit over one period, sampled every ``sample_dt`` (empty when 0).
-    impact_t, impact_pre, impact_post : ndarray
-        Its impacts, shapes (k,), (k, dim), (k, dim).
+    impact_t, impact_surface, impact_pre, impact_post : ndarray
+        Its impacts, shapes (k,), (k,), (k, dim), (k, dim).
+    section_t, section : ndarray
+        The protocol's recorded section points, shapes (n,), (n, dim).
     stats : dict
-        ``protocol`` and ``tangent`` RunStats.
+        ``protocol`` and ``tangent`` RunStats, ``map_evaluations``.
     """
-    status: str
-    flow_outcome: str
-    label: str
-    section_returns: int
-    period: float
-    impacts_per_period: int
-    initial_closure: float
-    closure: float
-    newton_iterations: int
-    orbit_point: np.ndarray
-    monodromy: np.ndarray
-    multipliers: np.ndarray
-    trivial_error: float
-    trivial_residual: float
-    max_nontrivial_modulus: float
-    stable: Optional[bool]
-    det_monodromy: float
-    liouville_det: float
-    impact_map: str
-    orbit_t: np.ndarray
-    orbit: np.ndarray
-    impact_t: np.ndarray
-    impact_pre: np.ndarray
-    impact_post: np.ndarray
-    stats: dict
-    parameters: dict
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    status: str = "ok"
+    label: str = ""
+    section_returns: int = 0
+    period: float = np.nan
+    impacts_per_period: int = 0
+    impacts_by_surface: dict = field(default_factory=dict)
+    initial_closure: float = np.nan
+    closure: float = np.nan
+    newton_iterations: int = 0
+    orbit_point: np.ndarray = None
+    monodromy: np.ndarray = None
+    multipliers: np.ndarray = None
+    trivial_error: float = np.nan
+    trivial_residual: float = np.nan
+    max_nontrivial_modulus: float = np.nan
+    stable: Optional[bool] = None
+    det_monodromy: float = np.nan
+    liouville_det: float = np.nan
+    divergence_integral: float = np.nan
+    log_det_jumps: float = np.nan
+    impact_map: str = "saltation"
+    orbit_t: np.ndarray = None
+    orbit: np.ndarray = None
+    impact_t: np.ndarray = None
+    impact_surface: np.ndarray = None
+    impact_pre: np.ndarray = None
+    impact_post: np.ndarray = None
+    section_t: np.ndarray = None
+    section: np.ndarray = None
+    stats: dict = field(default_factory=dict)
 
     def __repr__(self):
-        if not len(self.multipliers):
+        if self.multipliers is None or not len(self.multipliers):
             return f"Floquet(label={self.label!r}, status={self.status!r}: no multipliers)"
         mus = ", ".join(f"{m.real:.6g}{m.imag:+.3g}j" if m.imag else f"{m.real:.6g}" for m in self.multipliers)
         return (f"Floquet(label={self.label!r}, status={self.status!r}, T={self.period:.6g}, multipliers [{mus}], "
                 f"{'stable' if self.stable else 'unstable'})")
 
+    @classmethod
+    def load(cls, directory):
+        """The result of ``vimpact floquet --out DIR`` (multipliers, orbit and impacts)."""
+        record = read_record(directory)
+        ctx = _context(record)
+        names = ctx["state_names"]
+        res = record["result"]
+        mult = read_csv(os.path.join(directory, "multipliers.csv"))
+        mus = mult["re"] + 1j * mult["im"] if len(mult.get("re", ())) else np.empty(0, dtype=complex)
+        if "trivial" in mult and len(mus):
+            order = np.argsort(-mult["trivial"], kind="stable")  # trivial first
+            mus = mus[order]
+        orbit_path, imp_path = os.path.join(directory, "orbit.csv"), os.path.join(directory, "impacts.csv")
+        orbit = read_csv(orbit_path) if os.path.exists(orbit_path) else {"t": np.empty(0)}
+        imp = read_mixed(imp_path) if os.path.exists(imp_path) else {"t": np.empty(0)}
+        surface = _surface_column(imp, list(ctx["surfaces"]))
+        return cls(status=res.get("outcome", res.get("status", "ok")), label=res.get("label", ""),
+                   section_returns=res.get("section_returns", 0), period=_num(res.get("period")),
+                   impacts_per_period=res.get("impacts_per_period") or 0,
+                   closure=_num(res.get("closure")), multipliers=mus, trivial_error=_num(res.get("trivial_error")),
+                   max_nontrivial_modulus=_num(res.get("max_nontrivial_modulus")), stable=res.get("stable"),
+                   orbit_t=orbit["t"], orbit=_states(orbit, names, len(orbit["t"])), impact_t=imp["t"],
+                   impact_surface=surface, impact_pre=_impact_states(imp, names, "before"),
+                   impact_post=_impact_states(imp, names, "after"), **ctx)
+
 
 @dataclass(repr=False)
-class Lyapunov:
+class Lyapunov(_Context):
     """The Lyapunov spectrum (``vimpact.lyapunov``, the command ``lyapunov``; the paper's
     Algorithm 2).
 
     Attributes
     ----------
     status : str
-        ``ok``, ``time_limit`` (averaged over less than asked), ``sticking`` or
-        ``flow_failed`` (``flow_outcome`` says how).
+        ``ok``, ``time_limit`` (averaged over less than asked), ``sticking``, or how the run
+        failed.
     tdm : str
         The mapping of deviations at impacts.
     exponents : ndarray, float64, shape (dim,)
@@ -765,6 +1007,7 @@ class Lyapunov:
     t_start, time : float
         Start and length of the averaging window.
     impacts, intervals, misses : int
+    impacts_by_surface : dict
     divergence_average, jump_log_det_rate, sum_rule : float
         <div F>, (1/T) sum ln|det S| and their sum, which the exponents must add up to
         (tangent mappings only).
@@ -772,30 +1015,30 @@ class Lyapunov:
     history_growth : ndarray, float64, shape (h, dim)
         ln(R_ii / r0) of every counted interval (QR order); ``running_exponents`` gives the
         running averages.
+    section_t, section : ndarray
+        Section points of the averaging window (``record > 0``).
     stats : dict
         ``transient`` and ``tangent`` RunStats.
     """
-    status: str
-    flow_outcome: str
-    tdm: str
-    impacting: bool
-    exponents: np.ndarray
-    lle_standard_error: float
-    t_start: float
-    time: float
-    impacts: int
-    intervals: int
-    divergence_average: float
-    jump_log_det_rate: float
-    sum_rule: float
-    misses: int
-    history_t: np.ndarray
-    history_growth: np.ndarray
-    stats: dict
-    parameters: dict
-    model: object = None
-    options: dict = field(default_factory=dict)
-    preset: Optional[str] = None
+    status: str = "ok"
+    tdm: str = "saltation"
+    impacting: Optional[bool] = None
+    exponents: np.ndarray = None
+    lle_standard_error: float = np.nan
+    t_start: float = 0.0
+    time: float = np.nan
+    impacts: int = 0
+    impacts_by_surface: dict = field(default_factory=dict)
+    intervals: int = 0
+    divergence_average: float = np.nan
+    jump_log_det_rate: float = np.nan
+    sum_rule: float = np.nan
+    misses: int = 0
+    history_t: np.ndarray = None
+    history_growth: np.ndarray = None
+    section_t: np.ndarray = None
+    section: np.ndarray = None
+    stats: dict = field(default_factory=dict)
 
     @property
     def lle(self):
@@ -812,6 +1055,184 @@ class Lyapunov:
         return (f"Lyapunov(status={self.status!r}, exponents {np.array2string(self.exponents, precision=6)}, "
                 f"largest +- {self.lle_standard_error:.2g}, {self.impacts} impacts, tdm {self.tdm})")
 
+    @classmethod
+    def load(cls, directory):
+        """The result of ``vimpact lyapunov --out DIR`` (its running estimates, not the
+        per-interval growth)."""
+        record = read_record(directory)
+        ctx = _context(record)
+        res = record["result"]
+        conv = read_csv(os.path.join(directory, "convergence.csv"))
+        lam = sorted((k for k in conv if re.fullmatch(r"lambda\d+", k)), key=lambda k: int(k[6:]))
+        t_start = float(res.get("t_start", 0.0))
+        running = _states(conv, lam, len(conv["t"]))
+        # Back from running averages to per-interval growth, so running_exponents round-trips.
+        elapsed = (conv["t"] - t_start)[:, None]
+        total = running * elapsed
+        growth = np.diff(np.vstack([np.zeros((1, len(lam))), total]), axis=0) if len(total) else total
+        return cls(status=res.get("outcome", "ok"), tdm=res.get("tdm", "saltation"),
+                   exponents=np.array([_num(v) for v in res.get("exponents", [])], dtype=float),
+                   lle_standard_error=_num(res.get("lle_standard_error")), t_start=t_start,
+                   time=_num(res.get("time")), impacts=res.get("impacts", 0), sum_rule=_num(res.get("sum_rule")),
+                   misses=res.get("misses", 0), history_t=conv["t"], history_growth=growth, **ctx)
+
+
+@dataclass(repr=False)
+class FloquetSweep(_Context):
+    """Floquet multipliers over a range of one parameter (``vimpact.floquet_sweep``, the
+    command ``floquet --param P --range a:b:n``; the paper's Figures 14 and 15).
+
+    Attributes
+    ----------
+    param : str
+    value : ndarray, float64, shape (n,)
+    results : list of Floquet
+        One per value (without the orbit samples).
+    label : ndarray, str, shape (n,)
+    multipliers : ndarray, complex128, shape (n, dim)
+        NaN rows where there are none (aperiodic or failed points).
+    trivial : ndarray, bool, shape (n, dim)
+        Marks the trivial multiplier (column 0 where there are multipliers).
+    stable : ndarray, object, shape (n,)
+        True, False or None.
+    points, point_run : ndarray
+        The protocol's section points of every value and the value index of each, for the
+        bifurcation diagram underneath.
+    jobs : JobReport
+    """
+    param: str = ""
+    value: np.ndarray = None
+    results: list = field(default_factory=list)
+    label: np.ndarray = None
+    multipliers: np.ndarray = None
+    trivial: np.ndarray = None
+    stable: np.ndarray = None
+    points: np.ndarray = None
+    point_run: np.ndarray = None
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
+
+    @property
+    def point_value(self):
+        return self.value[self.point_run]
+
+    @property
+    def label_counts(self):
+        return label_counts(self.label)
+
+    def __repr__(self):
+        counts = ", ".join(f"{k} {v}" for k, v in self.label_counts.items())
+        unstable = sum(1 for s in self.stable if s is False)
+        return f"FloquetSweep(param={self.param!r}, {len(self.value)} values: {counts}; {unstable} unstable)"
+
+    @classmethod
+    def load(cls, directory):
+        """The result of ``vimpact floquet --param P --range a:b:n --out DIR``."""
+        record = read_record(directory)
+        ctx = _context(record)
+        res = record["result"]
+        param = res["param"]
+        lab = read_table(os.path.join(directory, "labels.csv"))
+        value = np.array(lab[param], dtype=float)
+        mult = read_csv(os.path.join(directory, "multipliers.csv"))
+        dim = len(ctx["state_names"])
+        mus = np.full((len(value), dim), np.nan + 0j)
+        trivial = np.zeros((len(value), dim), dtype=bool)
+        count = {}
+        for v, re_, im, tr in zip(mult[param], mult["re"], mult["im"], mult.get("trivial", np.zeros(len(mult["re"])))):
+            i = int(np.flatnonzero(value == v)[0])
+            k = count.get(i, 0)
+            if k < dim:
+                mus[i, k] = re_ + 1j * im
+                trivial[i, k] = tr > 0.5
+            count[i] = k + 1
+        pts, run = _points(directory, param, value, ctx["state_names"])
+        return cls(param=param, value=value, label=_str_array(lab["label"]), multipliers=mus, trivial=trivial,
+                   stable=np.array([None] * len(value), dtype=object), points=pts, point_run=run, **ctx)
+
+
+@dataclass(repr=False)
+class LyapunovSweep(_Context):
+    """Lyapunov exponents over a range of one parameter (``vimpact.lyapunov_sweep``, the
+    command ``lyapunov --param P --range a:b:n``; the paper's Figures 16 and 17).
+
+    Attributes
+    ----------
+    param : str
+    value : ndarray, float64, shape (n,)
+    results : list of Lyapunov
+        One per value (without the interval history).
+    exponents : ndarray, float64, shape (n, dim)
+    lle : ndarray, float64, shape (n,)
+    lle_standard_error : ndarray, float64, shape (n,)
+    status : ndarray, str, shape (n,)
+    points, point_run : ndarray
+        Section points of each value's averaging window (``record > 0``) and the value
+        index of each, for the bifurcation diagram underneath.
+    tdm : str
+    jobs : JobReport
+    """
+    param: str = ""
+    value: np.ndarray = None
+    results: list = field(default_factory=list)
+    exponents: np.ndarray = None
+    lle_standard_error: np.ndarray = None
+    status: np.ndarray = None
+    points: np.ndarray = None
+    point_run: np.ndarray = None
+    tdm: str = "saltation"
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
+
+    @property
+    def lle(self):
+        return self.exponents[:, 0] if len(self.exponents) else np.empty(0)
+
+    @property
+    def point_value(self):
+        return self.value[self.point_run]
+
+    @property
+    def positive(self):
+        """Values whose largest exponent lies more than 3 standard errors above 0."""
+        se = np.where(np.isfinite(self.lle_standard_error), self.lle_standard_error, 0.0)
+        return int(np.sum(np.isfinite(self.lle) & (self.lle > 3 * se)))
+
+    def __repr__(self):
+        return (f"LyapunovSweep(param={self.param!r}, {len(self.value)} values, tdm {self.tdm}: {self.positive} "
+                f"with a positive largest exponent)")
+
+    @classmethod
+    def load(cls, directory):
+        """The result of ``vimpact lyapunov --param P --range a:b:n --out DIR``."""
+        record = read_record(directory)
+        ctx = _context(record)
+        res = record["result"]
+        param = res["param"]
+        tab = read_table(os.path.join(directory, "exponents.csv"))
+        value = np.array([float(x) for x in tab[param]])
+        lam = sorted((k for k in tab if re.fullmatch(r"lambda\d+", k)), key=lambda k: int(k[6:]))
+        exps = np.column_stack([[_num(x) if x not in ("", "nan") else np.nan for x in tab[k]] for k in lam]) \
+            if len(value) else np.empty((0, len(lam)))
+        se = np.array([float(x) if x not in ("", "nan") else np.nan for x in tab.get("lle_standard_error", [])])
+        pts, run = _points(directory, param, value, ctx["state_names"])
+        return cls(param=param, value=value, exponents=exps, lle_standard_error=se,
+                   status=_str_array(tab.get("outcome", ["ok"] * len(value))), points=pts, point_run=run,
+                   tdm=res.get("tdm", "saltation"), **ctx)
+
+
+def _points(directory, param, value, names):
+    """points.csv of a stability sweep: section points with their parameter value."""
+    path = os.path.join(directory, "points.csv")
+    if not os.path.exists(path):
+        return np.empty((0, len(names))), np.empty(0, dtype=np.int64)
+    pts = read_csv(path)
+    pv = pts[param]
+    index = {v: i for i, v in enumerate(value)}
+    return _states(pts, names, len(pv)), np.array([index.get(v, 0) for v in pv], dtype=np.int64)
+
+
+# ---------------------------------------------------------------- correlation dimension
 
 @dataclass(repr=False)
 class Dimension:
@@ -843,6 +1264,8 @@ class Dimension:
     estimator : str
     points, embedding : int
         Number of points and coordinates per point.
+    columns : tuple of str or None
+        The state variables used, when the points came from a result.
     """
     dimension: float
     found: bool
@@ -865,6 +1288,7 @@ class Dimension:
     estimator: str
     points: int
     embedding: int
+    columns: Optional[tuple] = None
     options: dict = field(default_factory=dict)
 
     @property
