@@ -12,8 +12,9 @@
 //   job); n processes with i = 0..n-1 together compute every job exactly once.
 // - Resumable: jobs already finished (read back by the caller) are skipped, and serve as
 //   predecessors of chained jobs.
-// - Interruptible: when `stop` becomes true, no new job starts; finished results are still
-//   delivered (in ascending order, with gaps), so a later resume loses only running jobs.
+// - Interruptible: when `stop` becomes true, no new job starts; results finished before it are
+//   still delivered (in ascending order, with gaps), so a later resume loses only the jobs
+//   that were running (whose results may have been cut short by the same flag).
 //
 // Chained jobs (a parameter sweep that follows its branch): job j starts from the result of
 // job j - chains. With chains = 2 an upward and a downward sweep interleave and run in parallel.
@@ -164,6 +165,10 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
                 break;
             }
             lock.lock();
+            // A job that was running when the stop flag was set may have been cut short (its
+            // flows poll the same flag and end early): it is not a result, and a journal must
+            // not keep it, so a resume computes it again.
+            if (opt.stop && opt.stop->load()) break;
             if (schedule.chained() && job + schedule.chains < schedule.jobs) successors.emplace(job, *result);
             ready.emplace(pos, std::move(*result));
             changed.notify_all();
