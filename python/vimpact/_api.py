@@ -396,6 +396,8 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
 
 def _axis(axis, what):
     try:
+        if isinstance(axis, str):
+            raise TypeError
         name, values = axis
     except (TypeError, ValueError):
         raise TypeError(f"{what} must be a pair (name, values), e.g. ('Ur', vimpact.grid(16, 25, 10))") from None

@@ -41,6 +41,11 @@ def vimpact_cli(request):
     if not (os.path.isfile(path) and os.access(path, os.X_OK)):
         pytest.skip(f"the vimpact program is not built at {path} (configure with -DVIMPACT_BUILD_CLI=ON, or pass "
                     f"--vimpact=PATH): the comparisons with the command line need it")
+    # A program built before the command line took any model (no --model) writes other files.
+    help_text = subprocess.run([path, "simulate", "--help"], capture_output=True, text=True, timeout=60).stdout
+    if "--model" not in help_text:
+        pytest.skip(f"the vimpact program at {path} predates the model-generic command line (no --model option): "
+                    f"rebuild it to compare with it")
     return os.path.abspath(path)
 
 

@@ -1,5 +1,6 @@
 """The Python API itself: documented shapes and dtypes, determinism across thread counts,
-the GIL released during long calls, progress reports, Ctrl-C, docstrings."""
+journals (resume after a stop, shards), the GIL released during long calls, progress reports,
+Ctrl-C, docstrings."""
 import os
 import signal
 import subprocess
@@ -24,30 +25,35 @@ def check(a, shape, dtype):
 
 
 def test_simulation_shapes_and_dtypes():
-    s = vimpact.simulate(vimpact.WakeImpact(Ur=21.5), sample_dt=0.1, **Q)
-    n, k, m = len(s.section_t), len(s.impact_t), len(s.series_t)
-    assert n == Q["record"] and k > 0 and m > 0
+    m = vimpact.WakeImpact(Ur=21.5)
+    s = vimpact.simulate(m, sample_dt=0.1, **Q)
+    n, k, ts = len(s.section_t), len(s.impact_t), len(s.series_t)
+    assert n == Q["record"] and k > 0 and ts > 0
     check(s.section, (n, 4), np.float64)
     check(s.section_t, (n,), np.float64)
     check(s.impact_pre, (k, 4), np.float64)
     check(s.impact_post, (k, 4), np.float64)
-    check(s.series, (m, 4), np.float64)
+    check(s.impact_surface, (k,), np.int64)
+    check(s.series, (ts, 4), np.float64)
     check(s.final_state, (4,), np.float64)
+    assert s.state_names == ("y", "ydot", "x", "xdot") and s.plot_variable == "y" and s.surfaces == ("barrier",)
     assert (np.diff(s.section_t) > 0).all() and (np.diff(s.series_t) >= 0).all()
-    assert (s.section[:, 1] == 0).all(), "on the section v = 0 exactly"
+    assert (s.section[:, 1] == 0).all(), "on the section ydot = 0 exactly"
     # Impacts happen on the barrier and reverse the velocity with the restitution factor.
-    np.testing.assert_allclose(s.impact_pre[:, 0], W.sigma, atol=1e-12)
-    np.testing.assert_array_equal(s.impact_post[:, 1], -0.8 * s.impact_pre[:, 1])
-    assert s.outcome == "ok" and s.stats.steps > 0
-    assert vimpact.simulate(vimpact.WakeImpact(Ur=21.5), **Q).series.shape == (0, 4)
+    np.testing.assert_allclose(s.impact_pre[:, 0], m.sigma, atol=1e-12)
+    np.testing.assert_array_equal(s.impact_post[:, 1], -m.r * s.impact_pre[:, 1])
+    assert s.outcome == "ok" and s.stats.steps > 0 and s.stats.impacts_by_surface == {"barrier": s.stats.impacts}
+    assert vimpact.simulate(m, **Q).series.shape == (0, 4)
+    assert vimpact.simulate(m, section="minima", **Q).options["section"] == "minima"
 
 
 def test_period_shapes():
     p = vimpact.period(vimpact.WakeImpact(Ur=19), **Q)
-    check(p.section_y, (p.period,), np.float64)
-    assert p.label == f"P{p.period}"
+    check(p.cycle, (p.period, 4), np.float64)
+    assert p.label == f"P{p.period}" and p.impacts_by_surface == {"barrier": p.impacts}
+    assert p.state_names == ("y", "ydot", "x", "xdot") and p.parameters["Ur"] == 19
     q = vimpact.period(W.with_(sigma=-0.3), **Q)
-    assert (q.label, q.period) == ("P0", 0) and q.section_y.shape == (0,)
+    assert (q.label, q.period) == ("P0", 0) and q.cycle.shape == (0, 4)
 
 
 def test_sweep_shapes_and_dtypes():
@@ -55,19 +61,23 @@ def test_sweep_shapes_and_dtypes():
     runs = 6
     for name in ("branch", "period", "impacts", "steps"):
         check(getattr(s, name), (runs,), np.int64)
-    for name in ("value", "closure", "sigma_graze"):
+    for name in ("value", "closure"):
         check(getattr(s, name), (runs,), np.float64)
     for name in ("label", "outcome"):
         check(getattr(s, name), (runs,), str)
+    check(s.impacts_by_surface, (runs, 1), np.int64)
+    check(s.grazing, (runs, 1), np.float64)
     check(s.final_state, (runs, 4), np.float64)
     P = len(s.points)
     assert P == runs * Q["record"]
     check(s.points, (P, 4), np.float64)
     check(s.point_run, (P,), np.int64)
     check(s.point_value, (P,), np.float64)
-    assert np.isnan(s.sigma_graze).all(), "no grazing asked"
+    assert np.isnan(s.grazing).all() and s.grazing_param is None, "no grazing asked"
     assert sum(s.label_counts.values()) == runs
-    assert s.stats["jobs"] == runs and s.stats["wall_time"] > 0
+    assert s.jobs.complete and s.jobs.computed == runs and s.stats["wall_time"] > 0
+    g = vimpact.sweep(W, "Ur", [16, 17], grazing=True, **Q)
+    assert g.grazing_param == "sigma" and np.isfinite(g.grazing).all()
 
 
 def test_map_and_basins_shapes():
@@ -77,26 +87,36 @@ def test_map_and_basins_shapes():
     for name in ("period", "impacts", "steps"):
         check(getattr(m, name), (2, 3), np.int64)
     check(m.closure, (2, 3), np.float64)
-    assert m.grazing is None
+    check(m.impacts_by_surface, (2, 3, 1), np.int64)
+    assert m.grazing is None and m.grazing_param is None
+    g = vimpact.map(W, x=("Ur", [16, 20, 24]), y=("sigma", [-0.15, -0.1]), grazing=True, **Q)
+    assert g.grazing_param == "sigma"
+    check(g.grazing_other, (3,), np.float64)
+    check(g.grazing, (3, 1), np.float64)
     b = vimpact.basins(vimpact.WakeImpact(Ur=14.9), x=("y", [-0.2, 0.0, 0.2]), y=("ydot", [0.0, 0.1]), **Q)
     check(b.attractor, (2, 3), np.int64)
     check(b.label, (2, 3), str)
     assert (b.attractor[:, 0] == -1).all() and (b.label[:, 0] == "inadmissible").all()
     assert sum(a.cells for a in b.attractors) == b.attractor.size - b.inadmissible_cells
     for a in b.attractors:
-        assert a.cycle.ndim == 2 and a.cycle.shape[1] == 3 and a.box.shape == (2, 3)
+        assert a.cycle.ndim == 2 and a.cycle.shape[1] == 4 and a.box.shape == (2, 4)
 
 
 def test_response_shapes():
-    r = vimpact.response(W, "Ur", [5, 6], curves=[(12, 0.3), (10, 0.25), (14, 0.35)], transient_time=300)
-    for name in ("amplitude", "y_max", "sigma_graze", "frequency_ratio", "structure_frequency"):
+    r = vimpact.response(W, "Ur", [5, 6], curves=[{"A": 12, "eps": 0.3}, {"A": 10, "eps": 0.25}, {"A": 14}],
+                         transient_time=300)
+    for name in ("amplitude", "maximum", "minimum", "frequency"):
         check(getattr(r, name), (3, 2), np.float64)
     check(r.converged, (3, 2), np.bool_)
     check(r.outcome, (3, 2), str)
-    check(r.curves, (3, 2), np.float64)
-    np.testing.assert_array_equal(r.structure_frequency[0], [1 / (0.2 * 5), 1 / (0.2 * 6)])
-    # amplitude = max(|y_max|, |sigma_graze|), the library's definition.
-    np.testing.assert_array_equal(r.amplitude, np.maximum(np.abs(r.y_max), np.abs(r.sigma_graze)))
+    check(r.grazing, (3, 2, 1), np.float64)
+    assert r.variable == "y" and r.grazing_param == "sigma" and r.curves[2] == {"A": 14.0}
+    # amplitude = max(|maximum|, |minimum|), the library's definition; the grazing value of
+    # sigma is the minimum of y.
+    np.testing.assert_array_equal(r.amplitude, np.maximum(np.abs(r.maximum), np.abs(r.minimum)))
+    np.testing.assert_array_equal(r.grazing[:, :, 0], r.minimum)
+    with pytest.raises(vimpact.InputError, match="has no parameter 'B'"):
+        vimpact.response(W, "Ur", [5], curves=[{"B": 1}])
 
 
 def test_stability_and_dimension_shapes():
@@ -105,19 +125,27 @@ def test_stability_and_dimension_shapes():
     check(f.monodromy, (4, 4), np.float64)
     check(f.orbit_point, (4,), np.float64)
     assert f.orbit.shape == (len(f.orbit_t), 4) and len(f.orbit_t) > 0
-    assert f.impact_pre.shape == (f.impacts_per_period, 4)
+    assert f.impact_pre.shape == (f.impacts_per_period, 4) and f.impacts_by_surface == {"barrier": 1}
     assert abs(f.multipliers[0] - 1) == f.trivial_error < 1e-8
     assert f.det_monodromy == pytest.approx(f.liouville_det, rel=1e-6)
     a = vimpact.floquet(vimpact.WakeImpact(Ur=18.426), **Q)  # the paper's chaotic point (Fig. 6a)
     assert (a.status, a.label) == ("aperiodic", "aperiodic")
     assert a.multipliers.shape == (0,) and a.stable is None and np.isnan(a.period)
-    ly = vimpact.lyapunov(vimpact.WakeImpact(Ur=16), impacts=40, transient=60)
+    ly = vimpact.lyapunov(vimpact.WakeImpact(Ur=16), impacts=40, transient=60, record=10)
     check(ly.exponents, (4,), np.float64)
     h = len(ly.history_t)
     check(ly.history_growth, (h, 4), np.float64)
+    check(ly.section, (10, 4), np.float64)
     assert ly.running_exponents.shape == (h, 4)
     np.testing.assert_allclose(ly.running_exponents[-1], np.sort(ly.exponents)[::-1], rtol=1e-12, atol=1e-15)
     assert ly.exponents.sum() == pytest.approx(ly.sum_rule, abs=1e-6)
+    fs = vimpact.floquet_sweep(W, "Ur", [16, 18.426], **Q)
+    check(fs.multipliers, (2, 4), np.complex128)
+    assert fs.label.tolist() == ["P2", "aperiodic"] and np.isnan(fs.multipliers[1]).all()
+    assert fs.points.shape == (2 * Q["record"], 4)
+    ls = vimpact.lyapunov_sweep(W, "Ur", [16, 17], impacts=30, transient=60, record=5)
+    check(ls.exponents, (2, 4), np.float64)
+    assert ls.points.shape == (10, 4) and ls.lle.shape == (2,)
     rng = np.random.default_rng(5)
     d = vimpact.dimension(rng.random((3000, 2)))
     k = len(d.r)
@@ -125,36 +153,69 @@ def test_stability_and_dimension_shapes():
     check(d.pairs, (k,), np.int64)
     check(d.local_slope, (k,), np.float64)
     assert d.dimension == pytest.approx(2.0, abs=0.1)
+    s = vimpact.simulate(vimpact.WakeImpact(Ur=16), **Q)
+    assert vimpact.dimension(s, min_pairs=1).columns == ("y", "x", "xdot"), "ydot = 0 on the maxima"
     with pytest.raises(ValueError, match="2-D"):
         vimpact.dimension(np.zeros(5))
 
 
 def test_results_do_not_depend_on_the_thread_count():
-    values = vimpact.grid(20, 25, 9)
-    runs = [vimpact.sweep(W, "Ur", values, threads=t, grazing=True, **Q) for t in (1, 2, 5)]
-    for s in runs[1:]:
-        for name in ("label", "closure", "points", "point_run", "sigma_graze", "final_state", "steps"):
-            np.testing.assert_array_equal(getattr(s, name), getattr(runs[0], name))
-    follow = [vimpact.sweep(W, "Ur", vimpact.grid(14.5, 15.5, 5), ic_mode="follow", direction="both", threads=t, **Q)
-              for t in (1, 3)]
+    values = vimpact.grid(20, 25, 7)
+    runs = [vimpact.sweep(W, "Ur", values, threads=t, grazing=True, **Q) for t in (1, 2)]
+    for name in ("label", "closure", "points", "point_run", "grazing", "final_state", "steps"):
+        np.testing.assert_array_equal(getattr(runs[1], name), getattr(runs[0], name))
+    assert (runs[0].stats["threads"], runs[1].stats["threads"]) == (1, 2)
+    follow = [vimpact.sweep(W, "Ur", vimpact.grid(14.5, 15.5, 4), ic_mode="follow", direction="both", threads=t, **Q)
+              for t in (1, 2)]
     np.testing.assert_array_equal(follow[0].points, follow[1].points)
-    b = [vimpact.basins(vimpact.WakeImpact(Ur=14.9), x=("y", [-0.1, 0.0, 0.1, 0.2]), y=("ydot", [-0.1, 0.1]),
-                        threads=t, **Q) for t in (1, 4)]
-    np.testing.assert_array_equal(b[0].attractor, b[1].attractor)
+    two = vimpact.TwoSidedImpactOscillator()
+    for call in (lambda t: vimpact.map(two, x=("w", [1.1, 1.3, 1.5]), y=("d", [0.9, 1.5]), grazing=True, threads=t,
+                                       **Q),
+                 lambda t: vimpact.basins(two, x=("x", [-0.5, 0.0, 0.5]), y=("v", [-0.5, 0.5]), threads=t, **Q),
+                 lambda t: vimpact.response(two, "w", [1.1, 1.2, 1.3], threads=t),
+                 lambda t: vimpact.floquet_sweep(two, "w", [1.1, 1.2, 1.3], threads=t, **Q),
+                 lambda t: vimpact.lyapunov_sweep(two, "w", [1.1, 1.2], impacts=20, transient=40, threads=t)):
+        a, b = call(1), call(2)
+        for name in ("label", "attractor", "amplitude", "grazing", "multipliers", "exponents"):
+            if hasattr(a, name) and getattr(a, name) is not None:
+                np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
 
 
-def test_the_forced_oscillator_runs_through_every_analysis():
-    f = vimpact.ForcedImpactOscillator(omega=0.8)
-    s = vimpact.simulate(f, **Q)
-    assert s.section.shape == (Q["record"], 3) and s.state_names == ("y", "ydot", "theta")
-    sw = vimpact.sweep(f, "omega", [0.7, 0.8], **Q)
-    assert sw.points.shape[1] == 3 and len(sw.label) == 2
-    b = vimpact.basins(f, x=("y", [0.0, 0.5]), y=("theta", [0.0, 1.0]), **Q)
-    assert b.attractor.shape == (2, 2)
-    with pytest.raises(TypeError, match="WakeImpact"):
-        vimpact.response(f, "omega", [0.5])
-    with pytest.raises(TypeError, match="model must be"):
-        vimpact.simulate("not a model")
+def test_a_stopped_sweep_resumes_from_its_journal(tmp_path):
+    values = vimpact.grid(14, 25, 12)
+    whole = vimpact.sweep(W, "Ur", values, threads=2, grazing=True, **Q)
+    journal = tmp_path / "journal"
+
+    def stop_after_four(done, total):
+        if done >= 4:
+            raise KeyboardInterrupt  # what Ctrl-C raises in the same place
+    with pytest.raises(KeyboardInterrupt):
+        vimpact.sweep(W, "Ur", values, threads=2, grazing=True, journal=journal, progress=stop_after_four, **Q)
+    assert journal.is_dir(), "the finished jobs stay in the journal"
+    with pytest.raises(vimpact.InputError, match="journal"):
+        vimpact.sweep(W, "Ur", values, threads=2, grazing=True, journal=journal, **Q)  # not resumed by mistake
+    with pytest.raises(vimpact.InputError):
+        vimpact.sweep(W, "Ur", values, threads=2, grazing=False, journal=journal, resume=True, **Q)  # another run
+    resumed = vimpact.sweep(W, "Ur", values, threads=1, grazing=True, journal=journal, resume=True, **Q)
+    assert resumed.jobs.resumed >= 4 and resumed.jobs.resumed + resumed.jobs.computed == 12
+    assert not journal.exists(), "a complete run removes its journal"
+    for name in ("branch", "value", "label", "closure", "grazing", "points", "point_run", "final_state", "steps"):
+        np.testing.assert_array_equal(getattr(resumed, name), getattr(whole, name))
+
+
+def test_shards_meet_in_a_journal(tmp_path):
+    two = vimpact.TwoSidedImpactOscillator()
+    grid = dict(x=("w", [1.0, 1.1, 1.2, 1.3]), y=("d", [0.9, 1.5]), **Q)
+    journal = tmp_path / "map.jobs"
+    first = vimpact.map(two, **grid, journal=journal, shard=(0, 2))
+    assert isinstance(first, vimpact.JobReport) and not first.complete and first.computed == 4
+    second = vimpact.map(two, **grid, journal=journal, shard=(1, 2), keep_journal=True)
+    assert second.jobs.complete and second.jobs.computed == 4
+    again = vimpact.map(two, **grid, journal=journal, resume=True)
+    assert again.jobs.computed == 0 and again.jobs.resumed == 8
+    np.testing.assert_array_equal(again.label, vimpact.map(two, **grid).label)
+    with pytest.raises(vimpact.InputError, match="shard"):
+        vimpact.map(two, **grid, shard=(0, 2))  # a shard without a journal
 
 
 def test_progress_reports_and_exceptions_from_it():
@@ -176,7 +237,7 @@ def test_long_calls_release_the_gil():
 
     def work():
         t0 = time.perf_counter()
-        vimpact.sweep(W, "Ur", vimpact.grid(12, 25, 40), threads=1, transient=300, record=50)
+        vimpact.sweep(W, "Ur", vimpact.grid(12, 25, 80), threads=1, transient=500, record=100)
         span["call"] = time.perf_counter() - t0
         done.set()
 
@@ -212,6 +273,7 @@ INTERRUPTED = textwrap.dedent("""
     "vimpact.simulate(w, transient=10**8)",
     "vimpact.grazing(w, t_max=1e9, transient_time=1e9)",
     "vimpact.lyapunov(w, impacts=10**8)",
+    "vimpact.floquet(w, transient=10**8)",
 ])
 def test_ctrl_c_raises_keyboard_interrupt_quickly(call):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
@@ -228,15 +290,41 @@ def test_ctrl_c_raises_keyboard_interrupt_quickly(call):
     assert err.rstrip().endswith("KeyboardInterrupt"), err
     assert proc.returncode != 0
     assert latency < 1.0, f"{latency:.3f} s from SIGINT to exit"
-    print(f"SIGINT to exit: {latency:.3f} s")
 
 
 def test_docstrings_state_the_defaults():
     for f in (vimpact.simulate, vimpact.period, vimpact.grazing, vimpact.sweep, vimpact.map, vimpact.basins,
-              vimpact.response, vimpact.floquet, vimpact.lyapunov, vimpact.dimension):
+              vimpact.response, vimpact.floquet, vimpact.lyapunov, vimpact.floquet_sweep, vimpact.lyapunov_sweep,
+              vimpact.dimension):
         doc = f.__doc__
-        assert "$" not in doc and "<protocol>" not in doc
+        assert "$" not in doc and "<protocol>" not in doc and "<jobs>" not in doc, f.__name__
         for section in ("Parameters\n    ----------", "Returns\n    -------"):
             assert section in doc, (f.__name__, section)
+        assert f.__module__ == "vimpact"
     assert f"transient : int, default {vimpact._vimpact.defaults['transient']}" in vimpact.sweep.__doc__
-    assert "rtol" in vimpact.WakeImpact.__doc__ or "Ur : float, default" in vimpact.WakeImpact.__doc__
+    assert "journal : str or path" in vimpact.map.__doc__
+    assert "Parameters" in vimpact.Model.__doc__
+
+
+def test_wrong_types_are_type_errors():
+    with pytest.raises(TypeError, match="vimpact.Model"):
+        vimpact.simulate("not a model")
+    with pytest.raises(TypeError, match="pair"):
+        vimpact.map(W, x="Ur", y=("sigma", [0]))
+
+
+def test_without_the_compiled_module_results_and_plots_still_import(tmp_path):
+    """The command line draws its PNGs with vimpact.plot where the extension is not built."""
+    pkg = tmp_path / "vimpact"
+    pkg.mkdir()
+    src = os.path.dirname(vimpact.__file__)
+    for name in os.listdir(src):
+        if name.endswith(".py"):
+            (pkg / name).write_text(open(os.path.join(src, name)).read())
+    code = ("import vimpact, vimpact.plot, vimpact.results\n"
+            "print(vimpact.__version__)\n"
+            "try:\n    vimpact.Model\nexcept ImportError as e:\n    print(e)\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path,
+                       env=dict(os.environ, PYTHONPATH=str(tmp_path), MPLBACKEND="Agg"))
+    assert p.returncode == 0, p.stderr
+    assert "not built" in p.stdout and "cmake --build build --target _vimpact" in p.stdout

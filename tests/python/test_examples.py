@@ -12,14 +12,14 @@ SCRIPTS = sorted(p for p in glob.glob(os.path.join(EXAMPLES, "*.py")) if not os.
 
 def test_every_analysis_has_an_example():
     names = {os.path.splitext(os.path.basename(p))[0] for p in SCRIPTS}
-    assert {"period", "sweep", "map", "basins", "response"} <= names
+    assert {"period", "sweep", "map", "basins", "response", "stability", "model_file"} <= names
 
 
 @pytest.mark.parametrize("script", SCRIPTS, ids=os.path.basename)
 def test_example_runs(tmp_path, script):
     env = dict(os.environ, OUT=str(tmp_path), MPLBACKEND="Agg",
                PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
-    p = subprocess.run([sys.executable, script, "--quick"], capture_output=True, text=True, env=env, timeout=120,
+    p = subprocess.run([sys.executable, script, "--quick"], capture_output=True, text=True, env=env, timeout=300,
                        cwd=tmp_path)
     assert p.returncode == 0, p.stdout + p.stderr
     name = os.path.splitext(os.path.basename(script))[0]
