@@ -14,7 +14,7 @@ b = vimpact.basins(vimpact.WakeImpact(Ur=14.9),
                    x=("y", vimpact.grid(-0.15, 0.25, n)), y=("ydot", vimpact.grid(-0.3, 0.3, n)), **PROTOCOL)
 for a in b.attractors:
     print(f"attractor {a.id}: {a.label}, {a.cells} of {b.attractor.size} cells, "
-          f"y at its section points {a.cycle[:, 0].round(5).tolist()}")
+          f"y at its section points {a.cycle[:, b.state_names.index('y')].round(5).tolist()}")
 print(f"{b.stats['jobs']} runs on {b.stats['threads']} threads in {b.stats['wall_time']:.1f} s")
 vimpact.plot.basins(b, picture("basins.png"))
 print("picture:", picture("basins.png"))

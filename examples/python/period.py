@@ -15,7 +15,7 @@ model = vimpact.WakeImpact(sigma=-0.150298)
 for ur in (16, 19, 21.5, 24.8):
     p = vimpact.period(model.with_(Ur=ur), **PROTOCOL)
     print(f"Ur = {ur:5}: {p.label:9} {p.impacts} impact(s) per period, "
-          f"y at the section {p.section_y.round(5).tolist()}")
+          f"y at the section {p.cycle[:, 0].round(5).tolist()}")
 
 s = vimpact.simulate(model.with_(Ur=21.5), sample_dt=0.05, **PROTOCOL)
 print(s)
