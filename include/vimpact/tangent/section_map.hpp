@@ -198,9 +198,46 @@ private:
     long m_index = 1;
 };
 
+// A start on the section lies on it only up to rounding (e.g. sin(phi) = 0 to an ulp of phi).
+// On the side the section is crossed from (s < 0 for an upward section, s > 0 for a downward
+// one, s moving towards 0 for one counted both ways) the flow reports the start's own crossing,
+// a rounding error later, as the first return (a period of 1e-14). Such a start is moved
+// across, one ulp at a time along the coordinate s depends on most; a start more than 64 ulps
+// away is not on the section and is left as it is.
+template <engine_model Model>
+vec<Model::dim> past_section(const Model& m, int k, const vec<Model::dim>& x)
+{
+    constexpr int N = Model::dim;
+    const crossing dir = m.section_direction(k);
+    auto before = [&](const vec<N>& y) {
+        const double s = m.section(k, y);
+        if (dir == crossing::up) return s < 0.0;
+        if (dir == crossing::down) return s > 0.0;
+        return s != 0.0 && (s > 0.0) != (m.section_gradient(k, y).dot(m.rhs(y)) > 0.0);
+    };
+    if (!before(x)) return x;
+    const vec<N> g = m.section_gradient(k, x);
+    int c = 0;
+    for (int j = 1; j < N; ++j)
+        if (std::abs(g[j]) > std::abs(g[c])) c = j;
+    if (!(g[c] != 0.0)) return x;
+    // The way s must go: up for an upward section, down for a downward one, through 0 otherwise.
+    const double s_way = dir == crossing::up ? 1.0 : dir == crossing::down ? -1.0 : (m.section(k, x) > 0.0 ? -1.0 : 1.0);
+    const double toward = s_way * g[c] > 0.0 ? std::numeric_limits<double>::infinity()
+                                             : -std::numeric_limits<double>::infinity();
+    vec<N> y = x;
+    for (int i = 0; i < 64; ++i) {
+        y[c] = std::nextafter(y[c], toward);
+        if (!before(y)) return y;
+    }
+    return x;
+}
+
 }  // namespace detail
 
-// P^returns from x0 (on the section) with the tangent. Time starts at 0.
+// P^returns from x0 (on the section) with the tangent. Time starts at 0. A start that rounding
+// left just before the section is moved across it first (detail::past_section; out.x0 is the
+// start integrated).
 template <template <int> class Method, engine_model Model>
 section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>& x0, int returns,
                                        const section_map_options& opt = {})
@@ -215,9 +252,9 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     fo.events = {flow_event::section(opt.section, model.section_direction(opt.section))};
     hybrid_flow<VM, Method> flow(vm, fo);
     section_return<N> out;
-    out.x0 = x0;
-    flow.start(0.0, VM::pack(x0, mat<N>::Identity(), 0.0));
-    if (opt.sample_dt > 0.0) out.samples.push_back(0.0, x0);
+    out.x0 = detail::past_section(model, opt.section, x0);
+    flow.start(0.0, VM::pack(out.x0, mat<N>::Identity(), 0.0));
+    if (opt.sample_dt > 0.0) out.samples.push_back(0.0, out.x0);
     detail::section_return_observer<VM> obs(vm, returns, opt.sample_dt, out);
     out.status = flow.run(obs);
     out.stats = flow.stats();
