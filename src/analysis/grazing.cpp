@@ -1,5 +1,6 @@
 #include "vimpact/analysis/grazing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -141,6 +142,12 @@ void validate(const model& m, const grazing_options& o)
     if (moved && enters_field(m, *moved, probe_states(m)))
         throw input_error("parameter " + name + " enters the vector field of model " + m.name() +
                           ": a grazing value is one of a parameter that only moves a surface");
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const auto g = gap_parameters(m, i);
+        if (std::find(g.begin(), g.end(), o.parameter) != g.end()) return;
+    }
+    throw input_error("parameter " + name + " moves no surface of model " + m.name() +
+                      ": a grazing value is one of a parameter that moves a surface");
 }
 
 grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_options& o)
