@@ -8,6 +8,29 @@ namespace fs = std::filesystem;
 
 namespace vimpact {
 
+void check_output_target(const fs::path& target)
+{
+    std::error_code ec;
+    const fs::path abs = fs::absolute(target, ec);
+    if (ec) throw input_error("--out " + target.string() + ": " + ec.message());
+    const auto status = fs::status(abs, ec);
+    if (fs::exists(status) && !fs::is_directory(status))
+        throw input_error("--out " + target.string() + " exists and is not a directory");
+    // The staging directory goes beside the target, and missing components are created: the
+    // nearest existing ancestor must be a directory we may write in.
+    fs::path place = abs.parent_path();
+    while (!place.empty() && !fs::exists(place, ec)) {
+        if (place == place.parent_path()) break;
+        place = place.parent_path();
+    }
+    if (!fs::is_directory(place, ec))
+        throw input_error("--out " + target.string() + ": " + place.string() + " is not a directory");
+    if (::access(place.c_str(), W_OK | X_OK) != 0)
+        throw input_error("--out " + target.string() + ": cannot write in " + place.string());
+    if (fs::is_directory(status) && ::access(abs.c_str(), W_OK | X_OK) != 0)
+        throw input_error("--out " + target.string() + ": cannot write in it");
+}
+
 staged_output::staged_output(fs::path target) : m_target(std::move(target))
 {
     std::error_code ec;

@@ -9,6 +9,11 @@
 
 namespace vimpact {
 
+// Throws input_error if `target` cannot become an output directory: it exists and is not a
+// directory, a component of its path is not a directory, or the place is not writable. Creates
+// nothing, so that a front end can refuse a bad target before any work.
+void check_output_target(const std::filesystem::path& target);
+
 class staged_output {
 public:
     // Throws input_error if the target exists and is not a directory, or cannot be created.
