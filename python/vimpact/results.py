@@ -860,21 +860,27 @@ class Response(_Context):
         res = record["result"]
         param = res["param"]
         data = read_csv(os.path.join(directory, "response.csv"))
-        curves = [dict(c) for c in res.get("curves", [{}])] or [{}]
+        # Each curve of run.json is its parameters (or a summary holding them as "parameters").
+        curves = [dict(c.get("parameters", c)) if isinstance(c, dict) else {} for c in res.get("curves", [{}])] \
+            or [{}]
         c = len(curves)
         n = len(data[param]) // c if c else 0
+        var = res.get("variable", ctx["plot_variable"])
 
         def grid(*names):
             for name in names:
                 if name in data:
                     return data[name].reshape(c, n)
             return np.full((c, n), np.nan)
-        g = _grazing_columns(data, ctx["surfaces"], c * n)
-        return cls(param=param, values=data[param][:n].copy(), curves=curves,
-                   variable=res.get("variable", ctx["plot_variable"]), amplitude=grid("amplitude"),
-                   maximum=grid("maximum", "y_max"), minimum=grid("minimum", "sigma_graze"),
-                   frequency=grid("frequency", "frequency_ratio"), grazing_param=res.get("grazing_param"),
-                   grazing=g.reshape(c, n, -1), converged=grid("converged") != 0, **ctx)
+        # Grazing columns: PARAM_graze (one surface) or PARAM_graze_SURFACE, else grazing_*.
+        gcols = [k for k in data if "_graze" in k] or [k for k in data if k.startswith("grazing")]
+        g = np.column_stack([data[k] for k in gcols]) if gcols else np.full((c * n, 1), np.nan)
+        gparam = res.get("grazing_param") or (gcols[0].split("_graze")[0] if gcols and "_graze" in gcols[0] else None)
+        return cls(param=param, values=data[param][:n].copy(), curves=[{k: float(v) for k, v in cv.items()}
+                                                                      for cv in curves],
+                   variable=var, amplitude=grid("amplitude"), maximum=grid(f"{var}_max", "maximum"),
+                   minimum=grid(f"{var}_min", "minimum"), frequency=grid("frequency", "frequency_ratio"),
+                   grazing_param=gparam, grazing=g.reshape(c, n, -1), converged=grid("converged") != 0, **ctx)
 
 
 # ---------------------------------------------------------------- stability

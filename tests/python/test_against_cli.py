@@ -110,14 +110,15 @@ def test_basins(cli, tmp_path):
 
 def test_response(cli, tmp_path):
     out = tmp_path / "r"
-    p = cli("response", "--param", "Ur", "--range", "4:8:3", "--curves", "A=12:eps=0.3,A=10:eps=0.25", "--out", out,
+    p = cli("response", "--param", "Ur", "--range", "4:8:3", "--curves", "A=12,eps=0.3;A=10,eps=0.25", "--out", out,
             "--no-plot")
     assert p.returncode == 0, p.stderr
     r = vimpact.response(vimpact.WakeImpact(), "Ur", vimpact.grid(4, 8, 3),
                          curves=[{"A": 12, "eps": 0.3}, {"A": 10, "eps": 0.25}])
     c = vimpact.Response.load(out)
-    for name in ("values", "amplitude", "maximum", "minimum", "frequency", "converged"):
+    for name in ("values", "amplitude", "maximum", "minimum", "frequency", "converged", "grazing"):
         same(getattr(r, name), getattr(c, name))
+    assert c.curves == r.curves and c.grazing_param == "sigma"
 
 
 def test_floquet(cli_json):
@@ -152,6 +153,7 @@ def test_grid_is_the_command_lines_range(cli_json):
 
 
 # ---------------------------------------------------------------- errors the library checks
+# (the command line checks some options, --tol and --threads among them, in its own words first)
 
 W = vimpact.WakeImpact()
 
@@ -162,9 +164,6 @@ W = vimpact.WakeImpact()
     (lambda: vimpact.simulate(W, rtol=2e-16), ["simulate", "--rtol", "2e-16"]),
     (lambda: vimpact.simulate(W, record=0), ["simulate", "--record", "0"]),
     (lambda: vimpact.simulate(W, transient=-1), ["simulate", "--transient=-1"]),
-    (lambda: vimpact.sweep(W, "Ur", [10, 11], tol=0), ["sweep", "--param", "Ur", "--range", "10:11:2", "--tol", "0"]),
-    (lambda: vimpact.sweep(W, "Ur", [10, 11], threads=-1),
-     ["sweep", "--param", "Ur", "--range", "10:11:2", "--threads=-1"]),
 ])
 def test_bad_input_gives_the_command_lines_message(cli, tmp_path, call, args):
     p = cli(*args, cwd=tmp_path)
