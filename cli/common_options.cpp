@@ -1,207 +1,312 @@
 #include "common_options.hpp"
 
-#include <charconv>
-#include <cmath>
-#include <fstream>
+#include <unistd.h>
+
+#include <algorithm>
+#include <map>
 #include <toml++/toml.h>
 
+#include "parse.hpp"
 #include "vimpact/core/format.hpp"
-#include "vimpact/analysis/job_points.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/io/staged_output.hpp"
+
+namespace fs = std::filesystem;
 
 namespace vimpact::cli {
 
-double parse_number(const std::string& text, const std::string& what)
-{
-    double v = 0.0;
-    const char* b = text.data();
-    const char* e = b + text.size();
-    while (b < e && *b == ' ') ++b;
-    if (b < e && *b == '+') ++b;
-    auto [p, ec] = std::from_chars(b, e, v);
-    if (ec != std::errc() || p != e || b == e)
-        throw input_error("malformed number '" + text + "' for " + what);
-    if (!std::isfinite(v)) throw input_error(what + " must be finite (got '" + text + "')");
-    return v;
-}
-
 void add_common_options(CLI::App& app, common_args& a)
 {
-    a.preset_option = app.add_option("--preset", a.preset,
-                                     "Parameter preset: paper (M = 0.05/mu, default) or facchinetti (CL0 = 0.3)");
-    app.add_option("--set", a.sets,
-                   "Override a parameter, KEY=VALUE (repeatable); keys: Ur, sigma, r, A, eps, St, xi, gamma, mu, CL0")
-        ->allow_extra_args(false);
-    app.add_option("--ic", a.ic, "Initial state y,ydot,x,xdot (default 0,0,0,0.1)");
-    app.add_option("--config", a.config, "TOML file with the same keys (parameters, ic, rtol, atol, transient, record, method, section, preset)");
+    a.model_option = app.add_option("--model", a.model,
+                                    "The model: a built-in name (default wake_impact; `vimpact models` lists them), a "
+                                    "model file NAME.toml or a shared library");
+    a.preset_option = app.add_option("--preset", a.preset, "A parameter preset of the model");
+    app.add_option("--set", a.sets, "Set a parameter of the model, KEY=VALUE (repeatable)")->allow_extra_args(false);
+    app.add_option("--ic", a.ic, "Initial state: the model's state variables in order, comma-separated");
+    app.add_option("--config", a.config,
+                   "TOML file with the same settings: model, preset, parameters by name, ic = [..], rtol, atol, "
+                   "transient, record, method, section");
     a.rtol_option = app.add_option("--rtol", a.rtol, "Relative tolerance (default 1e-10)");
     a.atol_option = app.add_option("--atol", a.atol, "Absolute tolerance (default 1e-10)");
     a.transient_option = app.add_option("--transient", a.transient, "Impacts discarded before recording (default 500)");
     a.record_option = app.add_option("--record", a.record, "Section points kept (default " + std::to_string(a.record) + ")");
     a.method_option = app.add_option("--method", a.method, "Integrator: dop853 (default) or dopri5");
-    a.section_option = app.add_option("--section", a.section, "Section: maxima (default, the paper's Sigma), minima or impacts");
-    app.add_option("--out", a.out, "Write CSV, a JSON record and a PNG to this directory");
+    a.section_option = app.add_option("--section", a.section,
+                                      "Where points are recorded: a section of the model (default its first), impacts "
+                                      "(after every impact) or impacts:SURFACE");
+    app.add_option("--out", a.out, "Write CSV files, run.json and a PNG to this directory");
     app.add_flag("--json", a.json, "Print one JSON object to stdout");
     app.add_flag("--no-plot", a.no_plot, "With --out: skip the PNG");
 }
 
 namespace {
 
-void set_model_key(run_config& c, const std::string& key, double value)
+bool is_builtin(const std::string& name)
 {
-    set_parameter(c.params, wake_impact_parameter_table(), key, value);
+    const auto names = model::builtin_names();
+    return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-vec<4> parse_ic(const std::string& text)
+std::string joined(const std::vector<std::string>& v)
 {
-    vec<4> x;
-    std::size_t start = 0;
-    int n = 0;
-    for (;;) {
-        const std::size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (n >= 4) throw input_error("--ic needs 4 comma-separated numbers y,ydot,x,xdot (got '" + text + "')");
-        x[n++] = parse_number(item, "--ic");
-        if (comma == std::string::npos) break;
-        start = comma + 1;
+    std::string s;
+    for (const auto& x : v) {
+        if (!s.empty()) s += ", ";
+        s += x;
     }
-    if (n != 4) throw input_error("--ic needs 4 comma-separated numbers y,ydot,x,xdot (got '" + text + "')");
-    return x;
+    return s;
 }
 
-section_choice parse_section(const std::string& s) { return parse_section_choice(s, input_spelling::cli); }
+integration_method parse_method(const std::string& s)
+{
+    if (s == "dop853") return integration_method::dop853;
+    if (s == "dopri5") return integration_method::dopri5;
+    throw input_error("--method '" + s + "' is not one of dop853, dopri5");
+}
+
+section_choice parse_section(const model& m, const std::string& s)
+{
+    const auto& info = m.info();
+    if (s == "impacts") return section_choice::impacts();
+    if (s.rfind("impacts:", 0) == 0) {
+        const int i = info.surface_index(s.substr(8));
+        if (i >= 0) return section_choice::impacts(i);
+    } else {
+        const int k = info.section_index(s);
+        if (k >= 0) return section_choice::crossings(k);
+    }
+    std::vector<std::string> valid;
+    for (const auto& sec : info.sections) valid.push_back(sec.name);
+    valid.emplace_back("impacts");
+    for (const auto& surf : info.surfaces) valid.push_back("impacts:" + surf.name);
+    throw input_error("--section '" + s + "' is not one of " + joined(valid) + " (model " + m.name() + ")");
+}
+
+section_choice default_section(const model& m)
+{
+    return m.section_count() > 0 ? section_choice::crossings(0) : section_choice::impacts();
+}
+
+std::string config_where(const std::string& file) { return "config " + file; }
 
 double toml_number(const toml::node& node, const std::string& key, const std::string& file)
 {
     if (auto v = node.value<double>()) return *v;
-    throw input_error("config " + file + ": key '" + key + "' must be a number");
+    throw input_error(config_where(file) + ": key '" + key + "' must be a number");
 }
 
 long toml_integer(const toml::node& node, const std::string& key, const std::string& file)
 {
     if (auto v = node.value<int64_t>()) return static_cast<long>(*v);
-    throw input_error("config " + file + ": key '" + key + "' must be an integer");
+    throw input_error(config_where(file) + ": key '" + key + "' must be an integer");
 }
 
-void apply_config(run_config& c, const common_args& a)
+std::string toml_string(const toml::node& node, const std::string& key, const std::string& file)
 {
-    toml::table tbl;
-    {
-        std::ifstream probe(a.config);
-        if (!probe) throw input_error("cannot read config file '" + a.config + "'");
-    }
+    if (auto v = node.value<std::string>()) return *v;
+    throw input_error(config_where(file) + ": key '" + key + "' must be a string");
+}
+
+toml::table read_config(const std::string& file)
+{
+    std::error_code ec;
+    if (fs::is_directory(file, ec)) throw input_error("cannot read config file '" + file + "': it is a directory");
+    if (!fs::exists(file, ec) || ::access(file.c_str(), R_OK) != 0)
+        throw input_error("cannot read config file '" + file + "'");
     try {
-        tbl = toml::parse_file(a.config);
+        return toml::parse_file(file);
     } catch (const toml::parse_error& e) {
-        throw input_error("config " + a.config + ": " + std::string(e.description()) + " (line " +
+        throw input_error(config_where(file) + ": " + std::string(e.description()) + " (line " +
                           std::to_string(e.source().begin.line) + ")");
     }
-    if (auto p = tbl["preset"].value<std::string>(); p && a.preset_option->count() == 0) {
-        c.preset = *p;
-        c.params = wake_impact_preset(*p);
-    }
-    for (const auto& [k, node] : tbl) {
-        const std::string key(k.str());
-        if (key == "preset") {
-            if (!node.is_string()) throw input_error("config " + a.config + ": key 'preset' must be a string");
-        } else if (find_parameter(wake_impact_parameter_table(), key)) {
-            set_model_key(c, key, toml_number(node, key, a.config));
-        } else if (key == "ic") {
-            const auto* arr = node.as_array();
-            if (!arr || arr->size() != 4) throw input_error("config " + a.config + ": 'ic' must be an array of 4 numbers");
-            for (std::size_t i = 0; i < 4; ++i) c.ic[static_cast<int>(i)] = toml_number(*arr->get(i), "ic", a.config);
-        } else if (key == "rtol") {
-            c.rtol = toml_number(node, key, a.config);
-        } else if (key == "atol") {
-            c.atol = toml_number(node, key, a.config);
-        } else if (key == "transient") {
-            c.transient = toml_integer(node, key, a.config);
-        } else if (key == "record") {
-            c.record = toml_integer(node, key, a.config);
-        } else if (key == "method") {
-            if (!node.is_string()) throw input_error("config " + a.config + ": 'method' must be a string");
-            c.method = *node.value<std::string>();
-        } else if (key == "section") {
-            if (!node.is_string()) throw input_error("config " + a.config + ": 'section' must be a string");
-            c.section = parse_section(*node.value<std::string>());
-        } else {
-            throw input_error("config " + a.config + ": unknown key '" + key + "' (valid: " +
-                              parameter_names(wake_impact_parameter_table()) +
-                              ", preset, ic, rtol, atol, transient, record, method, section)");
-        }
-    }
+}
+
+// The keys a config file may have besides the model's parameters.
+const std::vector<std::string>& setting_keys()
+{
+    static const std::vector<std::string> keys{"model", "preset",    "ic",     "rtol",  "atol",
+                                               "method", "transient", "record", "section"};
+    return keys;
 }
 
 }  // namespace
 
+model load_model(const std::string& spec, const fs::path& base)
+{
+    if (spec.empty()) throw input_error("--model needs a model name or file");
+    if (is_builtin(spec)) return model::builtin(spec);
+    fs::path path(spec);
+    std::error_code ec;
+    const bool file_like = spec.find('/') != std::string::npos || path.has_extension() || fs::exists(path, ec);
+    if (!file_like) return model::builtin(spec);  // the message lists the built-ins
+    if (path.is_relative() && !base.empty()) path = base / path;
+    return model::from_file(path);
+}
+
+int parameter_index(const model& m, const std::string& name, const std::string& what)
+{
+    const int i = m.info().parameter_index(name);
+    if (i < 0)
+        throw input_error("unknown parameter '" + name + "' for " + what + " (model " + m.name() + " has " +
+                          m.info().parameter_names() + ")");
+    return i;
+}
+
+int state_index(const model& m, const std::string& name, const std::string& what)
+{
+    const int i = m.info().state_index(name);
+    if (i < 0)
+        throw input_error(what + ": '" + name + "' is not one of " + m.info().state_names() + " (the state of model " +
+                          m.name() + ")");
+    return i;
+}
+
+nlohmann::json parameters_json(const model& m)
+{
+    nlohmann::json j = nlohmann::json::object();
+    const auto& params = m.info().parameters;
+    for (std::size_t i = 0; i < params.size(); ++i) j[params[i].name] = m.parameters()[i];
+    return j;
+}
+
 run_config resolve(const common_args& a)
 {
+    if (!a.out.empty()) check_output_target(a.out);
+
+    std::optional<toml::table> cfg;
+    fs::path cfg_dir;
+    if (!a.config.empty()) {
+        cfg = read_config(a.config);
+        cfg_dir = fs::path(a.config).parent_path();
+    }
+    const toml::node* cfg_model = cfg ? cfg->get("model") : nullptr;
+    model m = a.model_option->count() > 0 || !cfg_model
+                  ? load_model(a.model)
+                  : load_model(toml_string(*cfg_model, "model", a.config), cfg_dir);
+    const model_info& info = m.info();
+
     run_config c;
     c.preset = a.preset;
-    c.params = wake_impact_preset(a.preset);
-    c.section = parse_section(a.section);
-    c.record = a.record;  // the command's default; the config file and --record override it
-    if (!a.config.empty()) apply_config(c, a);
+    if (a.preset_option->count() == 0 && cfg && cfg->contains("preset"))
+        c.preset = toml_string(*cfg->get("preset"), "preset", a.config);
+    if (!c.preset.empty()) {
+        const int p = info.preset_index(c.preset);
+        if (p < 0)
+            throw input_error(info.presets.empty() ? "model " + m.name() + " has no presets (--preset " + c.preset + ")"
+                                                   : "unknown preset '" + c.preset + "' (model " + m.name() + " has " +
+                                                         info.preset_names() + ")");
+        m = m.with_preset(p);
+    }
+    std::vector<double> values = m.parameters();
+    c.ic = m.initial_state();
+    c.protocol.transient_impacts = a.transient;
+    c.protocol.record_points = a.record;
+    c.protocol.flow.integration.rtol = a.rtol;
+    c.protocol.flow.integration.atol = a.atol;
+    std::string method = a.method;
+    std::string section;
+
+    if (cfg) {
+        const std::string& file = a.config;
+        for (const auto& [k, node] : *cfg) {
+            const std::string key(k.str());
+            if (key == "model" || key == "preset") {
+                (void)toml_string(node, key, file);
+            } else if (key == "ic") {
+                const auto* arr = node.as_array();
+                if (!arr || static_cast<int>(arr->size()) != m.dim())
+                    throw input_error(config_where(file) + ": 'ic' must be an array of " + std::to_string(m.dim()) +
+                                      " numbers (" + info.state_names() + ")");
+                for (std::size_t i = 0; i < arr->size(); ++i)
+                    c.ic[static_cast<Eigen::Index>(i)] = toml_number(*arr->get(i), "ic", file);
+            } else if (key == "rtol") {
+                c.protocol.flow.integration.rtol = toml_number(node, key, file);
+            } else if (key == "atol") {
+                c.protocol.flow.integration.atol = toml_number(node, key, file);
+            } else if (key == "transient") {
+                c.protocol.transient_impacts = toml_integer(node, key, file);
+            } else if (key == "record") {
+                c.protocol.record_points = toml_integer(node, key, file);
+            } else if (key == "method") {
+                method = toml_string(node, key, file);
+            } else if (key == "section") {
+                section = toml_string(node, key, file);
+            } else if (const int i = info.parameter_index(key); i >= 0) {
+                values[static_cast<std::size_t>(i)] = toml_number(node, key, file);
+            } else {
+                throw input_error(config_where(file) + ": unknown key '" + key + "' (valid: the parameters of model " +
+                                  m.name() + ", " + info.parameter_names() + ", and " + joined(setting_keys()) + ")");
+            }
+        }
+    }
     // Command-line values override the config file.
-    if (a.rtol_option->count()) c.rtol = a.rtol;
-    if (a.atol_option->count()) c.atol = a.atol;
-    if (a.transient_option->count()) c.transient = a.transient;
-    if (a.record_option->count()) c.record = a.record;
-    if (a.method_option->count()) c.method = a.method;
-    if (a.section_option->count()) c.section = parse_section(a.section);
+    if (a.rtol_option->count()) c.protocol.flow.integration.rtol = a.rtol;
+    if (a.atol_option->count()) c.protocol.flow.integration.atol = a.atol;
+    if (a.transient_option->count()) c.protocol.transient_impacts = a.transient;
+    if (a.record_option->count()) c.protocol.record_points = a.record;
+    if (a.method_option->count()) method = a.method;
+    if (a.section_option->count()) section = a.section;
+
+    std::map<int, std::string> set_by;
     for (const auto& s : a.sets) {
         const auto eq = s.find('=');
-        if (eq == std::string::npos || eq == 0)
-            throw input_error("--set expects KEY=VALUE (got '" + s + "')");
+        if (eq == std::string::npos || eq == 0) throw input_error("--set expects KEY=VALUE (got '" + s + "')");
         const std::string key = s.substr(0, eq);
-        if (!find_parameter(wake_impact_parameter_table(), key))
-            throw input_error("unknown parameter '" + key + "' in --set (valid: " +
-                              parameter_names(wake_impact_parameter_table()) + ")");
-        set_model_key(c, key, parse_number(s.substr(eq + 1), "--set " + key));
+        const int i = info.parameter_index(key);
+        if (i < 0)
+            throw input_error("unknown parameter '" + key + "' in --set (model " + m.name() + " has " +
+                              info.parameter_names() + ")");
+        if (const auto [it, fresh] = set_by.emplace(i, s); !fresh)
+            throw input_error("--set " + key + " is given twice (" + it->second + " and " + s + ")");
+        values[static_cast<std::size_t>(i)] = parse_number(s.substr(eq + 1), "--set " + key);
     }
-    if (!a.ic.empty()) c.ic = parse_ic(a.ic);
-    (void)parse_integration_method(c.method, input_spelling::cli);  // validates
-    if (!a.out.empty()) c.out = a.out;
+    m = m.with_parameters(values);  // checks every value against its range
+
+    if (!a.ic.empty()) {
+        const auto x = parse_numbers(a.ic, "--ic");
+        check_state_size(m, static_cast<Eigen::Index>(x.size()), "--ic");
+        c.ic = Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+    }
+    c.protocol.method = parse_method(method);
+    c.protocol.section = section.empty() ? default_section(m) : parse_section(m, section);
+    validate(c.protocol);
+    validate(m, c.protocol.section);
+    c.model = std::move(m);
+    if (!a.out.empty()) c.out = fs::path(a.out);
     c.json = a.json;
     c.plot = !a.no_plot;
-
-    (void)c.model();      // validates the parameters
-    validate(c.protocol());  // validates tolerances and counts
-    if (c.ic[0] < c.params.sigma || (c.ic[0] == c.params.sigma && c.ic[1] < 0.0))
-        throw input_error("initial state y = " + format_double(c.ic[0]) +
-                          " is below the barrier sigma = " + format_double(c.params.sigma) +
-                          " (the admissible region is y >= sigma)");
     return c;
 }
 
-protocol_options run_config::protocol() const
+void check_admissible(const run_config& c)
 {
-    protocol_options p;
-    p.transient_impacts = transient;
-    p.record_points = record;
-    p.section = section;
-    p.flow.integration.rtol = rtol;
-    p.flow.integration.atol = atol;
-    return p;
+    const int s = violated_surface(c.model, c.ic);
+    if (s < 0) return;
+    const auto& info = c.info();
+    std::string state;
+    for (Eigen::Index k = 0; k < c.ic.size(); ++k) {
+        if (k) state += ", ";
+        state += format_double(c.ic[k]);
+    }
+    const auto& surf = info.surfaces[static_cast<std::size_t>(s)];
+    throw input_error("the initial state (" + info.state_names() + ") = (" + state + ") lies beyond surface " +
+                      surf.name + (surf.meaning.empty() ? std::string() : " (" + surf.meaning + ")") +
+                      ": it must start on the admissible side");
 }
 
 nlohmann::json run_config::to_json() const
 {
     nlohmann::json j;
-    j["model"] = "wake_impact";
-    j["preset"] = preset;
-    nlohmann::json pj;
-    for (const auto& info : wake_impact_parameter_table()) pj[std::string(info.name)] = params.*(info.member);
-    j["parameters"] = pj;
-    const wake_impact m(params);
-    j["derived"] = {{"delta", m.delta()}, {"alpha", m.alpha()}, {"M", m.coupling_M()}};
-    j["ic"] = {ic[0], ic[1], ic[2], ic[3]};
-    j["rtol"] = rtol;
-    j["atol"] = atol;
-    j["method"] = method;
-    j["transient"] = transient;
-    j["record"] = record;
-    j["section"] = std::string(to_string(section));
+    j["model"] = model.name();
+    j["preset"] = preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(preset);
+    j["parameters"] = parameters_json(model);
+    j["ic"] = std::vector<double>(ic.data(), ic.data() + ic.size());
+    j["rtol"] = protocol.flow.integration.rtol;
+    j["atol"] = protocol.flow.integration.atol;
+    j["method"] = std::string(to_string(protocol.method));
+    j["transient"] = protocol.transient_impacts;
+    j["record"] = protocol.record_points;
+    j["section"] = section_name();
     return j;
 }
 

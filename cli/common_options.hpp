@@ -1,32 +1,38 @@
 #pragma once
-// Options shared by the subcommands, and their resolution into a validated configuration:
-// preset, then the config file, then --set, then --ic; each step names what it rejects.
+// Options every command shares, and their resolution into a checked configuration: the
+// model, then its preset, the config file, --set and --ic; each step names what it rejects.
+// Names (parameters, state variables, sections, surfaces) are looked up here, once; the
+// library gets indices.
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "vimpact/analysis/protocol.hpp"
-#include "vimpact/model/wake_impact.hpp"
+#include "vimpact/model/model.hpp"
 
 namespace vimpact::cli {
 
 struct common_args {
-    std::string preset = "paper";
+    std::string model = "wake_impact";
+    std::string preset;
     std::vector<std::string> sets;
     std::string ic;
     std::string config;
+    std::string section;
+    std::string method = "dop853";
     double rtol = 1e-10;
     double atol = 1e-10;
     long transient = 500;
     long record = 200;
-    std::string method = "dop853";
-    std::string section = "maxima";
     std::string out;
     bool json = false;
     bool no_plot = false;
+    CLI::Option* model_option = nullptr;
     CLI::Option* preset_option = nullptr;
     CLI::Option* rtol_option = nullptr;
     CLI::Option* atol_option = nullptr;
@@ -37,29 +43,39 @@ struct common_args {
 };
 
 struct run_config {
-    std::string preset;
-    wake_impact_parameters params;
-    vec<4> ic{0.0, 0.0, 0.0, 0.1};
-    double rtol = 1e-10;
-    double atol = 1e-10;
-    long transient = 500;
-    long record = 200;
-    std::string method = "dop853";
-    section_choice section = section_choice::maxima;
-    std::optional<std::string> out;
+    vimpact::model model;
+    std::string preset;  // empty: the model's defaults
+    Eigen::VectorXd ic;  // the model's initial state unless --ic or the config file set it
+    protocol_options protocol;
+    std::optional<std::filesystem::path> out;
     bool json = false;
     bool plot = true;
 
-    [[nodiscard]] wake_impact model() const { return wake_impact(params); }
-    [[nodiscard]] protocol_options protocol() const;
+    [[nodiscard]] const model_info& info() const { return model.info(); }
+    [[nodiscard]] std::string section_name() const { return section_choice_name(model, protocol.section); }
+    // The effective configuration, for run.json.
     [[nodiscard]] nlohmann::json to_json() const;
 };
 
 void add_common_options(CLI::App& app, common_args& args);
 
-// Throws input_error for anything invalid, naming the input and its valid range.
+// Checks --out first (nothing is computed for a bad target), then loads the model and applies
+// everything else. Throws input_error for anything invalid.
 run_config resolve(const common_args& args);
 
-double parse_number(const std::string& text, const std::string& what);
+// Throws input_error unless the initial state is admissible (on the allowed side of every
+// surface), naming the surface.
+void check_admissible(const run_config& c);
+
+// Indices by name, with messages listing the valid names. `what` is the option.
+int parameter_index(const model& m, const std::string& name, const std::string& what);
+int state_index(const model& m, const std::string& name, const std::string& what);
+
+// A model by built-in name or file (.toml, .json, shared library); a relative file name is
+// taken relative to `base`.
+vimpact::model load_model(const std::string& spec, const std::filesystem::path& base = {});
+
+// "y, ydot, x, xdot" -> the JSON object {name: value} of a vector over the model's parameters.
+nlohmann::json parameters_json(const vimpact::model& m);
 
 }  // namespace vimpact::cli

@@ -1,14 +1,15 @@
 // The dimension command: the correlation dimension (Grassberger–Procaccia sum or the paper's
 // centre counts) of the section points of a run of the model, or of the rows of a CSV file.
-#include "dimension_command.hpp"
-
+// A run's points are its recorded section states, every state variable a coordinate and a
+// phase a (cos, sin) pair (state_point_table); --columns chooses among them.
 #include <cmath>
 #include <memory>
 #include <optional>
 #include <thread>
 
-
+#include "commands.hpp"
 #include "output.hpp"
+#include "parse.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/core/format.hpp"
@@ -42,21 +43,8 @@ struct dimension_args {
     int bins_per_octave = correlation_sum_options{}.bins_per_octave;
     std::string search = "grid";
     int threads = 1;
-    double period_tol = 1e-8;
+    double period_tol = default_period_tolerance;
 };
-
-std::vector<std::string> split(const std::string& text, char sep)
-{
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (;;) {
-        const auto at = text.find(sep, start);
-        parts.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
-        if (at == std::string::npos) break;
-        start = at + 1;
-    }
-    return parts;
-}
 
 std::array<double, 2> parse_fit_range(const std::string& text)
 {
@@ -72,7 +60,8 @@ std::array<double, 2> parse_fit_range(const std::string& text)
 centre_count_options parse_radii(const std::string& text, centre_count_options o)
 {
     const auto p = split(text, ':');
-    if (p.size() != 3) throw input_error("--radii '" + text + "' must be r_min:r_max:step (valid: 0 < r_min <= r_max, step > 0)");
+    if (p.size() != 3)
+        throw input_error("--radii '" + text + "' must be r_min:r_max:step (valid: 0 < r_min <= r_max, step > 0)");
     o.r_min = parse_number(p[0], "--radii r_min");
     o.r_max = parse_number(p[1], "--radii r_max");
     o.r_step = parse_number(p[2], "--radii step");
@@ -107,17 +96,13 @@ dimension_options make_options(const dimension_args& a)
     if (!(a.r_max > 0.0)) throw input_error("--r-max must be > 0 (got " + format_double(a.r_max) + ")");
     o.correlation.r_max = a.r_max;
     o.max_pairs = parse_count(a.max_pairs, "--max-pairs", 1.0);
-    try {
-        (void)detail::mantissa_bits(a.bins_per_octave);
-    } catch (const input_error& e) {
-        throw input_error(std::string("--bins-per-octave: ") + e.what());
-    }
     o.correlation.bins_per_octave = a.bins_per_octave;
     if (a.search == "grid") o.correlation.search = pair_search::grid;
     else if (a.search == "kd_tree") o.correlation.search = pair_search::kd_tree;
     else if (a.search == "brute_force") o.correlation.search = pair_search::brute_force;
     else throw input_error("--search '" + a.search + "' is not one of grid, kd_tree, brute_force");
-    if (a.threads < 0 || a.threads > 1024) throw input_error("--threads must be in [0, 1024] (got " + std::to_string(a.threads) + ")");
+    if (a.threads < 0 || a.threads > 1024)
+        throw input_error("--threads must be in [0, 1024] (got " + std::to_string(a.threads) + ")");
     o.correlation.threads = a.threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : a.threads;
     o.scaling.slope_tolerance = a.slope_tolerance;
     o.scaling.slope_window = a.slope_window;
@@ -131,6 +116,11 @@ dimension_options make_options(const dimension_args& a)
         throw input_error(std::string("scaling-region options: ") + e.what() +
                           " (--slope-tolerance > 0, --slope-window > 1, --min-extent > 1, 0 < --max-correlation <= 1)");
     }
+    try {
+        validate(o);
+    } catch (const input_error& e) {
+        throw input_error(std::string("--bins-per-octave and the other dimension options: ") + e.what());
+    }
     if (!(a.period_tol > 0.0) || !std::isfinite(a.period_tol))
         throw input_error("--tol must be > 0 (got " + format_double(a.period_tol) + ")");
     return o;
@@ -139,8 +129,8 @@ dimension_options make_options(const dimension_args& a)
 // The model's options make no sense with --points: say so rather than ignore them.
 void reject_model_options(const CLI::App& app)
 {
-    for (const char* name : {"--preset", "--set", "--ic", "--config", "--rtol", "--atol", "--transient", "--record",
-                             "--method", "--section", "--tol"})
+    for (const char* name : {"--model", "--preset", "--set", "--ic", "--config", "--rtol", "--atol", "--transient",
+                             "--record", "--method", "--section", "--tol"})
         if (app.get_option(name)->count() > 0)
             throw input_error(std::string(name) + " configures a run of the model; it cannot be combined with --points");
 }
@@ -206,22 +196,27 @@ std::string rounded(double v, double scale) { return format_double(std::round(v 
 std::string text_summary(const dimension_result& r, const std::string& source)
 {
     const auto& f = r.fit;
-    std::string t = "correlation dimension " + (std::isfinite(f.dimension) ? rounded(f.dimension, 1e4) : "undetermined");
+    std::string t = "correlation dimension ";
+    t += std::isfinite(f.dimension) ? rounded(f.dimension, 1e4) : std::string("undetermined");
     // The least-squares error understates the uncertainty; the spread of the local slopes
     // over the fit is the honest companion.
-    if (std::isfinite(f.slope_error))
-        t += " (least-squares error " + rounded(f.slope_error, 1e4) +
-             (std::isfinite(f.slope_spread) ? ", local slopes spread " + rounded(f.slope_spread, 1e3)
-                                            : std::string()) +
-             ")";
+    if (std::isfinite(f.slope_error)) {
+        t += " (least-squares error " + rounded(f.slope_error, 1e4);
+        if (std::isfinite(f.slope_spread)) t += ", local slopes spread " + rounded(f.slope_spread, 1e3);
+        t += ")";
+    }
     t += "\n" + std::string(to_string(r.estimator)) + " over " + std::to_string(r.points) + " points (" +
          std::to_string(r.embedding) + " coordinates) from " + source + "\n";
-    if (f.fitted)
+    if (f.fitted) {
         t += "fit range r = " + format_double(f.r_min) + " .. " + format_double(f.r_max) + " (" + std::to_string(f.fitted) +
-             " radii, " + (f.automatic ? (f.found ? "automatic" : "automatic; NO range met the slope tolerance") : "user") +
-             "), r2 " + (std::isfinite(f.r2) ? rounded(f.r2, 1e6) : "undefined (C constant)") + "\n";
-    else
+             " radii, ";
+        t += f.automatic ? (f.found ? "automatic" : "automatic; NO range met the slope tolerance") : "user";
+        t += "), r2 ";
+        t += std::isfinite(f.r2) ? rounded(f.r2, 1e6) : std::string("undefined (C constant)");
+        t += "\n";
+    } else {
         t += "no radii usable for a fit (too few pairs above the floor)\n";
+    }
     return t;
 }
 
@@ -229,53 +224,49 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
 {
     const bool from_file = !a.points_file.empty();
     if (from_file) reject_model_options(app);
-    run_config c = resolve(a.common);
+    const run_config c = resolve(a.common);
     const dimension_options opt = make_options(a);
 
-    point_set ps;
-    std::vector<std::string> names;
+    point_table table;
+    std::vector<std::size_t> cols;
     json source;
-    std::optional<protocol_result<4>> run;
-    std::optional<period_label> label;
+    std::optional<simulation> run;
+    std::string label;
     if (from_file) {
-        point_table table;
         try {
             table = read_point_table(a.points_file);
         } catch (const input_error& e) {
             throw input_error(std::string("--points: ") + e.what());
         }
-        const auto cols = select_columns(table.header, a.columns, "points file '" + a.points_file + "'");
-        for (auto k : cols) names.push_back(table.header[k]);
-        ps = make_point_set(table, cols);
-        source = {{"kind", "file"}, {"file", a.points_file}, {"columns", names}, {"rows", ps.size()}};
+        cols = select_columns(table.header, a.columns, "points file '" + a.points_file + "'");
     } else {
-        const std::vector<std::string> state_names{"y", "ydot", "x", "xdot"};
-        // The model's section coordinates (y, x, w) unless --columns chooses others.
-        const auto cols = select_columns(state_names, a.columns.empty() ? "y,x,xdot" : a.columns, "the section states");
-        for (auto k : cols) names.push_back(state_names[k]);
-        const wake_impact model = c.model();
-        protocol_options po = c.protocol();
-        // The protocol's t_max (1e6) holds about 40 000 maxima; long records need longer.
-        po.flow.t_max = std::max(po.flow.t_max, 50.0 * static_cast<double>(c.transient + c.record));
-        run = with_method(c.method, [&]<template <int> class M>() { return run_protocol<M>(model, c.ic, po); });
-        label = classify_period(model, *run, a.period_tol);
-        ps = point_set(static_cast<int>(cols.size()));
-        ps.reserve(run->points.size());
-        std::vector<double> x(cols.size());
-        for (const auto& p : run->points) {
-            for (std::size_t k = 0; k < cols.size(); ++k) x[k] = p.x[static_cast<int>(cols[k])];
-            ps.push_back(x.data());
-        }
+        check_admissible(c);
+        // Checked on the names before the run: a wrong --columns costs nothing.
+        table = state_point_table(c.info(), state_series(c.model.dim()));
+        cols = select_columns(table.header, a.columns, "the section states");
+        protocol_options po = c.protocol;
+        // The protocol's t_max (1e6) holds about 40 000 section points of the paper's model;
+        // long records need longer.
+        po.flow.t_max = std::max(po.flow.t_max, 50.0 * static_cast<double>(po.transient_impacts + po.record_points));
+        run = simulate(c.model, c.ic, po);
+        label = classify_period(c.model, *run, a.period_tol).label;
+        table = state_point_table(c.info(), run->points);
+    }
+    std::vector<std::string> names;
+    for (const auto k : cols) names.push_back(table.header[k]);
+    const point_set ps = make_point_set(table, cols);
+    if (from_file)
+        source = {{"kind", "file"}, {"file", a.points_file}, {"columns", names}, {"rows", ps.size()}};
+    else
         source = {{"kind", "model"},
                   {"columns", names},
                   {"outcome", std::string(to_string(run->status))},
-                  {"label", label->label},
+                  {"label", label},
                   {"period_tolerance", a.period_tol},
-                  {"section", std::string(to_string(c.section))},
-                  {"record", c.record},
+                  {"section", c.section_name()},
+                  {"record", c.protocol.record_points},
                   {"section_points", run->points.size()},
                   {"t_final", run->stats.t_final}};
-    }
     if (ps.size() < 3)
         throw input_error("the dimension needs at least 3 points; " +
                           (from_file ? "points file '" + a.points_file + "' has " : std::string("the run recorded ")) +
@@ -287,14 +278,18 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
     summary["command"] = "dimension";
     summary["source"] = source;
     summary["theiler_window"] = a.theiler;
-    summary["out"] = c.out ? json(*c.out) : json(nullptr);
+    summary["out"] = c.out ? json(c.out->string()) : json(nullptr);
     if (c.out) {
         staged_output out(*c.out);
-        json record = from_file ? json{{"command", "dimension"},
-                                       {"version", std::string(version())},
-                                       {"git_hash", std::string(git_hash())},
-                                       {"config", {{"points_file", a.points_file}, {"columns", names}}}}
-                                : record_header("dimension", c);
+        json record;
+        if (from_file) {
+            record = {{"command", "dimension"},
+                      {"version", std::string(version())},
+                      {"git_hash", std::string(git_hash())},
+                      {"config", {{"points_file", a.points_file}, {"columns", names}}}};
+        } else {
+            record = record_header("dimension", c);
+        }
         record["options"] = {{"estimator", a.estimator},
                              {"theiler", a.theiler},
                              {"centres", a.centres},
@@ -310,18 +305,19 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
                              {"bins_per_octave", a.bins_per_octave},
                              {"search", a.search}};
         record["result"] = summary;
-        record["files"] = {"points.csv", "correlation.csv", "run.json"};
+        record["files"] = {"points.csv", "correlation.csv"};
         write_point_set(out.file("points.csv"), ps, names);
         write_curve(out.file("correlation.csv"), r);
         if (run) {
-            write_points(out.file("sections.csv"), run->points);
+            write_states(out.file("sections.csv"), run->points, c.info());
             record["files"].push_back("sections.csv");
         }
         finish_output(out, "dimension", c, record);
     }
-    std::string text = text_summary(r, from_file ? "'" + a.points_file + "'" : "a run (" + label->label + ", outcome " +
-                                                                                   std::string(to_string(run->status)) + ")");
-    if (c.out) text += "output written to " + *c.out + "\n";
+    std::string text =
+        text_summary(r, from_file ? "'" + a.points_file + "'"
+                                  : "a run (" + label + ", outcome " + std::string(to_string(run->status)) + ")");
+    if (c.out) text += "output written to " + c.out->string() + "\n";
     print(c, summary, text);
     return 0;
 }
@@ -337,13 +333,16 @@ cli_command add_dimension_command(CLI::App& app)
     add_common_options(*s, a->common);
     s->add_option("--points", a->points_file, "CSV file of points (header line, one point per row) instead of a run");
     s->add_option("--columns", a->columns,
-                  "Coordinates used, comma-separated column names (run: y,x,xdot = the section coordinates; file: all but 't')");
+                  "Coordinates used, comma-separated column names (run: every state variable, a phase PHI as PHI_cos, "
+                  "PHI_sin; file: all but 't')");
     s->add_option("--estimator", a->estimator, "correlation_sum (Grassberger-Procaccia, default) or centres (the paper's)");
-    s->add_option("--theiler", a->theiler, "Theiler window: pairs of points at most this many rows apart are not counted (default 0)");
+    s->add_option("--theiler", a->theiler,
+                  "Theiler window: pairs of points at most this many rows apart are not counted (default 0)");
     s->add_option("--centres", a->centres, "centres estimator: number of centres (default 15, the paper's)");
     s->add_option("--radii", a->radii, "centres estimator: radii r_min:r_max:step (default 1e-4:0.06:1e-4, the paper's)");
     s->add_option("--fit-range", a->fit_range, "Fit over r_min:r_max instead of the automatic scaling region");
-    s->add_option("--slope-tolerance", a->slope_tolerance, "Scaling region: local slopes within +- this of each other (default 0.1)");
+    s->add_option("--slope-tolerance", a->slope_tolerance,
+                  "Scaling region: local slopes within +- this of each other (default 0.1)");
     s->add_option("--slope-window", a->slope_window, "Local slope over a factor of this in r (default 4)");
     s->add_option("--min-extent", a->min_extent, "Scaling region spans at least this factor in r (default 4)");
     s->add_option("--min-pairs", a->min_pairs, "Floor: radii with fewer pairs closer are not used (default 100)");

@@ -1,25 +1,20 @@
 #pragma once
-// Running a job-loop command from the command line: --threads, --shard, --resume, the
-// progress bar, Ctrl-C, and the journal that makes a run resumable and shardable.
-//
-// The journal of `--out DIR` is the directory DIR.jobs beside it: spec.json (what is being
-// computed; a resume must match it) and one file per shard, shard-I-of-N.jsonl, with one JSON
-// line per finished job, flushed as it is written. A run killed at any moment keeps every
-// finished job (a torn last line is dropped on resume). When every job is done the final
-// files are written to DIR (all at once, through a staging directory) and the journal is
-// removed. Shards share the journal: every run reads all shard files as finished work, so the
-// last shard to finish writes DIR, and re-running the command with --resume and no --shard
-// combines whatever shards there are and computes the missing jobs.
+// Running a many-job analysis from the command line: --threads, --shard, --resume, the
+// progress bar and Ctrl-C around one library call. The library keeps the journal
+// (jobs/job_options.hpp) in DIR.jobs beside --out DIR; this layer decides what the report
+// means for the user:
+//   - stopped by Ctrl-C or SIGTERM: exit 130, the finished jobs stay in the journal;
+//   - a shard whose run is not complete yet: a note; the last shard to finish writes DIR;
+//   - complete: the command writes DIR (all at once), then the journal is removed.
+#include <atomic>
 #include <filesystem>
-#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
-#include "vimpact/jobs/job_loop.hpp"
+#include "vimpact/jobs/job_options.hpp"
 
 namespace vimpact::cli {
 
@@ -31,27 +26,33 @@ struct job_args {
 
 void add_job_options(CLI::App& app, job_args& a);
 
-shard_spec parse_shard(const std::string& text);  // "i/n", 0 <= i < n
+class job_session {
+public:
+    // Checks the options (before any work): --shard and --resume need --out, and without
+    // --resume an unfinished run's journal is protected.
+    job_session(const job_args& args, const std::optional<std::filesystem::path>& out);
+    ~job_session();
+    job_session(const job_session&) = delete;
+    job_session& operator=(const job_session&) = delete;
 
-struct job_command {
-    nlohmann::json spec;                 // command, configuration, grid: identifies the run
-    job_schedule schedule;
-    std::optional<std::filesystem::path> out;
-    // Computes job j; `previous` is the predecessor's record for chained jobs, else null.
-    std::function<nlohmann::json(long job, const nlohmann::json* previous)> run;
-    // Writes the final outputs from every record, in job order; `dir` is null without --out.
-    std::function<void(const std::vector<nlohmann::json>& records, const std::filesystem::path* dir)> finish;
+    // The options for the library call (Ctrl-C sets their stop flag while the session lives).
+    [[nodiscard]] const job_options& options() const { return m_options; }
+
+    // After the call: true when every job of the run is done and the outputs are to be
+    // written; otherwise prints what happened and sets exit_code().
+    bool complete(const job_report& report);
+    // Removes the journal once the outputs are written.
+    void finish();
+    [[nodiscard]] int exit_code() const { return m_exit_code; }
+
+private:
+    struct signals;
+    struct progress;
+    job_options m_options;
+    std::optional<std::filesystem::path> m_out;
+    std::unique_ptr<signals> m_signals;
+    std::shared_ptr<progress> m_progress;
+    int m_exit_code = 0;
 };
-
-struct job_command_result {
-    int exit_code = 0;
-    job_loop_summary summary;
-    bool complete = false;  // every job of the whole run is done and finish() ran
-};
-
-// Runs the command's jobs (this shard), journals them, and calls finish() when all are done.
-job_command_result run_job_command(const job_command& cmd, const job_args& args);
-
-std::filesystem::path journal_dir(const std::filesystem::path& out);
 
 }  // namespace vimpact::cli

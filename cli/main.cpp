@@ -1,38 +1,48 @@
-// vimpact: the command line. A thin layer: parse, validate, call the library, report.
-// Exit codes: 0 success (numerical trouble is reported as an outcome), 1 internal or I/O
-// failure, 2 bad input.
+// vimpact: the command line. A thin layer over the library: parse, resolve names, call one
+// analysis, report. Exit codes: 0 success (numerical trouble is reported as an outcome), 1
+// internal or I/O failure, 2 bad input, 130 interrupted (job commands; resumable).
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
-#include "dimension_command.hpp"
-#include "stability_commands.hpp"
-#include "sweep_commands.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
+
+namespace {
+
+// One line: CLI11's messages may span several.
+std::string one_line(std::string s)
+{
+    for (auto& ch : s)
+        if (ch == '\n' || ch == '\r') ch = ' ';
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+}
+
+int fail(const std::string& message)
+{
+    std::cerr << "vimpact: error: " << one_line(message) << '\n';
+    return 2;
+}
+
+}  // namespace
 
 int main(int argc, char** argv)
 {
     using namespace vimpact::cli;
-    CLI::App app{"vimpact: nonlinear dynamics of a wake-induced vibro-impacting oscillator"};
-    app.set_version_flag("--version", std::string(vimpact::version()) + " (" +
-                                          std::string(vimpact::git_hash()) + ")");
+    CLI::App app{"vimpact: nonlinear dynamics of impacting systems (the paper's wake-induced vibro-impacting "
+                 "oscillator by default; `vimpact models` lists the others)"};
+    app.set_version_flag("--version", std::string(vimpact::version()) + " (" + std::string(vimpact::git_hash()) + ")");
     app.require_subcommand(1);
 
-    // One line per command; each command file declares its add_<name>_command.
     const std::vector<cli_command> commands{
-        add_simulate_command(app),
-        add_period_command(app),
-        add_grazing_command(app),
-        add_sweep_command(app),
-        add_map_command(app),
-        add_basins_command(app),
-        add_response_command(app),
-        add_dimension_command(app),
-        add_floquet_command(app),
-        add_lyapunov_command(app),
+        add_simulate_command(app), add_period_command(app),   add_grazing_command(app),
+        add_sweep_command(app),    add_map_command(app),      add_basins_command(app),
+        add_response_command(app), add_floquet_command(app),  add_lyapunov_command(app),
+        add_dimension_command(app), add_models_command(app),
     };
 
     try {
@@ -44,17 +54,24 @@ int main(int argc, char** argv)
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << "vimpact: error: " << e.what() << '\n';
-        return 2;
+        std::string message = e.what();
+        // An unknown command: name it (CLI11 reports only that a command is missing).
+        if (argc > 1 && app.get_subcommands().empty() && argv[1][0] != '-') {
+            message = "unknown command '";
+            message += argv[1];
+            message += "' (commands:";
+            for (const auto& c : commands) message += " " + c.app->get_name();
+            message += ")";
+        }
+        return fail(message);
     }
     try {
         for (const auto& c : commands)
             if (c.app->parsed()) return c.run();
     } catch (const vimpact::input_error& e) {
-        std::cerr << "vimpact: error: " << e.what() << '\n';
-        return 2;
+        return fail(e.what());
     } catch (const std::exception& e) {
-        std::cerr << "vimpact: internal error: " << e.what() << '\n';
+        std::cerr << "vimpact: internal error: " << one_line(e.what()) << '\n';
         return 1;
     }
     return 2;

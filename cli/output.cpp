@@ -8,33 +8,105 @@
 #include <fstream>
 #include <iostream>
 
+#include "vimpact/core/format.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/io/csv_writer.hpp"
+#include "vimpact/io/state_columns.hpp"
 
 namespace vimpact::cli {
 
+std::string join(const std::vector<std::string>& items, const std::string& sep)
+{
+    std::string s;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        if (i) s += sep;
+        s += items[i];
+    }
+    return s;
+}
+
 json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-json stats_json(const run_stats& s)
+json vector_json(const Eigen::VectorXd& v)
+{
+    json j = json::array();
+    for (Eigen::Index i = 0; i < v.size(); ++i) j.push_back(finite_or_null(v[i]));
+    return j;
+}
+
+json matrix_json(const Eigen::MatrixXd& m)
+{
+    json rows = json::array();
+    for (Eigen::Index i = 0; i < m.rows(); ++i) {
+        json row = json::array();
+        for (Eigen::Index k = 0; k < m.cols(); ++k) row.push_back(finite_or_null(m(i, k)));
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+json by_surface(const std::vector<long>& counts, const model_info& info)
+{
+    json j = json::object();
+    for (std::size_t i = 0; i < info.surfaces.size(); ++i) j[info.surfaces[i].name] = i < counts.size() ? counts[i] : 0L;
+    return j;
+}
+
+json stats_json(const run_stats& s, const model_info& info)
 {
     return {{"steps", s.steps},
             {"rejected", s.rejected},
             {"rhs_calls", s.rhs_calls},
             {"impacts", s.impacts},
+            {"impacts_by_surface", by_surface(s.impacts_by_surface, info)},
             {"sections", s.sections},
             {"sticking_phases", s.sticking_phases},
             {"sticking_time", s.sticking_time},
-            {"h_min", std::isfinite(s.h_min) ? json(s.h_min) : json(nullptr)},
+            {"h_min", finite_or_null(s.h_min)},
             {"h_max", s.h_max},
             {"t_final", s.t_final}};
 }
 
-json record_header(const char* command, const run_config& c)
+json model_json(const vimpact::model& m)
+{
+    const auto& info = m.info();
+    json surfaces = json::array(), sections = json::array();
+    for (const auto& s : info.surfaces) surfaces.push_back(s.name);
+    for (const auto& s : info.sections) sections.push_back(s.name);
+    return {{"name", info.name},
+            {"source", info.source},
+            {"identity", info.identity},
+            {"parameters", parameters_json(m)},
+            {"state_names", state_columns(info)},
+            {"surfaces", surfaces},
+            {"sections", sections}};
+}
+
+json label_counts(const std::vector<std::string>& labels)
+{
+    std::map<std::string, long> counts;
+    for (const auto& l : labels) ++counts[l];
+    json j = json::object();
+    for (const auto& [k, v] : counts) j[k] = v;
+    return j;
+}
+
+std::string counts_text(const json& counts)
+{
+    std::vector<std::string> parts;
+    for (const auto& [k, v] : counts.items()) parts.push_back(k + " " + std::to_string(v.get<long>()));
+    return join(parts);
+}
+
+json record_header(const std::string& command, const run_config& c)
 {
     json j;
     j["command"] = command;
     j["version"] = std::string(version());
     j["git_hash"] = std::string(git_hash());
+    j["model"] = model_json(c.model);
+    j["state_names"] = state_columns(c.info());
+    j["plot_variable"] = c.info().state.front().name;
     j["config"] = c.to_json();
     return j;
 }
@@ -46,23 +118,39 @@ void write_json(const std::filesystem::path& p, const json& j)
     if (!out) throw std::runtime_error("cannot write " + p.string());
 }
 
-void write_points(const std::filesystem::path& p, const std::vector<timed_state<4>>& pts)
+void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info)
 {
-    csv_writer w(p, {"t", "y", "ydot", "x", "xdot"});
-    for (const auto& s : pts) w.row({s.t, s.x[0], s.x[1], s.x[2], s.x[3]});
+    std::vector<std::string> header{"t"};
+    for (const auto& name : state_columns(info)) header.push_back(name);
+    csv_writer w(p, header);
+    std::vector<double> row(header.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        row[0] = s.t(i);
+        for (int k = 0; k < s.dim(); ++k) row[static_cast<std::size_t>(k) + 1] = s.x(i, k);
+        w.row(row);
+    }
     w.close();
 }
 
-void write_impacts(const std::filesystem::path& p, const std::vector<impact_event<4>>& imps)
+void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m)
 {
-    csv_writer w(p, {"t", "y", "ydot_before", "ydot_after", "x", "xdot"});
-    for (const auto& e : imps) w.row({e.t, e.pre[0], e.pre[1], e.post[1], e.pre[2], e.pre[3]});
+    const auto columns = impact_columns(m);
+    std::vector<std::string> header{"t"};
+    for (const auto& c : columns) header.push_back(c.name);
+    header.emplace_back("surface");
+    csv_writer w(p, header);
+    std::vector<std::string> cells(header.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        cells[0] = format_double(s.pre.t(i));
+        for (std::size_t k = 0; k < columns.size(); ++k)
+            cells[k + 1] = format_double((columns[k].after ? s.post : s.pre).x(i, columns[k].variable));
+        cells.back() = m.info().surfaces.at(static_cast<std::size_t>(s.surface[i])).name;
+        w.text_row(cells);
+    }
     w.close();
 }
 
-// Runs the plotting module of python/vimpact on a staged directory. A missing matplotlib
-// is reported, not fatal: the numbers are the result, the picture is a view of them.
-bool make_plot(const char* kind, const std::filesystem::path& dir)
+bool make_plot(const std::string& kind, const std::filesystem::path& dir)
 {
     const std::string pydir(python_dir());
     const std::string interp(python_interpreter());
@@ -70,13 +158,16 @@ bool make_plot(const char* kind, const std::filesystem::path& dir)
     if (pid < 0) return false;
     if (pid == 0) {
         const char* old = std::getenv("PYTHONPATH");
-        const std::string path = old && *old ? pydir + ":" + old : pydir;
+        std::string path = pydir;
+        if (old && *old) {
+            path += ":";
+            path += old;
+        }
         ::setenv("PYTHONPATH", path.c_str(), 1);
         ::setenv("MPLBACKEND", "Agg", 1);
-        const int stderr_copy = ::dup(2);
-        ::dup2(stderr_copy, 1);  // keep stdout clean for --json
-        std::string d = dir.string();
-        const char* argv[] = {interp.c_str(), "-m", "vimpact.plot", kind, d.c_str(), nullptr};
+        ::dup2(2, 1);  // keep stdout clean for --json
+        const std::string d = dir.string();
+        const char* argv[] = {interp.c_str(), "-m", "vimpact.plot", kind.c_str(), d.c_str(), nullptr};
         ::execv(interp.c_str(), const_cast<char* const*>(argv));
         std::_Exit(127);
     }
@@ -85,8 +176,10 @@ bool make_plot(const char* kind, const std::filesystem::path& dir)
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-void finish_output(staged_output& out, const char* kind, const run_config& c, json& record)
+void finish_output(staged_output& out, const std::string& kind, const run_config& c, json& record)
 {
+    if (!record.contains("files")) record["files"] = json::array();
+    record["files"].push_back("run.json");
     const auto record_path = out.file("run.json");
     write_json(record_path, record);  // the plot reads it
     if (c.plot) {
@@ -94,7 +187,8 @@ void finish_output(staged_output& out, const char* kind, const run_config& c, js
             record["files"].push_back("plot.png");
             write_json(record_path, record);
         } else {
-            std::cerr << "vimpact: warning: the PNG could not be made (python3 with matplotlib needed)\n";
+            std::cerr << "vimpact: warning: the PNG could not be made (python3 -m vimpact.plot " << kind
+                      << " failed; the results are written)\n";
         }
     }
     out.commit();

@@ -1,46 +1,58 @@
 #pragma once
-// What every command shares when it reports: JSON pieces, the run record, CSV writers for
-// section points and impacts, the PNG made by python/vimpact/plot.py, stdout printing.
+// What every command shares when it reports: JSON pieces, the run record (run.json), CSV
+// files of states and impacts named by the model, the PNG made by `python3 -m vimpact.plot`,
+// and stdout.
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "common_options.hpp"
-#include "vimpact/analysis/job_points.hpp"
-#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/state_series.hpp"
+#include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/io/staged_output.hpp"
 
 namespace vimpact::cli {
 
 using json = nlohmann::json;
 
-json stats_json(const run_stats& s);
-
 // A JSON number, or null when it is not finite (JSON has no NaN or infinity).
 json finite_or_null(double v);
+json vector_json(const Eigen::VectorXd& v);
+json matrix_json(const Eigen::MatrixXd& m);
+// {surface name: count}; counts absent for a surface are 0.
+json by_surface(const std::vector<long>& counts, const model_info& info);
+json stats_json(const run_stats& s, const model_info& info);
+// The model as run: name, source, identity, parameter values by name, state, surface and
+// section names.
+json model_json(const vimpact::model& m);
 
-// Calls f.template operator()<Method>() for the configured integrator (validated by resolve()).
-template <class F>
-decltype(auto) with_method(const std::string& method, F&& f)
-{
-    return with_integration_method(parse_integration_method(method, input_spelling::cli), std::forward<F>(f));
-}
+// Label -> count, and its text "P1 3, P2 4".
+json label_counts(const std::vector<std::string>& labels);
+std::string counts_text(const json& counts);
 
-json record_header(const char* command, const run_config& c);
+// run.json's common part: command, version, git hash, the model, the state names and the
+// variable the pictures show first, the configuration.
+json record_header(const std::string& command, const run_config& c);
 void write_json(const std::filesystem::path& p, const json& j);
-void write_points(const std::filesystem::path& p, const std::vector<timed_state<4>>& pts);
-void write_impacts(const std::filesystem::path& p, const std::vector<impact_event<4>>& imps);
+// t and one column per state variable.
+void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info);
+// t, the impact columns of the model (io/state_columns.hpp), and the surface's name.
+void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m);
 
-// Runs `python3 -m vimpact.plot KIND DIR`. A missing matplotlib is reported, not fatal: the
-// numbers are the result, the picture is a view of them.
-bool make_plot(const char* kind, const std::filesystem::path& dir);
+// Runs `python3 -m vimpact.plot KIND DIR`. A failure is reported, not fatal: the numbers are
+// the result, the picture is a view of them.
+bool make_plot(const std::string& kind, const std::filesystem::path& dir);
 
-// Writes run.json, makes the PNG (unless --no-plot) and commits the staged directory.
-void finish_output(staged_output& out, const char* kind, const run_config& c, json& record);
+// Writes run.json (record["files"] gets run.json, and plot.png when made), makes the PNG
+// unless --no-plot, and commits the directory.
+void finish_output(staged_output& out, const std::string& kind, const run_config& c, json& record);
 
-// --json: the summary object on one line; otherwise the text.
+// --json: the summary on one line; otherwise the text.
 void print(const run_config& c, const json& summary, const std::string& text);
+
+std::string join(const std::vector<std::string>& items, const std::string& sep = ", ");
 
 }  // namespace vimpact::cli

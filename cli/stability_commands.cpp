@@ -1,32 +1,26 @@
-// The stability commands: floquet and lyapunov (docs/stability.md).
-#include "stability_commands.hpp"
-
+// The stability commands: floquet and lyapunov (docs/stability.md), each a single analysis or,
+// with --param P --range a:b:n, a sweep of it through the job loop (Figures 14-17).
 #include <cmath>
 #include <complex>
 #include <cstdio>
-#include <functional>
-#include <map>
 #include <memory>
 #include <numbers>
-#include <optional>
-#include <string>
 
+#include "commands.hpp"
 #include "job_runner.hpp"
 #include "output.hpp"
-#include "vimpact/analysis/job_points.hpp"
-#include "vimpact/analysis/sweep.hpp"
+#include "parse.hpp"
+#include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/analysis/stability_sweep.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/csv_writer.hpp"
-#include "vimpact/stability/floquet.hpp"
-#include "vimpact/stability/lyapunov.hpp"
+#include "vimpact/io/state_columns.hpp"
 
 namespace vimpact::cli {
 namespace {
 
-// --param P --range a:b:n turns either command into a sweep through the shared job loop
-// (threads, shards, resume: cli/job_runner.hpp), one analysis per value, fixed starts from
-// --ic as the paper did: Figures 14-17 with the bifurcation diagram underneath.
 struct sweep_request {
     std::string param;
     std::string range;
@@ -37,9 +31,9 @@ struct sweep_request {
 struct floquet_args {
     common_args common;
     sweep_request sweep;
-    double tol = 1e-8;
-    double newton_tol = 1e-11;
-    int newton_iterations = 20;
+    double tol = default_period_tolerance;
+    double newton_tol = floquet_options{}.newton_tolerance;
+    int newton_iterations = floquet_options{}.newton_iterations;
     std::string impact_map = "saltation";
 };
 
@@ -47,11 +41,11 @@ struct lyapunov_args {
     common_args common;
     sweep_request sweep;
     std::string tdm = "saltation";
-    double r0 = 1e-4;
-    double t0 = std::numbers::pi;
-    long impacts = 800;
+    double r0 = lyapunov_options{}.r0;
+    double t0 = lyapunov_options{}.t0;
+    long impacts = lyapunov_options{}.impacts;
     double time = 0.0;
-    long warmup = 16;
+    long warmup = lyapunov_options{}.warmup_intervals;
 };
 
 std::string fixed(double v, int digits)
@@ -61,333 +55,226 @@ std::string fixed(double v, int digits)
     return buf;
 }
 
+double nan_unless(bool have, double v) { return have ? v : std::nan(""); }
+
 impact_tangent parse_impact_map(const std::string& s)
 {
-    if (s == "saltation") return impact_tangent::saltation;
-    if (s == "reset-jacobian") return impact_tangent::reset_jacobian;
-    if (s == "identity") return impact_tangent::identity;
+    for (const auto t : {impact_tangent::saltation, impact_tangent::reset_jacobian, impact_tangent::identity})
+        if (s == to_string(t)) return t;
     throw input_error("--impact-map '" + s + "' is not one of saltation, reset-jacobian, identity");
 }
 
-// The shooting and the monodromy need a map accurate to better than the 1e-11 closure.
-integrator_options tangent_integration(const run_config& c)
+lyapunov_tdm parse_tdm(const std::string& s)
 {
-    integrator_options io;
-    io.rtol = std::min(c.rtol, 1e-12);
-    io.atol = std::min(c.atol, 1e-12);
-    return io;
+    for (const auto t : {lyapunov_tdm::saltation, lyapunov_tdm::second_order, lyapunov_tdm::trajectory})
+        if (s == to_string(t)) return t;
+    throw input_error("--tdm '" + s + "' is not one of saltation, second-order, trajectory");
 }
 
-json vec_json(const vec<4>& x) { return {x[0], x[1], x[2], x[3]}; }
+struct sweep_values {
+    int parameter = 0;
+    std::string name;
+    std::vector<double> values;
+};
 
-json matrix_json(const mat<4>& m)
-{
-    json rows = json::array();
-    for (int i = 0; i < 4; ++i) rows.push_back({m(i, 0), m(i, 1), m(i, 2), m(i, 3)});
-    return rows;
-}
-
-// "a:b:n" -> n values from a to b (the sweep command's convention, analysis/sweep.hpp).
-std::vector<double> sweep_values(const sweep_request& s)
+sweep_values parse_sweep(const sweep_request& s, const model& m)
 {
     if (s.param.empty() || s.range.empty()) throw input_error("a sweep needs both --param and --range a:b:n");
-    check_parameter_name(wake_impact(), s.param, "--param");
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (;;) {
-        const auto colon = s.range.find(':', start);
-        parts.push_back(s.range.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
-        if (colon == std::string::npos) break;
-        start = colon + 1;
-    }
-    if (parts.size() != 3) throw input_error("--range '" + s.range + "' must be a:b:n (from a to b, n points)");
-    const double a = parse_number(parts[0], "--range start");
-    const double b = parse_number(parts[1], "--range end");
-    const double n = parse_number(parts[2], "--range points");
-    if (n < 1 || n != std::floor(n) || n > 1e7)
-        throw input_error("--range '" + s.range + "': n must be an integer in [1, 1e7]");
-    return grid_values(a, b, static_cast<long>(n));
+    const int p = parameter_index(m, s.param, "--param");
+    return {p, s.param, parse_range(s.range, "--range")};
 }
 
-json points_json(const std::vector<timed_state<4>>& pts)
+std::vector<std::string> impact_count_columns(const model_info& info)
 {
-    json a = json::array();
-    for (const auto& p : pts) a.push_back(vec_json(p.x));
-    return a;
+    std::vector<std::string> out;
+    for (const auto& s : info.surfaces) out.push_back("impacts_" + s.name);
+    return out;
 }
 
-void write_sweep_points(const std::filesystem::path& path, const std::string& param, const std::vector<json>& recs)
+void write_sweep_points(const std::filesystem::path& path, const std::string& param, const model_info& info,
+                        const std::vector<std::pair<double, const state_series*>>& runs)
 {
-    csv_writer w(path, {param, "y", "ydot", "x", "xdot"});
-    for (const auto& r : recs)
-        for (const auto& p : r["points"])
-            w.row({r["value"].get<double>(), p[0].get<double>(), p[1].get<double>(), p[2].get<double>(), p[3].get<double>()});
+    std::vector<std::string> h{param};
+    for (const auto& n : state_columns(info)) h.push_back(n);
+    csv_writer w(path, h);
+    std::vector<double> row(h.size());
+    for (const auto& [v, pts] : runs)
+        for (std::size_t i = 0; i < pts->size(); ++i) {
+            row[0] = v;
+            for (int k = 0; k < pts->dim(); ++k) row[static_cast<std::size_t>(k) + 1] = pts->x(i, k);
+            w.row(row);
+        }
     w.close();
 }
 
-double number_or_nan(const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
-
-// Runs the jobs of a stability sweep and writes DIR (kind `kind`) when all are done.
-int run_stability_sweep(const run_config& c, const sweep_request& s, const std::vector<double>& values,
-                        json spec, const char* kind, const std::function<json(const wake_impact&)>& analyse,
-                        const std::function<void(const std::vector<json>&, json&, std::string&, staged_output*)>& report)
+json multipliers_json(const floquet_result& r)
 {
-    const wake_impact base = c.model();
-    const sweep_plan plan = make_sweep_plan(static_cast<long>(values.size()), "fixed", "up", input_spelling::cli);
-    check_sweep_starts(base, s.param, values, c.ic, plan, input_spelling::cli);
-    job_command cmd;
-    spec["config"] = c.to_json();
-    spec["param"] = s.param;
-    spec["range"] = s.range;
-    cmd.spec = std::move(spec);
-    cmd.schedule = plan.schedule();
-    cmd.out = c.out ? std::optional<std::filesystem::path>(*c.out) : std::nullopt;
-    cmd.run = [&](long job, const json*) {
-        const double v = values[static_cast<std::size_t>(job)];
-        json rec = analyse(base.with(s.param, v));
-        rec["value"] = v;
-        return rec;
-    };
-    json summary;
-    std::string text;
-    cmd.finish = [&](const std::vector<json>& recs, const std::filesystem::path* dir) {
-        if (!dir) {
-            report(recs, summary, text, nullptr);
-            return;
-        }
-        staged_output out(*dir);
-        report(recs, summary, text, &out);
-        json record = record_header(kind, c);
-        record["result"] = summary;
-        record["files"] = summary["files"];
-        finish_output(out, kind, c, record);
-        text += "output written to " + *c.out + "\n";
-    };
-    const auto res = run_job_command(cmd, s.jobs);
-    if (res.complete) print(c, summary, text);
-    return res.exit_code;
+    json mults = json::array();
+    for (const auto& mu : r.multipliers) mults.push_back({mu.real(), mu.imag()});
+    return mults;
 }
 
+// ---------------------------------------------------------------- floquet
 
-// Figures 14 and 15: the multipliers at every value, with the section points of each run.
 int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_options& fo)
 {
-    const auto values = sweep_values(a.sweep);
-    const std::string& param = a.sweep.param;
-    json spec = {{"command", "floquet"},
-                 {"tol", a.tol},
-                 {"newton_tol", a.newton_tol},
-                 {"newton_iterations", a.newton_iterations},
-                 {"impact_map", a.impact_map}};
-    auto analyse = [&](const wake_impact& m) {
-        const auto r = with_method(c.method, [&]<template <int> class M>() { return floquet_analysis<M>(m, c.ic, fo); });
-        const bool have = r.status == floquet_status::ok || r.status == floquet_status::not_converged;
-        json mults = json::array();
-        for (const auto& mu : r.multipliers) mults.push_back({mu.real(), mu.imag()});
-        std::string outcome_text = to_string(r.status);
-        if (r.status == floquet_status::flow_failed) outcome_text += " (" + r.flow_outcome + ")";
-        return json{{"label", r.label},
-                    {"outcome", outcome_text},
-                    {"period", have ? json(r.period) : json(nullptr)},
-                    {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
-                    {"multipliers", mults},
-                    {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)},
-                    {"max_nontrivial_modulus", have ? finite_or_null(r.max_nontrivial_modulus) : json(nullptr)},
-                    {"closure", r.section_returns > 0 ? finite_or_null(r.closure) : json(nullptr)},
-                    {"points", points_json(r.section_points)}};
-    };
-    auto report = [&](const std::vector<json>& recs, json& summary, std::string& text, staged_output* out) {
-        std::map<std::string, long> counts;
-        json per_value = json::array();
-        long unstable = 0;
-        for (const auto& r : recs) {
-            ++counts[r["label"].get<std::string>()];
-            per_value.push_back({{"value", r["value"]}, {"label", r["label"]}, {"outcome", r["outcome"]},
-                                 {"period", r["period"]}, {"impacts_per_period", r["impacts_per_period"]},
-                                 {"multipliers", r["multipliers"]}, {"trivial_error", r["trivial_error"]}});
-            if (r["max_nontrivial_modulus"].is_number() && r["max_nontrivial_modulus"].get<double>() >= 1.0) ++unstable;
-        }
-        json label_counts = json::object();
-        std::string counts_text;
-        for (const auto& [k, v] : counts) {
-            label_counts[k] = v;
-            counts_text += (counts_text.empty() ? "" : ", ") + k + " " + std::to_string(v);
-        }
-        summary = {{"command", "floquet"}, {"param", param}, {"values", recs.size()},
-                   {"label_counts", label_counts}, {"unstable", unstable}, {"points", per_value},
-                   {"files", {"labels.csv", "multipliers.csv", "points.csv", "run.json"}},
-                   {"out", c.out ? json(*c.out) : json(nullptr)}};
-        text = "floquet sweep of " + param + " over " + std::to_string(recs.size()) + " values: " + counts_text +
-               "; " + std::to_string(unstable) + " periodic orbit(s) with a multiplier outside the unit circle\n";
-        if (!out) return;
-        csv_writer lab(out->file("labels.csv"),
-                       {param, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus", "closure", "outcome"});
-        csv_writer mu(out->file("multipliers.csv"), {param, "index", "re", "im", "modulus", "trivial"});
-        for (const auto& r : recs) {
-            const double v = r["value"].get<double>();
-            lab.text_row({format_double(v), r["label"].get<std::string>(), format_double(number_or_nan(r["period"])),
-                          format_double(number_or_nan(r["impacts_per_period"])), format_double(number_or_nan(r["trivial_error"])),
-                          format_double(number_or_nan(r["max_nontrivial_modulus"])), format_double(number_or_nan(r["closure"])),
-                          r["outcome"].get<std::string>()});
-            const auto& ms = r["multipliers"];
-            for (std::size_t i = 0; i < ms.size(); ++i) {
-                const double re = ms[i][0].get<double>(), im = ms[i][1].get<double>();
-                mu.row({v, static_cast<double>(i), re, im, std::hypot(re, im), i == 0 ? 1.0 : 0.0});
-            }
+    job_session session(a.sweep.jobs, c.out);
+    const model& m = c.model;
+    const auto& info = c.info();
+    const sweep_values sv = parse_sweep(a.sweep, m);
+    const floquet_sweep_result res = floquet_sweep(m, {sv.parameter, sv.values, c.ic, fo}, session.options());
+    if (!session.complete(res.jobs)) return session.exit_code();
+
+    std::vector<std::string> labels;
+    json per_value = json::array();
+    long unstable = 0;
+    for (const auto& p : res.points) {
+        const auto& r = p.result;
+        const bool have = r.has_multipliers();
+        labels.push_back(r.label);
+        per_value.push_back({{"value", p.value},
+                             {"label", r.label},
+                             {"outcome", std::string(to_string(r.status))},
+                             {"period", have ? json(r.period) : json(nullptr)},
+                             {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
+                             {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
+                             {"multipliers", multipliers_json(r)},
+                             {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)}});
+        if (have && r.max_nontrivial_modulus >= 1.0) ++unstable;
+    }
+    const json counts = label_counts(labels);
+    json summary = {{"command", "floquet"},
+                    {"param", sv.name},
+                    {"values", res.points.size()},
+                    {"label_counts", counts},
+                    {"unstable", unstable},
+                    {"points", per_value},
+                    {"files", {"labels.csv", "multipliers.csv", "points.csv"}},
+                    {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    std::string text = "floquet sweep of " + sv.name + " over " + std::to_string(res.points.size()) +
+                       " values: " + counts_text(counts) + "; " + std::to_string(unstable) +
+                       " periodic orbit(s) with a multiplier outside the unit circle\n";
+    if (c.out) {
+        staged_output out(*c.out);
+        std::vector<std::string> lh{sv.name, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
+                                    "closure", "outcome"};
+        for (const auto& n : impact_count_columns(info)) lh.push_back(n);
+        csv_writer lab(out.file("labels.csv"), lh);
+        csv_writer mu(out.file("multipliers.csv"), {sv.name, "index", "re", "im", "modulus", "trivial"});
+        std::vector<std::pair<double, const state_series*>> runs;
+        for (const auto& p : res.points) {
+            const auto& r = p.result;
+            const bool have = r.has_multipliers();
+            std::vector<std::string> row{format_double(p.value),
+                                         r.label,
+                                         format_double(nan_unless(have, r.period)),
+                                         format_double(nan_unless(have, static_cast<double>(r.impacts_per_period))),
+                                         format_double(nan_unless(have, r.trivial_error)),
+                                         format_double(nan_unless(have, r.max_nontrivial_modulus)),
+                                         format_double(nan_unless(r.section_returns > 0, r.closure)),
+                                         std::string(to_string(r.status))};
+            for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+                row.push_back(have && s < r.impacts_by_surface.size() ? std::to_string(r.impacts_by_surface[s])
+                                                                       : std::string("nan"));
+            lab.text_row(row);
+            for (std::size_t i = 0; i < r.multipliers.size(); ++i)
+                mu.row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
+                        std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
+            runs.emplace_back(p.value, &r.section_points);
         }
         lab.close();
         mu.close();
-        write_sweep_points(out->file("points.csv"), param, recs);
-    };
-    return run_stability_sweep(c, a.sweep, values, std::move(spec), "floquet_sweep", analyse, report);
-}
-
-// Figures 16 and 17: the exponents at every value, with section points of the same orbits.
-int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_options lo)
-{
-    const auto values = sweep_values(a.sweep);
-    const std::string& param = a.sweep.param;
-    lo.record_points = c.record;
-    json spec = {{"command", "lyapunov"}, {"tdm", a.tdm}, {"r0", a.r0}, {"t0", a.t0},
-                 {"impacts", a.impacts}, {"time", a.time}, {"warmup", a.warmup}};
-    auto analyse = [&](const wake_impact& m) {
-        const auto r = with_method(c.method, [&]<template <int> class M>() { return lyapunov_spectrum<M>(m, c.ic, lo); });
-        const bool have = r.status == lyapunov_status::ok || r.status == lyapunov_status::time_limit;
-        json exps = json::array();
-        if (have)
-            for (int i = 0; i < 4; ++i) exps.push_back(r.exponents[i]);
-        std::string outcome_text = to_string(r.status);
-        if (r.status == lyapunov_status::flow_failed) outcome_text += " (" + r.flow_outcome + ")";
-        return json{{"outcome", outcome_text},
-                    {"exponents", exps},
-                    {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
-                    {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
-                    {"impacts", r.impacts},
-                    {"time", r.time},
-                    {"misses", r.misses},
-                    {"points", points_json(r.section_points)}};
-    };
-    auto report = [&](const std::vector<json>& recs, json& summary, std::string& text, staged_output* out) {
-        json per_value = json::array();
-        long positive = 0;
-        for (const auto& r : recs) {
-            per_value.push_back({{"value", r["value"]}, {"outcome", r["outcome"]}, {"lle", r["lle"]},
-                                 {"lle_standard_error", r["lle_standard_error"]}, {"exponents", r["exponents"]}});
-            if (r["lle"].is_number() && r["lle_standard_error"].is_number() &&
-                r["lle"].get<double>() > 3.0 * r["lle_standard_error"].get<double>())
-                ++positive;
-        }
-        summary = {{"command", "lyapunov"}, {"param", param}, {"values", recs.size()}, {"tdm", a.tdm},
-                   {"positive", positive}, {"points", per_value},
-                   {"files", {"exponents.csv", "points.csv", "run.json"}},
-                   {"out", c.out ? json(*c.out) : json(nullptr)}};
-        text = "lyapunov sweep of " + param + " over " + std::to_string(recs.size()) + " values (" + a.tdm +
-               "): largest exponent above 3 standard errors at " + std::to_string(positive) + "\n";
-        if (!out) return;
-        csv_writer w(out->file("exponents.csv"), {param, "lambda1", "lambda2", "lambda3", "lambda4", "lle_standard_error",
-                                                  "impacts", "time", "misses", "outcome"});
-        for (const auto& r : recs) {
-            std::vector<std::string> row{format_double(r["value"].get<double>())};
-            for (int i = 0; i < 4; ++i)
-                row.push_back(format_double(r["exponents"].size() == 4 ? r["exponents"][i].get<double>() : std::nan("")));
-            row.push_back(format_double(number_or_nan(r["lle_standard_error"])));
-            row.push_back(std::to_string(r["impacts"].get<long>()));
-            row.push_back(format_double(r["time"].get<double>()));
-            row.push_back(std::to_string(r["misses"].get<long>()));
-            row.push_back(r["outcome"].get<std::string>());
-            w.text_row(row);
-        }
-        w.close();
-        write_sweep_points(out->file("points.csv"), param, recs);
-    };
-    return run_stability_sweep(c, a.sweep, values, std::move(spec), "lyapunov_sweep", analyse, report);
+        write_sweep_points(out.file("points.csv"), sv.name, info, runs);
+        json record = record_header("floquet", c);
+        record["result"] = summary;
+        record["files"] = summary["files"];
+        finish_output(out, "floquet_sweep", c, record);
+        session.finish();
+        text += "output written to " + c.out->string() + "\n";
+    }
+    print(c, summary, text);
+    return 0;
 }
 
 int run_floquet(const floquet_args& a)
 {
     const run_config c = resolve(a.common);
-    if (c.section != section_choice::maxima)
-        throw input_error("--section " + std::string(to_string(c.section)) +
-                          ": floquet uses the section maxima (v = 0, v decreasing); valid: maxima");
-    if (c.record < 2) throw input_error("--record must be >= 2 section points for floquet (got " + std::to_string(c.record) + ")");
-    if (!(a.tol > 0.0) || !std::isfinite(a.tol))
-        throw input_error("--tol must be > 0 (got " + format_double(a.tol) + ")");
+    if (c.protocol.section.type != section_choice::kind::crossing)
+        throw input_error("--section " + c.section_name() + ": floquet needs a section crossing (model " + c.model.name() +
+                          " has " + c.info().section_names() + ")");
+    if (c.protocol.record_points < 2)
+        throw input_error("--record must be >= 2 section points for floquet (got " +
+                          std::to_string(c.protocol.record_points) + ")");
+    if (!(a.tol > 0.0) || !std::isfinite(a.tol)) throw input_error("--tol must be > 0 (got " + format_double(a.tol) + ")");
     if (!(a.newton_tol > 0.0) || !std::isfinite(a.newton_tol))
         throw input_error("--newton-tol must be > 0 (got " + format_double(a.newton_tol) + ")");
     if (a.newton_iterations < 0 || a.newton_iterations > 1000)
         throw input_error("--newton-iterations must be in [0, 1000] (got " + std::to_string(a.newton_iterations) + ")");
     floquet_options fo;
-    fo.protocol = c.protocol();
+    fo.protocol = c.protocol;
     fo.period_tolerance = a.tol;
-    fo.shooting.tolerance = a.newton_tol;
-    fo.shooting.max_iterations = a.newton_iterations;
-    fo.shooting.map.flow.integration = tangent_integration(c);
+    fo.newton_tolerance = a.newton_tol;
+    fo.newton_iterations = a.newton_iterations;
+    // The shooting and the monodromy need a map accurate to better than the 1e-11 closure.
+    fo.tangent_integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
+    fo.tangent_integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
     fo.jump = parse_impact_map(a.impact_map);
+    validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
-    std::optional<staged_output> out;
-    if (c.out) {
-        out.emplace(*c.out);
-        fo.sample_dt = 0.01;
-    }
-    const wake_impact model = c.model();
-    const auto r = with_method(c.method, [&]<template <int> class M>() {
-        return floquet_analysis<M>(model, c.ic, fo);
-    });
+    check_admissible(c);
+    if (c.out) fo.sample_dt = 0.01;
+    const floquet_result r = floquet(c.model, c.ic, fo);
+    const auto& info = c.info();
 
-    const bool have = r.status == floquet_status::ok || r.status == floquet_status::not_converged;
-    json mults = json::array();
+    const bool have = r.has_multipliers();
     json moduli = json::array();
-    for (const auto& mu : r.multipliers) {
-        mults.push_back({mu.real(), mu.imag()});
-        moduli.push_back(std::abs(mu));
-    }
-    std::string outcome_text = to_string(r.status);
-    if (r.status == floquet_status::flow_failed) outcome_text += " (" + r.flow_outcome + ")";
-    json summary = {{"command", "floquet"},
-                    {"label", r.label},
-                    {"outcome", outcome_text},
-                    {"period", have ? json(r.period) : json(nullptr)},
-                    {"section_returns", r.section_returns > 0 ? json(r.section_returns) : json(nullptr)},
-                    {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
-                    {"multipliers", mults},
-                    {"moduli", moduli},
-                    {"trivial_index", have ? json(0) : json(nullptr)},
-                    {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)},
-                    {"trivial_residual", have ? finite_or_null(r.trivial_residual) : json(nullptr)},
-                    {"max_nontrivial_modulus", have ? finite_or_null(r.max_nontrivial_modulus) : json(nullptr)},
-                    {"stable", have ? json(r.stable()) : json(nullptr)},
-                    {"closure", r.section_returns > 0 ? finite_or_null(r.closure) : json(nullptr)},
-                    {"initial_closure", r.section_returns > 0 ? finite_or_null(r.initial_closure) : json(nullptr)},
-                    {"newton_iterations", r.newton_iterations},
-                    {"orbit_point", have ? vec_json(r.orbit_point) : json(nullptr)},
-                    {"det_monodromy", have ? finite_or_null(r.det_monodromy) : json(nullptr)},
-                    {"liouville_det", have ? finite_or_null(r.liouville_det) : json(nullptr)},
-                    {"impact_map", to_string(r.jump)},
-                    {"tangent_rtol", fo.shooting.map.flow.integration.rtol},
-                    {"stats", {{"protocol", stats_json(r.protocol_stats)}, {"tangent", stats_json(r.tangent_stats)}}},
-                    {"out", c.out ? json(*c.out) : json(nullptr)}};
-    if (out) {
+    for (const auto& mu : r.multipliers) moduli.push_back(std::abs(mu));
+    const json summary = {
+        {"command", "floquet"},
+        {"label", r.label},
+        {"outcome", std::string(to_string(r.status))},
+        {"period", have ? json(r.period) : json(nullptr)},
+        {"section_returns", r.section_returns > 0 ? json(r.section_returns) : json(nullptr)},
+        {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
+        {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
+        {"multipliers", multipliers_json(r)},
+        {"moduli", moduli},
+        {"trivial_index", have ? json(0) : json(nullptr)},
+        {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)},
+        {"trivial_residual", have ? finite_or_null(r.trivial_residual) : json(nullptr)},
+        {"max_nontrivial_modulus", have ? finite_or_null(r.max_nontrivial_modulus) : json(nullptr)},
+        {"stable", have ? json(r.stable()) : json(nullptr)},
+        {"closure", r.section_returns > 0 ? finite_or_null(r.closure) : json(nullptr)},
+        {"initial_closure", r.section_returns > 0 ? finite_or_null(r.initial_closure) : json(nullptr)},
+        {"newton_iterations", r.newton_iterations},
+        {"orbit_point", have ? vector_json(r.orbit_point) : json(nullptr)},
+        {"det_monodromy", have ? finite_or_null(r.det_monodromy) : json(nullptr)},
+        {"liouville_det", have ? finite_or_null(r.liouville_det) : json(nullptr)},
+        {"impact_map", std::string(to_string(r.jump))},
+        {"tangent_rtol", fo.tangent_integration.rtol},
+        {"stats", {{"protocol", stats_json(r.protocol_stats, info)}, {"tangent", stats_json(r.tangent_stats, info)}}},
+        {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    if (c.out) {
+        staged_output out(*c.out);
         json record = record_header("floquet", c);
         record["result"] = summary;
         record["result"]["monodromy"] = have ? matrix_json(r.monodromy) : json(nullptr);
-        record["files"] = {"multipliers.csv", "orbit.csv", "impacts.csv", "run.json"};
-        csv_writer w(out->file("multipliers.csv"), {"index", "re", "im", "modulus", "trivial"});
+        record["files"] = {"multipliers.csv", "orbit.csv", "impacts.csv"};
+        csv_writer w(out.file("multipliers.csv"), {"index", "re", "im", "modulus", "trivial"});
         for (std::size_t i = 0; i < r.multipliers.size(); ++i)
-            w.row({static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
-                   std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
+            w.row({static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(), std::abs(r.multipliers[i]),
+                   i == 0 ? 1.0 : 0.0});
         w.close();
-        write_points(out->file("orbit.csv"), r.orbit);
-        write_impacts(out->file("impacts.csv"), r.impacts);
-        finish_output(*out, "floquet", c, record);
+        write_states(out.file("orbit.csv"), r.orbit, info);
+        write_impacts(out.file("impacts.csv"), r.impacts, c.model);
+        finish_output(out, "floquet", c, record);
     }
 
-    std::string text = r.label == outcome_text || r.status == floquet_status::ok
-                           ? r.label + "\n"
-                           : r.label + " (" + outcome_text + ")\n";
+    const std::string status(to_string(r.status));
+    std::string text = r.label == status || r.status == outcome::ok ? r.label + "\n" : r.label + " (" + status + ")\n";
     if (have) {
         text += "period T = " + format_double(r.period) + " (" + std::to_string(r.section_returns) +
-                (r.section_returns == 1 ? " maximum, " : " maxima, ") + std::to_string(r.impacts_per_period) +
-                " impact(s)), closure " +
+                " section return(s), " + std::to_string(r.impacts_per_period) + " impact(s)), closure " +
                 fixed(r.closure, 3) + " after " + std::to_string(r.newton_iterations) + " Newton step(s)\n";
         text += "multipliers (" + std::string(to_string(r.jump)) + " at impacts; trivial first):\n";
         for (std::size_t i = 0; i < r.multipliers.size(); ++i) {
@@ -398,24 +285,111 @@ int run_floquet(const floquet_args& a)
             text += "\n";
         }
         text += r.stable() ? "stable: every nontrivial |mu| < 1\n" : "unstable: a nontrivial |mu| >= 1\n";
-    } else if (r.status == floquet_status::aperiodic) {
+    } else if (r.status == outcome::aperiodic) {
         text += "no periodic orbit within the period tolerance " + format_double(a.tol) +
                 ": no multipliers (use `vimpact lyapunov`)\n";
     }
-    if (c.out) text += "output written to " + *c.out + "\n";
+    if (c.out) text += "output written to " + c.out->string() + "\n";
+    print(c, summary, text);
+    return 0;
+}
+
+// ---------------------------------------------------------------- lyapunov
+
+json exponents_json(const lyapunov_result& r)
+{
+    json e = json::array();
+    if (r.has_exponents())
+        for (Eigen::Index i = 0; i < r.exponents.size(); ++i) e.push_back(finite_or_null(r.exponents[i]));
+    return e;
+}
+
+int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_options lo)
+{
+    job_session session(a.sweep.jobs, c.out);
+    const model& m = c.model;
+    const auto& info = c.info();
+    const sweep_values sv = parse_sweep(a.sweep, m);
+    if (c.protocol.section.type != section_choice::kind::crossing)
+        throw input_error("--section " + c.section_name() + ": a lyapunov sweep records points on a section crossing (model " +
+                          m.name() + " has " + info.section_names() + ")");
+    lo.record_points = c.protocol.record_points;
+    lo.section = c.protocol.section.index;
+    const lyapunov_sweep_result res = lyapunov_sweep(m, {sv.parameter, sv.values, c.ic, lo}, session.options());
+    if (!session.complete(res.jobs)) return session.exit_code();
+
+    json per_value = json::array();
+    long positive = 0;
+    for (const auto& p : res.points) {
+        const auto& r = p.result;
+        const bool have = r.has_exponents();
+        const double lle = have ? r.exponents[0] : std::nan("");
+        per_value.push_back({{"value", p.value},
+                             {"outcome", std::string(to_string(r.status))},
+                             {"lle", finite_or_null(lle)},
+                             {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+                             {"exponents", exponents_json(r)},
+                             {"impacts", r.impacts},
+                             {"impacts_by_surface", by_surface(r.impacts_by_surface, info)}});
+        if (have && std::isfinite(lle) && std::isfinite(r.lle_standard_error) && lle > 3.0 * r.lle_standard_error) ++positive;
+    }
+    const json summary = {{"command", "lyapunov"},
+                          {"param", sv.name},
+                          {"values", res.points.size()},
+                          {"tdm", std::string(to_string(lo.tdm))},
+                          {"positive", positive},
+                          {"points", per_value},
+                          {"files", {"exponents.csv", "points.csv"}},
+                          {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    std::string text = "lyapunov sweep of " + sv.name + " over " + std::to_string(res.points.size()) + " values (" +
+                       std::string(to_string(lo.tdm)) + "): largest exponent above 3 standard errors at " +
+                       std::to_string(positive) + "\n";
+    if (c.out) {
+        staged_output out(*c.out);
+        std::vector<std::string> h{sv.name};
+        for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
+        for (const char* k : {"lle_standard_error", "impacts", "time", "misses", "outcome"}) h.emplace_back(k);
+        for (const auto& n : impact_count_columns(info)) h.push_back(n);
+        csv_writer w(out.file("exponents.csv"), h);
+        std::vector<std::pair<double, const state_series*>> runs;
+        for (const auto& p : res.points) {
+            const auto& r = p.result;
+            const bool have = r.has_exponents() && r.exponents.size() == m.dim();
+            std::vector<std::string> row{format_double(p.value)};
+            for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(have ? r.exponents[i] : std::nan("")));
+            row.push_back(format_double(nan_unless(r.has_exponents(), r.lle_standard_error)));
+            row.push_back(std::to_string(r.impacts));
+            row.push_back(format_double(r.time));
+            row.push_back(std::to_string(r.misses));
+            row.emplace_back(to_string(r.status));
+            for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+                row.push_back(std::to_string(s < r.impacts_by_surface.size() ? r.impacts_by_surface[s] : 0L));
+            w.text_row(row);
+            runs.emplace_back(p.value, &r.section_points);
+        }
+        w.close();
+        write_sweep_points(out.file("points.csv"), sv.name, info, runs);
+        json record = record_header("lyapunov", c);
+        record["result"] = summary;
+        record["files"] = summary["files"];
+        finish_output(out, "lyapunov_sweep", c, record);
+        session.finish();
+        text += "output written to " + c.out->string() + "\n";
+    }
     print(c, summary, text);
     return 0;
 }
 
 int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
 {
-    if (app.get_option("--section")->count() > 0)
-        throw input_error("--section is not used by lyapunov (a sweep records the maxima, the paper's Sigma)");
-    if (!a.sweep.wanted() && app.get_option("--record")->count() > 0)
+    const bool sweep = a.sweep.wanted();
+    if (!sweep && app.get_option("--section")->count() > 0)
+        throw input_error("--section is used by lyapunov only in a sweep (--param, --range), for the bifurcation diagram");
+    if (!sweep && app.get_option("--record")->count() > 0)
         throw input_error("--record is used by lyapunov only in a sweep (--param, --range), for the bifurcation diagram");
     const run_config c = resolve(a.common);
     lyapunov_options lo;
-    lo.tdm = parse_lyapunov_tdm(a.tdm);
+    lo.tdm = parse_tdm(a.tdm);
     if (!(a.r0 > 0.0 && a.r0 < 1.0) || !std::isfinite(a.r0))
         throw input_error("--r0 = " + format_double(a.r0) + " is outside its valid range (0, 1)");
     if (!(a.t0 > 0.0) || !std::isfinite(a.t0))
@@ -429,64 +403,69 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
     lo.impacts = a.impacts;
     lo.time = a.time;
     lo.warmup_intervals = a.warmup;
-    lo.transient_impacts = c.transient;
-    lo.flow = c.protocol().flow;
-    if (a.sweep.wanted()) return run_lyapunov_sweep(a, c, lo);
-    std::optional<staged_output> out;
-    if (c.out) out.emplace(*c.out);
-    const wake_impact model = c.model();
-    const auto r = with_method(c.method, [&]<template <int> class M>() {
-        return lyapunov_spectrum<M>(model, c.ic, lo);
-    });
+    lo.transient_impacts = c.protocol.transient_impacts;
+    lo.quiet_time = c.protocol.quiet_time;
+    lo.flow = c.protocol.flow;
+    lo.method = c.protocol.method;
+    if (sweep) return run_lyapunov_sweep(a, c, lo);
+    check_admissible(c);
+    const lyapunov_result r = lyapunov(c.model, c.ic, lo);
+    const auto& info = c.info();
 
-    const bool have = r.status == lyapunov_status::ok || r.status == lyapunov_status::time_limit;
-    json exps = json::array();
-    if (have)
-        for (int i = 0; i < 4; ++i) exps.push_back(r.exponents[i]);
-    std::string outcome_text = to_string(r.status);
-    if (r.status == lyapunov_status::flow_failed) outcome_text += " (" + r.flow_outcome + ")";
+    const bool have = r.has_exponents();
     const double rate = r.time > 0.0 ? static_cast<double>(r.impacts) / r.time : 0.0;
-    json summary = {{"command", "lyapunov"},
-                    {"outcome", outcome_text},
-                    {"tdm", to_string(r.tdm)},
-                    {"exponents", exps},
-                    {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
-                    {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
-                    {"sum", have ? finite_or_null(r.exponents.sum()) : json(nullptr)},
-                    {"sum_rule", have ? finite_or_null(r.sum_rule) : json(nullptr)},
-                    {"divergence_average", have ? finite_or_null(r.divergence_average) : json(nullptr)},
-                    {"impact_rate", rate},
-                    {"impacts", r.impacts},
-                    {"time", r.time},
-                    {"t_start", r.t_start},
-                    {"intervals", r.intervals},
-                    {"misses", r.misses},
-                    {"impacting", r.impacting},
-                    {"r0", a.r0},
-                    {"t0", a.t0},
-                    {"warmup", a.warmup},
-                    {"stats", {{"transient", stats_json(r.transient_stats)}, {"tangent", stats_json(r.stats)}}},
-                    {"out", c.out ? json(*c.out) : json(nullptr)}};
-    if (out) {
+    const json summary = {
+        {"command", "lyapunov"},
+        {"outcome", std::string(to_string(r.status))},
+        {"tdm", std::string(to_string(r.tdm))},
+        {"exponents", exponents_json(r)},
+        {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
+        {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+        {"sum", have ? finite_or_null(r.exponents.sum()) : json(nullptr)},
+        {"sum_rule", have ? finite_or_null(r.sum_rule) : json(nullptr)},
+        {"divergence_average", have ? finite_or_null(r.divergence_average) : json(nullptr)},
+        {"impact_rate", rate},
+        {"impacts", r.impacts},
+        {"impacts_by_surface", by_surface(r.impacts_by_surface, info)},
+        {"time", r.time},
+        {"t_start", r.t_start},
+        {"intervals", r.intervals},
+        {"misses", r.misses},
+        {"impacting", r.impacting},
+        {"r0", a.r0},
+        {"t0", a.t0},
+        {"warmup", a.warmup},
+        {"stats", {{"transient", stats_json(r.transient_stats, info)}, {"tangent", stats_json(r.stats, info)}}},
+        {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    if (c.out) {
+        staged_output out(*c.out);
         json record = record_header("lyapunov", c);
         record["result"] = summary;
-        record["files"] = {"convergence.csv", "run.json"};
+        record["files"] = {"convergence.csv"};
         // Running estimates per QR column (the columns converge to the descending order).
-        csv_writer w(out->file("convergence.csv"), {"t", "lambda1", "lambda2", "lambda3", "lambda4"});
-        vec<4> sum = vec<4>::Zero();
-        for (const auto& s : r.history) {
-            sum += s.growth;
-            const double elapsed = s.t - r.t_start;
-            w.row({s.t, sum[0] / elapsed, sum[1] / elapsed, sum[2] / elapsed, sum[3] / elapsed});
+        std::vector<std::string> h{"t"};
+        for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i));
+        csv_writer w(out.file("convergence.csv"), h);
+        Eigen::VectorXd sum = Eigen::VectorXd::Zero(c.model.dim());
+        std::vector<double> row(h.size());
+        for (std::size_t k = 0; k < r.history.size(); ++k) {
+            const double elapsed = r.history_t[k] - r.t_start;
+            row[0] = r.history_t[k];
+            for (int i = 0; i < c.model.dim(); ++i) {
+                sum[i] += r.history[k][i];
+                row[static_cast<std::size_t>(i) + 1] = sum[i] / elapsed;
+            }
+            w.row(row);
         }
         w.close();
-        finish_output(*out, "lyapunov", c, record);
+        finish_output(out, "lyapunov", c, record);
     }
 
-    std::string text = "outcome " + outcome_text + ", mapping at impacts: " + to_string(r.tdm) + "\n";
+    std::string text = "outcome " + std::string(to_string(r.status)) + ", mapping at impacts: " +
+                       std::string(to_string(r.tdm)) + "\n";
     if (have) {
         text += "exponents:";
-        for (int i = 0; i < 4; ++i) text += " " + fixed(r.exponents[i], 6);
+        for (Eigen::Index i = 0; i < r.exponents.size(); ++i) text += " " + fixed(r.exponents[i], 6);
         text += "\nlargest " + fixed(r.exponents[0], 6) + " +- " + fixed(r.lle_standard_error, 2) +
                 " (standard error of 8 block means)\n";
         text += "averaged over " + std::to_string(r.impacts) + " impacts, t = " + fixed(r.time, 8) + " (" +
@@ -494,18 +473,18 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         if (std::isfinite(r.sum_rule))
             text += "sum " + fixed(r.exponents.sum(), 10) + ", <div F> + rate ln|det S| = " + fixed(r.sum_rule, 10) + "\n";
         if (r.misses > 0)
-            text += std::to_string(r.misses) +
-                    (r.tdm == lyapunov_tdm::trajectory ? " perturbed orbit-intervals with a different impact count\n"
-                                                       : " deviations missing the barrier to second order\n");
+            text += std::to_string(r.misses) + (r.tdm == lyapunov_tdm::trajectory
+                                                    ? " perturbed orbit-intervals with a different impact count\n"
+                                                    : " deviations missing a surface to second order\n");
     }
-    if (c.out) text += "output written to " + *c.out + "\n";
+    if (c.out) text += "output written to " + c.out->string() + "\n";
     print(c, summary, text);
     return 0;
 }
 
 void add_sweep_options(CLI::App& app, sweep_request& s, const std::string& what)
 {
-    app.add_option("--param", s.param, "Sweep: the parameter to vary (Ur, sigma, r, ...); " + what);
+    app.add_option("--param", s.param, "Sweep: the parameter to vary; " + what);
     app.add_option("--range", s.range, "Sweep: values a:b:n (from a to b, n points; fixed starts from --ic)");
     add_job_options(app, s.jobs);
 }
@@ -525,7 +504,7 @@ cli_command add_floquet_command(CLI::App& app)
     f->add_option("--impact-map", a->impact_map,
                   "Tangent jump at impacts: saltation (default; correct), reset-jacobian or identity "
                   "(both wrong, to show why saltation is needed)");
-    add_sweep_options(*f, a->sweep, "multipliers (Figures 14, 15)");
+    add_sweep_options(*f, a->sweep, "multipliers against it (Figures 14, 15)");
     return {f, [a] { return run_floquet(*a); }};
 }
 
@@ -537,14 +516,14 @@ cli_command add_lyapunov_command(CLI::App& app)
                                  "every t0, mapped through impacts by --tdm");
     add_common_options(*l, a->common);
     l->add_option("--tdm", a->tdm,
-                  "Mapping at impacts: saltation (default; linear), second-order (SPEC 4, finite deviations) "
+                  "Mapping at impacts: saltation (default; linear), second-order (finite deviations) "
                   "or trajectory (two-trajectory method)");
     l->add_option("--r0", a->r0, "Size of the deviation vectors (default 1e-4)");
     l->add_option("--t0", a->t0, "Re-orthonormalisation interval (default pi)");
     l->add_option("--impacts", a->impacts, "Average over this many impacts after the warm-up (default 800)");
     l->add_option("--time", a->time, "Average over this much time instead of --impacts (default 0: use --impacts)");
     l->add_option("--warmup", a->warmup, "Intervals of t0 not counted while the vectors align (default 16)");
-    add_sweep_options(*l, a->sweep, "exponents (Figures 16, 17; --record maxima per value for the diagram)");
+    add_sweep_options(*l, a->sweep, "exponents against it (Figures 16, 17; --record section points per value)");
     return {l, [a, l] { return run_lyapunov(*l, *a); }};
 }
 

@@ -1,128 +1,86 @@
-// The job-loop commands: sweep (bifurcation diagram), map (periodicity map), basins (basins of
-// attraction) and response (barrier-free lock-in curves). Each builds a list of jobs, runs
-// them through run_job_command, and writes its files from the records in job order.
-#include "sweep_commands.hpp"
-
+// The many-job commands over a grid: sweep (bifurcation diagram), map (periodicity map),
+// basins (basins of attraction) and response (surface-free response curves). Each resolves
+// names to indices, makes one library call through a job_session, and writes its files from
+// the typed result.
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <memory>
 
+#include "commands.hpp"
 #include "job_runner.hpp"
 #include "output.hpp"
-#include "vimpact/analysis/attractor.hpp"
+#include "parse.hpp"
+#include "vimpact/analysis/basins.hpp"
 #include "vimpact/analysis/grazing.hpp"
-#include "vimpact/analysis/job_points.hpp"
+#include "vimpact/analysis/map.hpp"
+#include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/csv_writer.hpp"
+#include "vimpact/io/state_columns.hpp"
 
 namespace fs = std::filesystem;
 
 namespace vimpact::cli {
 namespace {
 
-// ---------------------------------------------------------------- grids and axes
-
-struct axis {
-    std::string name;
-    std::vector<double> values;
-};
-
-// "a:b:n" -> n values from a to b.
-std::vector<double> parse_range(const std::string& text, const std::string& what)
+void check_tolerance(double tol, const std::string& what)
 {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (;;) {
-        const auto colon = text.find(':', start);
-        parts.push_back(text.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
-        if (colon == std::string::npos) break;
-        start = colon + 1;
+    if (!(tol > 0.0) || !std::isfinite(tol)) throw input_error(what + " must be > 0 (got " + format_double(tol) + ")");
+}
+
+// The first parameter that moves a surface without entering the vector field (the paper's
+// sigma), or -1.
+int default_grazing_parameter(const model& m)
+{
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const auto g = gap_parameters(m, i);
+        if (!g.empty()) return g.front();
     }
-    if (parts.size() != 3) throw input_error(what + " '" + text + "' must be a:b:n (from a to b, n points)");
-    const double a = parse_number(parts[0], what + " start");
-    const double b = parse_number(parts[1], what + " end");
-    const double n = parse_number(parts[2], what + " points");
-    if (n < 1 || n != std::floor(n) || n > 1e7)
-        throw input_error(what + " '" + text + "': n must be an integer in [1, 1e7]");
-    return grid_values(a, b, static_cast<long>(n));
+    return -1;
 }
 
-void check_parameter(const std::string& name, const std::string& what)
+// Column names of per-surface values of `prefix` (P_graze, margin): one surface, the prefix
+// alone; several, the prefix and the surface name.
+std::vector<std::string> surface_columns(const model_info& info, const std::string& prefix)
 {
-    check_parameter_name(wake_impact(), name, what);
+    std::vector<std::string> out;
+    for (const auto& s : info.surfaces) out.push_back(info.surfaces.size() == 1 ? prefix : prefix + "_" + s.name);
+    return out;
 }
 
-// "NAME:a:b:n" -> a named axis; NAME is a model parameter (map) or a state component (basins).
-axis parse_axis(const std::string& text, const std::string& what, bool state_component)
+std::vector<std::string> grazing_columns(const model& m, int parameter)
 {
-    const auto colon = text.find(':');
-    if (colon == std::string::npos || colon == 0)
-        throw input_error(what + " '" + text + "' must be NAME:a:b:n");
-    axis ax{text.substr(0, colon), parse_range(text.substr(colon + 1), what)};
-    if (state_component) (void)state_axis_index(wake_impact(), ax.name, what);
-    else check_parameter(ax.name, what);
-    return ax;
+    if (parameter < 0) return {};
+    return surface_columns(m.info(), m.info().parameters[static_cast<std::size_t>(parameter)].name + "_graze");
 }
 
-json state_json(const vec<4>& x) { return {x[0], x[1], x[2], x[3]}; }
-vec<4> state_from(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>(), j[3].get<double>()}; }
-
-// Grazing value of `model` (barrier-free, so independent of sigma), as the `grazing` command
-// computes it.
-grazing_result<4> grazing_of(const wake_impact& model, const run_config& c)
+std::vector<std::string> impact_count_columns(const model_info& info)
 {
-    const grazing_options go = job_grazing_options(c.protocol().flow.integration);
-    return with_method(c.method, [&]<template <int> class M>() { return grazing_value<M>(model, c.ic, go); });
+    std::vector<std::string> out;
+    for (const auto& s : info.surfaces) out.push_back("impacts_" + s.name);
+    return out;
 }
 
-classified_run<4> classify_at(const wake_impact& model, const vec<4>& x0, const run_config& c, double tol)
+void append(std::vector<std::string>& to, const std::vector<std::string>& more) { to.insert(to.end(), more.begin(), more.end()); }
+
+void append_counts(std::vector<std::string>& row, const std::vector<long>& counts, std::size_t surfaces)
 {
-    return with_method(c.method, [&]<template <int> class M>() {
-        return run_and_classify<M>(model, x0, c.protocol(), tol);
-    });
+    for (std::size_t i = 0; i < surfaces; ++i) row.push_back(std::to_string(i < counts.size() ? counts[i] : 0L));
 }
 
-json label_fields(const classified_run<4>& r)
-{
-    return {{"label", r.label.label},
-            {"period", r.label.period},
-            {"impacts", r.label.impacts_per_period},
-            {"closure", r.label.closure},
-            {"outcome", std::string(to_string(r.run.status))},
-            {"steps", r.run.stats.steps}};
-}
+std::string out_json_text(const run_config& c) { return c.out ? c.out->string() : std::string(); }
+json out_json(const run_config& c) { return c.out ? json(c.out->string()) : json(nullptr); }
 
-void check_tol(double tol) { check_period_tolerance(tol, input_spelling::cli); }
-
-json label_counts(const std::vector<json>& records)
+// Writes DIR: the files `write` makes, run.json and the PNG of `kind`.
+template <class Write>
+void write_run(const run_config& c, const std::string& kind, const json& summary, Write&& write)
 {
-    std::map<std::string, long> counts;
-    for (const auto& r : records) ++counts[r["label"].get<std::string>()];
-    json j = json::object();
-    for (const auto& [k, v] : counts) j[k] = v;
-    return j;
-}
-
-std::string counts_text(const json& counts)
-{
-    std::string t;
-    for (const auto& [k, v] : counts.items()) t += (t.empty() ? "" : ", ") + k + " " + std::to_string(v.get<long>());
-    return t;
-}
-
-// Finishes --out DIR: the record, the files listed, the PNG of `kind`.
-void write_run(const fs::path& dir, const char* kind, const run_config& c, json summary,
-               const std::function<std::vector<std::string>(staged_output&)>& write_files)
-{
-    staged_output out(dir);
+    staged_output out(*c.out);
     json record = record_header(kind, c);
-    auto files = write_files(out);
-    record["result"] = std::move(summary);
-    files.push_back("run.json");
-    record["files"] = files;
+    record["result"] = summary;
+    record["files"] = write(out);
     finish_output(out, kind, c, record);
 }
 
@@ -131,85 +89,106 @@ void write_run(const fs::path& dir, const char* kind, const run_config& c, json 
 struct sweep_args {
     common_args common;
     job_args jobs;
-    std::string param;
-    std::string range;
+    std::string param, range;
     std::string ic_mode = "fixed";
     std::string direction = "up";
     double tol = default_period_tolerance;
-    bool grazing = false;
+    std::string grazing;
+    CLI::Option* grazing_option = nullptr;
 };
+
+sweep_direction parse_direction(const std::string& s)
+{
+    if (s == "up") return sweep_direction::up;
+    if (s == "down") return sweep_direction::down;
+    if (s == "both") return sweep_direction::both;
+    throw input_error("--direction '" + s + "' is not one of up, down, both");
+}
 
 int run_sweep(const sweep_args& a)
 {
     const run_config c = resolve(a.common);
-    check_parameter(a.param, "--param");
-    const auto values = parse_range(a.range, "--range");
-    check_tol(a.tol);
-    const long n = static_cast<long>(values.size());
-    const sweep_plan plan = make_sweep_plan(n, a.ic_mode, a.direction, input_spelling::cli);
-    const wake_impact base = c.model();
-    check_sweep_starts(base, a.param, values, c.ic, plan, input_spelling::cli);
+    job_session session(a.jobs, c.out);
+    const model& m = c.model;
+    const auto& info = c.info();
+    sweep_options o;
+    o.parameter = parameter_index(m, a.param, "--param");
+    o.values = parse_range(a.range, "--range");
+    o.initial_state = c.ic;
+    if (a.ic_mode != "fixed" && a.ic_mode != "follow")
+        throw input_error("--ic-mode '" + a.ic_mode + "' is not one of fixed, follow");
+    o.follow = a.ic_mode == "follow";
+    o.direction = parse_direction(a.direction);
+    if (o.direction == sweep_direction::both && !o.follow)
+        throw input_error("--direction both needs --ic-mode follow (with fixed starts both directions are the same runs)");
+    o.protocol = c.protocol;
+    check_tolerance(a.tol, "--tol");
+    o.period_tolerance = a.tol;
+    if (a.grazing_option->count() > 0) {
+        o.grazing_parameter = a.grazing.empty() ? default_grazing_parameter(m) : parameter_index(m, a.grazing, "--grazing");
+        if (o.grazing_parameter < 0)
+            throw input_error("--grazing: model " + m.name() + " has no parameter that moves a surface without entering "
+                              "the vector field; name one with --grazing P");
+    }
+    const sweep_result res = sweep(m, o, session.options());
+    if (!session.complete(res.jobs)) return session.exit_code();
 
-    job_command cmd;
-    cmd.spec = {{"command", "sweep"}, {"config", c.to_json()}, {"param", a.param}, {"range", a.range},
-                {"ic_mode", a.ic_mode}, {"direction", a.direction}, {"tol", a.tol}, {"grazing", a.grazing}};
-    cmd.schedule = plan.schedule();
-    cmd.out = c.out ? std::optional<fs::path>(*c.out) : std::nullopt;
-    cmd.run = [&](long job, const json* prev) {
-        const auto [branch, i] = plan.at(job);
-        const double v = values[static_cast<std::size_t>(i)];
-        const wake_impact m = base.with(a.param, v);
-        const vec<4> previous_final = prev ? state_from((*prev)["final_state"]) : vec<4>::Zero();
-        const vec<4> x0 = sweep_start(m, prev ? &previous_final : nullptr, c.ic);
-        const auto r = classify_at(m, x0, c, a.tol);
-        json rec = label_fields(r);
-        rec["value"] = v;
-        rec["branch"] = branch;
-        json pts = json::array();
-        for (const auto& p : r.run.points) pts.push_back(state_json(p.x));
-        rec["points"] = std::move(pts);
-        rec["final_state"] = state_json(r.run.final_state);
-        if (a.grazing) rec["sigma_graze"] = finite_or_null(grazing_of(m, c).sigma_graze);
-        return rec;
-    };
-    json summary;
-    std::string text;
-    cmd.finish = [&](const std::vector<json>& recs, const fs::path* dir) {
-        json labels = json::array(), labels_down = json::array();
-        long npoints = 0;
-        for (const auto& r : recs) {
-            (r["branch"] == 0 ? labels : labels_down).push_back({r["value"], r["label"]});
-            npoints += static_cast<long>(r["points"].size());
-        }
-        const json counts = label_counts(recs);
-        summary = {{"command", "sweep"}, {"param", a.param}, {"values", n}, {"ic_mode", a.ic_mode},
-                   {"direction", a.direction}, {"section_points", npoints}, {"label_counts", counts},
-                   {"labels", labels}, {"out", c.out ? json(*c.out) : json(nullptr)}};
-        if (!labels_down.empty()) summary[a.direction == "down" ? "labels" : "labels_down"] = labels_down;
-        text = "sweep of " + a.param + " over " + std::to_string(n) + " values (" + a.ic_mode + " starts): " +
-               counts_text(counts) + "\n";
-        if (!dir) return;
-        write_run(*dir, "sweep", c, summary, [&](staged_output& out) {
-            csv_writer pts(out.file("points.csv"), {"branch", a.param, "y", "ydot", "x", "xdot"});
-            csv_writer lab(out.file("labels.csv"), {"branch", a.param, "label", "period", "impacts", "closure", "outcome", "sigma_graze"});
-            for (const auto& r : recs) {
-                const double v = r["value"].get<double>(), b = r["branch"].get<int>();
-                for (const auto& p : r["points"]) pts.row({b, v, p[0].get<double>(), p[1].get<double>(), p[2].get<double>(), p[3].get<double>()});
-                const bool g = r.contains("sigma_graze") && r["sigma_graze"].is_number();
-                lab.text_row({format_double(b), format_double(v), r["label"].get<std::string>(),
-                              std::to_string(r["period"].get<int>()), std::to_string(r["impacts"].get<long>()),
-                              format_double(r["closure"].get<double>()), r["outcome"].get<std::string>(),
-                              g ? format_double(r["sigma_graze"].get<double>()) : std::string("nan")});
+    const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
+    json labels = json::array(), labels_down = json::array();
+    std::vector<std::string> all_labels;
+    std::size_t npoints = 0;
+    for (const auto& p : res.points) {
+        (p.branch == 0 ? labels : labels_down).push_back({p.value, p.label.label});
+        all_labels.push_back(p.label.label);
+        npoints += p.points.size();
+    }
+    const json counts = label_counts(all_labels);
+    json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
+                    {"ic_mode", a.ic_mode},       {"direction", a.direction}, {"section_points", npoints},
+                    {"label_counts", counts},     {"labels", labels},        {"out", out_json(c)}};
+    if (!labels_down.empty()) summary[o.direction == sweep_direction::down ? "labels" : "labels_down"] = labels_down;
+    if (o.grazing_parameter >= 0)
+        summary["grazing_param"] = info.parameters[static_cast<std::size_t>(o.grazing_parameter)].name;
+    std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" + a.ic_mode +
+                       " starts): " + counts_text(counts) + "\n";
+    if (c.out) {
+        // Without --grazing the columns of the model's usual grazing parameter stay, empty (nan).
+        const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : default_grazing_parameter(m);
+        write_run(c, "sweep", summary, [&](staged_output& out) {
+            std::vector<std::string> ph{"branch", pname};
+            append(ph, state_columns(info));
+            csv_writer pts(out.file("points.csv"), ph);
+            std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "outcome"};
+            append(lh, grazing_columns(m, gp));
+            append(lh, impact_count_columns(info));
+            csv_writer lab(out.file("labels.csv"), lh);
+            std::vector<double> row(ph.size());
+            for (const auto& p : res.points) {
+                row[0] = p.branch;
+                row[1] = p.value;
+                for (std::size_t i = 0; i < p.points.size(); ++i) {
+                    for (int k = 0; k < p.points.dim(); ++k) row[static_cast<std::size_t>(k) + 2] = p.points.x(i, k);
+                    pts.row(row);
+                }
+                std::vector<std::string> cells{format_double(p.branch), format_double(p.value), p.label.label,
+                                               std::to_string(p.label.period),
+                                               std::to_string(p.label.impacts_per_period),
+                                               format_double(p.label.closure), std::string(to_string(p.status))};
+                if (gp >= 0)
+                    for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+                        cells.push_back(format_double(s < p.grazing.size() ? p.grazing[s] : std::nan("")));
+                append_counts(cells, p.label.impacts_by_surface, info.surfaces.size());
+                lab.text_row(cells);
             }
             pts.close();
             lab.close();
-            return std::vector<std::string>{"points.csv", "labels.csv"};
+            return json{"points.csv", "labels.csv"};
         });
-        text += "output written to " + *c.out + "\n";
-    };
-    const auto res = run_job_command(cmd, a.jobs);
-    if (res.complete) print(c, summary, text);
-    return res.exit_code;
+        session.finish();
+        text += "output written to " + out_json_text(c) + "\n";
+    }
+    print(c, summary, text);
+    return 0;
 }
 
 // ---------------------------------------------------------------- map
@@ -225,77 +204,88 @@ struct map_args {
 int run_map(const map_args& a)
 {
     const run_config c = resolve(a.common);
-    const axis ax = parse_axis(a.x, "--x", false), ay = parse_axis(a.y, "--y", false);
-    check_map_axes(ax.name, ay.name, input_spelling::cli);
-    check_tol(a.tol);
-    const long nx = static_cast<long>(ax.values.size()), ny = static_cast<long>(ay.values.size());
-    const wake_impact base = c.model();
-    check_map_starts(base, ax.name, ax.values, ay.name, ay.values, c.ic, input_spelling::cli);
-    const grazing_line graze = map_grazing_line(a.grazing, ax.name, ay.name, input_spelling::cli);
+    job_session session(a.jobs, c.out);
+    const model& m = c.model;
+    const auto& info = c.info();
+    const named_range ax = parse_named_range(a.x, "--x"), ay = parse_named_range(a.y, "--y");
+    map_options o;
+    o.x = {parameter_index(m, ax.name, "--x"), ax.values};
+    o.y = {parameter_index(m, ay.name, "--y"), ay.values};
+    o.initial_state = c.ic;
+    o.protocol = c.protocol;
+    check_tolerance(a.tol, "--tol");
+    o.period_tolerance = a.tol;
+    o.grazing = a.grazing;
+    const map_result res = map2d(m, o, session.options());
+    if (!session.complete(res.jobs)) return session.exit_code();
 
-    job_command cmd;
-    cmd.spec = {{"command", "map"}, {"config", c.to_json()}, {"x", a.x}, {"y", a.y}, {"tol", a.tol}, {"grazing", a.grazing}};
-    cmd.schedule = {nx * ny, 0};
-    cmd.out = c.out ? std::optional<fs::path>(*c.out) : std::nullopt;
-    cmd.run = [&](long job, const json*) {
-        const long ix = job % nx, iy = job / nx;
-        const wake_impact m = map_model(base, ax.name, ax.values[static_cast<std::size_t>(ix)], ay.name,
-                                        ay.values[static_cast<std::size_t>(iy)]);
-        json rec = label_fields(classify_at(m, c.ic, c, a.tol));
-        if (computes_grazing(graze, ix, iy))
-            rec["sigma_graze"] = finite_or_null(grazing_of(m, c).sigma_graze);
-        return rec;
-    };
-    json summary;
-    std::string text;
-    cmd.finish = [&](const std::vector<json>& recs, const fs::path* dir) {
-        json rows = json::array();
-        for (long iy = 0; iy < ny; ++iy) {
-            json row = json::array();
-            for (long ix = 0; ix < nx; ++ix) row.push_back(recs[static_cast<std::size_t>(iy * nx + ix)]["label"]);
-            rows.push_back(std::move(row));
+    const std::size_t nx = ax.values.size(), ny = ay.values.size();
+    json rows = json::array();
+    std::vector<std::string> all_labels;
+    for (std::size_t iy = 0; iy < ny; ++iy) {
+        json row = json::array();
+        for (std::size_t ix = 0; ix < nx; ++ix) row.push_back(res.cells[iy * nx + ix].label.label);
+        rows.push_back(std::move(row));
+    }
+    for (const auto& cell : res.cells) all_labels.push_back(cell.label.label);
+    const json counts = label_counts(all_labels);
+    json summary = {{"command", "map"},         {"x", ax.name},          {"y", ay.name},
+                    {"shape", {ny, nx}},        {"x_values", ax.values}, {"y_values", ay.values},
+                    {"label_counts", counts},   {"labels", rows},        {"out", out_json(c)}};
+    int gp = -1;
+    std::string other;
+    json grazing = json::array();
+    if (res.grazing_axis >= 0) {
+        gp = res.grazing_axis == 0 ? o.x.parameter : o.y.parameter;
+        other = res.grazing_axis == 0 ? ay.name : ax.name;
+        for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
+            json e = json::array({res.grazing_other[k]});
+            for (const double g : res.grazing_values[k]) e.push_back(finite_or_null(g));
+            grazing.push_back(std::move(e));
         }
-        json grazing = json::array();
-        for (const auto& r : recs)
-            if (r.contains("sigma_graze")) {
-                const long job = r["job"].get<long>();
-                const double other = graze == grazing_line::along_x ? ax.values[static_cast<std::size_t>(job % nx)]
-                                                     : ay.values[static_cast<std::size_t>(job / nx)];
-                grazing.push_back({other, r["sigma_graze"]});
-            }
-        const json counts = label_counts(recs);
-        summary = {{"command", "map"}, {"x", ax.name}, {"y", ay.name}, {"shape", {ny, nx}},
-                   {"x_values", ax.values}, {"y_values", ay.values}, {"label_counts", counts},
-                   {"labels", rows}, {"out", c.out ? json(*c.out) : json(nullptr)}};
-        if (a.grazing) summary["grazing"] = grazing;
-        text = "map " + ax.name + " x " + ay.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
-               "): " + counts_text(counts) + "\n";
-        if (!dir) return;
-        write_run(*dir, "map", c, summary, [&](staged_output& out) {
-            csv_writer lab(out.file("labels.csv"), {ax.name, ay.name, "label", "period", "impacts", "outcome"});
-            for (const auto& r : recs) {
-                const long job = r["job"].get<long>();
-                lab.text_row({format_double(ax.values[static_cast<std::size_t>(job % nx)]),
-                              format_double(ay.values[static_cast<std::size_t>(job / nx)]),
-                              r["label"].get<std::string>(), std::to_string(r["period"].get<int>()),
-                              std::to_string(r["impacts"].get<long>()), r["outcome"].get<std::string>()});
+        summary["grazing"] = grazing;
+        summary["grazing_param"] = info.parameters[static_cast<std::size_t>(gp)].name;
+        summary["grazing_surfaces"] = json::array();
+        for (const auto& s : info.surfaces) summary["grazing_surfaces"].push_back(s.name);
+    }
+    std::string text = "map " + ax.name + " x " + ay.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
+                       "): " + counts_text(counts) + "\n";
+    if (c.out) {
+        write_run(c, "map", summary, [&](staged_output& out) {
+            std::vector<std::string> lh{ax.name, ay.name, "label", "period", "impacts", "outcome"};
+            append(lh, impact_count_columns(info));
+            csv_writer lab(out.file("labels.csv"), lh);
+            for (std::size_t job = 0; job < res.cells.size(); ++job) {
+                const auto& cell = res.cells[job];
+                std::vector<std::string> cells{format_double(ax.values[job % nx]), format_double(ay.values[job / nx]),
+                                               cell.label.label, std::to_string(cell.label.period),
+                                               std::to_string(cell.label.impacts_per_period),
+                                               std::string(to_string(cell.status))};
+                append_counts(cells, cell.label.impacts_by_surface, info.surfaces.size());
+                lab.text_row(cells);
             }
             lab.close();
-            std::vector<std::string> files{"labels.csv"};
-            if (a.grazing) {
-                csv_writer g(out.file("grazing.csv"), {graze == grazing_line::along_x ? ax.name : ay.name, "sigma_graze"});
-                for (const auto& e : grazing)
-                    g.row({e[0].get<double>(), e[1].is_number() ? e[1].get<double>() : std::nan("")});
+            json files = {"labels.csv"};
+            if (gp >= 0) {
+                std::vector<std::string> gh{other};
+                append(gh, grazing_columns(m, gp));
+                csv_writer g(out.file("grazing.csv"), gh);
+                for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
+                    std::vector<double> row{res.grazing_other[k]};
+                    row.insert(row.end(), res.grazing_values[k].begin(), res.grazing_values[k].end());
+                    row.resize(gh.size(), std::nan(""));
+                    g.row(row);
+                }
                 g.close();
                 files.push_back("grazing.csv");
             }
             return files;
         });
-        text += "output written to " + *c.out + "\n";
-    };
-    const auto res = run_job_command(cmd, a.jobs);
-    if (res.complete) print(c, summary, text);
-    return res.exit_code;
+        session.finish();
+        text += "output written to " + out_json_text(c) + "\n";
+    }
+    print(c, summary, text);
+    return 0;
 }
 
 // ---------------------------------------------------------------- basins
@@ -308,104 +298,63 @@ struct basins_args {
     double match_tol = attractor_match_options{}.tolerance;
 };
 
-json vector_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
-
-Eigen::VectorXd vector_from(const json& j)
-{
-    const auto v = j.get<std::vector<double>>();
-    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-
 int run_basins(const basins_args& a)
 {
     const run_config c = resolve(a.common);
-    const axis ax = parse_axis(a.x, "--x", true), ay = parse_axis(a.y, "--y", true);
-    const wake_impact model = c.model();
-    const int sx = state_axis_index(model, ax.name, "--x"), sy = state_axis_index(model, ay.name, "--y");
-    check_basin_axes(sx, sy, ax.name, input_spelling::cli);
-    check_tol(a.tol);
-    check_match_tolerance(a.match_tol, input_spelling::cli);
-    const long nx = static_cast<long>(ax.values.size()), ny = static_cast<long>(ay.values.size());
-    auto ic_of = [&](long job) {
-        return basin_start(c.ic, sx, ax.values[static_cast<std::size_t>(job % nx)], sy,
-                           ay.values[static_cast<std::size_t>(job / nx)]);
-    };
+    job_session session(a.jobs, c.out);
+    const model& m = c.model;
+    const named_range ax = parse_named_range(a.x, "--x"), ay = parse_named_range(a.y, "--y");
+    basins_options o;
+    o.x_state = state_index(m, ax.name, "--x");
+    o.y_state = state_index(m, ay.name, "--y");
+    o.x_values = ax.values;
+    o.y_values = ay.values;
+    o.initial_state = c.ic;
+    o.protocol = c.protocol;
+    check_tolerance(a.tol, "--tol");
+    o.period_tolerance = a.tol;
+    check_tolerance(a.match_tol, "--match-tol");
+    o.match.tolerance = a.match_tol;
+    const basins_result res = basins(m, o, session.options());
+    if (!session.complete(res.jobs)) return session.exit_code();
 
-    job_command cmd;
-    cmd.spec = {{"command", "basins"}, {"config", c.to_json()}, {"x", a.x}, {"y", a.y}, {"tol", a.tol}, {"match_tol", a.match_tol}};
-    cmd.schedule = {nx * ny, 0};
-    cmd.out = c.out ? std::optional<fs::path>(*c.out) : std::nullopt;
-    cmd.run = [&](long job, const json*) {
-        const vec<4> x0 = ic_of(job);
-        if (!admissible_start(model, x0)) return json{{"label", "inadmissible"}, {"period", -1}, {"outcome", "none"}};
-        const auto r = classify_at(model, x0, c, a.tol);
-        const auto sig = signature_of(model, r);
-        json rec = label_fields(r);
-        json cyc = json::array();
-        for (const auto& p : sig.cycle) cyc.push_back(vector_json(p));
-        rec["cycle"] = cyc;
-        if (sig.lo.size()) {
-            rec["lo"] = vector_json(sig.lo);
-            rec["hi"] = vector_json(sig.hi);
-        }
-        return rec;
-    };
-    json summary;
-    std::string text;
-    cmd.finish = [&](const std::vector<json>& recs, const fs::path* dir) {
-        attractor_catalogue cat({.tolerance = a.match_tol});
-        // The signatures back from the records (they went through the journal on a resume).
-        std::vector<attractor_signature> sigs(recs.size());
-        std::vector<const attractor_signature*> runs(recs.size(), nullptr);
-        for (std::size_t k = 0; k < recs.size(); ++k) {
-            const auto& r = recs[k];
-            if (r["label"] == "inadmissible") continue;
-            attractor_signature& s = sigs[k];
-            s.label = r["label"].get<std::string>();
-            s.period = r["cycle"].empty() ? -1 : r["period"].get<int>();
-            for (const auto& p : r["cycle"]) s.cycle.push_back(vector_from(p));
-            if (r.contains("lo")) {
-                s.lo = vector_from(r["lo"]);
-                s.hi = vector_from(r["hi"]);
-            }
-            runs[k] = &s;
-        }
-        const std::vector<int> ids = identify_attractors(runs, cat);
-        json table = json::array(), labels = json::array();
-        for (std::size_t i = 0; i < cat.entries().size(); ++i) {
-            const auto& e = cat.entries()[i];
-            json pts = json::array();
-            for (const auto& p : e.signature.cycle) pts.push_back(vector_json(p));
-            table.push_back({{"id", i}, {"label", e.signature.label}, {"cells", e.members}, {"section_points", pts}});
-            labels.push_back(e.signature.label);
-        }
-        const long excluded = std::count(ids.begin(), ids.end(), -1);
-        summary = {{"command", "basins"}, {"x", ax.name}, {"y", ay.name}, {"shape", {ny, nx}},
-                   {"attractors", {{"count", cat.entries().size()}, {"labels", labels}, {"table", table}}},
-                   {"inadmissible_cells", excluded}, {"out", c.out ? json(*c.out) : json(nullptr)}};
-        text = std::to_string(cat.entries().size()) + " attractor(s) on the " + std::to_string(nx) + " x " +
-               std::to_string(ny) + " grid of initial " + ax.name + ", " + ay.name + ":\n";
-        for (const auto& t : table)
-            text += "  " + std::to_string(t["id"].get<int>()) + ": " + t["label"].get<std::string>() + ", " +
-                    std::to_string(t["cells"].get<long>()) + " cells\n";
-        if (excluded) text += "  (" + std::to_string(excluded) + " cells start below the barrier and are excluded)\n";
-        if (!dir) return;
-        write_run(*dir, "basins", c, summary, [&](staged_output& out) {
+    const std::size_t nx = ax.values.size(), ny = ay.values.size();
+    json table = json::array(), labels = json::array();
+    for (std::size_t i = 0; i < res.attractors.size(); ++i) {
+        const auto& e = res.attractors[i];
+        json pts = json::array();
+        for (const auto& p : e.signature.cycle) pts.push_back(vector_json(p));
+        table.push_back({{"id", i}, {"label", e.signature.label}, {"cells", e.members}, {"section_points", pts}});
+        labels.push_back(e.signature.label);
+    }
+    const long excluded = std::count_if(res.cells.begin(), res.cells.end(), [](const basin_cell& b) { return !b.admissible; });
+    const json summary = {{"command", "basins"},
+                          {"x", ax.name},
+                          {"y", ay.name},
+                          {"shape", {ny, nx}},
+                          {"attractors", {{"count", res.attractors.size()}, {"labels", labels}, {"table", table}}},
+                          {"inadmissible_cells", excluded},
+                          {"out", out_json(c)}};
+    std::string text = std::to_string(res.attractors.size()) + " attractor(s) on the " + std::to_string(nx) + " x " +
+                       std::to_string(ny) + " grid of initial " + ax.name + ", " + ay.name + ":\n";
+    for (const auto& t : table)
+        text += "  " + std::to_string(t["id"].get<int>()) + ": " + t["label"].get<std::string>() + ", " +
+                std::to_string(t["cells"].get<long>()) + " cells\n";
+    if (excluded) text += "  (" + std::to_string(excluded) + " cells start beyond a surface and are excluded)\n";
+    if (c.out) {
+        write_run(c, "basins", summary, [&](staged_output& out) {
             csv_writer cells(out.file("cells.csv"), {ax.name, ay.name, "attractor", "label"});
-            for (std::size_t k = 0; k < recs.size(); ++k) {
-                const long job = static_cast<long>(k);
-                cells.text_row({format_double(ax.values[static_cast<std::size_t>(job % nx)]),
-                                format_double(ay.values[static_cast<std::size_t>(job / nx)]),
-                                std::to_string(ids[k]), recs[k]["label"].get<std::string>()});
-            }
+            for (std::size_t job = 0; job < res.cells.size(); ++job)
+                cells.text_row({format_double(ax.values[job % nx]), format_double(ay.values[job / nx]),
+                                std::to_string(res.cells[job].attractor), res.cells[job].label.label});
             cells.close();
-            return std::vector<std::string>{"cells.csv"};
+            return json{"cells.csv"};
         });
-        text += "output written to " + *c.out + "\n";
-    };
-    const auto res = run_job_command(cmd, a.jobs);
-    if (res.complete) print(c, summary, text);
-    return res.exit_code;
+        session.finish();
+        text += "output written to " + out_json_text(c) + "\n";
+    }
+    print(c, summary, text);
+    return 0;
 }
 
 // ---------------------------------------------------------------- response
@@ -413,25 +362,28 @@ int run_basins(const basins_args& a)
 struct response_args {
     common_args common;
     job_args jobs;
-    std::string param;
-    std::string range;
-    std::string curves;
-    double transient_time = 1000.0;
+    std::string param, range, curves, variable;
+    double transient_time = grazing_options{}.transient_time;
 };
 
-std::vector<std::pair<double, double>> parse_curves(const std::string& text, const wake_impact_parameters& p)
+// "A=14,eps=0.35;A=12,eps=0.3": each curve a list of NAME=VALUE.
+std::vector<std::vector<std::pair<int, double>>> parse_curves(const std::string& text, const model& m)
 {
-    std::vector<std::pair<double, double>> out;
-    if (text.empty()) return {{p.A, p.eps}};
-    std::size_t start = 0;
-    for (;;) {
-        const auto comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        const auto colon = item.find(':');
-        if (colon == std::string::npos) throw input_error("--curves item '" + item + "' must be A:eps");
-        out.emplace_back(parse_number(item.substr(0, colon), "--curves A"), parse_number(item.substr(colon + 1), "--curves eps"));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
+    std::vector<std::vector<std::pair<int, double>>> out;
+    if (text.empty()) return out;
+    for (const auto& curve : split(text, ';')) {
+        std::vector<std::pair<int, double>> c;
+        for (const auto& item : split(curve, ',')) {
+            const auto eq = item.find('=');
+            if (eq == std::string::npos || eq == 0)
+                throw input_error("--curves item '" + item + "' must be NAME=VALUE (curves: 'A=14,eps=0.35;A=12,eps=0.3')");
+            const std::string name = item.substr(0, eq);
+            const int p = parameter_index(m, name, "--curves");
+            for (const auto& [q, v] : c)
+                if (q == p) throw input_error("--curves: '" + name + "' is set twice in the curve '" + curve + "'");
+            c.emplace_back(p, parse_number(item.substr(eq + 1), "--curves " + name));
+        }
+        out.push_back(std::move(c));
     }
     return out;
 }
@@ -439,74 +391,103 @@ std::vector<std::pair<double, double>> parse_curves(const std::string& text, con
 int run_response(const response_args& a)
 {
     const run_config c = resolve(a.common);
-    check_parameter(a.param, "--param");
-    check_response_param(a.param, input_spelling::cli);
-    const auto values = parse_range(a.range, "--range");
-    const auto curves = parse_curves(a.curves, c.params);
-    check_transient_time(a.transient_time, input_spelling::cli);
-    const long n = static_cast<long>(values.size()), nc = static_cast<long>(curves.size());
-    const wake_impact base = c.model();
-    for (const auto& [A, eps] : curves) (void)base.with("A", A).with("eps", eps);  // validates
+    job_session session(a.jobs, c.out);
+    const model& m = c.model;
+    const auto& info = c.info();
+    response_options o;
+    o.parameter = parameter_index(m, a.param, "--param");
+    o.values = parse_range(a.range, "--range");
+    o.curves = parse_curves(a.curves, m);
+    o.variable = a.variable.empty() ? 0 : state_index(m, a.variable, "--variable");
+    o.initial_state = c.ic;
+    if (!(a.transient_time >= 0.0) || !std::isfinite(a.transient_time))
+        throw input_error("--transient-time must be >= 0 (got " + format_double(a.transient_time) + ")");
+    o.grazing = job_grazing_options(c.protocol.flow.integration, a.transient_time);
+    o.grazing.method = c.protocol.method;
+    o.grazing.parameter = default_grazing_parameter(m);
+    const response_result res = response(m, o, session.options());
+    if (!session.complete(res.jobs)) return session.exit_code();
 
-    job_command cmd;
-    cmd.spec = {{"command", "response"}, {"config", c.to_json()}, {"param", a.param}, {"range", a.range},
-                {"curves", a.curves}, {"transient_time", a.transient_time}};
-    cmd.schedule = {n * nc, 0};
-    cmd.out = c.out ? std::optional<fs::path>(*c.out) : std::nullopt;
-    cmd.run = [&](long job, const json*) {
-        const long k = job / n, i = job % n;
-        const auto [A, eps] = curves[static_cast<std::size_t>(k)];
-        const double v = values[static_cast<std::size_t>(i)];
-        const wake_impact m = response_model(base, A, eps, a.param, v);
-        const grazing_options go = job_grazing_options(c.protocol().flow.integration, a.transient_time);
-        const auto p = with_method(c.method, [&]<template <int> class M>() { return run_response_point<M>(m, c.ic, go); });
-        return json{{"curve", k}, {"A", A}, {"eps", eps}, {"value", v},
-                    {"amplitude", finite_or_null(p.amplitude)}, {"y_max", finite_or_null(p.y_max)},
-                    {"sigma_graze", finite_or_null(p.sigma_graze)}, {"frequency_ratio", finite_or_null(p.frequency_ratio)},
-                    {"structure_frequency", p.structure_frequency}, {"converged", p.converged},
-                    {"outcome", std::string(to_string(p.status))}};
+    const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
+    const std::string& vname = info.state[static_cast<std::size_t>(o.variable)].name;
+    const auto gcols = o.grazing.parameter >= 0 ? grazing_columns(m, o.grazing.parameter) : surface_columns(info, "margin");
+    // The parameters any curve sets, in the model's order: one column each.
+    std::vector<int> curve_params;
+    for (const auto& curve : o.curves)
+        for (const auto& [p, v] : curve)
+            if (std::find(curve_params.begin(), curve_params.end(), p) == curve_params.end()) curve_params.push_back(p);
+    std::sort(curve_params.begin(), curve_params.end());
+    const std::size_t n = o.values.size(), ncurves = std::max<std::size_t>(1, o.curves.size());
+    auto curve_value = [&](std::size_t k, int p) {
+        if (k < o.curves.size())
+            for (const auto& [q, v] : o.curves[k])
+                if (q == p) return v;
+        return m.parameter(p);
     };
-    json summary;
+
+    json curves = json::array();
     std::string text;
-    cmd.finish = [&](const std::vector<json>& recs, const fs::path* dir) {
-        json cj = json::array();
-        for (long k = 0; k < nc; ++k) {
-            json amp = json::array(), fr = json::array(), gr = json::array();
-            long unconverged = 0;
-            for (long i = 0; i < n; ++i) {
-                const auto& r = recs[static_cast<std::size_t>(k * n + i)];
-                amp.push_back(r["amplitude"]);
-                fr.push_back(r["frequency_ratio"]);
-                gr.push_back(r["sigma_graze"]);
-                unconverged += r["converged"].get<bool>() ? 0 : 1;
+    for (std::size_t k = 0; k < ncurves; ++k) {
+        json set = json::object();
+        std::vector<std::string> described;
+        if (k < o.curves.size())
+            for (const auto& [p, v] : o.curves[k]) {
+                set[info.parameters[static_cast<std::size_t>(p)].name] = v;
+                described.push_back(info.parameters[static_cast<std::size_t>(p)].name + " = " + format_double(v));
             }
-            cj.push_back({{"A", curves[static_cast<std::size_t>(k)].first}, {"eps", curves[static_cast<std::size_t>(k)].second},
-                          {"values", values}, {"amplitude", amp}, {"frequency_ratio", fr}, {"sigma_graze", gr},
-                          {"not_converged", unconverged}});
-            text += "A = " + format_double(curves[static_cast<std::size_t>(k)].first) + ", eps = " +
-                    format_double(curves[static_cast<std::size_t>(k)].second) + ": peak amplitude " +
-                    format_double(*std::max_element(amp.begin(), amp.end(), [](const json& x, const json& y) {
-                        return (x.is_number() ? x.get<double>() : -1.0) < (y.is_number() ? y.get<double>() : -1.0);
-                    })) + (unconverged ? " (" + std::to_string(unconverged) + " points not converged)" : "") + "\n";
+        json amp = json::array(), freq = json::array();
+        std::vector<json> graze(gcols.size(), json::array());
+        long unconverged = 0;
+        double peak = -1.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto& r = res.points[k * n + i];
+            amp.push_back(finite_or_null(r.amplitude));
+            freq.push_back(finite_or_null(r.frequency));
+            for (std::size_t s = 0; s < gcols.size(); ++s)
+                graze[s].push_back(finite_or_null(s < r.grazing.size() ? r.grazing[s] : std::nan("")));
+            unconverged += r.converged ? 0 : 1;
+            if (std::isfinite(r.amplitude)) peak = std::max(peak, r.amplitude);
         }
-        summary = {{"command", "response"}, {"param", a.param}, {"curves", cj}, {"out", c.out ? json(*c.out) : json(nullptr)}};
-        if (!dir) return;
-        write_run(*dir, "response", c, summary, [&](staged_output& out) {
-            csv_writer w(out.file("response.csv"), {"curve", "A", "eps", a.param, "amplitude", "y_max", "sigma_graze",
-                                                    "frequency_ratio", "structure_frequency", "converged"});
-            auto num = [](const json& j) { return j.is_number() ? j.get<double>() : std::nan(""); };
-            for (const auto& r : recs)
-                w.row({r["curve"].get<double>(), r["A"].get<double>(), r["eps"].get<double>(), r["value"].get<double>(),
-                       num(r["amplitude"]), num(r["y_max"]), num(r["sigma_graze"]), num(r["frequency_ratio"]),
-                       r["structure_frequency"].get<double>(), r["converged"].get<bool>() ? 1.0 : 0.0});
+        json cj = {{"parameters", set}, {"values", o.values}, {"amplitude", amp}, {"frequency", freq},
+                   {"not_converged", unconverged}};
+        for (std::size_t s = 0; s < gcols.size(); ++s) cj[gcols[s]] = graze[s];
+        curves.push_back(std::move(cj));
+        text += (described.empty() ? std::string("response") : join(described)) + ": peak amplitude of " + vname + " " +
+                format_double(peak) +
+                (unconverged ? " (" + std::to_string(unconverged) + " points not converged)" : std::string()) + "\n";
+    }
+    const json summary = {{"command", "response"},
+                          {"param", pname},
+                          {"variable", vname},
+                          {"grazing_param", o.grazing.parameter >= 0
+                                                ? json(info.parameters[static_cast<std::size_t>(o.grazing.parameter)].name)
+                                                : json(nullptr)},
+                          {"curves", curves},
+                          {"out", out_json(c)}};
+    if (c.out) {
+        write_run(c, "response", summary, [&](staged_output& out) {
+            std::vector<std::string> h{"curve"};
+            for (const int p : curve_params) h.push_back(info.parameters[static_cast<std::size_t>(p)].name);
+            append(h, {pname, "amplitude", vname + "_max", vname + "_min"});
+            append(h, gcols);
+            append(h, {"frequency", "converged"});
+            csv_writer w(out.file("response.csv"), h);
+            for (const auto& r : res.points) {
+                std::vector<double> row{static_cast<double>(r.curve)};
+                for (const int p : curve_params) row.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
+                row.insert(row.end(), {r.value, r.amplitude, r.maximum, r.minimum});
+                for (std::size_t s = 0; s < gcols.size(); ++s) row.push_back(s < r.grazing.size() ? r.grazing[s] : std::nan(""));
+                row.insert(row.end(), {r.frequency, r.converged ? 1.0 : 0.0});
+                w.row(row);
+            }
             w.close();
-            return std::vector<std::string>{"response.csv"};
+            return json{"response.csv"};
         });
-        text += "output written to " + *c.out + "\n";
-    };
-    const auto res = run_job_command(cmd, a.jobs);
-    if (res.complete) print(c, summary, text);
-    return res.exit_code;
+        session.finish();
+        text += "output written to " + out_json_text(c) + "\n";
+    }
+    print(c, summary, text);
+    return 0;
 }
 
 }  // namespace
@@ -517,12 +498,16 @@ cli_command add_sweep_command(CLI::App& app)
     auto* s = app.add_subcommand("sweep", "Bifurcation diagram: section points and labels over a range of one parameter");
     add_common_options(*s, a->common);
     add_job_options(*s, a->jobs);
-    s->add_option("--param", a->param, "Parameter to vary (Ur, sigma, r, A, eps, ...)")->required();
+    s->add_option("--param", a->param, "Parameter to vary (`vimpact models` lists a model's parameters)")->required();
     s->add_option("--range", a->range, "Values a:b:n (from a to b, n points)")->required();
-    s->add_option("--ic-mode", a->ic_mode, "fixed (every point from --ic, the paper's way) or follow (from the previous point's final state)");
+    s->add_option("--ic-mode", a->ic_mode,
+                  "fixed (every point from --ic, the paper's way) or follow (from the previous point's final state)");
     s->add_option("--direction", a->direction, "up, down, or both (both needs --ic-mode follow)");
     s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
-    s->add_flag("--grazing", a->grazing, "Also compute the grazing value at each point (drawn on the picture)");
+    a->grazing_option = s->add_option("--grazing", a->grazing,
+                                      "Also the grazing value of parameter P (default: the first that moves a surface "
+                                      "without entering the vector field) at each point, per surface")
+                            ->expected(0, 1);
     return {s, [a] { return run_sweep(*a); }};
 }
 
@@ -535,7 +520,8 @@ cli_command add_map_command(CLI::App& app)
     s->add_option("--x", a->x, "Horizontal axis P:a:b:n")->required();
     s->add_option("--y", a->y, "Vertical axis Q:c:d:m")->required();
     s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8; the paper's Fig. 4 used 1e-5)");
-    s->add_flag("--grazing", a->grazing, "Draw the grazing line sigma_graze of the other parameter (sigma must be an axis)");
+    s->add_flag("--grazing", a->grazing,
+                "The grazing line: the grazing value of the axis parameter that moves a surface, against the other");
     return {s, [a] { return run_map(*a); }};
 }
 
@@ -545,7 +531,7 @@ cli_command add_basins_command(CLI::App& app)
     auto* s = app.add_subcommand("basins", "Basins of attraction over a grid of initial states");
     add_common_options(*s, a->common);
     add_job_options(*s, a->jobs);
-    s->add_option("--x", a->x, "Horizontal axis S:a:b:n, S one of y, ydot, x, xdot (the others from --ic)")->required();
+    s->add_option("--x", a->x, "Horizontal axis S:a:b:n, S a state variable of the model (the others from --ic)")->required();
     s->add_option("--y", a->y, "Vertical axis T:c:d:m")->required();
     s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
     s->add_option("--match-tol", a->match_tol, "Section points closer than this are the same attractor (default 1e-6)");
@@ -555,12 +541,16 @@ cli_command add_basins_command(CLI::App& app)
 cli_command add_response_command(CLI::App& app)
 {
     auto a = std::make_shared<response_args>();
-    auto* s = app.add_subcommand("response", "Barrier-free response (lock-in): amplitude, frequency and grazing value over a range");
+    auto* s = app.add_subcommand("response",
+                                 "Surface-free response (lock-in curves): amplitude, frequency and grazing values over a range");
     add_common_options(*s, a->common);
     add_job_options(*s, a->jobs);
-    s->add_option("--param", a->param, "Parameter to vary (usually Ur)")->required();
+    s->add_option("--param", a->param, "Parameter to vary (one that enters the vector field)")->required();
     s->add_option("--range", a->range, "Values a:b:n")->required();
-    s->add_option("--curves", a->curves, "Several (A, eps) curves: A:eps,A:eps,... (default: the configured A and eps)");
+    s->add_option("--curves", a->curves,
+                  "Several curves, each a list of parameter values: 'A=14,eps=0.35;A=12,eps=0.3' (default: one curve at "
+                  "the configured values)");
+    s->add_option("--variable", a->variable, "The state variable measured (default the model's first)");
     s->add_option("--transient-time", a->transient_time, "Time discarded before measuring (default 1000)");
     return {s, [a] { return run_response(*a); }};
 }

@@ -1,0 +1,28 @@
+#pragma once
+// Text to values for the options: numbers, lists, ranges, shards. Every function throws
+// input_error naming the option (`what`) and the text it could not read.
+#include <string>
+#include <vector>
+
+#include "vimpact/jobs/job_loop.hpp"
+
+namespace vimpact::cli {
+
+double parse_number(const std::string& text, const std::string& what);
+long parse_count(const std::string& text, const std::string& what);  // an integer >= 0
+std::vector<std::string> split(const std::string& text, char sep);
+std::vector<double> parse_numbers(const std::string& text, const std::string& what);  // "1,2,3"
+
+// "a:b:n": n values from a to b inclusive (grid_values).
+std::vector<double> parse_range(const std::string& text, const std::string& what);
+
+// "NAME:a:b:n": a name and its values.
+struct named_range {
+    std::string name;
+    std::vector<double> values;
+};
+named_range parse_named_range(const std::string& text, const std::string& what);
+
+shard_spec parse_shard(const std::string& text);  // "I/N", 0 <= I < N
+
+}  // namespace vimpact::cli
