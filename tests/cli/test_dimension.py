@@ -6,6 +6,8 @@ import subprocess
 
 import pytest
 
+from conftest import check_png
+
 
 def run(vimpact, *args):
     return subprocess.run([vimpact, *args], capture_output=True, text=True, timeout=600)
@@ -45,7 +47,8 @@ def test_json_contract_of_a_model_run(vimpact):
     assert 0 < r_min < r_max
     assert 0 < j["r2"] <= 1
     assert j["source"]["kind"] == "model"
-    assert j["source"]["columns"] == ["y", "x", "xdot"]
+    assert j["source"]["columns"] == ["y", "ydot", "x", "xdot"]
+    assert j["coordinates"] == 4
     assert j["source"]["outcome"] == "ok"
     assert 0.5 < j["dimension"] < 3.0
 
@@ -98,6 +101,24 @@ def test_theiler_window_reduces_the_pairs(vimpact, tmp_path):
     assert j["theiler_window"] == 10
 
 
+def test_the_constant_column_changes_nothing(vimpact):
+    # ydot is 0 on the section of maxima: every state column and (y, x, xdot) count the same pairs.
+    a = run_json(vimpact, "--set", "Ur=18.455", "--transient", "300", "--record", "2000")
+    b = run_json(vimpact, "--set", "Ur=18.455", "--transient", "300", "--record", "2000", "--columns", "y,x,xdot")
+    assert b["source"]["columns"] == ["y", "x", "xdot"]
+    assert a["dimension"] == b["dimension"] and a["fit_range"] == b["fit_range"]
+
+
+def test_phases_are_cos_sin_pairs(vimpact):
+    j = run_json(vimpact, "--model", "two_sided_impact_oscillator", "--transient", "20", "--record", "300")
+    assert j["source"]["columns"] == ["x", "v", "phi_cos", "phi_sin"]
+    assert j["coordinates"] == 4
+    assert j["source"]["section"] == "strobe"
+    k = run_json(vimpact, "--model", "two_sided_impact_oscillator", "--transient", "20", "--record", "300",
+                 "--columns", "x,v")
+    assert k["source"]["columns"] == ["x", "v"]
+
+
 def test_results_are_deterministic(vimpact):
     a = run(vimpact, "dimension", "--set", "Ur=20.85", "--transient", "200", "--record", "1500", "--json")
     b = run(vimpact, "dimension", "--set", "Ur=20.85", "--transient", "200", "--record", "1500", "--json")
@@ -110,19 +131,20 @@ def test_out_directory(vimpact, tmp_path):
     p = run(vimpact, "dimension", "--set", "Ur=18.455", "--transient", "200", "--record", "1500", "--out", str(out))
     assert p.returncode == 0, p.stderr
     assert "correlation dimension" in p.stdout
-    for name in ("points.csv", "correlation.csv", "sections.csv", "run.json", "plot.png"):
+    for name in ("points.csv", "correlation.csv", "sections.csv", "run.json"):
         assert (out / name).exists(), name
-    assert (out / "points.csv").read_text().splitlines()[0] == "y,x,xdot"
+    assert (out / "points.csv").read_text().splitlines()[0] == "y,ydot,x,xdot"
+    assert (out / "sections.csv").read_text().splitlines()[0] == "t,y,ydot,x,xdot"
     curve = (out / "correlation.csv").read_text().splitlines()
     assert curve[0] == "r,C,pairs,local_slope,in_fit"
     record = json.loads((out / "run.json").read_text())
     assert record["command"] == "dimension"
     assert record["config"]["parameters"]["Ur"] == 18.455
     assert record["result"]["points"] == 1500
-    assert "plot.png" in record["files"]
+    assert record["model"]["name"] == "wake_impact"
     fitted = [line for line in curve[1:] if line.endswith(",1")]
     assert len(fitted) == record["result"]["fitted_radii"]
-    assert (out / "plot.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    check_png(out / "plot.png")
     assert not [f for f in os.listdir(tmp_path) if f.startswith(".vimpact-staging")]
 
 
@@ -155,6 +177,7 @@ BAD = [
     (["--points", "HENON", "--slope-tolerance", "0"], "slope tolerance"),
     (["--points", "HENON", "--max-correlation", "2"], "maximum correlation"),
     (["--set", "Ur=16", "--columns", "y,v"], "no column 'v'"),
+    (["--points", "HENON", "--model", "two_sided_impact_oscillator"], "--model"),
     (["--set", "Ur=16", "--record", "0"], "record"),
 ]
 

