@@ -213,3 +213,21 @@ def test_response_of_another_variable(vimpact):
     # The linear oscillator responds at the forcing frequency.
     for w, f in zip(c["values"], c["frequency"]):
         assert abs(f - w) < 1e-6
+
+
+def test_config_names_a_model_file_relative_to_itself(vimpact, tmp_path):
+    (tmp_path / "models").mkdir()
+    (tmp_path / "models" / "two.toml").write_text(open(TWO_SIDED_TOML).read())
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('model = "models/two.toml"\nd = 1.5\n')
+    a = run_json(vimpact, "period", "--config", str(cfg))
+    b = run_json(vimpact, "period", "--model", TWO, "--set", "d=1.5")
+    same(a, b)
+
+
+def test_points_after_the_impacts_of_one_surface(vimpact):
+    # The paper's P3 at Ur = 19 has one impact per period: on the impacts it is a fixed point.
+    j = run_json(vimpact, "period", "--set", "Ur=19", "--section", "impacts:barrier")
+    assert j["label"] == "P1"
+    k = run_json(vimpact, "period", "--model", TWO, "--section", "impacts:left")
+    assert k["label"] == "P1" and k["impacts_by_surface"] == {"right": 1, "left": 1}
