@@ -20,10 +20,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <optional>
 #include <random>
 #include <sstream>
 
 #include "model_file_detail.hpp"
+#include "vimpact/io/build_info.hpp"
 #include "vimpact/core/input_error.hpp"
 
 extern char** environ;
@@ -50,11 +53,53 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// No -ffast-math: the results must be IEEE arithmetic, as in the library's own code.
+// The headers the generated code includes for its fused Runge-Kutta steps (the library's own
+// stage code): the installed copy of vimpact's headers, else the source tree's; none found,
+// the model is compiled without fused steps (correct, about twice as slow per step).
+struct fused_headers {
+    std::string vimpact, eigen;
+    std::string text;  // their content, part of the cache key: changed stage code, new entry
+};
+
+const std::optional<fused_headers>& find_fused_headers()
+{
+    static const std::optional<fused_headers> found = []() -> std::optional<fused_headers> {
+        static const char* const files[] = {"vimpact/integrate/fused_step.hpp", "vimpact/integrate/runge_kutta.hpp",
+                                            "vimpact/integrate/dop853_tableau.hpp",
+                                            "vimpact/integrate/dense_output.hpp", "vimpact/core/state.hpp"};
+        const std::string eigen(vimpact::eigen_include_dir());
+        if (eigen.empty() || !fs::exists(fs::path(eigen) / "Eigen" / "Core")) return std::nullopt;
+        for (const std::string_view dir : {vimpact::installed_include_dir(), vimpact::source_include_dir()}) {
+            fused_headers h{std::string(dir), eigen, {}};
+            bool complete = true;
+            for (const char* f : files) {
+                std::ifstream in(fs::path(h.vimpact) / f, std::ios::binary);
+                if (!in) {
+                    complete = false;
+                    break;
+                }
+                h.text += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            }
+            if (complete) return h;
+        }
+        return std::nullopt;
+    }();
+    return found;
+}
+
+// No -ffast-math: the results must be IEEE arithmetic, as in the library's own code. The
+// Eigen alignment is the library's (its stage code runs here).
 const std::vector<std::string>& compile_flags()
 {
-    static const std::vector<std::string> flags{"-std=c++17", "-O2",    "-march=native",       "-fPIC",
-                                                "-shared",    "-fno-math-errno", "-fvisibility=hidden"};
+    static const std::vector<std::string> flags = [] {
+        std::vector<std::string> f{"-std=c++20", "-O3",     "-march=native",       "-fPIC",
+                                   "-shared",    "-fno-math-errno", "-fvisibility=hidden"};
+        if (const auto& h = find_fused_headers()) {
+            f.insert(f.end(), {"-DVIMPACT_FUSED_STEPS", "-DEIGEN_MAX_ALIGN_BYTES=64", "-DEIGEN_MAX_STATIC_ALIGN_BYTES=64",
+                               "-I" + h->vimpact, "-isystem", h->eigen});
+        }
+        return f;
+    }();
     return flags;
 }
 
@@ -271,6 +316,7 @@ loaded_library compile_cached(const std::string& source, const std::string& mode
     for (const auto& w : command) h = fnv1a(w + "\n", h);
     for (const auto& f : compile_flags()) h = fnv1a(f + "\n", h);
     h = fnv1a(cpu_identity() + "\n", h);
+    if (const auto& fh = find_fused_headers()) h = fnv1a(fh->text, h);
     h = fnv1a(source, h);
     // The name only helps a reader of the directory; kept short for the file-name limit.
     const std::string stem = model_name.substr(0, 64) + "-" + hex64(h);

@@ -1066,6 +1066,28 @@ private:
         s += indexed_void("vimpact_section_gradient(const void* c, int i, const double* x, double* out)", K, n,
                           [&](std::size_t k) { return assign_vector(m_sections[k].gradient, m_sections[k].key, in); });
 
+        // Every gap and section with its rate grad . f in one call: the flow samples each step
+        // end with it (abi.h, samples).
+        {
+            std::vector<GiNaC::realsymbol> f;
+            for (int j = 0; j < m_n; ++j) f.emplace_back("f[" + std::to_string(j) + "]");
+            auto rate = [&](const std::vector<ex>& gradient) {
+                ex r = 0;
+                for (std::size_t j = 0; j < n; ++j) r += gradient[j] * f[j];
+                return r;
+            };
+            s += "static void vimpact_samples(const void* c, const double* x, const double* f, double* gaps, "
+                 "double* sections)\n{\n" + prologue() + "    (void)f;\n    (void)gaps;\n    (void)sections;\n";
+            for (std::size_t i = 0; i < S; ++i)
+                s += "    gaps[" + std::to_string(2 * i) + "] = " + c(m_gaps[i].value, m_gaps[i].key) + ";\n    gaps[" +
+                     std::to_string(2 * i + 1) + "] = " + c(rate(m_gaps[i].gradient), m_gaps[i].key) + ";\n";
+            for (std::size_t k = 0; k < K; ++k)
+                s += "    sections[" + std::to_string(2 * k) + "] = " + c(m_sections[k].value, m_sections[k].key) +
+                     ";\n    sections[" + std::to_string(2 * k + 1) + "] = " +
+                     c(rate(m_sections[k].gradient), m_sections[k].key) + ";\n";
+            s += "}\n\n";
+        }
+
         s += indexed_void("vimpact_sticking_rhs(const void* c, int i, const double* x, double* out)", S, n,
                           [&](std::size_t i) { return assign_vector(m_sticking_field[i], sticking_key(i, "derivatives"), in); });
         s += indexed_scalar("vimpact_release(const void* c, int i, const double* x)", S,
@@ -1233,6 +1255,9 @@ private:
             "vimpact_release",
             "vimpact_release_gradient",
             "vimpact_rest",
+            "VIMPACT_STEP",
+            "VIMPACT_DENSE",
+            "vimpact_samples",
         };
         // Positional, in the order of the fields of vimpact_model_table (abi.h), so that the
         // table is a constant in read-only memory, valid C and C++.
@@ -1245,9 +1270,20 @@ private:
             "preset_sizes", "preset_parameters", "preset_values", "create", "destroy", "rhs", "jacobian",
             "second_derivative", "divergence", "gap", "gap_gradient", "gap_hessian", "reset", "reset_jacobian",
             "reset_second_derivative", "section", "section_gradient", "sticking_rhs", "release",
-            "release_gradient", "rest"};
-        static_assert(std::size(field_names) == 49);
+            "release_gradient", "rest", "step", "dense", "samples"};
+        static_assert(std::size(field_names) == 52);
         if (fields.size() != std::size(field_names)) throw std::logic_error("model file: table fields out of step");
+        // The fused Runge-Kutta step (integrate/fused_step.hpp): the library's own stage code
+        // compiled here with the field inlined, when the compiler is given vimpact's headers
+        // (VIMPACT_FUSED_STEPS); without them the library calls vimpact_rhs once per stage.
+        s += "\n#ifdef VIMPACT_FUSED_STEPS\n#include \"vimpact/integrate/fused_step.hpp\"\nnamespace {\n"
+             "struct vimpact_field {\n    const void* c;\n"
+             "    vimpact::vec<" + std::to_string(m_n) + "> operator()(const vimpact::vec<" + std::to_string(m_n) +
+             ">& x) const\n    {\n        vimpact::vec<" + std::to_string(m_n) +
+             "> f;\n        vimpact_rhs(c, x.data(), f.data());\n        return f;\n    }\n};\n}  // namespace\n"
+             "#define VIMPACT_STEP (&vimpact::fused_step_entry<" + std::to_string(m_n) + ", vimpact_field>)\n"
+             "#define VIMPACT_DENSE (&vimpact::fused_dense_entry<" + std::to_string(m_n) + ", vimpact_field>)\n"
+             "#else\n#define VIMPACT_STEP 0\n#define VIMPACT_DENSE 0\n#endif\n";
         s += "\nstatic const vimpact_model_table vimpact_table = {\n";
         for (std::size_t i = 0; i < fields.size(); ++i)
             s += "    /* " + std::string(field_names[i]) + " */ " + fields[i] + (i + 1 < fields.size() ? ",\n" : "\n");

@@ -44,6 +44,7 @@
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/outcome.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
+#include "vimpact/hybrid/stepper.hpp"
 #include "vimpact/integrate/adaptive_integrator.hpp"
 #include "vimpact/integrate/event_location.hpp"
 #include "vimpact/model/engine_model.hpp"
@@ -105,12 +106,18 @@ class hybrid_flow {
 public:
     static constexpr int N = Model::dim;
     using state = vec<N>;
-    using integrator_type = adaptive_integrator<N, Method>;
+    using integrator_type = adaptive_integrator<N, Method, typename flow_stepper<Model, Method>::type>;
     using dense_type = typename integrator_type::dense_type;
 
     hybrid_flow(const Model& model, const flow_options& opt) : m_model(model), m_opt(opt), m_integ(opt.integration)
     {
         m_stats.impacts_by_surface.assign(static_cast<std::size_t>(m_model.surface_count()), 0);
+        for (auto* e : {&m_start, &m_end}) {
+            e->gaps.resize(static_cast<std::size_t>(m_model.surface_count()));
+            e->events.resize(m_opt.events.size());
+        }
+        m_batch_gaps.resize(2 * static_cast<std::size_t>(m_model.surface_count()));
+        m_batch_sections.resize(2 * static_cast<std::size_t>(m_model.section_count()));
     }
 
     // Starts at (t, x). Throws input_error if x is not admissible (beyond a surface). A state
@@ -143,7 +150,7 @@ public:
     outcome run(Observer& obs)
     {
         m_stop = false;
-        m_end.reset();
+        m_finished.reset();
         for (;;) {
             if (m_integ.counters().steps >= m_opt.max_steps) return outcome::step_limit;
             if (m_t >= m_opt.t_max) return outcome::time_limit;
@@ -152,7 +159,7 @@ public:
             const step_status st = (m_mode == flow_mode::free) ? step_free(obs) : step_sticking(obs);
             if (st == step_status::step_underflow) return outcome::step_underflow;
             if (st == step_status::non_finite) return outcome::non_finite;
-            if (m_end) return *m_end;
+            if (m_finished) return *m_finished;
             if (!m_stop && obs.on_step_end(m_t) == flow_control::stop) m_stop = true;
             if (m_stop) return outcome::ok;
         }
@@ -186,10 +193,17 @@ public:
     }
 
 private:
-    auto free_rhs() const
-    {
-        return [this](const state& x) { return m_model.rhs(x); };
-    }
+    // The value and rate (gradient . F) of an event function at a step end; the slope on the
+    // step's interpolant is the rate times the step.
+    struct end_sample {
+        double value = 0.0, rate = 0.0;
+        [[nodiscard]] scalar_sample at(double h) const { return {value, rate * h}; }
+    };
+    struct end_samples {
+        std::vector<end_sample> gaps, events;
+    };
+
+    free_field<Model> free_rhs() const { return {&m_model}; }
     auto contact_rhs() const
     {
         return [this](const state& x) { return m_model.sticking_rhs(m_contact, x); };
@@ -197,27 +211,31 @@ private:
 
     void restart(double h_hint)
     {
+        m_ends_valid = false;
         if (m_mode == flow_mode::free) m_integ.start(free_rhs(), m_t, m_x, h_hint);
         else m_integ.start(contact_rhs(), m_t, m_x, h_hint);
     }
 
-    // A scalar function of the state and its gradient, as seen along the interpolant.
-    template <class Rhs, class Value, class Gradient>
-    auto on_dense(Rhs& rhs, Value&& value, Gradient&& gradient)
+    // A scalar function of the state and its derivative along a direction (x, v) -> dg/dx v,
+    // as seen along the interpolant.
+    template <class Rhs, class Value, class Derivative>
+    auto on_dense(Rhs& rhs, Value&& value, Derivative&& derivative)
     {
-        return [this, &rhs, value, gradient](double theta) {
+        return [this, &rhs, value, derivative](double theta) {
             const dense_type& d = m_integ.dense(rhs);
             state p, dp;
             d.value_and_slope(theta, p, dp);
-            return scalar_sample{value(p), gradient(p).dot(dp)};
+            return scalar_sample{value(p), derivative(p, dp)};
         };
     }
 
     // Puts a located crossing exactly on its surface when the event function is a coordinate
     // (up to a constant: its gradient a unit vector e_j, e.g. a velocity section or the
-    // paper's gap y - sigma): one Newton step in x_j, exact there. Other functions are left
-    // with the root finder's residual of a few ulps.
-    static void polish(double value, const state& gradient, state& p)
+    // paper's gap y - sigma): one Newton step in x_j, kept only if the function is then exactly
+    // zero. Anything else (sin(phi) near phi = 2 pi k has a gradient that rounds to a unit
+    // vector too) keeps the root finder's point, which lies on the far side of the crossing.
+    template <class Value>
+    static void polish(Value&& value_at, const state& gradient, state& p)
     {
         int j = -1;
         for (int k = 0; k < N; ++k) {
@@ -225,7 +243,45 @@ private:
             if (j >= 0 || std::abs(gradient[k]) != 1.0) return;
             j = k;
         }
-        if (j >= 0) p[j] -= value / gradient[j];
+        if (j < 0) return;
+        state q = p;
+        q[j] -= value_at(p) / gradient[j];
+        if (value_at(q) == 0.0) p = q;
+    }
+
+    // The event functions' values and rates at the ends of the step just taken: the start's
+    // are the previous step's end when the trajectory went on from there, so each state is
+    // sampled once. A model that evaluates every gap and section in one call (a table model's
+    // `samples`) is asked once per state.
+    void sample_step_ends(bool gaps)
+    {
+        if (m_ends_valid) std::swap(m_start, m_end);
+        else sample_at(m_integ.x_prev(), m_integ.f_prev(), gaps, m_start);
+        sample_at(m_integ.x(), m_integ.f(), gaps, m_end);
+        m_ends_valid = false;  // set again when the step ends without a reset
+    }
+
+    void sample_at(const state& x, const state& f, bool gaps, end_samples& out)
+    {
+        const int S = gaps ? m_model.surface_count() : 0;
+        bool batched = false;
+        if constexpr (requires { m_model.samples(x, f, m_batch_gaps.data(), m_batch_sections.data()); }) {
+            batched = m_model.samples(x, f, m_batch_gaps.data(), m_batch_sections.data());
+        }
+        for (int i = 0; i < S; ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            out.gaps[k] = batched ? end_sample{m_batch_gaps[2 * k], m_batch_gaps[2 * k + 1]}
+                                  : end_sample{m_model.gap(i, x), gap_derivative(m_model, i, x, f)};
+        }
+        for (std::size_t e = 0; e < m_opt.events.size(); ++e) {
+            const flow_event& ev = m_opt.events[e];
+            if (batched && ev.kind == flow_event::source::section) {
+                const auto k = static_cast<std::size_t>(ev.index);
+                out.events[e] = {m_batch_sections[2 * k], m_batch_sections[2 * k + 1]};
+            } else {
+                out.events[e] = {event_value(ev, x), event_derivative(ev, x, f)};
+            }
+        }
     }
 
     [[nodiscard]] double event_value(const flow_event& e, const state& x) const
@@ -236,6 +292,11 @@ private:
             case flow_event::source::state_rate: break;
         }
         return m_model.rhs(x)[e.index];
+    }
+    [[nodiscard]] double event_derivative(const flow_event& e, const state& x, const state& v) const
+    {
+        if (e.kind == flow_event::source::section) return section_derivative(m_model, e.index, x, v);
+        return event_gradient(e, x).dot(v);
     }
     [[nodiscard]] state event_gradient(const flow_event& e, const state& x) const
     {
@@ -248,15 +309,13 @@ private:
     }
 
     // The watched events' crossings in (0, theta_end], in time order, reported to the
-    // observer. f0, f1: the vector field at the step ends (the slopes there are exact).
+    // observer (the step-end samples are taken: sample_step_ends).
     template <class Observer, class Rhs>
-    void report_events(Observer& obs, Rhs& rhs, double theta_end, const state& f0, const state& f1)
+    void report_events(Observer& obs, Rhs& rhs, double theta_end)
     {
         if (m_opt.events.empty()) return;
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
-        const state& x0 = m_integ.x_prev();
-        const state& x1 = m_integ.x();
         struct found_event {
             double theta;
             int event;
@@ -268,9 +327,9 @@ private:
             const flow_event& ev = m_opt.events[static_cast<std::size_t>(e)];
             auto g = on_dense(
                 rhs, [this, &ev](const state& x) { return event_value(ev, x); },
-                [this, &ev](const state& x) { return event_gradient(ev, x); });
-            const scalar_sample s0{event_value(ev, x0), event_gradient(ev, x0).dot(f0) * h};
-            const scalar_sample s1{event_value(ev, x1), event_gradient(ev, x1).dot(f1) * h};
+                [this, &ev](const state& x, const state& v) { return event_derivative(ev, x, v); });
+            const scalar_sample s0 = m_start.events[static_cast<std::size_t>(e)].at(h);
+            const scalar_sample s1 = m_end.events[static_cast<std::size_t>(e)].at(h);
             auto collect = [&](crossing dir) {
                 return [&, dir](double th) {
                     if (th > theta_end || nfound >= static_cast<int>(found.size())) return false;
@@ -294,7 +353,7 @@ private:
             const auto& fe = found[static_cast<std::size_t>(i)];
             const flow_event& ev = m_opt.events[static_cast<std::size_t>(fe.event)];
             state p = m_integ.dense(rhs).value_at(fe.theta);
-            polish(event_value(ev, p), event_gradient(ev, p), p);
+            polish([&](const state& y) { return event_value(ev, y); }, event_gradient(ev, p), p);
             if (obs.on_section(fe.event, fe.direction, t0 + fe.theta * h, p) == flow_control::stop) m_stop = true;
         }
     }
@@ -308,9 +367,8 @@ private:
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
         const state& x0 = m_integ.x_prev();
-        const state& f0 = m_integ.f_prev();
         const state& x1 = m_integ.x();
-        const state& f1 = m_integ.f();
+        sample_step_ends(m_opt.surfaces);
 
         // Terminal event: the first crossing of any surface inside (t0, t1].
         double theta_impact = 2.0;
@@ -319,9 +377,9 @@ private:
             for (int i = 0; i < m_model.surface_count(); ++i) {
                 auto g = on_dense(
                     rhs, [this, i](const state& x) { return m_model.gap(i, x); },
-                    [this, i](const state& x) { return m_model.gap_gradient(i, x); });
-                const scalar_sample s0{m_model.gap(i, x0), m_model.gap_gradient(i, x0).dot(f0) * h};
-                const scalar_sample s1{m_model.gap(i, x1), m_model.gap_gradient(i, x1).dot(f1) * h};
+                    [this, i](const state& x, const state& v) { return gap_derivative(m_model, i, x, v); });
+                const scalar_sample s0 = m_start.gaps[static_cast<std::size_t>(i)].at(h);
+                const scalar_sample s1 = m_end.gaps[static_cast<std::size_t>(i)].at(h);
                 double theta = 2.0;
                 find_crossings(crossing_direction::down, g, s0, s1, [&](double th) { theta = th; return false; },
                                m_opt.event_subdivisions);
@@ -337,12 +395,13 @@ private:
             }
         }
 
-        report_events(obs, rhs, theta_impact, f0, f1);
+        report_events(obs, rhs, theta_impact);
 
         if (theta_impact > 1.0) {
             if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::free);
             m_t = m_integ.t();
             m_x = x1;
+            m_ends_valid = true;
             return step_status::ok;
         }
 
@@ -350,7 +409,7 @@ private:
         const double t_impact = (theta_impact >= 1.0) ? m_integ.t() : t0 + theta_impact * h;
         if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_impact, flow_mode::free);
         state pre = (theta_impact >= 1.0) ? x1 : d.value_at(theta_impact);
-        polish(m_model.gap(surface, pre), m_model.gap_gradient(surface, pre), pre);
+        polish([&](const state& y) { return m_model.gap(surface, y); }, m_model.gap_gradient(surface, pre), pre);
         const state post = m_model.reset(surface, pre);
         ++m_stats.impacts;
         ++m_stats.impacts_by_surface[static_cast<std::size_t>(surface)];
@@ -376,7 +435,7 @@ private:
         } else {
             const double a = gap_rate_gradient(m_model, i, m_x).dot(m_model.rhs(m_x));
             if (negligible_rebound(i, m_x, u, a) && a <= 0.0) {
-                m_end = outcome::chattering;
+                m_finished = outcome::chattering;
                 return;
             }
         }
@@ -403,7 +462,7 @@ private:
         if (gap_rate_gradient(m_model, i, x0).dot(m_model.rhs(x0)) > 0.0) return false;
         m_t = t0;
         m_x = x0;
-        m_end = outcome::chattering;
+        m_finished = outcome::chattering;
         return true;
     }
 
@@ -434,19 +493,21 @@ private:
         double theta_release = 2.0;
         auto ga = on_dense(
             rhs, [this, i](const state& x) { return m_model.release(i, x); },
-            [this, i](const state& x) { return m_model.release_gradient(i, x); });
+            [this, i](const state& x, const state& v) { return m_model.release_gradient(i, x).dot(v); });
         const scalar_sample s0{m_model.release(i, x0), m_model.release_gradient(i, x0).dot(m_integ.f_prev()) * h};
         const scalar_sample s1{m_model.release(i, x1), m_model.release_gradient(i, x1).dot(m_integ.f()) * h};
         find_crossings(crossing_direction::up, ga, s0, s1, [&](double th) { theta_release = th; return false; },
                        m_opt.event_subdivisions);
 
-        report_events(obs, rhs, theta_release, m_integ.f_prev(), m_integ.f());
+        sample_step_ends(false);
+        report_events(obs, rhs, theta_release);
 
         if (theta_release > 1.0) {
             if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::sticking);
             m_stats.sticking_time += m_integ.t() - m_t;
             m_t = m_integ.t();
             m_x = x1;
+            m_ends_valid = true;
             return step_status::ok;
         }
         const auto& d = m_integ.dense(rhs);
@@ -465,6 +526,11 @@ private:
 
     Model m_model;
     flow_options m_opt;
+    end_samples m_start, m_end;  // at the start and end of the last step
+    std::vector<double> m_batch_gaps, m_batch_sections;
+    // The last step ended where the trajectory goes on (no impact, no change of mode): its end
+    // samples are the next step's start samples.
+    bool m_ends_valid = false;
     integrator_type m_integ;
     run_stats m_stats;
     flow_mode m_mode = flow_mode::free;
@@ -472,7 +538,7 @@ private:
     double m_t = 0.0;
     state m_x = state::Zero();
     bool m_stop = false;
-    std::optional<outcome> m_end;
+    std::optional<outcome> m_finished;
 };
 
 }  // namespace vimpact

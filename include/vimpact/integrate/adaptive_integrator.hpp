@@ -35,10 +35,12 @@ struct integrator_counters {
     double h_max = 0.0;
 };
 
-template <int N, template <int> class Method>
+// MethodType: the stepper, Method<N> unless a caller substitutes one with the same interface
+// (hybrid/stepper.hpp).
+template <int N, template <int> class Method, class MethodType = Method<N>>
 class adaptive_integrator {
 public:
-    using method_type = Method<N>;
+    using method_type = MethodType;
     using dense_type = typename method_type::dense_type;
 
     explicit adaptive_integrator(const integrator_options& opt = {}) : m_opt(opt) {}

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define VIMPACT_MODEL_ABI_VERSION 1
+#define VIMPACT_MODEL_ABI_VERSION 2
 
 enum vimpact_crossing { VIMPACT_CROSSING_DOWN = 0, VIMPACT_CROSSING_UP = 1, VIMPACT_CROSSING_BOTH = 2 };
 
@@ -81,6 +81,21 @@ typedef struct vimpact_model_table {
     double (*release)(const void* c, int i, const double* x);
     void (*release_gradient)(const void* c, int i, const double* x, double* out);
     void (*rest)(const void* c, int i, const double* x, double* out);
+
+    /* Optional (NULL: the library calls rhs once per stage): one trial Runge-Kutta step of the
+     * free vector field with the field compiled in (integrate/fused_step.hpp); method 0 is
+     * DOP853, 1 DOPRI5. `stages` is the caller's scratch of 16 * dim doubles, carried from a
+     * step to its interpolant. Returns the scaled error norm, writes x_new and f_new = F(x_new). */
+    double (*step)(const void* c, int method, const double* x, const double* f, double h, double rtol, double atol,
+                   double* x_new, double* f_new, double* stages);
+    /* The interpolant of the last accepted step: 7 * dim coefficients (DOP853), 4 * dim (DOPRI5). */
+    void (*dense)(const void* c, int method, double t0, double h, const double* x0, const double* x1, double* stages,
+                  double* coefficients);
+    /* Optional (NULL: the library calls gap, gap_gradient, section and section_gradient): every
+     * gap and section at x in one call, as (value, rate) pairs, the rate being grad . f for the
+     * given field value f: gaps[2 i], gaps[2 i + 1] and sections[2 k], sections[2 k + 1]. The
+     * flow samples each step end with it. */
+    void (*samples)(const void* c, const double* x, const double* f, double* gaps, double* sections);
 } vimpact_model_table;
 
 /* The one symbol a model library exports. */

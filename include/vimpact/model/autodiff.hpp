@@ -73,6 +73,16 @@ mat<N> hessian(F&& g, const vec<N>& x)
     return H;
 }
 
+// Df(x) v for a scalar f: one direction, so twice the cost of f (a gradient costs N + 1).
+template <int N, class F>
+double directional(F&& f, const vec<N>& x, const vec<N>& v)
+{
+    using E = Eigen::Matrix<double, 1, 1>;
+    vec_t<dual1, N> y;
+    for (int i = 0; i < N; ++i) y[i] = dual1(x[i], E::Constant(v[i]));
+    return f(y).derivatives()[0];
+}
+
 // D2f(x)[u, w]: a vector for a vector-valued f, a double for a scalar one.
 template <int N, class F>
 auto second_directional(F&& f, const vec<N>& x, const vec<N>& u, const vec<N>& w)

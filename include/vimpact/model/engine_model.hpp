@@ -40,12 +40,32 @@ concept engine_model = requires(const M& m, const vec<M::dim>& x, int i) {
     { m.state_difference(x, x) } -> std::convertible_to<vec<M::dim>>;
 };
 
+// Directional derivatives dg_i/dx v and ds_k/dx v: what event location needs of a gap or a
+// section (its rate along the flow, its slope along an interpolant). A model may provide them
+// itself when they cost less than a gradient (automatic differentiation along one direction
+// costs two evaluations; a whole gradient N + 1).
+template <engine_model M>
+double gap_derivative(const M& m, int i, const vec<M::dim>& x, const vec<M::dim>& v)
+{
+    if constexpr (requires { { m.gap_derivative(i, x, v) } -> std::convertible_to<double>; })
+        return m.gap_derivative(i, x, v);
+    else return m.gap_gradient(i, x).dot(v);
+}
+
+template <engine_model M>
+double section_derivative(const M& m, int k, const vec<M::dim>& x, const vec<M::dim>& v)
+{
+    if constexpr (requires { { m.section_derivative(k, x, v) } -> std::convertible_to<double>; })
+        return m.section_derivative(k, x, v);
+    else return m.section_gradient(k, x).dot(v);
+}
+
 // The rate of gap i along the flow, g_i' = grad g_i . F, and its gradient H_i F + J^T grad g_i:
 // its upward zeros are the minima of the gap (grazing), its downward zeros the maxima.
 template <engine_model M>
 double gap_rate(const M& m, int i, const vec<M::dim>& x)
 {
-    return m.gap_gradient(i, x).dot(m.rhs(x));
+    return gap_derivative(m, i, x, m.rhs(x));
 }
 
 // A model may provide these itself when it knows a cheaper form (the tangent flow does: its

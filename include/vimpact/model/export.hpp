@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "vimpact/integrate/fused_step.hpp"
 #include "vimpact/model/abi.h"
 #include "vimpact/model/native_model.hpp"
 
@@ -140,11 +141,30 @@ public:
             out(o) = m(c).release_gradient(i, in(x));
         };
         m_table.rest = [](const void* c, int i, const double* x, double* o) { out(o) = m(c).rest(i, in(x)); };
+        m_table.step = &fused_step_entry<N, field>;
+        m_table.dense = &fused_dense_entry<N, field>;
+        m_table.samples = [](const void* c, const double* x, const double* f, double* gaps, double* sections) {
+            const auto& mm = m(c);
+            for (int i = 0; i < model_type::surface_count(); ++i) {
+                gaps[2 * i] = mm.gap(i, in(x));
+                gaps[2 * i + 1] = mm.gap_gradient(i, in(x)).dot(in(f));
+            }
+            for (int k = 0; k < model_type::section_count(); ++k) {
+                sections[2 * k] = mm.section(k, in(x));
+                sections[2 * k + 1] = mm.section_gradient(k, in(x)).dot(in(f));
+            }
+        };
     }
 
     [[nodiscard]] const vimpact_model_table& table() const { return m_table; }
 
 private:
+    // The free field for the fused Runge-Kutta steps (integrate/fused_step.hpp).
+    struct field {
+        const void* c;
+        vec<N> operator()(const vec<N>& x) const { return static_cast<const model_type*>(c)->rhs(x); }
+    };
+
     static const model_type& m(const void* c) { return *static_cast<const model_type*>(c); }
     static Eigen::Map<const vec<N>> in(const double* x) { return Eigen::Map<const vec<N>>(x); }
     static Eigen::Map<vec<N>> out(double* x) { return Eigen::Map<vec<N>>(x); }

@@ -62,6 +62,13 @@ public:
         else return ad::gradient<dim>(gap_function(i), x);
     }
 
+    [[nodiscard]] double gap_derivative(int i, const state& x, const state& v) const
+    {
+        if constexpr (requires { { m_def.gap_gradient(i, x) } -> std::convertible_to<state>; })
+            return m_def.gap_gradient(i, x).dot(v);
+        else return ad::directional<dim>(gap_function(i), x, v);
+    }
+
     [[nodiscard]] matrix gap_hessian(int i, const state& x) const
     {
         if constexpr (requires { { m_def.gap_hessian(i, x) } -> std::convertible_to<matrix>; })
@@ -92,6 +99,13 @@ public:
         if constexpr (requires { { m_def.section_gradient(k, x) } -> std::convertible_to<state>; })
             return m_def.section_gradient(k, x);
         else return ad::gradient<dim>([this, k](const auto& y) { return call_section(k, y); }, x);
+    }
+
+    [[nodiscard]] double section_derivative(int k, const state& x, const state& v) const
+    {
+        if constexpr (requires { { m_def.section_gradient(k, x) } -> std::convertible_to<state>; })
+            return m_def.section_gradient(k, x).dot(v);
+        else return ad::directional<dim>([this, k](const auto& y) { return call_section(k, y); }, x, v);
     }
 
     // Contact phases exist only on surfaces that declare them (sticks(i)); on the others the

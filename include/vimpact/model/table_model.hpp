@@ -7,7 +7,12 @@
 #include <cassert>
 #include <cmath>
 
+#include <array>
+#include <type_traits>
+
 #include "vimpact/core/state.hpp"
+#include "vimpact/hybrid/stepper.hpp"
+#include "vimpact/integrate/fused_step.hpp"
 #include "vimpact/model/abi.h"
 #include "vimpact/model/spec.hpp"
 
@@ -112,6 +117,15 @@ public:
         return out;
     }
 
+    // Every gap's and section's (value, rate) at x in one call, when the table has it
+    // (hybrid/flow.hpp samples each step end with it); false otherwise.
+    bool samples(const state& x, const state& f, double* gaps, double* sections) const
+    {
+        if (!m_t->samples) return false;
+        m_t->samples(m_c, x.data(), f.data(), gaps, sections);
+        return true;
+    }
+
     // b - a, with every phase variable's difference taken into (-period/2, period/2].
     [[nodiscard]] state state_difference(const state& b, const state& a) const
     {
@@ -126,6 +140,60 @@ public:
 private:
     const vimpact_model_table* m_t;
     const void* m_c;
+};
+
+// The stepper of a table model's flows: the table's fused step for the free field when the
+// table has one, the method's own stage loop otherwise (the contact fields, tables without
+// fused steps).
+template <int N, template <int> class Method>
+class table_stepper : public Method<N> {
+public:
+    template <class F>
+    double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol, double atol, vec<N>& x_new,
+                   vec<N>& f_new)
+    {
+        if constexpr (std::is_same_v<std::decay_t<F>, free_field<table_model<N>>>) {
+            const auto& t = rhs.model->table();
+            if (t.step) {
+                m_fused = true;
+                return t.step(rhs.model->context(), method_id(), x.data(), f.data(), h, rtol, atol, x_new.data(),
+                              f_new.data(), m_stages.data());
+            }
+        }
+        m_fused = false;
+        return Method<N>::attempt(rhs, x, f, h, rtol, atol, x_new, f_new);
+    }
+
+    template <class F>
+    void build_dense(F&& rhs, double t0, double h, const vec<N>& x0, const vec<N>& x1,
+                     typename Method<N>::dense_type& out)
+    {
+        if constexpr (std::is_same_v<std::decay_t<F>, free_field<table_model<N>>>) {
+            if (m_fused) {
+                out.t0 = t0;
+                out.h = h;
+                out.x0 = x0;
+                rhs.model->table().dense(rhs.model->context(), method_id(), t0, h, x0.data(), x1.data(),
+                                         m_stages.data(), out.c[0].data());
+                return;
+            }
+        }
+        Method<N>::build_dense(rhs, t0, h, x0, x1, out);
+    }
+
+private:
+    static constexpr int method_id()
+    {
+        return static_cast<int>(std::is_same_v<Method<N>, dopri5<N>> ? fused_method::dopri5 : fused_method::dop853);
+    }
+    static_assert(sizeof(vec<N>) == N * sizeof(double), "interpolant coefficients must be contiguous doubles");
+    std::array<double, fused_stage_doubles<N>> m_stages{};
+    bool m_fused = false;
+};
+
+template <int N, template <int> class Method>
+struct flow_stepper<table_model<N>, Method> {
+    using type = table_stepper<N, Method>;
 };
 
 }  // namespace vimpact
