@@ -135,32 +135,15 @@ int run_grazing(const grazing_args& a)
     grazing_options go = job_grazing_options(c.protocol.flow.integration, a.transient_time);
     go.tolerance = a.tol;
     go.method = c.protocol.method;
-    // The parameter whose grazing value each surface reports: --param, or the first that moves
-    // the surface without entering the vector field.
-    std::vector<int> parameter(info.surfaces.size(), -1);
-    if (!a.param.empty()) {
-        go.parameter = parameter_index(m, a.param, "--param");
-        validate(m, go);
-        std::fill(parameter.begin(), parameter.end(), go.parameter);
-    } else {
-        for (int i = 0; i < m.surface_count(); ++i) {
-            const auto candidates = gap_parameters(m, i);
-            if (!candidates.empty()) parameter[static_cast<std::size_t>(i)] = candidates.front();
-        }
-    }
-    grazing_result g = grazing(m, c.ic, go);
-    if (a.param.empty())
-        for (int i = 0; i < m.surface_count(); ++i) {
-            auto& s = g.surfaces[static_cast<std::size_t>(i)];
-            const int p = parameter[static_cast<std::size_t>(i)];
-            if (p >= 0 && s.x.size() == m.dim()) s.parameter_value = grazing_parameter_value(m, i, p, s.x);
-        }
+    // The parameter whose grazing value each surface reports: --param, or each surface's own.
+    go.parameter = a.param.empty() ? each_surface_gap_parameter : parameter_index(m, a.param, "--param");
+    const grazing_result g = grazing(m, c.ic, go);
 
     json surfaces = json::array();
     std::string text;
     for (std::size_t i = 0; i < g.surfaces.size(); ++i) {
         const auto& s = g.surfaces[i];
-        const int p = parameter[i];
+        const int p = s.parameter;
         const std::string pname = p >= 0 ? info.parameters[static_cast<std::size_t>(p)].name : "";
         surfaces.push_back({{"name", info.surfaces[i].name},
                             {"parameter", p >= 0 ? json(pname) : json(nullptr)},
@@ -183,8 +166,8 @@ int run_grazing(const grazing_args& a)
                     {"outcome", std::string(to_string(g.status))},
                     {"stats", stats_json(g.stats, info)},
                     {"out", c.out ? json(c.out->string()) : json(nullptr)}};
-    if (parameter.front() >= 0)
-        summary[info.parameters[static_cast<std::size_t>(parameter.front())].name + "_graze"] =
+    if (g.surfaces.front().parameter >= 0)
+        summary[info.parameters[static_cast<std::size_t>(g.surfaces.front().parameter)].name + "_graze"] =
             finite_or_null(g.surfaces.front().parameter_value);
     if (c.out) {
         staged_output out(*c.out);

@@ -30,17 +30,6 @@ void check_tolerance(double tol, const std::string& what)
     if (!(tol > 0.0) || !std::isfinite(tol)) throw input_error(what + " must be > 0 (got " + format_double(tol) + ")");
 }
 
-// The first parameter that moves a surface without entering the vector field (the paper's
-// sigma), or -1.
-int default_grazing_parameter(const model& m)
-{
-    for (int i = 0; i < m.surface_count(); ++i) {
-        const auto g = gap_parameters(m, i);
-        if (!g.empty()) return g.front();
-    }
-    return -1;
-}
-
 // Column names of per-surface values of `prefix` (P_graze, margin): one surface, the prefix
 // alone; several, the prefix and the surface name.
 std::vector<std::string> surface_columns(const model_info& info, const std::string& prefix)
@@ -125,7 +114,7 @@ int run_sweep(const sweep_args& a)
     check_tolerance(a.tol, "--tol");
     o.period_tolerance = a.tol;
     if (a.grazing_option->count() > 0) {
-        o.grazing_parameter = a.grazing.empty() ? default_grazing_parameter(m) : parameter_index(m, a.grazing, "--grazing");
+        o.grazing_parameter = a.grazing.empty() ? first_gap_parameter(m) : parameter_index(m, a.grazing, "--grazing");
         if (o.grazing_parameter < 0)
             throw input_error("--grazing: model " + m.name() + " has no parameter that moves a surface without entering "
                               "the vector field; name one with --grazing P");
@@ -153,7 +142,7 @@ int run_sweep(const sweep_args& a)
                        " starts): " + counts_text(counts) + "\n";
     if (c.out) {
         // Without --grazing the columns of the model's usual grazing parameter stay, empty (nan).
-        const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : default_grazing_parameter(m);
+        const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : first_gap_parameter(m);
         write_run(c, "sweep", summary, [&](staged_output& out) {
             std::vector<std::string> ph{"branch", pname};
             append(ph, state_columns(info));
@@ -404,7 +393,7 @@ int run_response(const response_args& a)
         throw input_error("--transient-time must be >= 0 (got " + format_double(a.transient_time) + ")");
     o.grazing = job_grazing_options(c.protocol.flow.integration, a.transient_time);
     o.grazing.method = c.protocol.method;
-    o.grazing.parameter = default_grazing_parameter(m);
+    o.grazing.parameter = first_gap_parameter(m);
     const response_result res = response(m, o, session.options());
     if (!session.complete(res.jobs)) return session.exit_code();
 

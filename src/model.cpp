@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <numbers>
 #include <mutex>
 
 #include "vimpact/core/format.hpp"
@@ -92,6 +94,34 @@ std::string model_info::preset_names() const { return names_of(presets); }
 bool model_info::has_angles() const
 {
     return std::any_of(state.begin(), state.end(), [](const auto& s) { return s.period > 0.0; });
+}
+
+std::vector<std::string> coordinate_names(const model_info& m)
+{
+    std::vector<std::string> out;
+    for (const auto& v : m.state) {
+        if (v.period > 0.0) {
+            out.push_back(v.name + "_cos");
+            out.push_back(v.name + "_sin");
+        } else {
+            out.push_back(v.name);
+        }
+    }
+    return out;
+}
+
+void state_coordinates(const model_info& m, const double* x, double* out)
+{
+    for (std::size_t k = 0; k < m.state.size(); ++k) {
+        const double p = m.state[k].period;
+        if (p > 0.0) {
+            const double s = p / (2.0 * std::numbers::pi);
+            *out++ = s * std::cos(x[k] / s);
+            *out++ = s * std::sin(x[k] / s);
+        } else {
+            *out++ = x[k];
+        }
+    }
 }
 
 model_info info_from_table(const vimpact_model_table& t)

@@ -12,6 +12,8 @@
 #include "bindings.hpp"
 #include "common.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
+#include "vimpact/analysis/dimension_points.hpp"
+#include "vimpact/model/model.hpp"
 #include "vimpact/jobs/job_loop.hpp"
 
 namespace vimpact::python {
@@ -86,6 +88,26 @@ py::dict dimension(const input_array& points, const std::string& estimator, long
 void bind_dimension(py::module_& m)
 {
     using namespace pybind11::literals;
+    // The points of recorded states as the command line takes them (state_point_table): every
+    // state variable, a phase as its (cos, sin) pair.
+    m.def(
+        "_state_points",
+        [](const model& mo, const input_array& states) {
+            if (states.ndim() != 2 || states.shape(1) != mo.dim())
+                throw input_error("states must have one row per point and " + std::to_string(mo.dim()) + " columns");
+            state_series series(mo.dim());
+            for (py::ssize_t i = 0; i < states.shape(0); ++i) series.push_back(0.0, states.data(i, 0));
+            const point_table t = state_point_table(mo.info(), series);
+            py::array_t<double> a({static_cast<py::ssize_t>(series.size()), static_cast<py::ssize_t>(t.header.size())});
+            auto v = a.mutable_unchecked<2>();
+            for (std::size_t c = 0; c < t.columns.size(); ++c)
+                for (std::size_t i = 0; i < t.columns[c].size(); ++i)
+                    v(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(c)) = t.columns[c][i];
+            return py::make_tuple(t.header, a);
+        },
+        "model"_a, "states"_a, "Internal: see vimpact.dimension.");
+
+    
     m.def("_dimension", &dimension, "points"_a, "estimator"_a, "theiler"_a, "centres"_a, "radii"_a, "fit_range"_a,
           "slope_tolerance"_a, "slope_window"_a, "min_extent"_a, "min_pairs"_a, "max_correlation"_a, "r_max"_a,
           "max_pairs"_a, "bins_per_octave"_a, "search"_a, "threads"_a, "Internal: see vimpact.dimension.");

@@ -157,6 +157,7 @@ void bind_models(py::module_& m)
             return vector_array(g);
         });
     cls.def("gap_parameters", [](const model& x, int surface) { return gap_parameters(x, surface); });
+    cls.def("first_gap_parameter", [](const model& x) { return first_gap_parameter(x); });
     cls.def("parameter_enters_field", [](const model& x, int p) { return parameter_enters_field(x, p); });
     cls.def("__eq__", [](const model& a, const model& b) { return a == b; }, py::is_operator());
 }

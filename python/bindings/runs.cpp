@@ -82,7 +82,8 @@ grazing_options grazing_of(const model& m, options& o)
     go.block = o.get<int>("block", go.block);
     go.tolerance = o.get<double>("tol", go.tolerance);
     go.t_max = o.get<double>("t_max", go.t_max);
-    if (o.has("param")) go.parameter = parameter_index(m, o.need<std::string>("param"), "param");
+    // None: each surface's own gap parameter (the library's rule).
+    go.parameter = o.has("param") ? parameter_index(m, o.need<std::string>("param"), "param") : each_surface_gap_parameter;
     (void)o.object("param");
     if (o.has("variable")) go.response_variable = state_index(m, o.need<std::string>("variable"), "variable");
     (void)o.object("variable");
@@ -108,6 +109,11 @@ py::dict grazing_run(const model& m, const py::object& ic, const py::dict& kw)
     d["margin"] = column<double>(s, [](const auto& x) { return x.margin; });
     d["change"] = column<double>(s, [](const auto& x) { return x.change; });
     d["value"] = column<double>(s, [](const auto& x) { return x.parameter_value; });
+    py::list params;
+    for (const auto& x : s)
+        params.append(x.parameter >= 0 ? py::object(py::str(m.info().parameters[static_cast<std::size_t>(x.parameter)].name))
+                                       : py::object(py::none()));
+    d["param"] = params;
     d["t"] = column<double>(s, [](const auto& x) { return x.t; });
     d["minima"] = column<std::int64_t>(s, [](const auto& x) { return x.minima; });
     std::vector<Eigen::VectorXd> xs;
@@ -128,13 +134,6 @@ void bind_runs(py::module_& m)
     m.def("_simulate", &simulate, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.simulate.");
     m.def("_period", &period, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.period.");
     m.def("_grazing", &grazing_run, "model"_a, "ic"_a, "options"_a, "Internal: see vimpact.grazing.");
-    m.def(
-        "_grazing_parameter_value",
-        [](const model& x, int surface, int parameter, const input_array& state) {
-            return grazing_parameter_value(x, surface, parameter,
-                                           Eigen::Map<const Eigen::VectorXd>(state.data(), state.shape(0)));
-        },
-        "model"_a, "surface"_a, "parameter"_a, "x"_a, "Internal: see vimpact.grazing.");
 }
 
 }  // namespace vimpact::python

@@ -224,12 +224,10 @@ def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], r
 
 
 def _default_gap_parameter(model):
-    """The first parameter that moves a surface without entering the vector field, or None."""
-    for s in model.surfaces:
-        params = model.gap_parameters(s)
-        if params:
-            return params[0]
-    return None
+    """The first parameter that moves a surface without entering the vector field, or None
+    (the library's rule for a sweep's grazing line)."""
+    p = model._handle.first_gap_parameter()
+    return model.parameter_names[p] if p >= 0 else None
 
 
 @_with_defaults
@@ -288,20 +286,7 @@ def grazing(model, ic=None, *, param=None, variable=None, tol=_D["grazing_tol"],
     o = dict(param=param, variable=variable, tol=tol, transient_time=transient_time, rtol=rtol, atol=atol,
              method=method, block=block, t_max=t_max)
     d = _vimpact._grazing(model._handle, _ic(ic), o)
-    names = model.parameter_names
-    value = np.array(d["value"], dtype=float)
-    if param is None:
-        # Each surface's own gap parameter, evaluated at the minimum the run found (the library
-        # function the analysis itself uses for one parameter).
-        params = []
-        for i, s in enumerate(model.surfaces):
-            p = model.gap_parameters(s)
-            params.append(p[0] if p else None)
-            if p and np.isfinite(d["x"][i]).all():
-                value[i] = _vimpact._grazing_parameter_value(model._handle, i, names.index(p[0]), d["x"][i])
-    else:
-        params = [param] * len(model.surfaces)
-    return Grazing(param=tuple(params), value=value, margin=d["margin"], converged=d["converged"],
+    return Grazing(param=tuple(d["param"]), value=np.array(d["value"], dtype=float), margin=d["margin"], converged=d["converged"],
                    surface_converged=d["surface_converged"], change=d["change"], t=d["t"], x=d["x"],
                    minima=d["minima"], variable=variable, response_max=d["response_max"],
                    response_min=d["response_min"], response_omega=d["response_omega"], outcome=d["outcome"],
@@ -872,17 +857,17 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
 # ---------------------------------------------------------------- correlation dimension
 
 def _points_of(points, columns):
-    """An array of points, or a result's section points in the named state columns (default:
-    every column that varies; the section fixes one, e.g. ydot = 0 on the maxima)."""
-    if hasattr(points, "section") and hasattr(points, "state_names"):
-        names = tuple(points.state_names)
-        sec = np.asarray(points.section, dtype=float)
+    """An array of points, or a result's section points in the library's coordinates of a
+    state (every state variable; a phase as its NAME_cos, NAME_sin pair), the columns the
+    command line's ``dimension`` takes: all of them, or those named."""
+    if hasattr(points, "section") and isinstance(getattr(points, "model", None), Model):
+        names, coords = _vimpact._state_points(points.model._handle, np.asarray(points.section, dtype=float))
         if columns is None:
-            columns = tuple(n for i, n in enumerate(names) if len(sec) and np.ptp(sec[:, i]) > 0)
+            columns = tuple(names)
         missing = [c for c in columns if c not in names]
         if missing:
-            raise InputError(f"columns: no state variable {missing[0]!r} (state: {', '.join(names)})")
-        return sec[:, [names.index(c) for c in columns]], tuple(columns)
+            raise InputError(f"columns: no coordinate {missing[0]!r} (coordinates: {', '.join(names)})")
+        return coords[:, [names.index(c) for c in columns]], tuple(columns)
     if columns is not None:
         raise TypeError("columns names state variables of a result (a Simulation, say), not of an array")
     return np.asarray(points, dtype=float), None
@@ -910,8 +895,9 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
     points : array_like, shape (n, d), or a result with section points
         One point per row; or a Simulation (Period, ...) whose ``section`` points are used.
     columns : sequence of str, optional
-        With a result: the state variables to use; default every one that varies over the
-        points (on the wake model's maxima: y, x, xdot).
+        With a result: the coordinates to use, among the model's state variables (a phase as
+        its NAME_cos, NAME_sin pair); default all of them, as the command line does (a
+        coordinate constant on the section, ydot on the maxima, adds nothing to a distance).
     estimator : {"correlation_sum", "centres"}, default "correlation_sum"
     theiler : int, default 0
         Pairs at most this many rows apart are not counted.

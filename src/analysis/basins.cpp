@@ -47,25 +47,14 @@ basin_cell decode(const json& j)
 
 attractor_signature signature_of(const model& m, const simulation& run, const period_label& label)
 {
-    // Phases as (cos, sin) scaled by period / 2 pi: states a period apart coincide, and small
-    // differences keep their size in the phase's own unit.
-    const auto& state = m.info().state;
+    const auto& info = m.info();
+    const auto k = static_cast<Eigen::Index>(coordinate_names(info).size());
     std::vector<Eigen::VectorXd> coords;
     coords.reserve(run.points.size());
     for (std::size_t i = 0; i < run.points.size(); ++i) {
-        std::vector<double> v;
-        for (std::size_t k = 0; k < state.size(); ++k) {
-            const double x = run.points.x(i, static_cast<int>(k));
-            const double p = state[k].period;
-            if (p > 0.0) {
-                const double s = p / (2.0 * std::numbers::pi);
-                v.push_back(s * std::cos(x / s));
-                v.push_back(s * std::sin(x / s));
-            } else {
-                v.push_back(x);
-            }
-        }
-        coords.emplace_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+        Eigen::VectorXd c(k);
+        state_coordinates(info, run.points.x(i).data(), c.data());
+        coords.push_back(std::move(c));
     }
     return make_signature(label.label, label.period, coords);
 }

@@ -115,29 +115,13 @@ point_set make_point_set(const point_table& t, const std::vector<std::size_t>& c
 point_table state_point_table(const model_info& info, const state_series& states)
 {
     point_table t;
-    for (const auto& v : info.state) {
-        if (v.period > 0.0) {
-            t.header.push_back(v.name + "_cos");
-            t.header.push_back(v.name + "_sin");
-        } else {
-            t.header.push_back(v.name);
-        }
-    }
+    t.header = coordinate_names(info);
     t.columns.resize(t.header.size());
     for (auto& c : t.columns) c.reserve(states.size());
+    std::vector<double> y(t.header.size());
     for (std::size_t i = 0; i < states.size(); ++i) {
-        std::size_t c = 0;
-        for (std::size_t k = 0; k < info.state.size(); ++k) {
-            const double x = states.x(i, static_cast<int>(k));
-            const double p = info.state[k].period;
-            if (p > 0.0) {
-                const double s = p / (2.0 * std::numbers::pi);
-                t.columns[c++].push_back(s * std::cos(x / s));
-                t.columns[c++].push_back(s * std::sin(x / s));
-            } else {
-                t.columns[c++].push_back(x);
-            }
-        }
+        state_coordinates(info, states.x(i).data(), y.data());
+        for (std::size_t c = 0; c < y.size(); ++c) t.columns[c].push_back(y[c]);
     }
     return t;
 }

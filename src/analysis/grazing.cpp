@@ -85,6 +85,15 @@ std::vector<int> gap_parameters(const model& m, int surface)
     return out;
 }
 
+int first_gap_parameter(const model& m)
+{
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const auto g = gap_parameters(m, i);
+        if (!g.empty()) return g.front();
+    }
+    return -1;
+}
+
 double grazing_parameter_value(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star)
 {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -135,7 +144,11 @@ void validate(const model& m, const grazing_options& o)
     validate(o);
     if (m.surface_count() == 0) throw input_error("model " + m.name() + " has no impact surface to graze");
     if (o.response_variable >= m.dim()) throw input_error("response variable index out of range");
-    if (o.parameter < 0) return;
+    if (o.parameter < 0) {
+        if (o.parameter != -1 && o.parameter != each_surface_gap_parameter)
+            throw input_error("grazing parameter index out of range");
+        return;
+    }
     if (o.parameter >= static_cast<int>(m.parameters().size())) throw input_error("parameter index out of range");
     const auto& name = m.info().parameters[static_cast<std::size_t>(o.parameter)].name;
     const auto moved = nudged(m, o.parameter);
@@ -156,11 +169,16 @@ grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_
     check_state_size(m, x0.size(), "the initial state");
     if (!x0.allFinite()) throw input_error("initial state must be finite");
     auto res = detail::with_engine(m, [&](const auto& em) { return detail::run_grazing(em, x0, o); });
-    if (o.parameter >= 0)
-        for (int i = 0; i < m.surface_count(); ++i) {
-            auto& s = res.surfaces[static_cast<std::size_t>(i)];
-            if (s.x.size() == m.dim()) s.parameter_value = grazing_parameter_value(m, i, o.parameter, s.x);
+    for (int i = 0; i < m.surface_count(); ++i) {
+        auto& s = res.surfaces[static_cast<std::size_t>(i)];
+        if (o.parameter >= 0) {
+            s.parameter = o.parameter;
+        } else if (o.parameter == each_surface_gap_parameter) {
+            const auto own = gap_parameters(m, i);
+            if (!own.empty()) s.parameter = own.front();
         }
+        if (s.parameter >= 0 && s.x.size() == m.dim()) s.parameter_value = grazing_parameter_value(m, i, s.parameter, s.x);
+    }
     return res;
 }
 

@@ -154,7 +154,11 @@ def test_stability_and_dimension_shapes():
     check(d.local_slope, (k,), np.float64)
     assert d.dimension == pytest.approx(2.0, abs=0.1)
     s = vimpact.simulate(vimpact.WakeImpact(Ur=16), **Q)
-    assert vimpact.dimension(s, min_pairs=1).columns == ("y", "x", "xdot"), "ydot = 0 on the maxima"
+    # The library's coordinates of a state, as the command line takes them: every variable.
+    assert vimpact.dimension(s, min_pairs=1).columns == ("y", "ydot", "x", "xdot")
+    assert vimpact.dimension(s, columns=("y", "x"), min_pairs=1).points == len(s.section)
+    phases = vimpact.simulate(vimpact.TwoSidedImpactOscillator(), **Q)
+    assert vimpact.dimension(phases, min_pairs=1).columns == ("x", "v", "phi_cos", "phi_sin")
     with pytest.raises(ValueError, match="2-D"):
         vimpact.dimension(np.zeros(5))
 

@@ -25,6 +25,10 @@
 
 namespace vimpact {
 
+// grazing_options::parameter: for each surface, its own first gap parameter (gap_parameters):
+// sigma for the paper's barrier, d for both stops; none for a surface that has none.
+inline constexpr int each_surface_gap_parameter = -2;
+
 struct grazing_options {
     integrator_options integration{.rtol = 1e-12, .atol = 1e-12};
     integration_method method = integration_method::dop853;
@@ -32,13 +36,16 @@ struct grazing_options {
     int block = 16;              // minima per block
     double tolerance = 1e-11;    // agreement of successive block minima
     double t_max = 1e5;
-    int parameter = -1;          // >= 0: also the grazing value of this parameter, per surface
+    // >= 0: also the grazing value of this parameter, for every surface;
+    // each_surface_gap_parameter: of each surface's own; -1: none.
+    int parameter = -1;
     int response_variable = -1;  // >= 0: also the response of this state variable
     const std::atomic<bool>* cancel = nullptr;  // see flow_options::cancel
 };
 
 struct surface_grazing {
     bool converged = false;
+    int parameter = -1;          // the parameter of parameter_value, -1 when none
     double margin = std::numeric_limits<double>::quiet_NaN();           // smallest gap on the orbit
     double change = std::numeric_limits<double>::quiet_NaN();           // last block-to-block change
     double parameter_value = std::numeric_limits<double>::quiet_NaN();  // P_graze (parameter >= 0)
@@ -69,6 +76,10 @@ grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_
 // The parameters that move surface i without entering the vector field: the candidates for a
 // grazing value (sigma for the paper's barrier, d for the two stops).
 std::vector<int> gap_parameters(const model& m, int surface);
+
+// The first parameter that moves any surface without entering the vector field, -1 if none:
+// the default grazing parameter of a sweep's grazing line.
+int first_gap_parameter(const model& m);
 
 // Whether changing the parameter changes the vector field (probed at a few states around the
 // model's initial state; a parameter that only moves surfaces does not).

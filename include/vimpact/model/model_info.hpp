@@ -65,6 +65,14 @@ struct model_info {
     [[nodiscard]] bool has_angles() const;
 };
 
+// The coordinates of a state for distances between recorded states (attractor signatures,
+// correlation dimension): every state variable as it is, except that a phase x with period p
+// becomes the pair s cos(x / s), s sin(x / s), s = p / 2 pi, named NAME_cos and NAME_sin, so
+// that states a period apart are the same point and small differences keep their size.
+std::vector<std::string> coordinate_names(const model_info& m);
+// Writes coordinate_names(m).size() numbers.
+void state_coordinates(const model_info& m, const double* x, double* out);
+
 // The information in a function table (source and identity are the caller's to fill).
 model_info info_from_table(const vimpact_model_table& t);
 
