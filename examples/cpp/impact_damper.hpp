@@ -36,9 +36,9 @@ struct impact_damper {
     static constexpr std::array<vimpact::parameter, 6> parameters{{
         {"zeta", 0.05, "damping ratio of the primary", vimpact::at_least(0.0)},
         {"a", 1.0, "forcing amplitude", vimpact::any_value()},
-        {"w", 0.9, "forcing frequency / natural frequency", vimpact::above(0.0)},
+        {"w", 1.2, "forcing frequency / natural frequency", vimpact::above(0.0)},
         {"mu", 0.1, "ball mass / primary mass", vimpact::above(0.0)},
-        {"d", 1.0, "half the clearance of the cavity", vimpact::above(0.0)},
+        {"d", 2.0, "half the clearance of the cavity", vimpact::above(0.0)},
         {"r", 0.6, "coefficient of restitution", vimpact::between(0.0, 1.0)},
     }};
     static constexpr std::array<vimpact::impact_surface, 2> surfaces{{

@@ -3,9 +3,10 @@
 //
 //   run_impact_damper [--quick]
 //
-// prints the attractor's label and impacts per wall, the grazing clearance, the Floquet
-// multipliers of the periodic motion with the Liouville check, its Lyapunov spectrum, and a
-// bifurcation diagram over the clearance d.
+// prints, at the default parameters (a symmetric motion with one impact on each wall per
+// forcing period), the attractor's label and impacts per wall, the clearance below which the
+// ball starts hitting, the Floquet multipliers of the periodic motion with the Liouville
+// check, its Lyapunov spectrum, and the labels over the clearance d.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -22,16 +23,16 @@
 int main(int argc, char** argv)
 {
     const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-    const vimpact::model base = vimpact::model::from_definition<impact_damper>();
-    const int d = base.info().parameter_index("d");
-    const vimpact::model m = base.with_parameter(d, 0.8);
+    const vimpact::model m = vimpact::model::from_definition<impact_damper>();  // default parameters
+    const int d = m.info().parameter_index("d");
 
     vimpact::protocol_options po;
     po.transient_impacts = quick ? 100 : 500;
     po.record_points = quick ? 40 : 200;
     const auto run = vimpact::run_and_classify(m, m.initial_state(), po, 1e-8);
-    std::printf("impact damper, d = 0.8: %s, %ld impact(s) per period (right %ld, left %ld)\n", run.label.label.c_str(),
-                run.label.impacts_per_period, run.label.impacts_by_surface.at(0), run.label.impacts_by_surface.at(1));
+    std::printf("impact damper, d = %g: %s, %ld impact(s) per period (right %ld, left %ld)\n", m.parameter(d),
+                run.label.label.c_str(), run.label.impacts_per_period, run.label.impacts_by_surface.at(0),
+                run.label.impacts_by_surface.at(1));
 
     // The clearance below which the ball hits the walls: the grazing value of d.
     vimpact::grazing_options go;
@@ -61,7 +62,7 @@ int main(int argc, char** argv)
 
     vimpact::sweep_options so;
     so.parameter = d;
-    so.values = vimpact::grid_values(0.3, 1.5, quick ? 7 : 25);
+    so.values = vimpact::grid_values(0.5, 3.5, quick ? 7 : 25);
     so.protocol = po;
     const auto s = vimpact::sweep(m, so);
     std::printf("sweep of d:");

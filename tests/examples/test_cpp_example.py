@@ -18,7 +18,7 @@ def run(*cmd, env=None):
 
 def test_the_program_runs_every_analysis_on_the_users_model(opts):
     out = run(opts["example"], "--quick")
-    label = re.search(r"d = 0\.8: (\S+),", out).group(1)
+    label = re.search(r"d = 2: (\S+),", out).group(1)
     assert label.startswith("P")
     per, right, left = map(int, re.search(r"(\d+) impact\(s\) per period \(right (\d+), left (\d+)\)", out).groups())
     assert per == right + left and right > 0 and left > 0, out
@@ -42,10 +42,10 @@ def test_the_plugin_is_a_model_of_the_command_line(opts):
     assert models["name"] == "impact_damper"
     assert [p["name"] for p in models["parameters"]] == ["zeta", "a", "w", "mu", "d", "r"]
     assert [s["name"] for s in models["surfaces"]] == ["right", "left"]
-    j = json.loads(run(opts["vimpact"], "period", "--model", opts["plugin"], "--set", "d=0.8", "--transient", "100",
-                       "--record", "40", "--json"))
+    j = json.loads(run(opts["vimpact"], "period", "--model", opts["plugin"], "--transient", "100", "--record", "40",
+                       "--json"))
     program = run(opts["example"], "--quick")
-    assert j["label"] == re.search(r"d = 0\.8: (\S+),", program).group(1)
+    assert j["label"] == re.search(r"d = 2: (\S+),", program).group(1)
     assert sum(j["impacts_by_surface"].values()) == j["impacts"]
 
 
@@ -55,7 +55,7 @@ def test_impacts_of_the_plugin_keep_momentum_and_reverse_the_relative_velocity(o
         pytest.skip("the Python module is not built")
     code = f"""
 import sys, numpy as np, vimpact
-m = vimpact.Model.from_file({opts["plugin"]!r}).with_(d=0.8)
+m = vimpact.Model.from_file({opts["plugin"]!r})
 s = vimpact.simulate(m, transient=50, record=20)
 pre, post = s.impact_pre, s.impact_post
 mu, r = m.mu, m.r

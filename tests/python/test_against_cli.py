@@ -141,7 +141,7 @@ def test_dimension_of_a_runs_section_points(cli_json):
     j = cli_json("dimension", "--set", "Ur=18.426", "--transient", "100", "--record", "2000")
     s = vimpact.simulate(vimpact.WakeImpact(Ur=18.426), transient=100, record=2000)
     d = vimpact.dimension(s)
-    assert d.columns == ("y", "ydot", "x", "xdot") == tuple(j["columns"])
+    assert d.columns == ("y", "ydot", "x", "xdot") == tuple(j["source"]["columns"])
     assert d.dimension == j["dimension"] and d.r2 == j["r2"]
     assert (d.total_pairs, d.points) == (j["total_pairs"], j["points"])
 
