@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Regenerates the pictures of docs/own-model.md from the commands it shows (after a build).
+# Usage: bash scripts/make-doc-figures.sh [RESULTS_DIR]   (default results)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-results}
+rm -rf "$out/pendulum"
+build/vimpact sweep --model examples/models/impacting_pendulum.toml --section strobe --set w=1.3 --param a \
+    --range 0.8:0.94:141 --out "$out/pendulum" > /dev/null
+mkdir -p docs/figures
+cp "$out/pendulum/plot.png" docs/figures/own-model-pendulum.png
+echo "docs/figures/own-model-pendulum.png"
