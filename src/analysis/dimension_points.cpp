@@ -91,9 +91,9 @@ std::vector<std::size_t> select_columns(const std::vector<std::string>& header, 
         std::size_t c = 0;
         while (c < header.size() && header[c] != want) ++c;
         if (c == header.size())
-            throw input_error("--columns: no column '" + want + "' in " + source + " (columns: " + join(header) + ")");
+            throw input_error("columns: no column '" + want + "' in " + source + " (columns: " + join(header) + ")");
         for (auto k : idx)
-            if (k == c) throw input_error("--columns: column '" + want + "' is named twice");
+            if (k == c) throw input_error("columns: column '" + want + "' is named twice");
         idx.push_back(c);
     }
     return idx;

@@ -41,6 +41,7 @@
 #include <string_view>
 #include <vector>
 
+#include "vimpact/core/names.hpp"
 #include "vimpact/analysis/dimension_points.hpp"
 
 namespace vimpact {
@@ -55,6 +56,9 @@ constexpr std::string_view to_string(dimension_estimator e)
     }
     return "unknown";
 }
+
+inline constexpr std::array<dimension_estimator, 2> all_dimension_estimators{dimension_estimator::correlation_sum,
+                                                                           dimension_estimator::centres};
 
 // C(r) at increasing radii r[k]: pairs[k] counted pairs closer than r[k] out of total_pairs.
 struct correlation_curve {
@@ -86,6 +90,9 @@ constexpr std::string_view to_string(pair_search s)
     }
     return "unknown";
 }
+
+inline constexpr std::array<pair_search, 3> all_pair_searches{pair_search::grid, pair_search::kd_tree,
+                                                              pair_search::brute_force};
 
 struct correlation_sum_options {
     long theiler_window = 0;  // a pair (i, j) counts only if |i - j| > theiler_window

@@ -19,6 +19,7 @@
 // `sum_rule` (tangent modes only: the trajectory mode does not integrate div F).
 // The tangent flows integrate with DOP853 whatever protocol.method (which integrates the
 // transient and the trajectory mode's orbits).
+#include <array>
 #include <limits>
 #include <numbers>
 #include <string_view>
@@ -26,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "vimpact/core/names.hpp"
 #include "vimpact/analysis/protocol.hpp"
 
 namespace vimpact {
@@ -41,6 +43,8 @@ constexpr std::string_view to_string(lyapunov_tdm t)
     }
     return "unknown";
 }
+inline constexpr std::array<lyapunov_tdm, 3> all_lyapunov_tdms{lyapunov_tdm::saltation, lyapunov_tdm::second_order,
+                                                               lyapunov_tdm::trajectory};
 
 struct lyapunov_options {
     long transient_impacts = 500;

@@ -7,8 +7,10 @@
 // section points recorded from then on describe the surface-free steady state. The default,
 // 2000 time units, is about 318 wake periods of the paper's model and far longer than the
 // gaps between impacts of any impacting orbit we have seen (< 100).
+#include <array>
 #include <Eigen/Core>
 
+#include "vimpact/core/names.hpp"
 #include "vimpact/core/outcome.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/flow.hpp"
@@ -23,6 +25,8 @@ constexpr std::string_view to_string(integration_method m)
 {
     return m == integration_method::dopri5 ? "dopri5" : "dop853";
 }
+inline constexpr std::array<integration_method, 2> all_integration_methods{integration_method::dop853,
+                                                                         integration_method::dopri5};
 
 // Where the protocol records its points: the crossings of one of the model's sections, or
 // the states just after impacts (on one surface, or on every surface).

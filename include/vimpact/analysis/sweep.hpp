@@ -5,10 +5,12 @@
 // point from the final state of the previous one, continue_from below, so that a branch is
 // followed up and down; with direction both, the two branches run in parallel). Optionally the
 // grazing value of a parameter that moves the surfaces, per surface, at every point.
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "vimpact/core/names.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/jobs/job_options.hpp"
@@ -26,6 +28,8 @@ constexpr std::string_view to_string(sweep_direction d)
     }
     return "unknown";
 }
+inline constexpr std::array<sweep_direction, 3> all_sweep_directions{sweep_direction::up, sweep_direction::down,
+                                                                    sweep_direction::both};
 
 struct sweep_options {
     int parameter = 0;

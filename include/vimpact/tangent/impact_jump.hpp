@@ -17,8 +17,10 @@
 //        + d1^2 (1/2 R' J F - J+ R' F + 1/2 J+ F+) + 1/2 R''[y + d1 F, y + d1 F]
 // obtained by expanding the perturbed flight x + y -> (flow for d) -> reset -> (flow for -d)
 // to second order in y; the vector field's own second derivative cancels at this order.
+#include <array>
 #include <Eigen/Core>
 
+#include "vimpact/core/names.hpp"
 #include "vimpact/core/state.hpp"
 #include "vimpact/model/engine_model.hpp"
 
@@ -39,6 +41,10 @@ constexpr std::string_view to_string(impact_tangent m)
     }
     return "unknown";
 }
+// The jumps a Floquet analysis may apply to its monodromy (as a linear map the second-order
+// mapping is the saltation matrix).
+inline constexpr std::array<impact_tangent, 3> monodromy_jumps{impact_tangent::saltation, impact_tangent::reset_jacobian,
+                                                               impact_tangent::identity};
 
 // Eq. 8 at the pre-impact state x on surface i (crossed transversally, v_g != 0).
 template <engine_model Model>
