@@ -1,12 +1,12 @@
 // Model files, stage 2: a checked description -> the C++ source of its function table.
 //
-// Expressions are read by a scan of our own, which gives the messages (unknown symbol,
-// unknown function, wrong arity, bad character), and a small recursive-descent parser that
-// builds GiNaC expressions (class parser below says why not GiNaC's). A number literal
-// becomes the exact value of the double nearest to it (a rational): GiNaC would make 0.1 a
-// 17-digit float, while the generated code must carry the same double as a C++ literal 0.1,
-// and constant folding in GiNaC is then exact. Every derivative of the table is taken
-// symbolically and printed as C.
+// Expressions are read by GiNaC's parser, after a scan of our own that gives the messages
+// (unknown symbol, unknown function, wrong arity, bad character, syntax) and refuses a sign
+// right after an operator, which GiNaC 1.8 misreads (expression_reader::check_syntax). A
+// number literal becomes the exact value of the double nearest to it (a rational): GiNaC
+// would make 0.1 a 17-digit float, while the generated code must carry the same double as
+// a C++ literal 0.1, and constant folding in GiNaC is then exact. Every derivative of the
+// table is taken symbolically and printed as C.
 //
 // Printing: GiNaC's C printer writes pow(b, 2.0) for integer powers of anything but a
 // symbol and 17-digit scientific constants; our print context (c_printer) prints integer
@@ -68,14 +68,38 @@ using GiNaC::ex;
 using GiNaC::ex_to;
 using GiNaC::is_a;
 
+// How GiNaC's parser makes a function call: it tells a reader from the serial number of a
+// GiNaC function by the pointer's low bit (parser.cpp, dispatch_reader_fcn), so a reader
+// must sit at an even address, which optimized code gives but -O0 or -Os need not.
+template <const unsigned& serial>
+[[gnu::aligned(4)]] ex read_call(const GiNaC::exvector& a)
+{
+    return GiNaC::function(serial, a);
+}
+[[gnu::aligned(4)]] ex read_sqrt(const GiNaC::exvector& a) { return GiNaC::sqrt(a[0]); }
+[[gnu::aligned(4)]] ex read_pow(const GiNaC::exvector& a) { return GiNaC::pow(a[0], a[1]); }
+
 struct function_spec {
     std::string_view name;
     std::size_t arity;
+    GiNaC::reader_func read;
 };
 // The functions an expression may call (abs is read as vimpact_abs).
 constexpr std::array<function_spec, 14> functions{{
-    {"sin", 1}, {"cos", 1}, {"tan", 1}, {"asin", 1}, {"acos", 1}, {"atan", 1}, {"sinh", 1},
-    {"cosh", 1}, {"tanh", 1}, {"exp", 1}, {"log", 1}, {"sqrt", 1}, {"abs", 1}, {"pow", 2},
+    {"sin", 1, read_call<GiNaC::sin_SERIAL::serial>},
+    {"cos", 1, read_call<GiNaC::cos_SERIAL::serial>},
+    {"tan", 1, read_call<GiNaC::tan_SERIAL::serial>},
+    {"asin", 1, read_call<GiNaC::asin_SERIAL::serial>},
+    {"acos", 1, read_call<GiNaC::acos_SERIAL::serial>},
+    {"atan", 1, read_call<GiNaC::atan_SERIAL::serial>},
+    {"sinh", 1, read_call<GiNaC::sinh_SERIAL::serial>},
+    {"cosh", 1, read_call<GiNaC::cosh_SERIAL::serial>},
+    {"tanh", 1, read_call<GiNaC::tanh_SERIAL::serial>},
+    {"exp", 1, read_call<GiNaC::exp_SERIAL::serial>},
+    {"log", 1, read_call<GiNaC::log_SERIAL::serial>},
+    {"sqrt", 1, read_sqrt},
+    {"abs", 1, read_call<vimpact_abs_SERIAL::serial>},
+    {"pow", 2, read_pow},
 }};
 
 const function_spec* find_function(std::string_view name)
@@ -338,6 +362,7 @@ const char* kind_name(unsigned k)
 struct token {
     enum kind_t { number, name, op, open, close, comma } kind;
     std::string text;
+    std::size_t begin, end;  // where it is written in the expression
 };
 
 bool is_letter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
@@ -370,25 +395,25 @@ std::vector<token> tokenize(const expression_text& e, const std::string& where)
             if (i < s.size() && (is_letter(s[i]) || s[i] == '.'))
                 fail(where, e.key, "malformed number '" + s.substr(start, i - start + 1) + "' in '" + s +
                                        "' (write 2*x for a product)");
-            out.push_back({token::number, s.substr(start, i - start)});
+            out.push_back({token::number, s.substr(start, i - start), start, i});
         } else if (is_letter(c)) {
             const std::size_t start = i;
             while (i < s.size() && (is_letter(s[i]) || is_digit(s[i]))) ++i;
-            out.push_back({token::name, s.substr(start, i - start)});
+            out.push_back({token::name, s.substr(start, i - start), start, i});
         } else if (c == '*' && i + 1 < s.size() && s[i + 1] == '*') {
-            out.push_back({token::op, "^"});
+            out.push_back({token::op, "^", i, i + 2});
             i += 2;
         } else if (c == '+' || c == '-' || c == '*' || c == '/' || c == '^') {
-            out.push_back({token::op, std::string(1, c)});
+            out.push_back({token::op, std::string(1, c), i, i + 1});
             ++i;
         } else if (c == '(') {
-            out.push_back({token::open, "("});
+            out.push_back({token::open, "(", i, i + 1});
             ++i;
         } else if (c == ')') {
-            out.push_back({token::close, ")"});
+            out.push_back({token::close, ")", i, i + 1});
             ++i;
         } else if (c == ',') {
-            out.push_back({token::comma, ","});
+            out.push_back({token::comma, ",", i, i + 1});
             ++i;
         } else {
             fail(where, e.key, "unexpected character '" + std::string(1, c) + "' in '" + s +
@@ -412,142 +437,57 @@ GiNaC::numeric literal_value(const std::string& text)
     return GiNaC::numeric(mantissa).mul(GiNaC::numeric(2).power(GiNaC::numeric(e - 53)));
 }
 
-struct syntax_error : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+bool is_sign(const token& t) { return t.kind == token::op && (t.text == "+" || t.text == "-"); }
 
-ex apply_function(const std::string& name, const std::vector<ex>& a)
+// The index of the ')' that closes the '(' at tokens[open] (parentheses are balanced).
+std::size_t closing(const std::vector<token>& tokens, std::size_t open)
 {
-    if (name == "sin") return GiNaC::sin(a[0]);
-    if (name == "cos") return GiNaC::cos(a[0]);
-    if (name == "tan") return GiNaC::tan(a[0]);
-    if (name == "asin") return GiNaC::asin(a[0]);
-    if (name == "acos") return GiNaC::acos(a[0]);
-    if (name == "atan") return GiNaC::atan(a[0]);
-    if (name == "sinh") return GiNaC::sinh(a[0]);
-    if (name == "cosh") return GiNaC::cosh(a[0]);
-    if (name == "tanh") return GiNaC::tanh(a[0]);
-    if (name == "exp") return GiNaC::exp(a[0]);
-    if (name == "log") return GiNaC::log(a[0]);
-    if (name == "sqrt") return GiNaC::sqrt(a[0]);
-    if (name == "abs") return vimpact_abs(a[0]);
-    if (name == "pow") return GiNaC::pow(a[0], a[1]);
-    throw std::logic_error("model file: no GiNaC function for " + name);
+    std::size_t depth = 0;
+    for (std::size_t t = open;; ++t) {
+        if (tokens[t].kind == token::open) ++depth;
+        if (tokens[t].kind == token::close && --depth == 0) return t;
+    }
 }
 
-// Expressions by recursive descent, straight into GiNaC objects. (GiNaC's own parser reads
-// a unary minus after a binary operator as applying to the whole rest of the expression:
-// x^-2 + y as x^(-2 + y), x - -y + z as x + y - z.) Precedence, loosest first:
-//   sum:      term (+|- term)*
-//   term:     unary (*|/ unary)*
-//   unary:    (+|-) unary | power            -x^2 = -(x^2)
-//   power:    primary [^ exponent]           x^-2 = x^(-2); a^b^c is refused as ambiguous
-//   exponent: (+|-) exponent | primary
-//   primary:  number | name | function(sum, ...) | (sum)
-// Names and function arities have been checked by expression_reader::names_used.
-class parser {
-public:
-    parser(std::vector<token> tokens, std::function<ex(const std::string&)> value)
-        : m_tokens(std::move(tokens)), m_value(std::move(value))
-    {
+// One past the operand that starts at tokens[i] (signs, a number, name, call or group, and
+// a power of it), or i if none starts there.
+std::size_t operand_end(const std::vector<token>& tokens, std::size_t i)
+{
+    std::size_t j = i;
+    while (j < tokens.size() && is_sign(tokens[j])) ++j;
+    if (j == tokens.size()) return i;
+    if (tokens[j].kind == token::name && j + 1 < tokens.size() && tokens[j + 1].kind == token::open) ++j;
+    if (tokens[j].kind == token::open) j = closing(tokens, j);
+    else if (tokens[j].kind != token::number && tokens[j].kind != token::name) return i;
+    ++j;
+    if (j < tokens.size() && tokens[j].kind == token::op && tokens[j].text == "^") {
+        const std::size_t k = operand_end(tokens, j + 1);
+        if (k > j + 1) j = k;
     }
+    return j;
+}
 
-    ex parse()
-    {
-        ex e = sum();
-        if (m_pos < m_tokens.size()) throw syntax_error("unexpected '" + m_tokens[m_pos].text + "'");
-        return e;
+// The first token of the operand that ends with tokens[last].
+std::size_t operand_start(const std::vector<token>& tokens, std::size_t last)
+{
+    if (tokens[last].kind != token::close) return last;
+    std::size_t depth = 0, t = last;
+    for (;; --t) {
+        if (tokens[t].kind == token::close) ++depth;
+        if (tokens[t].kind == token::open && --depth == 0) break;
     }
+    return t > 0 && tokens[t - 1].kind == token::name ? t - 1 : t;
+}
 
-private:
-    bool at(token::kind_t kind, std::string_view text = {}) const
-    {
-        return m_pos < m_tokens.size() && m_tokens[m_pos].kind == kind && (text.empty() || m_tokens[m_pos].text == text);
-    }
-
-    ex sum()
-    {
-        ex e = term();
-        while (at(token::op, "+") || at(token::op, "-")) {
-            const bool minus = m_tokens[m_pos++].text == "-";
-            const ex r = term();
-            e = minus ? e - r : e + r;
-        }
-        return e;
-    }
-    ex term()
-    {
-        ex e = unary();
-        while (at(token::op, "*") || at(token::op, "/")) {
-            const bool divide = m_tokens[m_pos++].text == "/";
-            const ex r = unary();
-            e = divide ? e / r : e * r;
-        }
-        return e;
-    }
-    ex unary()
-    {
-        if (at(token::op, "+") || at(token::op, "-")) {
-            const bool minus = m_tokens[m_pos++].text == "-";
-            const ex e = unary();
-            return minus ? -e : e;
-        }
-        return power();
-    }
-    ex power()
-    {
-        const ex base = primary();
-        if (!at(token::op, "^")) return base;
-        ++m_pos;
-        const ex exponent = signed_primary();
-        if (at(token::op, "^")) throw syntax_error("a^b^c is ambiguous: write (a^b)^c or a^(b^c)");
-        return GiNaC::pow(base, exponent);
-    }
-    ex signed_primary()
-    {
-        if (at(token::op, "+") || at(token::op, "-")) {
-            const bool minus = m_tokens[m_pos++].text == "-";
-            const ex e = signed_primary();
-            return minus ? -e : e;
-        }
-        return primary();
-    }
-    ex primary()
-    {
-        if (m_pos >= m_tokens.size()) throw syntax_error("the expression ends too early");
-        const token& t = m_tokens[m_pos++];
-        switch (t.kind) {
-            case token::number: return literal_value(t.text);
-            case token::name: {
-                if (!at(token::open)) return m_value(t.text);
-                ++m_pos;
-                std::vector<ex> args{sum()};
-                while (at(token::comma)) {
-                    ++m_pos;
-                    args.push_back(sum());
-                }
-                expect_close();
-                return apply_function(t.text, args);
-            }
-            case token::open: {
-                const ex e = sum();
-                expect_close();
-                return e;
-            }
-            default: throw syntax_error("unexpected '" + t.text + "'");
-        }
-    }
-    void expect_close()
-    {
-        if (m_pos >= m_tokens.size()) throw syntax_error("the expression ends too early");
-        if (!at(token::close)) throw syntax_error("unexpected '" + m_tokens[m_pos].text + "'");
-        ++m_pos;
-    }
-
-    std::vector<token> m_tokens;
-    std::function<ex(const std::string&)> m_value;
-    std::size_t m_pos = 0;
-};
+const GiNaC::prototype_table& function_readers()
+{
+    static const GiNaC::prototype_table readers = [] {
+        GiNaC::prototype_table r;
+        for (const auto& f : functions) r[{std::string(f.name), f.arity}] = f.read;
+        return r;
+    }();
+    return readers;
+}
 
 struct named_symbol {
     unsigned kind;
@@ -609,14 +549,16 @@ public:
     ex read(const expression_text& e, const expression_rules& rules) const
     {
         (void)names_used(e, rules);
+        const auto tokens = tokenize(e, m_where);
+        check_syntax(e, tokens);
         ex result;
         try {
-            result = parser(tokenize(e, m_where), [this](const std::string& name) {
-                return name == "pi" ? ex(GiNaC::Pi) : m_names.at(name).value;
-            }).parse();
+            GiNaC::symtab operands;
+            const std::string text = ginac_text(tokens, operands);
+            GiNaC::parser reader(operands, true, function_readers());
             use_our_abs ours;
-            result = ours(result);
-        } catch (const syntax_error& x) {
+            result = ours(reader(text));
+        } catch (const GiNaC::parse_error& x) {
             fail(m_where, e.key, "cannot read '" + e.text + "': " + x.what());
         } catch (const std::exception& x) {
             fail(m_where, e.key, "cannot evaluate '" + e.text + "': " + evaluation_message(x.what()));
@@ -654,6 +596,93 @@ public:
     }
 
 private:
+    // The grammar, checked before GiNaC reads the text: GiNaC's messages would not name the
+    // key, and its parser silently misreads a sign right after an operator as applying to
+    // the rest of the expression (x^-2 + y as x^(-2 + y), x - -y + z as x + y - z). A sign is
+    // therefore allowed only where an expression starts: first, after '(' and after ','.
+    void check_syntax(const expression_text& e, const std::vector<token>& tokens) const
+    {
+        const auto cannot_read = [&](const std::string& why) {
+            fail(m_where, e.key, "cannot read '" + e.text + "': " + why);
+        };
+        struct level {
+            bool call;     // the arguments of a function, where ',' is allowed
+            char last_op;  // the last binary operator at this level, for a^b^c
+        };
+        std::vector<level> levels{{false, 0}};
+        bool operand = true;  // whether an operand comes next
+        for (std::size_t t = 0; t < tokens.size(); ++t) {
+            const token& tk = tokens[t];
+            const auto unexpected = [&] { cannot_read("unexpected '" + tk.text + "'"); };
+            if (operand) {
+                if (tk.kind == token::number) {
+                    operand = false;
+                } else if (tk.kind == token::name) {
+                    operand = t + 1 < tokens.size() && tokens[t + 1].kind == token::open;
+                } else if (tk.kind == token::open) {
+                    levels.push_back({t > 0 && tokens[t - 1].kind == token::name, 0});
+                } else if (is_sign(tk)) {
+                    if (t > 0 && tokens[t - 1].kind == token::op) refuse_sign(e, tokens, t);
+                } else {
+                    unexpected();
+                }
+            } else if (tk.kind == token::op) {
+                if (tk.text == "^" && levels.back().last_op == '^')
+                    cannot_read("a^b^c is ambiguous: write (a^b)^c or a^(b^c)");
+                levels.back().last_op = tk.text[0];
+                operand = true;
+            } else if (tk.kind == token::close) {
+                levels.pop_back();
+            } else if (tk.kind == token::comma && levels.back().call) {
+                levels.back().last_op = 0;
+                operand = true;
+            } else {
+                unexpected();
+            }
+        }
+        if (operand) cannot_read("the expression ends too early");
+    }
+
+    // The message for the sign at tokens[sign], with the fix written into the text as given:
+    // "write x^(-2), not x^-2". (Without an operand after the sign, the next token is the
+    // error.)
+    void refuse_sign(const expression_text& e, const std::vector<token>& tokens, std::size_t sign) const
+    {
+        const std::size_t end = operand_end(tokens, sign);
+        if (end == sign) return;
+        const std::size_t op = sign - 1;
+        const bool binary = op > 0 && (tokens[op - 1].kind == token::number || tokens[op - 1].kind == token::name ||
+                                       tokens[op - 1].kind == token::close);
+        const std::size_t from = tokens[binary ? operand_start(tokens, op - 1) : op].begin;
+        const std::size_t at = tokens[sign].begin, to = tokens[end - 1].end;
+        const std::string& s = e.text;
+        fail(m_where, e.key, "write " + s.substr(from, at - from) + "(" + s.substr(at, to - at) + "), not " +
+                                 s.substr(from, to - from) + " (a sign right after an operator is ambiguous)");
+    }
+
+    // The text GiNaC reads: every number and name becomes a placeholder (a0, a1, ...) that
+    // the symbol table binds to its value, so GiNaC reads only the structure. Its lexer
+    // would make 0.1 a 17-digit float and take the names I, Pi, Euler and Catalan for its
+    // own constants.
+    std::string ginac_text(const std::vector<token>& tokens, GiNaC::symtab& operands) const
+    {
+        std::string text;
+        for (std::size_t t = 0; t < tokens.size(); ++t) {
+            const token& tk = tokens[t];
+            const bool call = t + 1 < tokens.size() && tokens[t + 1].kind == token::open;
+            if (tk.kind == token::number || (tk.kind == token::name && !call)) {
+                const std::string placeholder = "a" + std::to_string(t);
+                operands[placeholder] = tk.kind == token::number ? ex(literal_value(tk.text))
+                                        : tk.text == "pi"        ? ex(GiNaC::Pi)
+                                                                 : m_names.at(tk.text).value;
+                text += placeholder + " ";
+            } else {
+                text += tk.text + " ";
+            }
+        }
+        return text;
+    }
+
     void check_call(const expression_text& e, const std::vector<token>& tokens, std::size_t t) const
     {
         const std::string& name = tokens[t].text;
