@@ -144,6 +144,24 @@ inline void add_counts(std::vector<long>& into, const std::vector<long>& more)
     for (std::size_t i = 0; i < more.size(); ++i) into[i] += more[i];
 }
 
+// Runs one interval of the averaging to its end (t_max); false, with res.status set, when the
+// flow ended otherwise or met a contact phase (whose tangent map is not implemented).
+template <class Flow, class Observer>
+bool run_interval(Flow& flow, Observer& obs, lyapunov_result& res)
+{
+    const outcome o = flow.run(obs);
+    res.stats.add(flow.stats());
+    if (o != outcome::time_limit) {
+        res.status = o;
+        return false;
+    }
+    if (flow.stats().sticking_phases > 0) {
+        res.status = outcome::sticking;
+        return false;
+    }
+    return true;
+}
+
 inline flow_options interval_flow(const lyapunov_options& opt, crossing section_direction)
 {
     flow_options fo = opt.flow;
@@ -174,16 +192,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
         hybrid_flow<VM, dop853> flow(vm, fo);
         flow.start(t, X);
         tangent_observer<VM> obs(vm, {&res.section_points, opt.record_points, k >= opt.warmup_intervals});
-        const outcome o = flow.run(obs);
-        res.stats.add(flow.stats());
-        if (o != outcome::time_limit) {
-            res.status = o;
-            return;
-        }
-        if (flow.stats().sticking_phases > 0) {
-            res.status = outcome::sticking;
-            return;
-        }
+        if (!run_interval(flow, obs, res)) return;
         X = flow.x();
         t = flow.t();
         mat<N> Y = VM::matrix(X);
@@ -240,16 +249,7 @@ void trajectory_intervals(const Model& model, const lyapunov_options& opt, const
             flow.start(t, starts[static_cast<std::size_t>(j)]);
             impact_counter obs;
             if (j == 0) obs.sections = {&res.section_points, opt.record_points, k >= opt.warmup_intervals};
-            const outcome o = flow.run(obs);
-            res.stats.add(flow.stats());
-            if (o != outcome::time_limit) {
-                res.status = o;
-                return;
-            }
-            if (flow.stats().sticking_phases > 0) {
-                res.status = outcome::sticking;
-                return;
-            }
+            if (!run_interval(flow, obs, res)) return;
             ends[static_cast<std::size_t>(j)] = flow.x();
             impacts[static_cast<std::size_t>(j)] = obs.impacts;
             if (j == 0 && k >= opt.warmup_intervals) add_counts(res.impacts_by_surface, obs.by_surface);
