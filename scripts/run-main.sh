@@ -7,6 +7,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > build.log 2>&1 || { cat build.log; exit 1; }
-cmake --build build -j"$(nproc)" --target vimpact >> build.log 2>&1 || { tail -50 build.log; exit 1; }
+cmake --build build -j"$(nproc)" --target vimpact_cli _vimpact >> build.log 2>&1 || { tail -50 build.log; exit 1; }
 OUT=results bash examples/fig2a.sh
 echo "main job done: the picture is results/fig2a/plot.png (data: results/fig2a/*.csv, record: results/fig2a/run.json)"

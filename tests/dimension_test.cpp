@@ -444,7 +444,7 @@ TEST(CorrelationDimension, PairBudgetCapsTheRadiusNotTheCounts)
     EXPECT_NEAR(a.fit.dimension, b.fit.dimension, 0.05);
 }
 
-// The paper's model on its period-2 orbit (Ur = 16, SPEC §2): the section points are two
+// The paper's model on its period-2 orbit (Ur = 16, the paper's Figure 2e): the section points are two
 // points repeated (to the integration accuracy), C(r) = 1/2 from the accuracy up to the
 // distance between them, and the dimension is 0.
 TEST(CorrelationDimension, PaperModelPeriodicOrbitIsZero)

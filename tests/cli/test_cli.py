@@ -26,7 +26,7 @@ def assert_by_surface(j, total_key="impacts"):
     assert sum(by.values()) == j[total_key]
 
 
-# Published values (the paper, Section 3, as read in SPEC §2): P2 at Ur = 16, P3 at 19.
+# The paper's labels (its Section 3 and Figure 2e, f): P2 at Ur = 16, P3 at 19.
 @pytest.mark.parametrize("ur,label", [("16", "P2"), ("19", "P3")])
 def test_period_labels_match_the_paper(vimpact, ur, label):
     j = run_json(vimpact, "period", "--set", f"Ur={ur}")

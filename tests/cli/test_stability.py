@@ -19,8 +19,9 @@ def run_json(vimpact, *args):
     return json.loads(p.stdout)
 
 
-# Published values (SPEC §4: multipliers measured on the paper preset, sigma = -0.150298).
-# Only here, never in the program: the program computes them.
+# Reference values, not the paper's (it prints no multipliers): measured on the paper preset,
+# sigma = -0.150298, by an independent computation when this project was specified, and kept
+# only here, never in the program, which computes them.
 PUBLISHED = {
     "16": {"T": 15.2892, "mu": [-0.19582, 0.0023068]},
     "14.9": {"T": 15.2250, "mu": [-0.081771, 0.0037145]},
