@@ -9,6 +9,7 @@
 #include "parse.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/names.hpp"
 #include "vimpact/io/staged_output.hpp"
 
 namespace fs = std::filesystem;
@@ -57,34 +58,10 @@ std::string joined(const std::vector<std::string>& v)
     return s;
 }
 
-integration_method parse_method(const std::string& s)
-{
-    if (s == "dop853") return integration_method::dop853;
-    if (s == "dopri5") return integration_method::dopri5;
-    throw input_error("--method '" + s + "' is not one of dop853, dopri5");
-}
-
 section_choice parse_section(const model& m, const std::string& s)
 {
-    const auto& info = m.info();
-    if (s == "impacts") return section_choice::impacts();
-    if (s.rfind("impacts:", 0) == 0) {
-        const int i = info.surface_index(s.substr(8));
-        if (i >= 0) return section_choice::impacts(i);
-    } else {
-        const int k = info.section_index(s);
-        if (k >= 0) return section_choice::crossings(k);
-    }
-    std::vector<std::string> valid;
-    for (const auto& sec : info.sections) valid.push_back(sec.name);
-    valid.emplace_back("impacts");
-    for (const auto& surf : info.surfaces) valid.push_back("impacts:" + surf.name);
-    throw input_error("--section '" + s + "' is not one of " + joined(valid) + " (model " + m.name() + ")");
-}
-
-section_choice default_section(const model& m)
-{
-    return m.section_count() > 0 ? section_choice::crossings(0) : section_choice::impacts();
+    if (const auto choice = section_choice_named(m, s)) return *choice;
+    throw input_error("--section '" + s + "' is not one of " + section_choice_names(m) + " (model " + m.name() + ")");
 }
 
 std::string config_where(const std::string& file) { return "config " + file; }
@@ -267,7 +244,7 @@ run_config resolve(const common_args& a)
         check_state_size(m, static_cast<Eigen::Index>(x.size()), "--ic");
         c.ic = Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
     }
-    c.protocol.method = parse_method(method);
+    c.protocol.method = parse_name(method, all_integration_methods, "--method");
     c.protocol.section = section.empty() ? default_section(m) : parse_section(m, section);
     validate(c.protocol);
     validate(m, c.protocol.section);

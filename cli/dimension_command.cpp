@@ -5,7 +5,6 @@
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <thread>
 
 #include "commands.hpp"
 #include "output.hpp"
@@ -14,8 +13,10 @@
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/names.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/io/csv_writer.hpp"
+#include "vimpact/jobs/job_loop.hpp"
 
 namespace vimpact::cli {
 namespace {
@@ -84,9 +85,7 @@ std::uint64_t parse_count(double v, const std::string& what, double lo)
 dimension_options make_options(const dimension_args& a)
 {
     dimension_options o;
-    if (a.estimator == "correlation_sum") o.estimator = dimension_estimator::correlation_sum;
-    else if (a.estimator == "centres") o.estimator = dimension_estimator::centres;
-    else throw input_error("--estimator '" + a.estimator + "' is not one of correlation_sum, centres");
+    o.estimator = parse_name(a.estimator, all_dimension_estimators, "--estimator");
     if (a.theiler < 0) throw input_error("--theiler must be >= 0 (got " + std::to_string(a.theiler) + ")");
     o.correlation.theiler_window = a.theiler;
     o.centre.theiler_window = a.theiler;
@@ -97,13 +96,11 @@ dimension_options make_options(const dimension_args& a)
     o.correlation.r_max = a.r_max;
     o.max_pairs = parse_count(a.max_pairs, "--max-pairs", 1.0);
     o.correlation.bins_per_octave = a.bins_per_octave;
-    if (a.search == "grid") o.correlation.search = pair_search::grid;
-    else if (a.search == "kd_tree") o.correlation.search = pair_search::kd_tree;
-    else if (a.search == "brute_force") o.correlation.search = pair_search::brute_force;
-    else throw input_error("--search '" + a.search + "' is not one of grid, kd_tree, brute_force");
-    if (a.threads < 0 || a.threads > 1024)
-        throw input_error("--threads must be in [0, 1024] (got " + std::to_string(a.threads) + ")");
-    o.correlation.threads = a.threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : a.threads;
+    o.correlation.search = parse_name(a.search, all_pair_searches, "--search");
+    if (a.threads < 0 || a.threads > max_threads)
+        throw input_error("--threads must be in [0, " + std::to_string(max_threads) + "] (got " +
+                          std::to_string(a.threads) + ")");
+    o.correlation.threads = resolve_threads(a.threads);
     o.scaling.slope_tolerance = a.slope_tolerance;
     o.scaling.slope_window = a.slope_window;
     o.scaling.min_extent = a.min_extent;

@@ -176,6 +176,13 @@ bool make_plot(const std::string& kind, const std::filesystem::path& dir)
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
+std::vector<std::string> impact_count_columns(const model_info& info)
+{
+    std::vector<std::string> out;
+    for (const auto& s : info.surfaces) out.push_back("impacts_" + s.name);
+    return out;
+}
+
 void finish_output(staged_output& out, const std::string& kind, const run_config& c, json& record)
 {
     if (!record.contains("files")) record["files"] = json::array();

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -49,6 +50,27 @@ bool make_plot(const std::string& kind, const std::filesystem::path& dir);
 // Writes run.json (record["files"] gets run.json, and plot.png when made), makes the PNG
 // unless --no-plot, and commits the directory.
 void finish_output(staged_output& out, const std::string& kind, const run_config& c, json& record);
+
+// Writes --out DIR: the files `write(out)` makes (it returns their names), run.json with the
+// summary as its result (`command` names the run there) and the PNG of `plot`.
+template <class Write>
+void write_run(const run_config& c, const std::string& command, const std::string& plot, const json& summary,
+               Write&& write)
+{
+    staged_output out(*c.out);
+    json record = record_header(command, c);
+    record["result"] = summary;
+    record["files"] = write(out);
+    finish_output(out, plot, c, record);
+}
+template <class Write>
+void write_run(const run_config& c, const std::string& kind, const json& summary, Write&& write)
+{
+    write_run(c, kind, kind, summary, std::forward<Write>(write));
+}
+
+// impacts_SURFACE for each surface: the columns of impacts per period on each.
+std::vector<std::string> impact_count_columns(const model_info& info);
 
 // --json: the summary on one line; otherwise the text.
 void print(const run_config& c, const json& summary, const std::string& text);

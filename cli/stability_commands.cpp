@@ -15,6 +15,7 @@
 #include "vimpact/analysis/stability_sweep.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/names.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
 
@@ -57,20 +58,6 @@ std::string fixed(double v, int digits)
 
 double nan_unless(bool have, double v) { return have ? v : std::nan(""); }
 
-impact_tangent parse_impact_map(const std::string& s)
-{
-    for (const auto t : {impact_tangent::saltation, impact_tangent::reset_jacobian, impact_tangent::identity})
-        if (s == to_string(t)) return t;
-    throw input_error("--impact-map '" + s + "' is not one of saltation, reset-jacobian, identity");
-}
-
-lyapunov_tdm parse_tdm(const std::string& s)
-{
-    for (const auto t : {lyapunov_tdm::saltation, lyapunov_tdm::second_order, lyapunov_tdm::trajectory})
-        if (s == to_string(t)) return t;
-    throw input_error("--tdm '" + s + "' is not one of saltation, second-order, trajectory");
-}
-
 struct sweep_values {
     int parameter = 0;
     std::string name;
@@ -84,26 +71,22 @@ sweep_values parse_sweep(const sweep_request& s, const model& m)
     return {p, s.param, parse_range(s.range, "--range")};
 }
 
-std::vector<std::string> impact_count_columns(const model_info& info)
-{
-    std::vector<std::string> out;
-    for (const auto& s : info.surfaces) out.push_back("impacts_" + s.name);
-    return out;
-}
-
-void write_sweep_points(const std::filesystem::path& path, const std::string& param, const model_info& info,
-                        const std::vector<std::pair<double, const state_series*>>& runs)
+// points.csv of a stability sweep: the section points of every value's result.
+template <class Points>
+void write_sweep_points(staged_output& out, const std::string& param, const model_info& info, const Points& points)
 {
     std::vector<std::string> h{param};
     for (const auto& n : state_columns(info)) h.push_back(n);
-    csv_writer w(path, h);
+    csv_writer w(out.file("points.csv"), h);
     std::vector<double> row(h.size());
-    for (const auto& [v, pts] : runs)
-        for (std::size_t i = 0; i < pts->size(); ++i) {
-            row[0] = v;
-            for (int k = 0; k < pts->dim(); ++k) row[static_cast<std::size_t>(k) + 1] = pts->x(i, k);
+    for (const auto& p : points) {
+        const state_series& pts = p.result.section_points;
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            row[0] = p.value;
+            for (int k = 0; k < pts.dim(); ++k) row[static_cast<std::size_t>(k) + 1] = pts.x(i, k);
             w.row(row);
         }
+    }
     w.close();
 }
 
@@ -155,40 +138,36 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
                        " values: " + counts_text(counts) + "; " + std::to_string(unstable) +
                        " periodic orbit(s) with a multiplier outside the unit circle\n";
     if (c.out) {
-        staged_output out(*c.out);
-        std::vector<std::string> lh{sv.name, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
-                                    "closure", "outcome"};
-        for (const auto& n : impact_count_columns(info)) lh.push_back(n);
-        csv_writer lab(out.file("labels.csv"), lh);
-        csv_writer mu(out.file("multipliers.csv"), {sv.name, "index", "re", "im", "modulus", "trivial"});
-        std::vector<std::pair<double, const state_series*>> runs;
-        for (const auto& p : res.points) {
-            const auto& r = p.result;
-            const bool have = r.has_multipliers();
-            std::vector<std::string> row{format_double(p.value),
-                                         r.label,
-                                         format_double(nan_unless(have, r.period)),
-                                         format_double(nan_unless(have, static_cast<double>(r.impacts_per_period))),
-                                         format_double(nan_unless(have, r.trivial_error)),
-                                         format_double(nan_unless(have, r.max_nontrivial_modulus)),
-                                         format_double(nan_unless(r.section_returns > 0, r.closure)),
-                                         std::string(to_string(r.status))};
-            for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-                row.push_back(have && s < r.impacts_by_surface.size() ? std::to_string(r.impacts_by_surface[s])
-                                                                       : std::string("nan"));
-            lab.text_row(row);
-            for (std::size_t i = 0; i < r.multipliers.size(); ++i)
-                mu.row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
-                        std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
-            runs.emplace_back(p.value, &r.section_points);
-        }
-        lab.close();
-        mu.close();
-        write_sweep_points(out.file("points.csv"), sv.name, info, runs);
-        json record = record_header("floquet", c);
-        record["result"] = summary;
-        record["files"] = summary["files"];
-        finish_output(out, "floquet_sweep", c, record);
+        write_run(c, "floquet", "floquet_sweep", summary, [&](staged_output& out) {
+            std::vector<std::string> lh{sv.name, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
+                                        "closure", "outcome"};
+            for (const auto& n : impact_count_columns(info)) lh.push_back(n);
+            csv_writer lab(out.file("labels.csv"), lh);
+            csv_writer mu(out.file("multipliers.csv"), {sv.name, "index", "re", "im", "modulus", "trivial"});
+            for (const auto& p : res.points) {
+                const auto& r = p.result;
+                const bool have = r.has_multipliers();
+                std::vector<std::string> row{format_double(p.value),
+                                             r.label,
+                                             format_double(nan_unless(have, r.period)),
+                                             format_double(nan_unless(have, static_cast<double>(r.impacts_per_period))),
+                                             format_double(nan_unless(have, r.trivial_error)),
+                                             format_double(nan_unless(have, r.max_nontrivial_modulus)),
+                                             format_double(nan_unless(r.section_returns > 0, r.closure)),
+                                             std::string(to_string(r.status))};
+                for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+                    row.push_back(have && s < r.impacts_by_surface.size() ? std::to_string(r.impacts_by_surface[s])
+                                                                           : std::string("nan"));
+                lab.text_row(row);
+                for (std::size_t i = 0; i < r.multipliers.size(); ++i)
+                    mu.row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
+                            std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
+            }
+            lab.close();
+            mu.close();
+            write_sweep_points(out, sv.name, info, res.points);
+            return summary["files"];
+        });
         session.finish();
         text += "output written to " + c.out->string() + "\n";
     }
@@ -218,7 +197,7 @@ int run_floquet(const floquet_args& a)
     // The shooting and the monodromy need a map accurate to better than the 1e-11 closure.
     fo.tangent_integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
     fo.tangent_integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
-    fo.jump = parse_impact_map(a.impact_map);
+    fo.jump = parse_name(a.impact_map, monodromy_jumps, "--impact-map");
     validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
     check_admissible(c);
@@ -345,34 +324,30 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                        std::string(to_string(lo.tdm)) + "): largest exponent above 3 standard errors at " +
                        std::to_string(positive) + "\n";
     if (c.out) {
-        staged_output out(*c.out);
-        std::vector<std::string> h{sv.name};
-        for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
-        for (const char* k : {"lle_standard_error", "impacts", "time", "misses", "outcome"}) h.emplace_back(k);
-        for (const auto& n : impact_count_columns(info)) h.push_back(n);
-        csv_writer w(out.file("exponents.csv"), h);
-        std::vector<std::pair<double, const state_series*>> runs;
-        for (const auto& p : res.points) {
-            const auto& r = p.result;
-            const bool have = r.has_exponents() && r.exponents.size() == m.dim();
-            std::vector<std::string> row{format_double(p.value)};
-            for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(have ? r.exponents[i] : std::nan("")));
-            row.push_back(format_double(nan_unless(r.has_exponents(), r.lle_standard_error)));
-            row.push_back(std::to_string(r.impacts));
-            row.push_back(format_double(r.time));
-            row.push_back(std::to_string(r.misses));
-            row.emplace_back(to_string(r.status));
-            for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-                row.push_back(std::to_string(s < r.impacts_by_surface.size() ? r.impacts_by_surface[s] : 0L));
-            w.text_row(row);
-            runs.emplace_back(p.value, &r.section_points);
-        }
-        w.close();
-        write_sweep_points(out.file("points.csv"), sv.name, info, runs);
-        json record = record_header("lyapunov", c);
-        record["result"] = summary;
-        record["files"] = summary["files"];
-        finish_output(out, "lyapunov_sweep", c, record);
+        write_run(c, "lyapunov", "lyapunov_sweep", summary, [&](staged_output& out) {
+            std::vector<std::string> h{sv.name};
+            for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
+            for (const char* k : {"lle_standard_error", "impacts", "time", "misses", "outcome"}) h.emplace_back(k);
+            for (const auto& n : impact_count_columns(info)) h.push_back(n);
+            csv_writer w(out.file("exponents.csv"), h);
+            for (const auto& p : res.points) {
+                const auto& r = p.result;
+                const bool have = r.has_exponents() && r.exponents.size() == m.dim();
+                std::vector<std::string> row{format_double(p.value)};
+                for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(have ? r.exponents[i] : std::nan("")));
+                row.push_back(format_double(nan_unless(r.has_exponents(), r.lle_standard_error)));
+                row.push_back(std::to_string(r.impacts));
+                row.push_back(format_double(r.time));
+                row.push_back(std::to_string(r.misses));
+                row.emplace_back(to_string(r.status));
+                for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+                    row.push_back(std::to_string(s < r.impacts_by_surface.size() ? r.impacts_by_surface[s] : 0L));
+                w.text_row(row);
+            }
+            w.close();
+            write_sweep_points(out, sv.name, info, res.points);
+            return summary["files"];
+        });
         session.finish();
         text += "output written to " + c.out->string() + "\n";
     }
@@ -389,7 +364,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         throw input_error("--record is used by lyapunov only in a sweep (--param, --range), for the bifurcation diagram");
     const run_config c = resolve(a.common);
     lyapunov_options lo;
-    lo.tdm = parse_tdm(a.tdm);
+    lo.tdm = parse_name(a.tdm, all_lyapunov_tdms, "--tdm");
     if (!(a.r0 > 0.0 && a.r0 < 1.0) || !std::isfinite(a.r0))
         throw input_error("--r0 = " + format_double(a.r0) + " is outside its valid range (0, 1)");
     if (!(a.t0 > 0.0) || !std::isfinite(a.t0))

@@ -17,6 +17,7 @@
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/names.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
 
@@ -45,13 +46,6 @@ std::vector<std::string> grazing_columns(const model& m, int parameter)
     return surface_columns(m.info(), m.info().parameters[static_cast<std::size_t>(parameter)].name + "_graze");
 }
 
-std::vector<std::string> impact_count_columns(const model_info& info)
-{
-    std::vector<std::string> out;
-    for (const auto& s : info.surfaces) out.push_back("impacts_" + s.name);
-    return out;
-}
-
 void append(std::vector<std::string>& to, const std::vector<std::string>& more) { to.insert(to.end(), more.begin(), more.end()); }
 
 void append_counts(std::vector<std::string>& row, const std::vector<long>& counts, std::size_t surfaces)
@@ -61,17 +55,6 @@ void append_counts(std::vector<std::string>& row, const std::vector<long>& count
 
 std::string out_json_text(const run_config& c) { return c.out ? c.out->string() : std::string(); }
 json out_json(const run_config& c) { return c.out ? json(c.out->string()) : json(nullptr); }
-
-// Writes DIR: the files `write` makes, run.json and the PNG of `kind`.
-template <class Write>
-void write_run(const run_config& c, const std::string& kind, const json& summary, Write&& write)
-{
-    staged_output out(*c.out);
-    json record = record_header(kind, c);
-    record["result"] = summary;
-    record["files"] = write(out);
-    finish_output(out, kind, c, record);
-}
 
 // ---------------------------------------------------------------- sweep
 
@@ -86,14 +69,6 @@ struct sweep_args {
     CLI::Option* grazing_option = nullptr;
 };
 
-sweep_direction parse_direction(const std::string& s)
-{
-    if (s == "up") return sweep_direction::up;
-    if (s == "down") return sweep_direction::down;
-    if (s == "both") return sweep_direction::both;
-    throw input_error("--direction '" + s + "' is not one of up, down, both");
-}
-
 int run_sweep(const sweep_args& a)
 {
     const run_config c = resolve(a.common);
@@ -107,7 +82,7 @@ int run_sweep(const sweep_args& a)
     if (a.ic_mode != "fixed" && a.ic_mode != "follow")
         throw input_error("--ic-mode '" + a.ic_mode + "' is not one of fixed, follow");
     o.follow = a.ic_mode == "follow";
-    o.direction = parse_direction(a.direction);
+    o.direction = parse_name(a.direction, all_sweep_directions, "--direction");
     if (o.direction == sweep_direction::both && !o.follow)
         throw input_error("--direction both needs --ic-mode follow (with fixed starts both directions are the same runs)");
     o.protocol = c.protocol;

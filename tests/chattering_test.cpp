@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "test_support.hpp"
 #include "vimpact/hybrid/flow.hpp"
 #include "vimpact/model/native_model.hpp"
 
@@ -213,10 +214,8 @@ ball_run<D> run_ball(std::vector<double> parameters, const vec<N>& x0, const flo
 
 flow_options ball_options(double t_max)
 {
-    flow_options o;
-    o.integration.rtol = o.integration.atol = 1e-12;
+    flow_options o = vimpact::test::flow_tolerances(1e-12, t_max);
     o.events = {flow_event::section(0, crossing::down)};
-    o.t_max = t_max;
     return o;
 }
 

@@ -27,6 +27,7 @@ using vimpact::flow_options;
 using vimpact::outcome;
 using vimpact::vec;
 using vimpact::vec_t;
+using vimpact::test::flow_tolerances;
 using X2 = vec<2>;
 constexpr double pi = std::numbers::pi;
 
@@ -194,15 +195,6 @@ std::vector<std::pair<double, X2>> step_ends(const Model& m, const flow_options&
     return out;
 }
 
-flow_options tolerance(double tol, double t_max)
-{
-    flow_options o;
-    o.integration.rtol = tol;
-    o.integration.atol = tol;
-    o.t_max = t_max;
-    return o;
-}
-
 }  // namespace
 
 // ---- several surfaces ---------------------------------------------------------------------
@@ -216,7 +208,7 @@ TEST(FlowSurfaces, TieAtTheSameInstantGoesToTheLowerIndex)
     for (const auto& scales : {std::array<double, 2>{1.0, 2.0}, std::array<double, 2>{2.0, 1.0}}) {
         const auto m = make<walls>({1.0, 1.0, -1.0, scales[0], scales[1], 0.5, 10.0});
         vimpact::run_stats stats;
-        const recorder rec = run(m, tolerance(1e-12, 10.0), X2(0.0, 1.0), &stats);
+        const recorder rec = run(m, flow_tolerances(1e-12, 10.0), X2(0.0, 1.0), &stats);
         ASSERT_EQ(rec.impacts.size(), 3u) << "scales " << scales[0] << ", " << scales[1];
         const std::array<int, 3> surface{0, 2, 0};
         const std::array<double, 3> t{1.0, 5.0, 9.0};
@@ -239,7 +231,7 @@ TEST(FlowSurfaces, FirstSurfaceInTimeWinsInsideOneStep)
     for (const bool near_first : {true, false}) {
         const double c0 = near_first ? 1.0 : 1.001, c1 = near_first ? 1.001 : 1.0;
         const auto m = make<walls>({c0, c1, -1.0, 1.0, 1.0, 0.5, 1.0005});
-        flow_options o = tolerance(1e-12, 10.0);
+        flow_options o = flow_tolerances(1e-12, 10.0);
         o.integration.h_init = 4.0;
         o.integration.h_max = 4.0;
         o.events = {flow_event::section(0, crossing::both), flow_event::section(1, crossing::both)};
@@ -291,7 +283,7 @@ TEST(FlowSurfaces, FirstSurfaceInTimeWinsInsideOneStep)
 // at a step end x_m of the second run after the rebound (falling there), in a third run.
 TEST(FlowSurfaces, ImpactsExactlyAtAStepEndAreCountedOnce)
 {
-    const flow_options o = tolerance(1e-10, 20.0);
+    const flow_options o = flow_tolerances(1e-10, 20.0);
     const X2 x0(0.0, 1.0);
     const auto ends = step_ends(make<damped_between>({0.0, 10.0, 0.0, -10.0, 10.0, 0.8}), o, x0, 3.0);
     std::size_t k = 0;
@@ -312,7 +304,7 @@ TEST(FlowSurfaces, ImpactsExactlyAtAStepEndAreCountedOnce)
 
     const auto third = make<damped_between>({0.0, c_r, 0.0, c_l, 10.0, 0.8});
     vimpact::run_stats stats;
-    const recorder rec = run(third, tolerance(1e-10, t_m + 0.05), x0, &stats);
+    const recorder rec = run(third, flow_tolerances(1e-10, t_m + 0.05), x0, &stats);
     ASSERT_EQ(rec.impacts.size(), 2u);
     EXPECT_EQ(rec.impacts[0].surface, 0);
     EXPECT_EQ(rec.impacts[0].t, t_k);
@@ -330,7 +322,7 @@ TEST(FlowSurfaces, ImpactsExactlyAtAStepEndAreCountedOnce)
 // the section exactly; the next step starts on it and does not report it again.
 TEST(FlowSurfaces, SectionExactlyAtAStepEndIsCountedOnce)
 {
-    const flow_options o = tolerance(1e-10, 20.0);
+    const flow_options o = flow_tolerances(1e-10, 20.0);
     const X2 x0(-1.0, 0.0);
     const auto ends = step_ends(make<damped_between>({0.0, 10.0, 0.0, -10.0, 10.0, 0.8}), o, x0, 3.0);
     std::size_t j = 0;
@@ -340,7 +332,7 @@ TEST(FlowSurfaces, SectionExactlyAtAStepEndIsCountedOnce)
     ASSERT_LT(t_j + 0.5, pi);  // x = -cos t rises through the level once before t_j + 0.5
 
     const auto m = make<damped_between>({0.0, 10.0, 0.0, -10.0, level, 0.8});
-    flow_options oe = tolerance(1e-10, t_j + 0.5);
+    flow_options oe = flow_tolerances(1e-10, t_j + 0.5);
     oe.events = {flow_event::section(0, crossing::both)};
     vimpact::run_stats stats;
     const recorder rec = run(m, oe, x0, &stats);
@@ -366,7 +358,7 @@ TEST(FlowSurfaces, GapAndStateExtremaMatchClosedForms)
     const double zeta = 0.05, beta = 0.5, T = 40.0;
     const double w = std::sqrt(1.0 - zeta * zeta);
     const auto m = make<damped_between>({zeta, 5.0, beta, -5.0, 10.0, 0.8});
-    flow_options o = tolerance(1e-12, T);
+    flow_options o = flow_tolerances(1e-12, T);
     o.surfaces = false;
     o.events = {flow_event::gap_extrema(0, crossing::up), flow_event::gap_extrema(0, crossing::down),
                 flow_event::gap_extrema(1, crossing::both), flow_event::state_extrema(0, crossing::up),

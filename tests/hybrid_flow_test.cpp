@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "test_support.hpp"
 #include "vimpact/hybrid/flow.hpp"
 #include "vimpact/model/builtin/forced_impact_oscillator.hpp"
 #include "vimpact/model/native_model.hpp"
@@ -24,6 +25,7 @@ using vimpact::flow_event;
 using vimpact::flow_options;
 using vimpact::hybrid_flow;
 using vimpact::outcome;
+using vimpact::test::flow_tolerances;
 using oscillator_model = vimpact::native_model<vimpact::forced_impact_oscillator>;
 using X3 = vimpact::vec<3>;
 constexpr double pi = std::numbers::pi;
@@ -108,15 +110,6 @@ oscillator_model oscillator(double zeta, double F, double omega, double sigma, d
     return oscillator_model(p);
 }
 
-flow_options options(double tol, double t_max)
-{
-    flow_options o;
-    o.integration.rtol = tol;
-    o.integration.atol = tol;
-    o.t_max = t_max;
-    return o;
-}
-
 // Watch the maxima (section 0, downwards) and minima (section 1, upwards) of y.
 flow_options with_extrema(flow_options o)
 {
@@ -197,7 +190,7 @@ void check_undamped_impact_sequence()
     const double t_max = 0.5 * (t_exact[5] + t);  // between the 6th and the 7th impact
     outcome st;
     vimpact::run_stats stats;
-    const recorder rec = run_flow<Method>(m, options(1e-12, t_max), X3(1.0, 0.0, 0.0), &st, &stats);
+    const recorder rec = run_flow<Method>(m, flow_tolerances(1e-12, t_max), X3(1.0, 0.0, 0.0), &st, &stats);
     EXPECT_EQ(st, outcome::time_limit);
     ASSERT_EQ(rec.impacts.size(), 6u);
     EXPECT_EQ(stats.impacts, 6);
@@ -248,7 +241,7 @@ TEST(HybridFlow, DampedImpactTimesMatchClosedForm)
     }
     ASSERT_GE(t_exact.size(), 3u);  // the set-up must actually impact several times
 
-    const recorder rec = run_flow(m, options(1e-12, T), X3(1.0, 0.0, 0.0));
+    const recorder rec = run_flow(m, flow_tolerances(1e-12, T), X3(1.0, 0.0, 0.0));
     ASSERT_EQ(rec.impacts.size(), t_exact.size());
     for (std::size_t k = 0; k < t_exact.size(); ++k) {
         EXPECT_NEAR(rec.impacts[k].t, static_cast<double>(t_exact[k]), 1e-9) << "impact " << k;
@@ -263,7 +256,7 @@ TEST(HybridFlow, DampedImpactTimesMatchClosedForm)
 TEST(HybridFlow, SectionMaximaOfFreeOscillator)
 {
     const auto m = oscillator(0.0, 0.0, 0.8, -5.0, 0.8);
-    auto o = with_extrema(options(1e-12, 20.0 * pi + 1.0));
+    auto o = with_extrema(flow_tolerances(1e-12, 20.0 * pi + 1.0));
     o.surfaces = false;
     vimpact::run_stats stats;
     const recorder rec = run_flow(m, o, X3(1.0, 0.0, 0.0), nullptr, &stats);
@@ -290,7 +283,7 @@ TEST(HybridFlow, SectionsAtStepBoundariesCountedOnce)
 {
     const auto m = oscillator(0.0, 0.0, 0.8, -5.0, 0.8);
     const int periods = 40;
-    auto o = with_extrema(options(1e-10, periods * 2.0 * pi + 0.5));
+    auto o = with_extrema(flow_tolerances(1e-10, periods * 2.0 * pi + 0.5));
     o.integration.h_init = 2.0 * pi / 32.0;
     o.integration.h_max = 2.0 * pi / 32.0;
     o.surfaces = false;
@@ -322,7 +315,7 @@ TEST(HybridFlow, GrazingDipInsideOneStepIsCaught)
     // step that contains pi well inside it.
     {
         const auto m = oscillator(0.0, 0.0, 0.8, -1.0 - 1e-9, 0.8);
-        const recorder rec = run_flow(m, options(1e-12, 20.0), X3(1.0, 0.0, 0.0));
+        const recorder rec = run_flow(m, flow_tolerances(1e-12, 20.0), X3(1.0, 0.0, 0.0));
         EXPECT_TRUE(rec.impacts.empty());  // below the minimum: no impact, ever
         bool spans = false;
         for (std::size_t i = 0; i + 1 < rec.step_ends.size(); ++i)
@@ -330,7 +323,7 @@ TEST(HybridFlow, GrazingDipInsideOneStepIsCaught)
         ASSERT_TRUE(spans);
     }
     const auto m = oscillator(0.0, 0.0, 0.8, -1.0 + 1e-9, 0.8);
-    const recorder rec = run_flow(m, options(1e-12, t_max), X3(1.0, 0.0, 0.0));
+    const recorder rec = run_flow(m, flow_tolerances(1e-12, t_max), X3(1.0, 0.0, 0.0));
     ASSERT_EQ(rec.impacts.size(), 1u);
     const double d = std::acos(1.0 - 1e-9);
     EXPECT_NEAR(rec.impacts[0].t, pi, 1e-4);
@@ -345,14 +338,14 @@ TEST(HybridFlow, GrazingDipCaughtWithLooseTolerance)
 {
     {
         const auto m = oscillator(0.0, 0.0, 0.8, -1.0 - 1e-3, 0.8);
-        const recorder rec = run_flow(m, options(1e-6, 4.0), X3(1.0, 0.0, 0.0));
+        const recorder rec = run_flow(m, flow_tolerances(1e-6, 4.0), X3(1.0, 0.0, 0.0));
         bool spans = false;
         for (std::size_t i = 0; i + 1 < rec.step_ends.size(); ++i)
             spans = spans || (rec.step_ends[i] < pi - 1e-2 && rec.step_ends[i + 1] > pi + 1e-2);
         ASSERT_TRUE(spans);
     }
     const auto m = oscillator(0.0, 0.0, 0.8, -1.0 + 1e-5, 0.8);
-    const recorder rec = run_flow(m, options(1e-6, 4.0), X3(1.0, 0.0, 0.0));
+    const recorder rec = run_flow(m, flow_tolerances(1e-6, 4.0), X3(1.0, 0.0, 0.0));
     ASSERT_EQ(rec.impacts.size(), 1u);
     EXPECT_NEAR(rec.impacts[0].t, pi - std::acos(1.0 - 1e-5), 1e-3);
 }
@@ -412,7 +405,7 @@ struct chatter_run {
 chatter_run run_compression_chatter(double sigma, double y0, double r)
 {
     const auto m = oscillator(0.0, 0.0, 0.8, sigma, r);
-    auto o = options(1e-12, 0.0);
+    auto o = flow_tolerances(1e-12, 0.0);
     chatter_run c;
     c.stop_speed = stop_speed(o, sigma, sigma);
     c.cf = compression_closed_form(y0, sigma, r, c.stop_speed);
@@ -483,7 +476,7 @@ TEST(HybridFlow, ChatterAccumulationTimeMatchesBallisticLimit)
 {
     const double sigma = 1.0 / 64.0, r = 0.8, y0 = sigma * (1.0 + 1e-6);
     const auto m = oscillator(0.0, 0.0, 0.8, sigma, r);
-    auto o = options(1e-12, 1.0);
+    auto o = flow_tolerances(1e-12, 1.0);
     const auto cf = compression_closed_form(y0, sigma, r, stop_speed(o, sigma, sigma));
     const double t_inf = cf.t_first + 2.0 * cf.v0 * r / (sigma * (1.0 - r));
     const double tail = 2.0 * stop_speed(o, sigma, sigma) / (sigma * (1.0 - r));
@@ -512,7 +505,7 @@ void check_forced_stick_release(double sigma, double F, double y0)
     ASSERT_EQ(sigma / F, 0.5);
     const auto m = oscillator(0.0, F, omega, sigma, r);
     const double t_release = (5.0 * pi / 3.0 - pi) / omega;
-    auto o = options(1e-12, t_release + 1.0);
+    auto o = flow_tolerances(1e-12, t_release + 1.0);
     outcome st;
     vimpact::run_stats stats;
     const recorder rec = run_flow(m, o, X3(y0, 0.0, pi), &st, &stats, true);
@@ -604,7 +597,7 @@ TEST(HybridFlow, LargeBarrierCompressionChatterSticks)
 TEST(HybridFlow, InadmissibleStartIsRefusedAndRestingStartSticks)
 {
     const auto m = oscillator(0.0, 0.0, 0.8, 0.5, 0.8);  // free acceleration at rest: -0.5
-    hybrid_flow<oscillator_model> flow(m, options(1e-10, 1.0));
+    hybrid_flow<oscillator_model> flow(m, flow_tolerances(1e-10, 1.0));
     EXPECT_THROW(flow.start(0.0, X3(0.4, 0.0, 0.0)), vimpact::input_error);
     EXPECT_THROW(flow.start(0.0, X3(0.5, -0.1, 0.0)), vimpact::input_error);  // on it, moving in
     flow.start(0.0, X3(0.5, 0.0, 0.0));
@@ -620,7 +613,7 @@ TEST(HybridFlow, InadmissibleStartIsRefusedAndRestingStartSticks)
 TEST(HybridFlow, RunsAreBitIdentical)
 {
     const auto m = oscillator(0.05, 1.0, 0.8, -0.2, 0.8);
-    const auto o = with_extrema(options(1e-10, 200.0));
+    const auto o = with_extrema(flow_tolerances(1e-10, 200.0));
     const recorder a = run_flow(m, o, X3(0.3, 0.1, 0.0));
     const recorder b = run_flow(m, o, X3(0.3, 0.1, 0.0));
     ASSERT_GT(a.impacts.size(), 10u);

@@ -19,6 +19,7 @@
 
 #include <ginac/ginac.h>
 
+#include "test_support.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
@@ -79,14 +80,7 @@ private:
     std::optional<std::string> m_old;
 };
 
-template <int N>
-vec<N> random_state(std::mt19937& gen, double scale = 1.0)
-{
-    std::uniform_real_distribution<double> u(-scale, scale);
-    vec<N> x;
-    for (int i = 0; i < N; ++i) x[i] = u(gen);
-    return x;
-}
+using test::random_vec;
 
 // |a - b| within `rel` of the largest entry of b (and of 1), by plain loops (Eigen's AVX-512
 // reductions of small matrices trip false -Wmaybe-uninitialized errors in GCC 12).
@@ -179,7 +173,7 @@ void expect_same_functions(const model& file, const model& builtin, std::mt19937
     ASSERT_EQ(f.surface_count(), b.surface_count());
     ASSERT_EQ(f.section_count(), b.section_count());
     for (int trial = 0; trial < 40; ++trial) {
-        const vec<N> x = random_state<N>(gen, scale), u = random_state<N>(gen), w = random_state<N>(gen);
+        const vec<N> x = random_vec<N>(gen, scale), u = random_vec<N>(gen), w = random_vec<N>(gen);
         EXPECT_TRUE(close(f.rhs(x), b.rhs(x)));
         EXPECT_TRUE(close(f.jacobian(x), b.jacobian(x)));
         EXPECT_TRUE(close(f.second_derivative(x, u, w), b.second_derivative(x, u, w)));
@@ -346,7 +340,7 @@ vec<3> scalar3(double v) { return vec<3>::Constant(v); }
 vec<3> smooth_state(std::mt19937& gen)
 {
     for (;;) {
-        const vec<3> x = random_state<3>(gen);
+        const vec<3> x = random_vec<3>(gen);
         if (std::abs(x[0]) > 0.05 && std::abs(x[1]) > 0.05 && std::abs(x[2] - 0.1) > 0.05) return x;
     }
 }
@@ -360,7 +354,7 @@ TEST(ModelFile, SymbolicDerivativesEqualFiniteDifferences)
     std::mt19937 gen(13);
     const double tol = 1e-7;
     for (int trial = 0; trial < 30; ++trial) {
-        const vec<3> x = smooth_state(gen), u = random_state<3>(gen), w = random_state<3>(gen);
+        const vec<3> x = smooth_state(gen), u = random_vec<3>(gen), w = random_vec<3>(gen);
         const double h = 1e-6;
         EXPECT_TRUE(close(t.jacobian(x), fd_jacobian([&](const vec<3>& y) { return t.rhs(y); }, x), tol));
         const vec<3> d2 = (t.jacobian(vec<3>(x + h * u)) * w - t.jacobian(vec<3>(x - h * u)) * w) / (2.0 * h);
@@ -904,7 +898,7 @@ TEST(ModelFile, JsonDescriptionEqualsTheTomlFile)
     const table_model<3> a(from_json.table(), from_json.context()), b(from_toml.table(), from_toml.context());
     std::mt19937 gen(14);
     for (int trial = 0; trial < 10; ++trial) {
-        const vec<3> x = random_state<3>(gen, 3.0), u = random_state<3>(gen), w = random_state<3>(gen);
+        const vec<3> x = random_vec<3>(gen, 3.0), u = random_vec<3>(gen), w = random_vec<3>(gen);
         EXPECT_EQ(a.rhs(x), b.rhs(x));
         EXPECT_EQ(a.jacobian(x), b.jacobian(x));
         EXPECT_EQ(a.second_derivative(x, u, w), b.second_derivative(x, u, w));

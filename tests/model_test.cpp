@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "test_support.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/model/builtin/forced_impact_oscillator.hpp"
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
@@ -16,33 +17,9 @@ using namespace vimpact;
 
 namespace {
 
-template <int N>
-vec<N> random_state(std::mt19937& gen, double scale = 1.0)
-{
-    std::uniform_real_distribution<double> u(-scale, scale);
-    vec<N> x;
-    for (int i = 0; i < N; ++i) x[i] = u(gen);
-    return x;
-}
-
-// Largest |a_ij - b_ij| by a plain loop (Eigen's AVX-512 reductions of 4 x 4 matrices trip
-// false -Wmaybe-uninitialized errors in GCC 12).
-template <class A, class B>
-double max_abs_diff(const A& a, const B& b)
-{
-    double m = 0.0;
-    for (Eigen::Index i = 0; i < a.rows(); ++i)
-        for (Eigen::Index j = 0; j < a.cols(); ++j) m = std::max(m, std::abs(a(i, j) - b(i, j)));
-    return m;
-}
-
-template <class D>
-std::vector<double> defaults()
-{
-    std::vector<double> p;
-    for (const auto& q : D::parameters) p.push_back(q.default_value);
-    return p;
-}
+using test::defaults;
+using test::max_abs_diff;
+using test::random_vec;
 
 // The wake model with every hand-written derivative removed: automatic differentiation only.
 struct wake_ad_only {
@@ -92,7 +69,7 @@ TEST(Model, WakeHandWrittenDerivativesEqualAutomaticOnes)
     const native_model<wake_ad_only> ad(p);
     std::mt19937 gen(1);
     for (int trial = 0; trial < 20; ++trial) {
-        const vec<4> x = random_state<4>(gen), u = random_state<4>(gen), w = random_state<4>(gen);
+        const vec<4> x = random_vec<4>(gen), u = random_vec<4>(gen), w = random_vec<4>(gen);
         EXPECT_LT(max_abs_diff(hand.jacobian(x), ad.jacobian(x)), 1e-14);
         EXPECT_LT(max_abs_diff(hand.second_derivative(x, u, w), ad.second_derivative(x, u, w)), 1e-14);
         EXPECT_NEAR(hand.divergence(x), ad.divergence(x), 1e-14);
@@ -111,13 +88,13 @@ TEST(Model, AutomaticJacobiansEqualFiniteDifferences)
     const native_model<two_sided_impact_oscillator> m(defaults<two_sided_impact_oscillator>());
     const native_model<forced_impact_oscillator> f(defaults<forced_impact_oscillator>());
     for (int trial = 0; trial < 10; ++trial) {
-        const vec<3> x = random_state<3>(gen, 2.0);
+        const vec<3> x = random_vec<3>(gen, 2.0);
         const mat<3> fd = fd_jacobian<3>([&](const vec<3>& y) { return m.rhs(y); }, x);
         EXPECT_LT(max_abs_diff(m.jacobian(x), fd), 1e-9);
         const mat<3> fdf = fd_jacobian<3>([&](const vec<3>& y) { return f.rhs(y); }, x);
         EXPECT_LT(max_abs_diff(f.jacobian(x), fdf), 1e-9);
         // The second derivative along u, w against differences of the Jacobian.
-        const vec<3> u = random_state<3>(gen), w = random_state<3>(gen);
+        const vec<3> u = random_vec<3>(gen), w = random_vec<3>(gen);
         const double h = 1e-6;
         const vec<3> d2 = (m.jacobian(vec<3>(x + h * u)) * w - m.jacobian(vec<3>(x - h * u)) * w) / (2.0 * h);
         EXPECT_LT(max_abs_diff(m.second_derivative(x, u, w), d2), 1e-8);
@@ -164,7 +141,7 @@ TEST(Model, HessianOfANonlinearGapEqualsFiniteDifferencesOfItsGradient)
     const native_model<curved> m(p);
     std::mt19937 gen(3);
     for (int trial = 0; trial < 10; ++trial) {
-        const vec<2> x = random_state<2>(gen);
+        const vec<2> x = random_vec<2>(gen);
         const mat<2> fd = fd_jacobian<2>([&](const vec<2>& y) { return m.gap_gradient(0, y); }, x);
         EXPECT_LT(max_abs_diff(m.gap_hessian(0, x), fd), 1e-8);
         EXPECT_LT(max_abs_diff(m.gap_hessian(0, x), m.gap_hessian(0, x).transpose()), 1e-15);
@@ -179,7 +156,7 @@ TEST(Model, FunctionTableCallsEqualTheNativeModel)
     const native_model<wake_impact> n(m.parameters());
     std::mt19937 gen(4);
     for (int trial = 0; trial < 5; ++trial) {
-        const vec<4> x = random_state<4>(gen), u = random_state<4>(gen), w = random_state<4>(gen);
+        const vec<4> x = random_vec<4>(gen), u = random_vec<4>(gen), w = random_vec<4>(gen);
         EXPECT_EQ(t.rhs(x), n.rhs(x));
         EXPECT_EQ(t.jacobian(x), n.jacobian(x));
         EXPECT_EQ(t.second_derivative(x, u, w), n.second_derivative(x, u, w));

@@ -28,6 +28,7 @@ namespace {
 
 using vimpact::mat;
 using vimpact::vec;
+using vimpact::test::defaults;
 using wake = vimpact::native_model<vimpact::wake_impact>;
 using forced = vimpact::native_model<vimpact::forced_impact_oscillator>;
 using two_sided = vimpact::native_model<vimpact::two_sided_impact_oscillator>;
@@ -39,14 +40,6 @@ double max_abs(const A& m)
     for (Eigen::Index i = 0; i < m.rows(); ++i)
         for (Eigen::Index j = 0; j < m.cols(); ++j) r = std::max(r, std::abs(m(i, j)));
     return r;
-}
-
-template <class D>
-std::vector<double> defaults()
-{
-    std::vector<double> p;
-    for (const auto& q : D::parameters) p.push_back(q.default_value);
-    return p;
 }
 
 // The paper's model (paper preset) at Ur, and the parameter values the closed forms need.

@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Core>
 
+#include "vimpact/hybrid/flow.hpp"
 #include "vimpact/model/model.hpp"
 
 namespace vimpact::test {
@@ -29,6 +33,25 @@ Eigen::Matrix<double, N, 1> random_vec(std::mt19937& gen, double scale = 1.0)
     Eigen::Matrix<double, N, 1> x;
     for (int i = 0; i < N; ++i) x[i] = u(gen);
     return x;
+}
+
+// The default parameter values of a C++ definition D (native_model<D> takes them in order).
+template <class D>
+std::vector<double> defaults()
+{
+    std::vector<double> p;
+    for (const auto& q : D::parameters) p.push_back(q.default_value);
+    return p;
+}
+
+// Flow options with one tolerance for rtol and atol, and a time limit.
+inline flow_options flow_tolerances(double tol, double t_max)
+{
+    flow_options o;
+    o.integration.rtol = tol;
+    o.integration.atol = tol;
+    o.t_max = t_max;
+    return o;
 }
 
 // The model with parameters changed by name (a test's shorthand; front ends look names up

@@ -14,7 +14,8 @@ import vimpact.plot
 from _common import PROTOCOL, pick, picture
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-model = vimpact.Model.from_file(os.path.join(HERE, "..", "models", "two_sided_impact_oscillator.toml"))
+# Relative to where the script is started, so that the model prints the same on any machine.
+model = vimpact.Model.from_file(os.path.relpath(os.path.join(HERE, "..", "models", "two_sided_impact_oscillator.toml")))
 print(model)
 print("state:", model.state_names, "surfaces:", model.surfaces, "sections:", model.sections)
 

@@ -25,9 +25,11 @@
 
 #include <Eigen/Core>
 
+#include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/names.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/jobs/job_options.hpp"
@@ -295,31 +297,20 @@ inline int state_index(const model& m, const std::string& name, const std::strin
 // "maxima" (a section of the model), "impacts" (every surface) or "impacts:SURFACE".
 inline section_choice section_of(const model& m, const std::string& name)
 {
-    const auto& info = m.info();
-    if (name == "impacts") return section_choice::impacts(-1);
-    if (name.rfind("impacts:", 0) == 0) {
-        const std::string surface = name.substr(8);
-        const int i = info.surface_index(surface);
-        if (i < 0)
-            throw input_error("section '" + name + "': model " + m.name() + " has no surface '" + surface +
-                              "' (surfaces: " + info.surface_names() + ")");
-        return section_choice::impacts(i);
-    }
-    const int k = info.section_index(name);
-    if (k < 0) {
-        std::string valid = info.section_names();
-        valid += std::string(valid.empty() ? "" : ", ") + "impacts";
-        for (const auto& s : info.surfaces) valid += ", impacts:" + s.name;
-        throw input_error("section '" + name + "' is not one of model " + m.name() + "'s: " + valid);
-    }
-    return section_choice::crossings(k);
+    if (const auto choice = section_choice_named(m, name)) return *choice;
+    if (name.rfind("impacts:", 0) == 0)
+        throw input_error("section '" + name + "': model " + m.name() + " has no surface '" + name.substr(8) +
+                          "' (surfaces: " + m.info().surface_names() + ")");
+    throw input_error("section '" + name + "' is not one of model " + m.name() + "'s: " + section_choice_names(m));
 }
 
-inline integration_method method_of(const std::string& s)
+// rtol, atol and method (as in vimpact.simulate) into an analysis' integration options.
+inline void read_integration(options& o, integrator_options& in, integration_method& method)
 {
-    if (s == "dop853") return integration_method::dop853;
-    if (s == "dopri5") return integration_method::dopri5;
-    throw input_error("method '" + s + "' is not one of dop853, dopri5");
+    in.rtol = o.get<double>("rtol", in.rtol);
+    in.atol = o.get<double>("atol", in.atol);
+    method = parse_name(o.get<std::string>("method", std::string(to_string(method))), all_integration_methods,
+                        "method");
 }
 
 // A state given from Python: exactly dim numbers (empty: the library takes the model's).
@@ -333,12 +324,28 @@ inline Eigen::VectorXd state_of(const model& m, const py::object& a, const char*
     return Eigen::Map<const Eigen::VectorXd>(arr.data(), arr.shape(0));
 }
 
+// Where a single run starts: the state given from Python, or the model's own for None.
+inline Eigen::VectorXd initial_state_of(const model& m, const py::object& ic)
+{
+    Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    return x0.size() ? x0 : m.initial_state();
+}
+
 // Values of a swept parameter or a grid axis: a 1-D sequence of numbers.
 inline std::vector<double> values_of(const py::object& a, const std::string& what)
 {
     const auto arr = a.cast<input_array>();
     if (arr.ndim() != 1) throw input_error(what + " must be a 1-D sequence of numbers");
     return {arr.data(), arr.data() + arr.shape(0)};
+}
+
+// param, values and ic of an analysis over one parameter's values (a sweep of any kind).
+template <class SweepOptions>
+void read_parameter_values(const model& m, options& o, SweepOptions& so)
+{
+    so.parameter = parameter_index(m, o.need<std::string>("param"), "param");
+    so.values = values_of(o.object("values"), "values");
+    so.initial_state = state_of(m, o.object("ic"), "ic");
 }
 
 // The protocol's options (keys as in vimpact.simulate).
@@ -350,11 +357,19 @@ inline protocol_options protocol_of(const model& m, options& o)
     po.section = section_of(m, o.need<std::string>("section"));
     po.quiet_time = o.get<double>("quiet_time", po.quiet_time);
     po.sample_dt = o.get<double>("sample_dt", po.sample_dt);
-    po.flow.integration.rtol = o.get<double>("rtol", po.flow.integration.rtol);
-    po.flow.integration.atol = o.get<double>("atol", po.flow.integration.atol);
+    read_integration(o, po.flow.integration, po.method);
     po.flow.t_max = o.get<double>("t_max", po.flow.t_max);
-    po.method = method_of(o.get<std::string>("method", "dop853"));
     return po;
+}
+
+// The surface-free run's keys (as in vimpact.grazing and vimpact.response).
+inline void read_grazing_run(options& o, grazing_options& go)
+{
+    read_integration(o, go.integration, go.method);
+    go.transient_time = o.get<double>("transient_time", go.transient_time);
+    go.block = o.get<int>("block", go.block);
+    go.tolerance = o.get<double>("tol", go.tolerance);
+    go.t_max = o.get<double>("t_max", go.t_max);
 }
 
 // ---------------------------------------------------------------- job options
@@ -443,6 +458,26 @@ auto run_job_analysis(job_options j, const py::object& progress, Analysis&& anal
 inline void finish_journal(const job_options& j, const job_report& r, bool keep)
 {
     if (j.journal && r.complete() && !keep) remove_journal(*j.journal);
+}
+
+// A many-job call once its analysis' keys are read: the job keys (threads, shard, journal,
+// resume, keep_journal, progress), then analysis(job_options) run as run_job_analysis does.
+// The dict holds the job report ("jobs") and, when the run is complete, what put(dict,
+// result) adds.
+template <class Analysis, class Put>
+py::dict run_jobs(options& o, Analysis&& analysis, Put&& put)
+{
+    const job_options j = job_options_of(o);
+    const bool keep = o.get<bool>("keep_journal", false);
+    const py::object progress = o.object("progress");
+    o.finish();
+    const auto r = run_job_analysis(j, progress, std::forward<Analysis>(analysis));
+    py::dict d;
+    d["jobs"] = report_dict(r.jobs);
+    if (!r.jobs.complete()) return d;
+    finish_journal(j, r.jobs, keep);
+    put(d, r);
+    return d;
 }
 
 }  // namespace vimpact::python

@@ -31,9 +31,7 @@ py::dict dimension(const input_array& points, const std::string& estimator, long
     for (py::ssize_t i = 0; i < points.shape(0); ++i) ps.push_back(points.data(i, 0));
 
     dimension_options o;
-    if (estimator == "correlation_sum") o.estimator = dimension_estimator::correlation_sum;
-    else if (estimator == "centres") o.estimator = dimension_estimator::centres;
-    else throw input_error("estimator '" + estimator + "' is not one of correlation_sum, centres");
+    o.estimator = parse_name(estimator, all_dimension_estimators, "estimator");
     o.correlation.theiler_window = theiler;
     o.centre.theiler_window = theiler;
     o.centre.centres = centres;
@@ -43,10 +41,7 @@ py::dict dimension(const input_array& points, const std::string& estimator, long
     o.correlation.r_max = r_max;
     o.correlation.bins_per_octave = bins_per_octave;
     o.max_pairs = max_pairs;
-    if (search == "grid") o.correlation.search = pair_search::grid;
-    else if (search == "kd_tree") o.correlation.search = pair_search::kd_tree;
-    else if (search == "brute_force") o.correlation.search = pair_search::brute_force;
-    else throw input_error("search '" + search + "' is not one of grid, kd_tree, brute_force");
+    o.correlation.search = parse_name(search, all_pair_searches, "search");
     o.correlation.threads = resolve_threads(threads);
     o.scaling.slope_tolerance = slope_tolerance;
     o.scaling.slope_window = slope_window;

@@ -22,14 +22,6 @@
 namespace vimpact::python {
 namespace {
 
-sweep_direction direction_of(const std::string& s)
-{
-    if (s == "up") return sweep_direction::up;
-    if (s == "down") return sweep_direction::down;
-    if (s == "both") return sweep_direction::both;
-    throw input_error("direction '" + s + "' is not one of up, down, both");
-}
-
 bool follow_of(const std::string& s)
 {
     if (s == "fixed") return false;
@@ -74,63 +66,54 @@ py::dict sweep_run(const model& m, const py::dict& kw)
 {
     options o(kw);
     sweep_options so;
-    so.parameter = parameter_index(m, o.need<std::string>("param"), "param");
-    so.values = values_of(o.object("values"), "values");
-    so.initial_state = state_of(m, o.object("ic"), "ic");
+    read_parameter_values(m, o, so);
     so.follow = follow_of(o.get<std::string>("ic_mode", "fixed"));
-    so.direction = direction_of(o.get<std::string>("direction", "up"));
+    so.direction = parse_name(o.get<std::string>("direction", std::string(to_string(so.direction))),
+                              all_sweep_directions, "direction");
     so.protocol = protocol_of(m, o);
     so.period_tolerance = o.need<double>("tol");
     if (o.has("grazing")) so.grazing_parameter = parameter_index(m, o.need<std::string>("grazing"), "grazing");
     (void)o.object("grazing");
-    const job_options j = job_options_of(o);
-    const bool keep = o.get<bool>("keep_journal", false);
-    const py::object progress = o.object("progress");
-    o.finish();
-
-    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return sweep(m, so, c); });
-    py::dict d;
-    d["jobs"] = report_dict(r.jobs);
-    if (!r.jobs.complete()) return d;
-    finish_journal(j, r.jobs, keep);
-    const auto& p = r.points;
-    const int S = m.surface_count();
-    d["branch"] = column<std::int64_t>(p, [](const auto& x) { return x.branch; });
-    d["value"] = column<double>(p, [](const auto& x) { return x.value; });
-    put_labels(d, p, [](const sweep_point& x) -> const period_label& { return x.label; }, S);
-    d["outcome"] = string_list(p, [](const auto& x) { return to_string(x.status); });
-    std::vector<std::vector<double>> graze;
-    std::vector<Eigen::VectorXd> finals;
-    std::size_t npoints = 0;
-    long steps = 0, rhs = 0;
-    for (const auto& x : p) {
-        graze.push_back(x.grazing);
-        finals.push_back(x.final_state);
-        npoints += x.points.size();
-        steps += x.stats.steps;
-        rhs += x.stats.rhs_calls;
-    }
-    d["grazing"] = per_surface(graze, S);
-    d["final_state"] = rows_array(finals, m.dim());
-    d["steps"] = column<std::int64_t>(p, [](const auto& x) { return x.stats.steps; });
-    py::array_t<double> points({static_cast<py::ssize_t>(npoints), static_cast<py::ssize_t>(m.dim())});
-    py::array_t<std::int64_t> point_run(static_cast<py::ssize_t>(npoints));
-    {
-        double* out = points.mutable_data();
-        auto rv = point_run.mutable_unchecked<1>();
-        py::ssize_t k = 0;
-        for (std::size_t job = 0; job < p.size(); ++job) {
-            const auto& v = p[job].points.values();
-            if (!v.empty()) std::memcpy(out, v.data(), v.size() * sizeof(double));
-            out += v.size();
-            for (std::size_t i = 0; i < p[job].points.size(); ++i) rv(k++) = static_cast<std::int64_t>(job);
+    const auto analysis = [&](const job_options& c) { return sweep(m, so, c); };
+    return run_jobs(o, analysis, [&](py::dict& d, const sweep_result& r) {
+        const auto& p = r.points;
+        const int S = m.surface_count();
+        d["branch"] = column<std::int64_t>(p, [](const auto& x) { return x.branch; });
+        d["value"] = column<double>(p, [](const auto& x) { return x.value; });
+        put_labels(d, p, [](const sweep_point& x) -> const period_label& { return x.label; }, S);
+        d["outcome"] = string_list(p, [](const auto& x) { return to_string(x.status); });
+        std::vector<std::vector<double>> graze;
+        std::vector<Eigen::VectorXd> finals;
+        std::size_t npoints = 0;
+        long steps = 0, rhs = 0;
+        for (const auto& x : p) {
+            graze.push_back(x.grazing);
+            finals.push_back(x.final_state);
+            npoints += x.points.size();
+            steps += x.stats.steps;
+            rhs += x.stats.rhs_calls;
         }
-    }
-    d["points"] = points;
-    d["point_run"] = point_run;
-    d["steps_total"] = steps;
-    d["rhs_calls_total"] = rhs;
-    return d;
+        d["grazing"] = per_surface(graze, S);
+        d["final_state"] = rows_array(finals, m.dim());
+        d["steps"] = column<std::int64_t>(p, [](const auto& x) { return x.stats.steps; });
+        py::array_t<double> points({static_cast<py::ssize_t>(npoints), static_cast<py::ssize_t>(m.dim())});
+        py::array_t<std::int64_t> point_run(static_cast<py::ssize_t>(npoints));
+        {
+            double* out = points.mutable_data();
+            auto rv = point_run.mutable_unchecked<1>();
+            py::ssize_t k = 0;
+            for (std::size_t job = 0; job < p.size(); ++job) {
+                const auto& v = p[job].points.values();
+                if (!v.empty()) std::memcpy(out, v.data(), v.size() * sizeof(double));
+                out += v.size();
+                for (std::size_t i = 0; i < p[job].points.size(); ++i) rv(k++) = static_cast<std::int64_t>(job);
+            }
+        }
+        d["points"] = points;
+        d["point_run"] = point_run;
+        d["steps_total"] = steps;
+        d["rhs_calls_total"] = rhs;
+    });
 }
 
 // ---------------------------------------------------------------- map
@@ -147,24 +130,16 @@ py::dict map_run(const model& m, const py::dict& kw)
     mo.protocol = protocol_of(m, o);
     mo.period_tolerance = o.need<double>("tol");
     mo.grazing = o.get<bool>("grazing", false);
-    const job_options j = job_options_of(o);
-    const bool keep = o.get<bool>("keep_journal", false);
-    const py::object progress = o.object("progress");
-    o.finish();
-
-    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return map2d(m, mo, c); });
-    py::dict d;
-    d["jobs"] = report_dict(r.jobs);
-    if (!r.jobs.complete()) return d;
-    finish_journal(j, r.jobs, keep);
-    const auto& c = r.cells;
-    put_labels(d, c, [](const map_cell& x) -> const period_label& { return x.label; }, m.surface_count());
-    d["outcome"] = string_list(c, [](const auto& x) { return to_string(x.status); });
-    d["steps"] = column<std::int64_t>(c, [](const auto& x) { return x.steps; });
-    d["grazing_axis"] = r.grazing_axis;
-    d["grazing_other"] = vector_array(r.grazing_other);
-    d["grazing"] = per_surface(r.grazing_values, m.surface_count());
-    return d;
+    const auto analysis = [&](const job_options& c) { return map2d(m, mo, c); };
+    return run_jobs(o, analysis, [&](py::dict& d, const map_result& r) {
+        const auto& c = r.cells;
+        put_labels(d, c, [](const map_cell& x) -> const period_label& { return x.label; }, m.surface_count());
+        d["outcome"] = string_list(c, [](const auto& x) { return to_string(x.status); });
+        d["steps"] = column<std::int64_t>(c, [](const auto& x) { return x.steps; });
+        d["grazing_axis"] = r.grazing_axis;
+        d["grazing_other"] = vector_array(r.grazing_other);
+        d["grazing"] = per_surface(r.grazing_values, m.surface_count());
+    });
 }
 
 // ---------------------------------------------------------------- basins
@@ -182,39 +157,31 @@ py::dict basins_run(const model& m, const py::dict& kw)
     bo.period_tolerance = o.need<double>("tol");
     bo.match.tolerance = o.get<double>("match_tol", bo.match.tolerance);
     bo.match.box_fraction = o.get<double>("box_fraction", bo.match.box_fraction);
-    const job_options j = job_options_of(o);
-    const bool keep = o.get<bool>("keep_journal", false);
-    const py::object progress = o.object("progress");
-    o.finish();
-
-    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return basins(m, bo, c); });
-    py::dict d;
-    d["jobs"] = report_dict(r.jobs);
-    if (!r.jobs.complete()) return d;
-    finish_journal(j, r.jobs, keep);
-    const auto& c = r.cells;
-    put_labels(d, c, [](const basin_cell& x) -> const period_label& { return x.label; }, m.surface_count());
-    d["outcome"] = string_list(c, [](const auto& x) { return to_string(x.status); });
-    d["steps"] = column<std::int64_t>(c, [](const auto& x) { return x.steps; });
-    d["attractor"] = column<std::int64_t>(c, [](const auto& x) { return x.attractor; });
-    py::list table;
-    for (std::size_t i = 0; i < r.attractors.size(); ++i) {
-        const auto& e = r.attractors[i];
-        const auto& s = e.signature;
-        py::dict a;
-        a["id"] = static_cast<long>(i);
-        a["label"] = s.label;
-        a["cells"] = e.members;
-        a["cycle"] = rows_array(s.cycle, s.lo.size());
-        if (s.lo.size()) {
-            a["box"] = rows_array(std::vector<Eigen::VectorXd>{s.lo, s.hi}, s.lo.size());
-        } else {
-            a["box"] = py::none();
+    const auto analysis = [&](const job_options& c) { return basins(m, bo, c); };
+    return run_jobs(o, analysis, [&](py::dict& d, const basins_result& r) {
+        const auto& c = r.cells;
+        put_labels(d, c, [](const basin_cell& x) -> const period_label& { return x.label; }, m.surface_count());
+        d["outcome"] = string_list(c, [](const auto& x) { return to_string(x.status); });
+        d["steps"] = column<std::int64_t>(c, [](const auto& x) { return x.steps; });
+        d["attractor"] = column<std::int64_t>(c, [](const auto& x) { return x.attractor; });
+        py::list table;
+        for (std::size_t i = 0; i < r.attractors.size(); ++i) {
+            const auto& e = r.attractors[i];
+            const auto& s = e.signature;
+            py::dict a;
+            a["id"] = static_cast<long>(i);
+            a["label"] = s.label;
+            a["cells"] = e.members;
+            a["cycle"] = rows_array(s.cycle, s.lo.size());
+            if (s.lo.size()) {
+                a["box"] = rows_array(std::vector<Eigen::VectorXd>{s.lo, s.hi}, s.lo.size());
+            } else {
+                a["box"] = py::none();
+            }
+            table.append(a);
         }
-        table.append(a);
-    }
-    d["attractors"] = table;
-    return d;
+        d["attractors"] = table;
+    });
 }
 
 // ---------------------------------------------------------------- response
@@ -236,37 +203,23 @@ py::dict response_run(const model& m, const py::dict& kw)
     ro.variable = state_index(m, o.need<std::string>("variable"), "variable");
     ro.initial_state = state_of(m, o.object("ic"), "ic");
     grazing_options& go = ro.grazing;
-    go.integration.rtol = o.get<double>("rtol", go.integration.rtol);
-    go.integration.atol = o.get<double>("atol", go.integration.atol);
-    go.method = method_of(o.get<std::string>("method", "dop853"));
-    go.transient_time = o.get<double>("transient_time", go.transient_time);
-    go.block = o.get<int>("block", go.block);
-    go.tolerance = o.get<double>("tol", go.tolerance);
-    go.t_max = o.get<double>("t_max", go.t_max);
+    read_grazing_run(o, go);
     if (o.has("grazing")) go.parameter = parameter_index(m, o.need<std::string>("grazing"), "grazing");
     (void)o.object("grazing");
-    const job_options j = job_options_of(o);
-    const bool keep = o.get<bool>("keep_journal", false);
-    const py::object progress = o.object("progress");
-    o.finish();
-
-    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return response(m, ro, c); });
-    py::dict d;
-    d["jobs"] = report_dict(r.jobs);
-    if (!r.jobs.complete()) return d;
-    finish_journal(j, r.jobs, keep);
-    const auto& p = r.points;
-    d["amplitude"] = column<double>(p, [](const auto& x) { return x.amplitude; });
-    d["maximum"] = column<double>(p, [](const auto& x) { return x.maximum; });
-    d["minimum"] = column<double>(p, [](const auto& x) { return x.minimum; });
-    d["frequency"] = column<double>(p, [](const auto& x) { return x.frequency; });
-    std::vector<std::vector<double>> graze;
-    for (const auto& x : p) graze.push_back(x.grazing);
-    d["grazing"] = per_surface(graze, m.surface_count());
-    d["converged"] = column<bool>(p, [](const auto& x) { return x.converged; });
-    d["outcome"] = string_list(p, [](const auto& x) { return to_string(x.status); });
-    d["steps"] = column<std::int64_t>(p, [](const auto& x) { return x.stats.steps; });
-    return d;
+    const auto analysis = [&](const job_options& c) { return response(m, ro, c); };
+    return run_jobs(o, analysis, [&](py::dict& d, const response_result& r) {
+        const auto& p = r.points;
+        d["amplitude"] = column<double>(p, [](const auto& x) { return x.amplitude; });
+        d["maximum"] = column<double>(p, [](const auto& x) { return x.maximum; });
+        d["minimum"] = column<double>(p, [](const auto& x) { return x.minimum; });
+        d["frequency"] = column<double>(p, [](const auto& x) { return x.frequency; });
+        std::vector<std::vector<double>> graze;
+        for (const auto& x : p) graze.push_back(x.grazing);
+        d["grazing"] = per_surface(graze, m.surface_count());
+        d["converged"] = column<bool>(p, [](const auto& x) { return x.converged; });
+        d["outcome"] = string_list(p, [](const auto& x) { return to_string(x.status); });
+        d["steps"] = column<std::int64_t>(p, [](const auto& x) { return x.stats.steps; });
+    });
 }
 
 }  // namespace

@@ -44,13 +44,13 @@ py::dict label_dict(const period_label& l)
 py::dict simulate(const model& m, const py::object& ic, const py::dict& kw)
 {
     options o(kw);
-    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const Eigen::VectorXd x0 = initial_state_of(m, ic);
     const protocol_options po = protocol_of(m, o);
     o.finish();
     const auto r = run_released([&](const std::atomic<bool>& cancel) {
         protocol_options c = po;
         c.flow.cancel = &cancel;
-        return simulate(m, x0.size() ? x0 : m.initial_state(), c);
+        return simulate(m, x0, c);
     });
     return simulation_dict(r);
 }
@@ -58,14 +58,14 @@ py::dict simulate(const model& m, const py::object& ic, const py::dict& kw)
 py::dict period(const model& m, const py::object& ic, const py::dict& kw)
 {
     options o(kw);
-    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const Eigen::VectorXd x0 = initial_state_of(m, ic);
     const protocol_options po = protocol_of(m, o);
     const double tol = o.need<double>("tol");
     o.finish();
     const auto r = run_released([&](const std::atomic<bool>& cancel) {
         protocol_options c = po;
         c.flow.cancel = &cancel;
-        return run_and_classify(m, x0.size() ? x0 : m.initial_state(), c, tol);
+        return run_and_classify(m, x0, c, tol);
     });
     py::dict d = label_dict(r.label);
     d["simulation"] = simulation_dict(r.run);
@@ -75,13 +75,7 @@ py::dict period(const model& m, const py::object& ic, const py::dict& kw)
 grazing_options grazing_of(const model& m, options& o)
 {
     grazing_options go;
-    go.integration.rtol = o.get<double>("rtol", go.integration.rtol);
-    go.integration.atol = o.get<double>("atol", go.integration.atol);
-    go.method = method_of(o.get<std::string>("method", "dop853"));
-    go.transient_time = o.get<double>("transient_time", go.transient_time);
-    go.block = o.get<int>("block", go.block);
-    go.tolerance = o.get<double>("tol", go.tolerance);
-    go.t_max = o.get<double>("t_max", go.t_max);
+    read_grazing_run(o, go);
     // None: each surface's own gap parameter (the library's rule).
     go.parameter = o.has("param") ? parameter_index(m, o.need<std::string>("param"), "param") : each_surface_gap_parameter;
     (void)o.object("param");
@@ -93,13 +87,13 @@ grazing_options grazing_of(const model& m, options& o)
 py::dict grazing_run(const model& m, const py::object& ic, const py::dict& kw)
 {
     options o(kw);
-    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const Eigen::VectorXd x0 = initial_state_of(m, ic);
     const grazing_options go = grazing_of(m, o);
     o.finish();
     const auto g = run_released([&](const std::atomic<bool>& cancel) {
         grazing_options c = go;
         c.cancel = &cancel;
-        return grazing(m, x0.size() ? x0 : m.initial_state(), c);
+        return grazing(m, x0, c);
     });
     py::dict d;
     d["outcome"] = std::string(to_string(g.status));

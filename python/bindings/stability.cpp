@@ -23,21 +23,6 @@ namespace {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-impact_tangent jump_of(const std::string& s)
-{
-    for (const auto j : {impact_tangent::saltation, impact_tangent::second_order, impact_tangent::reset_jacobian,
-                         impact_tangent::identity})
-        if (s == to_string(j)) return j;
-    throw input_error("impact_map '" + s + "' is not one of saltation, second-order, reset-jacobian, identity");
-}
-
-lyapunov_tdm tdm_of(const std::string& s)
-{
-    for (const auto t : {lyapunov_tdm::saltation, lyapunov_tdm::second_order, lyapunov_tdm::trajectory})
-        if (s == to_string(t)) return t;
-    throw input_error("tdm '" + s + "' is not one of saltation, second-order, trajectory");
-}
-
 floquet_options floquet_of(const model& m, options& o)
 {
     floquet_options fo;
@@ -47,7 +32,8 @@ floquet_options floquet_of(const model& m, options& o)
     fo.newton_iterations = o.get<int>("newton_iterations", fo.newton_iterations);
     fo.tangent_integration.rtol = o.get<double>("tangent_rtol", fo.tangent_integration.rtol);
     fo.tangent_integration.atol = o.get<double>("tangent_atol", fo.tangent_integration.atol);
-    fo.jump = jump_of(o.get<std::string>("impact_map", "saltation"));
+    fo.jump = parse_name(o.get<std::string>("impact_map", std::string(to_string(fo.jump))), monodromy_jumps,
+                         "impact_map");
     fo.sample_dt = o.get<double>("sample_dt", fo.sample_dt);
     return fo;
 }
@@ -60,11 +46,9 @@ lyapunov_options lyapunov_of(const model& m, options& o)
     lyapunov_options lo;
     lo.transient_impacts = o.get<long>("transient", lo.transient_impacts);
     lo.quiet_time = o.get<double>("quiet_time", lo.quiet_time);
-    lo.flow.integration.rtol = o.get<double>("rtol", lo.flow.integration.rtol);
-    lo.flow.integration.atol = o.get<double>("atol", lo.flow.integration.atol);
+    read_integration(o, lo.flow.integration, lo.method);
     lo.flow.t_max = o.get<double>("t_max", lo.flow.t_max);
-    lo.method = method_of(o.get<std::string>("method", "dop853"));
-    lo.tdm = tdm_of(o.get<std::string>("tdm", "saltation"));
+    lo.tdm = parse_name(o.get<std::string>("tdm", std::string(to_string(lo.tdm))), all_lyapunov_tdms, "tdm");
     lo.r0 = o.get<double>("r0", lo.r0);
     lo.t0 = o.get<double>("t0", lo.t0);
     lo.warmup_intervals = o.get<long>("warmup", lo.warmup_intervals);
@@ -154,14 +138,14 @@ py::dict lyapunov_dict(const model& m, const lyapunov_result& r)
 py::dict floquet_run(const model& m, const py::object& ic, const py::dict& kw)
 {
     options o(kw);
-    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const Eigen::VectorXd x0 = initial_state_of(m, ic);
     floquet_options fo = floquet_of(m, o);
     no_protocol_samples(fo);
     o.finish();
     const auto r = run_released([&](const std::atomic<bool>& cancel) {
         floquet_options c = fo;
         c.protocol.flow.cancel = &cancel;
-        return floquet(m, x0.size() ? x0 : m.initial_state(), c);
+        return floquet(m, x0, c);
     });
     return floquet_dict(m, r);
 }
@@ -169,65 +153,48 @@ py::dict floquet_run(const model& m, const py::object& ic, const py::dict& kw)
 py::dict lyapunov_run(const model& m, const py::object& ic, const py::dict& kw)
 {
     options o(kw);
-    const Eigen::VectorXd x0 = state_of(m, ic, "ic");
+    const Eigen::VectorXd x0 = initial_state_of(m, ic);
     const lyapunov_options lo = lyapunov_of(m, o);
     o.finish();
     const auto r = run_released([&](const std::atomic<bool>& cancel) {
         lyapunov_options c = lo;
         c.flow.cancel = &cancel;
-        return lyapunov(m, x0.size() ? x0 : m.initial_state(), c);
+        return lyapunov(m, x0, c);
     });
     return lyapunov_dict(m, r);
 }
 
-// The per-value results as lists of dicts (each value's analysis is a whole result).
+// The per-value results of a stability sweep, each value's a whole result's dict.
+template <class Result, class Dict>
+void put_results(py::dict& d, const model& m, const Result& r, Dict&& dict_of)
+{
+    d["value"] = column<double>(r.points, [](const auto& p) { return p.value; });
+    py::list results;
+    for (const auto& p : r.points) results.append(dict_of(m, p.result));
+    d["results"] = results;
+}
+
 py::dict floquet_sweep_run(const model& m, const py::dict& kw)
 {
     options o(kw);
     floquet_sweep_options so;
-    so.parameter = parameter_index(m, o.need<std::string>("param"), "param");
-    so.values = values_of(o.object("values"), "values");
-    so.initial_state = state_of(m, o.object("ic"), "ic");
+    read_parameter_values(m, o, so);
     so.floquet = floquet_of(m, o);
     no_protocol_samples(so.floquet);
-    const job_options j = job_options_of(o);
-    const bool keep = o.get<bool>("keep_journal", false);
-    const py::object progress = o.object("progress");
-    o.finish();
-    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return floquet_sweep(m, so, c); });
-    py::dict d;
-    d["jobs"] = report_dict(r.jobs);
-    if (!r.jobs.complete()) return d;
-    finish_journal(j, r.jobs, keep);
-    d["value"] = column<double>(r.points, [](const auto& p) { return p.value; });
-    py::list results;
-    for (const auto& p : r.points) results.append(floquet_dict(m, p.result));
-    d["results"] = results;
-    return d;
+    const auto analysis = [&](const job_options& c) { return floquet_sweep(m, so, c); };
+    return run_jobs(o, analysis,
+                    [&](py::dict& d, const floquet_sweep_result& r) { put_results(d, m, r, floquet_dict); });
 }
 
 py::dict lyapunov_sweep_run(const model& m, const py::dict& kw)
 {
     options o(kw);
     lyapunov_sweep_options so;
-    so.parameter = parameter_index(m, o.need<std::string>("param"), "param");
-    so.values = values_of(o.object("values"), "values");
-    so.initial_state = state_of(m, o.object("ic"), "ic");
+    read_parameter_values(m, o, so);
     so.lyapunov = lyapunov_of(m, o);
-    const job_options j = job_options_of(o);
-    const bool keep = o.get<bool>("keep_journal", false);
-    const py::object progress = o.object("progress");
-    o.finish();
-    const auto r = run_job_analysis(j, progress, [&](const job_options& c) { return lyapunov_sweep(m, so, c); });
-    py::dict d;
-    d["jobs"] = report_dict(r.jobs);
-    if (!r.jobs.complete()) return d;
-    finish_journal(j, r.jobs, keep);
-    d["value"] = column<double>(r.points, [](const auto& p) { return p.value; });
-    py::list results;
-    for (const auto& p : r.points) results.append(lyapunov_dict(m, p.result));
-    d["results"] = results;
-    return d;
+    const auto analysis = [&](const job_options& c) { return lyapunov_sweep(m, so, c); };
+    return run_jobs(o, analysis,
+                    [&](py::dict& d, const lyapunov_sweep_result& r) { put_results(d, m, r, lyapunov_dict); });
 }
 
 }  // namespace

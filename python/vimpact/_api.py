@@ -24,8 +24,10 @@ _D = _vimpact.defaults
 
 def _with_defaults(f):
     """Fills ``$name`` in the docstring with the library's default, so the text cannot drift
-    from the numbers; and the shared paragraphs ``<protocol>``, ``<jobs>``."""
+    from the numbers; and the shared paragraphs ``<protocol>``, ``<jobs>`` and, for
+    ``ANALYSIS_sweep``, ``<per_value>``."""
     doc = f.__doc__.replace("    <protocol>", _PROTOCOL_DOC).replace("    <jobs>", _JOBS_DOC)
+    doc = doc.replace("    <per_value>", _PER_VALUE_DOC.replace("ANALYSIS", f.__name__.removesuffix("_sweep")))
     f.__doc__ = string.Template(doc).substitute({k: repr(v) for k, v in _D.items()})
     return f
 
@@ -69,6 +71,17 @@ _JOBS_DOC = """    threads : int, default $threads
         Keep the journal after a complete run."""
 
 
+_PER_VALUE_DOC = """    One ``ANALYSIS`` analysis per value, each from ``ic`` on ``model.with_(param=value)``, as
+    jobs of the library's job loop (threaded, deterministic, resumable: see ``sweep``).
+
+    Parameters
+    ----------
+    model : Model
+    param : str
+    values : array_like, shape (n,)
+    ic : array_like, shape (dim,), optional"""
+
+
 def _model(model):
     if not isinstance(model, Model):
         raise TypeError(f"model must be a vimpact.Model (got {type(model).__name__}); "
@@ -81,9 +94,7 @@ def _ic(ic):
 
 
 def _section(model, section):
-    if section is not None:
-        return str(section)
-    return model.sections[0] if model.sections else "impacts"
+    return model._handle.default_section() if section is None else str(section)
 
 
 def _context(model, options):
@@ -111,6 +122,16 @@ def _run_jobs(call, options):
         return None, report
     d["wall_time"] = time.perf_counter() - start
     return d, report
+
+
+def _job_stats(d, report, **more):
+    """A job analysis' stats: what it adds, its threads, the jobs computed now, the wall time."""
+    return dict(more, threads=report.threads, jobs=report.computed, wall_time=d["wall_time"])
+
+
+def _result_options(ic, o, *arrays):
+    """The options a job analysis' result records: the call's but its arrays (ic as a list)."""
+    return _options(ic, **{k: v for k, v in o.items() if k != "ic" and k not in arrays})
 
 
 def _strings(items, shape=None):
@@ -369,13 +390,12 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
     if d is None:
         return report
     runs = len(d["value"])
-    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
+    opts = _result_options(ic, o, "values")
     return Sweep(param=param, values=np.array(o["values"]), ic_mode=ic_mode, direction=direction, tol=tol,
                  branch=d["branch"], value=d["value"], **_labels(d, (runs,), model), grazing_param=gparam,
                  grazing=d["grazing"], final_state=d["final_state"], steps=d["steps"], points=d["points"],
                  point_run=d["point_run"],
-                 stats={"steps": d["steps_total"], "rhs_calls": d["rhs_calls_total"], "threads": report.threads,
-                        "jobs": report.computed, "wall_time": d["wall_time"]},
+                 stats=_job_stats(d, report, steps=d["steps_total"], rhs_calls=d["rhs_calls_total"]),
                  jobs=report, **_context(model, opts))
 
 
@@ -432,11 +452,11 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
         return report
     shape = (len(ys), len(xs))
     axis = d["grazing_axis"]
-    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "x_values", "y_values")})
+    opts = _result_options(ic, o, "x_values", "y_values")
     return Map(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, **_labels(d, shape, model),
                steps=d["steps"].reshape(shape), grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
                grazing_other=None if axis < 0 else d["grazing_other"], grazing=None if axis < 0 else d["grazing"],
-               stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]}, jobs=report,
+               stats=_job_stats(d, report), jobs=report,
                **_context(model, opts))
 
 
@@ -490,12 +510,11 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     attractors = [Attractor(id=a["id"], label=a["label"], cells=a["cells"], cycle=a["cycle"], box=a["box"])
                   for a in d["attractors"]]
     labels = _labels(d, shape, model)
-    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "x_values", "y_values")})
+    opts = _result_options(ic, o, "x_values", "y_values")
     return Basins(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, match_tol=match_tol,
                   attractor=d["attractor"].reshape(shape), label=labels["label"], period=labels["period"],
                   outcome=labels["outcome"], steps=d["steps"].reshape(shape), attractors=attractors,
-                  stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
-                  jobs=report, **_context(model, opts))
+                  stats=_job_stats(d, report), jobs=report, **_context(model, opts))
 
 
 @_with_defaults
@@ -561,7 +580,7 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
     if d is None:
         return report
     shape = (len(cs), len(vals))
-    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
+    opts = _result_options(ic, o, "values")
     ctx = _context(model, opts)
     ctx["plot_variable"] = var
     return Response(param=param, values=vals.copy(), curves=o["curves"], variable=var,
@@ -570,8 +589,7 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
                     grazing_param=gparam, grazing=d["grazing"].reshape(shape + (-1,)),
                     converged=d["converged"].reshape(shape), outcome=_strings(d["outcome"], shape),
                     steps=d["steps"].reshape(shape),
-                    stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
-                    jobs=report, **ctx)
+                    stats=_job_stats(d, report), jobs=report, **ctx)
 
 
 def grid(a, b, n):
@@ -637,7 +655,7 @@ def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"]
     newton_tol : float, default $newton_tol
         Closure to reach by Newton shooting.
     newton_iterations : int, default $newton_iterations
-    impact_map : {"saltation", "second-order", "reset-jacobian", "identity"}, default $impact_map
+    impact_map : {"saltation", "reset-jacobian", "identity"}, default $impact_map
         The tangent jump at impacts in the final monodromy: saltation is correct; the last two
         are wrong and there to show it (the trivial multiplier moves off 1).
     sample_dt : float, default 0
@@ -747,6 +765,21 @@ def _sweep_points(results, dim):
     return (np.vstack(pts) if pts else np.empty((0, dim))), run
 
 
+def _per_value(call, model, param, values, ic, o, jobs, result):
+    """Runs ``call`` (a compiled stability sweep) over the values as jobs. Returns the JobReport
+    alone when the run is not complete; else the per-value results (made by ``result``) and
+    the fields every per-value sweep has."""
+    o.update(param=param, values=np.asarray(values, dtype=float), ic=_ic(ic), **jobs)
+    d, report = _run_jobs(lambda: call(model._handle, o), o)
+    if d is None:
+        return report, None
+    opts = _result_options(ic, o, "values")
+    results = [result(r, model, opts) for r in d["results"]]
+    pts, run = _sweep_points(results, model.dim)
+    return results, dict(param=param, value=d["value"], results=results, points=pts, point_run=run,
+                         stats=_job_stats(d, report), jobs=report, **_context(model, opts))
+
+
 @_with_defaults
 def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
                   newton_iterations=_D["newton_iterations"], impact_map=_D["impact_map"],
@@ -756,15 +789,7 @@ def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton
                   resume=False, shard=None, progress=None, keep_journal=False):
     """Floquet multipliers at every value of one parameter (the paper's Figures 14, 15).
 
-    One ``floquet`` analysis per value, each from ``ic`` on ``model.with_(param=value)``, as
-    jobs of the library's job loop (threaded, deterministic, resumable: see ``sweep``).
-
-    Parameters
-    ----------
-    model : Model
-    param : str
-    values : array_like, shape (n,)
-    ic : array_like, shape (dim,), optional
+    <per_value>
     tol, newton_tol, newton_iterations, impact_map, tangent_rtol, tangent_atol
         As for ``floquet`` (defaults $period_tol, $newton_tol, $newton_iterations,
         $impact_map, $tangent_rtol, $tangent_atol).
@@ -781,25 +806,18 @@ def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton
     model = _model(model)
     o = _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, 0.0, tangent_rtol, tangent_atol,
                          transient, record, section, rtol, atol, method, quiet_time, t_max)
-    o.update(param=param, values=np.asarray(values, dtype=float), ic=_ic(ic))
-    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
-    d, report = _run_jobs(lambda: _vimpact._floquet_sweep(model._handle, o), o)
-    if d is None:
-        return report
-    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
-    results = [_floquet_result(r, model, opts) for r in d["results"]]
+    results, fields = _per_value(_vimpact._floquet_sweep, model, param, values, ic, o,
+                                 _jobs(threads, journal, resume, shard, progress, keep_journal), _floquet_result)
+    if fields is None:
+        return results
     n, dim = len(results), model.dim
     mus = np.full((n, dim), np.nan + 0j)
     trivial = np.zeros((n, dim), dtype=bool)
     for i, r in enumerate(results):
         mus[i, :len(r.multipliers)] = r.multipliers
         trivial[i, 0] = len(r.multipliers) > 0
-    pts, run = _sweep_points(results, dim)
-    return FloquetSweep(param=param, value=d["value"], results=results, label=_strings([r.label for r in results]),
-                        multipliers=mus, trivial=trivial, stable=np.array([r.stable for r in results], dtype=object),
-                        points=pts, point_run=run,
-                        stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
-                        jobs=report, **_context(model, opts))
+    return FloquetSweep(label=_strings([r.label for r in results]), multipliers=mus, trivial=trivial,
+                        stable=np.array([r.stable for r in results], dtype=object), **fields)
 
 
 @_with_defaults
@@ -811,15 +829,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
                    resume=False, shard=None, progress=None, keep_journal=False):
     """Lyapunov exponents at every value of one parameter (the paper's Figures 16, 17).
 
-    One ``lyapunov`` analysis per value, each from ``ic`` on ``model.with_(param=value)``, as
-    jobs of the library's job loop (threaded, deterministic, resumable: see ``sweep``).
-
-    Parameters
-    ----------
-    model : Model
-    param : str
-    values : array_like, shape (n,)
-    ic : array_like, shape (dim,), optional
+    <per_value>
     tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, section
         As for ``lyapunov`` (defaults $tdm, $r0, $t0, $lyapunov_impacts, $lyapunov_time,
         $warmup, $p0_time, $max_time, True, the model's first section).
@@ -838,20 +848,14 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
     model = _model(model)
     o = _lyapunov_options(tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, record, section,
                           transient, rtol, atol, method, quiet_time, t_max)
-    o.update(param=param, values=np.asarray(values, dtype=float), ic=_ic(ic))
-    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
-    d, report = _run_jobs(lambda: _vimpact._lyapunov_sweep(model._handle, o), o)
-    if d is None:
-        return report
-    opts = _options(ic, **{k: v for k, v in o.items() if k not in ("ic", "values")})
-    results = [_lyapunov_result(r, model, opts) for r in d["results"]]
-    pts, run = _sweep_points(results, model.dim)
+    results, fields = _per_value(_vimpact._lyapunov_sweep, model, param, values, ic, o,
+                                 _jobs(threads, journal, resume, shard, progress, keep_journal), _lyapunov_result)
+    if fields is None:
+        return results
     exps = np.vstack([r.exponents for r in results]) if results else np.empty((0, model.dim))
-    return LyapunovSweep(param=param, value=d["value"], results=results, exponents=exps,
+    return LyapunovSweep(exponents=exps,
                          lle_standard_error=np.array([r.lle_standard_error for r in results], dtype=float),
-                         status=_strings([r.status for r in results]), points=pts, point_run=run, tdm=tdm,
-                         stats={"threads": report.threads, "jobs": report.computed, "wall_time": d["wall_time"]},
-                         jobs=report, **_context(model, opts))
+                         status=_strings([r.status for r in results]), tdm=tdm, **fields)
 
 
 # ---------------------------------------------------------------- correlation dimension

@@ -107,7 +107,7 @@ class Model:
             if s in _vimpact._Model.builtin_names():
                 origin = ("builtin", s)
             elif s.endswith(_MODEL_FILE_SUFFIXES) or os.path.sep in s or os.path.exists(s):
-                origin = ("file", os.path.abspath(s))
+                origin = ("file", os.path.abspath(s), s)
             else:
                 origin = ("builtin", s)  # the library names the built-ins in its message
             handle = _load(origin)
@@ -142,7 +142,9 @@ class Model:
         the machine's C++ compiler, ``$CXX`` or ``c++``) and cached in ``$VIMPACT_CACHE_DIR``
         (else ``~/.cache/vimpact``); docs/model-files.md describes the format.
         """
-        origin = ("file", os.path.abspath(os.fspath(path)))
+        # Absolute, so that a pickled model loads in a worker started elsewhere; the path as
+        # given is what the model shows.
+        origin = ("file", os.path.abspath(os.fspath(path)), os.fspath(path))
         return cls._wrap(_load(origin), origin).with_(**parameters)
 
     @classmethod
@@ -224,25 +226,28 @@ class Model:
     def parameters(self):
         return dict(zip(self.parameter_names, self._handle.parameters))
 
+    def _names(self, kind):
+        return tuple(x["name"] for x in self.info[kind])
+
     @property
     def parameter_names(self):
-        return tuple(p["name"] for p in self.info["parameters"])
+        return self._names("parameters")
 
     @property
     def state_names(self):
-        return tuple(s["name"] for s in self.info["state"])
+        return self._names("state")
 
     @property
     def surfaces(self):
-        return tuple(s["name"] for s in self.info["surfaces"])
+        return self._names("surfaces")
 
     @property
     def sections(self):
-        return tuple(s["name"] for s in self.info["sections"])
+        return self._names("sections")
 
     @property
     def presets(self):
-        return tuple(p["name"] for p in self.info["presets"])
+        return self._names("presets")
 
     @property
     def dim(self):
@@ -320,7 +325,7 @@ class Model:
         if kind == "builtin":
             head = repr(self._origin[1])
         elif kind == "file":
-            head = repr(self._origin[1])
+            head = repr(self._origin[2])
         else:
             head = f"<{self.name} from {self._origin[2]}>"
         return f"Model({head}{', ' if values else ''}{values})"

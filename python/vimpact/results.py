@@ -108,6 +108,13 @@ def _context(record):
                 model_name=model.get("name") or cfg.get("model_name"))
 
 
+def _loaded(directory):
+    """What a result loaded from DIR starts from: its context (``_context``) and the result
+    summary of its run.json."""
+    record = read_record(directory)
+    return _context(record), record["result"]
+
+
 def _states(columns, names, n=None):
     """The state columns of a CSV as an (n, dim) array."""
     if n is None:
@@ -273,6 +280,26 @@ class _Context:
         """The column of ``plot_variable``."""
         names = tuple(self.state_names)
         return names.index(self.plot_variable) if self.plot_variable in names else 0
+
+
+# What results of many runs share: their labels counted, and the parameter value of each
+# section point (``points`` and the run of each, ``point_run``). Plain classes, so that a
+# result's fields stay in the order its dataclass declares them.
+class _Labels:
+    @property
+    def label_counts(self):
+        """How many runs or cells carry each label, in ``label_order``."""
+        return label_counts(self.label)
+
+    def _counts_text(self):
+        return ", ".join(f"{k} {v}" for k, v in self.label_counts.items())
+
+
+class _PointRuns:
+    @property
+    def point_value(self):
+        """ndarray, float64, shape (points,): the parameter value of each section point."""
+        return self.value[self.point_run]
 
 
 # ---------------------------------------------------------------- single runs
@@ -482,7 +509,7 @@ class Grazing(_Context):
 # ---------------------------------------------------------------- many-job analyses
 
 @dataclass(repr=False)
-class Sweep(_Context):
+class Sweep(_Context, _Labels, _PointRuns):
     """A bifurcation diagram (``vimpact.sweep``, the command ``sweep``).
 
     Runs are in job order: the values in the sweep's direction; with ``direction="both"``
@@ -548,31 +575,19 @@ class Sweep(_Context):
     jobs: Optional[JobReport] = None
 
     @property
-    def point_value(self):
-        """ndarray, float64, shape (points,): the parameter value of each section point."""
-        return self.value[self.point_run]
-
-    @property
     def point_branch(self):
         """ndarray, int64, shape (points,): the branch of each section point."""
         return self.branch[self.point_run]
 
-    @property
-    def label_counts(self):
-        return label_counts(self.label)
-
     def __repr__(self):
-        counts = ", ".join(f"{k} {v}" for k, v in self.label_counts.items())
         return (f"Sweep(param={self.param!r}, {len(self.values)} values, {self.ic_mode} starts, "
-                f"direction {self.direction}: {counts}; {len(self.points)} section points)")
+                f"direction {self.direction}: {self._counts_text()}; {len(self.points)} section points)")
 
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact sweep --out DIR``."""
-        record = read_record(directory)
-        ctx = _context(record)
+        ctx, res = _loaded(directory)
         names = ctx["state_names"]
-        res = record["result"]
         param = res["param"]
         lab = read_table(os.path.join(directory, "labels.csv"))
         pts = read_csv(os.path.join(directory, "points.csv"))
@@ -604,7 +619,7 @@ class Sweep(_Context):
 
 
 @dataclass(repr=False)
-class Map(_Context):
+class Map(_Context, _Labels):
     """A periodicity map over two parameters (``vimpact.map``, the command ``map``).
 
     Attributes
@@ -652,20 +667,13 @@ class Map(_Context):
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
 
-    @property
-    def label_counts(self):
-        return label_counts(self.label)
-
     def __repr__(self):
-        counts = ", ".join(f"{k} {v}" for k, v in self.label_counts.items())
-        return f"Map({self.x} x {self.y}, {len(self.x_values)} x {len(self.y_values)}: {counts})"
+        return f"Map({self.x} x {self.y}, {len(self.x_values)} x {len(self.y_values)}: {self._counts_text()})"
 
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact map --out DIR``."""
-        record = read_record(directory)
-        ctx = _context(record)
-        res = record["result"]
+        ctx, res = _loaded(directory)
         xs, ys = np.array(res["x_values"], dtype=float), np.array(res["y_values"], dtype=float)
         shape = (len(ys), len(xs))
         lab = read_table(os.path.join(directory, "labels.csv"))
@@ -771,9 +779,7 @@ class Basins(_Context):
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact basins --out DIR``."""
-        record = read_record(directory)
-        ctx = _context(record)
-        res = record["result"]
+        ctx, res = _loaded(directory)
         sx, sy = res["x"], res["y"]
         ny, nx = res["shape"]
         tab = read_table(os.path.join(directory, "cells.csv"))
@@ -855,9 +861,7 @@ class Response(_Context):
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact response --out DIR``."""
-        record = read_record(directory)
-        ctx = _context(record)
-        res = record["result"]
+        ctx, res = _loaded(directory)
         param = res["param"]
         data = read_csv(os.path.join(directory, "response.csv"))
         # Each curve of run.json is its parameters (or a summary holding them as "parameters").
@@ -971,10 +975,8 @@ class Floquet(_Context):
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact floquet --out DIR`` (multipliers, orbit and impacts)."""
-        record = read_record(directory)
-        ctx = _context(record)
+        ctx, res = _loaded(directory)
         names = ctx["state_names"]
-        res = record["result"]
         mult = read_csv(os.path.join(directory, "multipliers.csv"))
         mus = mult["re"] + 1j * mult["im"] if len(mult.get("re", ())) else np.empty(0, dtype=complex)
         if "trivial" in mult and len(mus):
@@ -1065,9 +1067,7 @@ class Lyapunov(_Context):
     def load(cls, directory):
         """The result of ``vimpact lyapunov --out DIR`` (its running estimates, not the
         per-interval growth)."""
-        record = read_record(directory)
-        ctx = _context(record)
-        res = record["result"]
+        ctx, res = _loaded(directory)
         conv = read_csv(os.path.join(directory, "convergence.csv"))
         lam = sorted((k for k in conv if re.fullmatch(r"lambda\d+", k)), key=lambda k: int(k[6:]))
         t_start = float(res.get("t_start", 0.0))
@@ -1084,7 +1084,7 @@ class Lyapunov(_Context):
 
 
 @dataclass(repr=False)
-class FloquetSweep(_Context):
+class FloquetSweep(_Context, _Labels, _PointRuns):
     """Floquet multipliers over a range of one parameter (``vimpact.floquet_sweep``, the
     command ``floquet --param P --range a:b:n``; the paper's Figures 14 and 15).
 
@@ -1118,25 +1118,15 @@ class FloquetSweep(_Context):
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
 
-    @property
-    def point_value(self):
-        return self.value[self.point_run]
-
-    @property
-    def label_counts(self):
-        return label_counts(self.label)
-
     def __repr__(self):
-        counts = ", ".join(f"{k} {v}" for k, v in self.label_counts.items())
         unstable = sum(1 for s in self.stable if s is False)
-        return f"FloquetSweep(param={self.param!r}, {len(self.value)} values: {counts}; {unstable} unstable)"
+        return (f"FloquetSweep(param={self.param!r}, {len(self.value)} values: {self._counts_text()}; "
+                f"{unstable} unstable)")
 
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact floquet --param P --range a:b:n --out DIR``."""
-        record = read_record(directory)
-        ctx = _context(record)
-        res = record["result"]
+        ctx, res = _loaded(directory)
         param = res["param"]
         lab = read_table(os.path.join(directory, "labels.csv"))
         value = np.array(lab[param], dtype=float)
@@ -1158,7 +1148,7 @@ class FloquetSweep(_Context):
 
 
 @dataclass(repr=False)
-class LyapunovSweep(_Context):
+class LyapunovSweep(_Context, _PointRuns):
     """Lyapunov exponents over a range of one parameter (``vimpact.lyapunov_sweep``, the
     command ``lyapunov --param P --range a:b:n``; the paper's Figures 16 and 17).
 
@@ -1195,10 +1185,6 @@ class LyapunovSweep(_Context):
         return self.exponents[:, 0] if len(self.exponents) else np.empty(0)
 
     @property
-    def point_value(self):
-        return self.value[self.point_run]
-
-    @property
     def positive(self):
         """Values whose largest exponent lies more than 3 standard errors above 0."""
         se = np.where(np.isfinite(self.lle_standard_error), self.lle_standard_error, 0.0)
@@ -1211,9 +1197,7 @@ class LyapunovSweep(_Context):
     @classmethod
     def load(cls, directory):
         """The result of ``vimpact lyapunov --param P --range a:b:n --out DIR``."""
-        record = read_record(directory)
-        ctx = _context(record)
-        res = record["result"]
+        ctx, res = _loaded(directory)
         param = res["param"]
         tab = read_table(os.path.join(directory, "exponents.csv"))
         value = np.array([float(x) for x in tab[param]])

@@ -14,6 +14,38 @@ std::string section_choice_name(const model& m, const section_choice& s)
     return "impacts:" + m.info().surfaces.at(static_cast<std::size_t>(s.index)).name;
 }
 
+std::optional<section_choice> section_choice_named(const model& m, std::string_view name)
+{
+    constexpr std::string_view impacts = "impacts";
+    const auto& info = m.info();
+    if (name == impacts) return section_choice::impacts();
+    if (name.starts_with(impacts) && name.size() > impacts.size() && name[impacts.size()] == ':') {
+        const int i = info.surface_index(name.substr(impacts.size() + 1));
+        if (i >= 0) return section_choice::impacts(i);
+        return std::nullopt;
+    }
+    const int k = info.section_index(name);
+    if (k >= 0) return section_choice::crossings(k);
+    return std::nullopt;
+}
+
+std::string section_choice_names(const model& m)
+{
+    const auto& info = m.info();
+    std::string s = info.section_names();
+    s += s.empty() ? "impacts" : ", impacts";
+    for (const auto& surface : info.surfaces) {
+        s += ", impacts:";
+        s += surface.name;
+    }
+    return s;
+}
+
+section_choice default_section(const model& m)
+{
+    return m.section_count() > 0 ? section_choice::crossings(0) : section_choice::impacts();
+}
+
 void validate(const model& m, const section_choice& s)
 {
     if (s.type == section_choice::kind::crossing) {

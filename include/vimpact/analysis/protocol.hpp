@@ -8,6 +8,10 @@
 // 2000 time units, is about 318 wake periods of the paper's model and far longer than the
 // gaps between impacts of any impacting orbit we have seen (< 100).
 #include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
 #include <Eigen/Core>
 
 #include "vimpact/core/names.hpp"
@@ -42,6 +46,15 @@ struct section_choice {
 
 // The name of a choice for `m`: a section's name, "impacts" or "impacts:SURFACE".
 std::string section_choice_name(const model& m, const section_choice& s);
+// The choice so named for `m` (section_choice_name's inverse); none when `m` has no such
+// section or surface.
+std::optional<section_choice> section_choice_named(const model& m, std::string_view name);
+// Every name section_choice_named accepts for `m`, "maxima, minima, impacts, impacts:barrier",
+// for messages.
+std::string section_choice_names(const model& m);
+// Where a run that names no choice records: the model's first section, or the impacts of a
+// model that declares none.
+section_choice default_section(const model& m);
 
 // Throws input_error if the model has no such section or surface.
 void validate(const model& m, const section_choice& s);

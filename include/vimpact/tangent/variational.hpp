@@ -121,6 +121,14 @@ public:
     {
         return embed(vimpact::gap_rate_gradient(m_model, i, point(X)));
     }
+    [[nodiscard]] double gap_derivative(int i, const state& X, const state& V) const
+    {
+        return vimpact::gap_derivative(m_model, i, point(X), point(V));
+    }
+    [[nodiscard]] double section_derivative(int k, const state& X, const state& V) const
+    {
+        return vimpact::section_derivative(m_model, k, point(X), point(V));
+    }
     [[nodiscard]] state state_rate_gradient(int j, const state& X) const
     {
         return j < base_dim ? embed(vimpact::state_rate_gradient(m_model, j, point(X))) : state::Zero();
