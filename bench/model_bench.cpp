@@ -5,8 +5,13 @@
 //    native code and called through its function table); goal: within 1.15x, same steps;
 //  - a Floquet point (protocol, Newton shooting, monodromy) with the hand-written Jacobian and
 //    impact derivatives against the same definition with every derivative from automatic
-//    differentiation (both compiled natively); goal: within 1.3x.
-// Counters: steps and rhs calls of the measured run (equal steps show the same arithmetic).
+//    differentiation (both compiled natively); goal: within 1.3x;
+//  - the tangent part of that point alone (Newton shooting from the protocol's first section
+//    point, then the monodromy: engine::floquet_from_point), the same two definitions: the
+//    protocol is state only and the same for both, so it dilutes the price of automatic
+//    derivatives in the Floquet point; here it is undiluted.
+// Counters: steps and rhs calls of the measured run (equal steps show the same arithmetic);
+// for the tangent part, those of the last map evaluation and the number of evaluations.
 // Run with the repository as the working directory (it reads the model file).
 #include <benchmark/benchmark.h>
 
@@ -94,11 +99,46 @@ void floquet_point(benchmark::State& state)
     set_counters(state, s);
 }
 
+// The orbit the tangent part starts from: the protocol's run and period (computed once).
+struct found_orbit {
+    Eigen::VectorXd guess;
+    int returns = 0;
+};
+
+const found_orbit& ur16_orbit()
+{
+    static const found_orbit orbit = [] {
+        const vimpact::model m = with_ur16(vimpact::model::builtin("wake_impact"));
+        const auto r = vimpact::floquet(m, m.initial_state(), vimpact::floquet_options{});
+        return found_orbit{r.section_points.x(0), r.section_returns};
+    }();
+    return orbit;
+}
+
+template <class Definition>
+void tangent_part(benchmark::State& state)
+{
+    const vimpact::model m = with_ur16(vimpact::model::builtin("wake_impact"));
+    const vimpact::native_model<Definition> em(m.parameters());
+    const vimpact::floquet_options fo;
+    const found_orbit& orbit = ur16_orbit();
+    const vimpact::vec<4> x(orbit.guess);
+    vimpact::floquet_result r;
+    for (auto _ : state) {
+        r = vimpact::engine::floquet_from_point<vimpact::dop853>(em, x, orbit.returns, fo);
+        benchmark::DoNotOptimize(r.multipliers.data());
+    }
+    set_counters(state, r.tangent_stats);
+    state.counters["map_evaluations"] = static_cast<double>(r.map_evaluations);
+}
+
 }  // namespace
 
 BENCHMARK(protocol_builtin)->Name("protocol_Ur16/built-in")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly(true);
 BENCHMARK(protocol_model_file)->Name("protocol_Ur16/model-file")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly(true);
 BENCHMARK(floquet_point<vimpact::wake_impact>)->Name("floquet_Ur16/hand-written")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly(true);
 BENCHMARK(floquet_point<wake_impact_ad>)->Name("floquet_Ur16/automatic")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly(true);
+BENCHMARK(tangent_part<vimpact::wake_impact>)->Name("floquet_tangent_Ur16/hand-written")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly(true);
+BENCHMARK(tangent_part<wake_impact_ad>)->Name("floquet_tangent_Ur16/automatic")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly(true);
 
 BENCHMARK_MAIN();

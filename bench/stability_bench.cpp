@@ -1,32 +1,37 @@
 // Cost of the stability analyses against plain simulations of the same length (paper preset,
 // sigma = -0.150298, DOP853):
 //  - one period with the tangent (the section map, 4 + 16 + 1 components) against one period
-//    of the state alone, both at the shooting tolerance 1e-12: the pure price of the tangent;
-//  - a Floquet point (protocol, Newton shooting, monodromy) against the protocol alone;
+//    of the state alone, both at the shooting tolerance 1e-12: the pure price of the tangent.
+//    A period alone is not a library call, so both runs are the engine templates on
+//    native_model<wake_impact>, the instantiation the library runs for the built-in model;
+//  - a Floquet point (protocol, Newton shooting, monodromy) against the protocol alone, both
+//    through the library (floquet, simulate);
 //  - a Lyapunov point (500 transient impacts, then 800 impacts with QR every pi) with each
-//    impact mapping, against one state-only run over the same total time at the same
-//    tolerance (1e-10).
+//    impact mapping, through the library (lyapunov), against one state-only run over the
+//    same total time at the same tolerance (1e-10), the engine's flow with no event.
+// Points: Ur = 16 (P2) and, for Lyapunov, Ur = 25, sigma = -0.146 (chaotic).
 // Counters: steps and rhs calls of the measured run. The ratios are in docs/stability.md.
 #include <benchmark/benchmark.h>
 
+#include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/protocol.hpp"
-#include "vimpact/model/wake_impact.hpp"
-#include "vimpact/stability/floquet.hpp"
-#include "vimpact/stability/lyapunov.hpp"
+#include "vimpact/hybrid/flow.hpp"
+#include "vimpact/model/builtin/wake_impact.hpp"
+#include "vimpact/model/model.hpp"
+#include "vimpact/model/native_model.hpp"
+#include "vimpact/tangent/section_map.hpp"
 
 namespace {
 
 using vimpact::vec;
+using native = vimpact::native_model<vimpact::wake_impact>;
 
-vimpact::wake_impact paper(double Ur, double sigma = -0.150298)
+vimpact::model paper(double Ur, double sigma = -0.150298)
 {
-    vimpact::wake_impact_parameters p;
-    p.Ur = Ur;
-    p.sigma = sigma;
-    return vimpact::wake_impact(p);
+    const vimpact::model m = vimpact::model::builtin("wake_impact");
+    return m.with_parameter(m.info().parameter_index("Ur"), Ur).with_parameter(m.info().parameter_index("sigma"), sigma);
 }
-
-const vec<4> paper_ic(0.0, 0.0, 0.0, 0.1);
 
 void set_counters(benchmark::State& state, const vimpact::run_stats& s)
 {
@@ -35,19 +40,24 @@ void set_counters(benchmark::State& state, const vimpact::run_stats& s)
 }
 
 // The refined P2 orbit point at Ur = 16 (computed once).
-const vimpact::floquet_result<4>& ur16_orbit()
+const vimpact::floquet_result& ur16_orbit()
 {
-    static const auto r = vimpact::floquet_analysis(paper(16.0), paper_ic);
+    static const auto r = [] {
+        const auto m = paper(16.0);
+        return vimpact::floquet(m, m.initial_state(), vimpact::floquet_options{});
+    }();
     return r;
 }
 
 void one_period_with_tangent(benchmark::State& state)
 {
     const auto m = paper(16.0);
+    const native em(m.parameters());
     const auto& orb = ur16_orbit();
+    const vec<4> x(orb.orbit_point);
     vimpact::section_return<4> r;
     for (auto _ : state) {
-        r = vimpact::section_map(m, orb.orbit_point, orb.section_returns);
+        r = vimpact::section_map<vimpact::dop853>(em, x, orb.section_returns);
         benchmark::DoNotOptimize(r.monodromy.data());
     }
     set_counters(state, r.stats);
@@ -55,22 +65,28 @@ void one_period_with_tangent(benchmark::State& state)
 
 struct count_returns : vimpact::flow_observer {
     int seen = 0, wanted = 0;
-    vimpact::flow_control on_section(vimpact::section_kind k, double, const vec<4>&)
+    template <class X>
+    vimpact::flow_control on_section(int, vimpact::crossing, double, const X&)
     {
-        return (k == vimpact::section_kind::maximum && ++seen >= wanted) ? vimpact::flow_control::stop
-                                                                         : vimpact::flow_control::proceed;
+        return ++seen >= wanted ? vimpact::flow_control::stop : vimpact::flow_control::proceed;
     }
 };
 
+// The same returns as the section map, with its flow options and start, without the tangent.
 void one_period_state_only(benchmark::State& state)
 {
     const auto m = paper(16.0);
+    const native em(m.parameters());
     const auto& orb = ur16_orbit();
     const vimpact::section_map_options mo;
+    vimpact::flow_options fo = mo.flow;
+    fo.surfaces = true;
+    fo.events = {vimpact::flow_event::section(mo.section, em.section_direction(mo.section))};
+    const vec<4> x0 = vimpact::detail::past_section(em, mo.section, vec<4>(orb.orbit_point));
     vimpact::run_stats s;
     for (auto _ : state) {
-        vimpact::hybrid_flow<vimpact::wake_impact> flow(m, mo.flow);
-        flow.start(0.0, orb.orbit_point);
+        vimpact::hybrid_flow<native, vimpact::dop853> flow(em, fo);
+        flow.start(0.0, x0);
         count_returns obs;
         obs.wanted = orb.section_returns;
         benchmark::DoNotOptimize(flow.run(obs));
@@ -82,45 +98,48 @@ void one_period_state_only(benchmark::State& state)
 void floquet_point(benchmark::State& state)
 {
     const auto m = paper(16.0);
-    vimpact::floquet_result<4> r;
+    const Eigen::VectorXd x0 = m.initial_state();
+    const vimpact::floquet_options fo;
+    vimpact::floquet_result r;
     for (auto _ : state) {
-        r = vimpact::floquet_analysis(m, paper_ic);
+        r = vimpact::floquet(m, x0, fo);
         benchmark::DoNotOptimize(r.multipliers.data());
     }
     vimpact::run_stats s = r.protocol_stats;
-    s.steps += r.tangent_stats.steps;
-    s.rhs_calls += r.tangent_stats.rhs_calls;
+    s.add(r.tangent_stats);
     set_counters(state, s);
+    state.counters["map_evaluations"] = static_cast<double>(r.map_evaluations);
 }
 
 void protocol_point(benchmark::State& state)
 {
     const auto m = paper(16.0);
-    const vimpact::protocol_options po;
-    vimpact::protocol_result<4> r;
+    const Eigen::VectorXd x0 = m.initial_state();
+    const vimpact::floquet_options fo;  // the protocol the Floquet point runs
+    vimpact::run_stats s;
     for (auto _ : state) {
-        r = vimpact::run_protocol(m, paper_ic, po);
-        benchmark::DoNotOptimize(r.points.data());
+        const auto r = vimpact::simulate(m, x0, fo.protocol);
+        benchmark::DoNotOptimize(r.points.values().data());
+        s = r.stats;
     }
-    set_counters(state, r.stats);
+    set_counters(state, s);
 }
 
-// Lyapunov points: Ur = 16 (periodic) and Ur = 25, sigma = -0.146 (chaotic).
-vimpact::wake_impact lyapunov_model(int which) { return which == 0 ? paper(16.0) : paper(25.0, -0.146); }
+vimpact::model lyapunov_model(int which) { return which == 0 ? paper(16.0) : paper(25.0, -0.146); }
 
 void lyapunov_point(benchmark::State& state)
 {
     const auto m = lyapunov_model(static_cast<int>(state.range(0)));
+    const Eigen::VectorXd x0 = m.initial_state();
     vimpact::lyapunov_options lo;
     lo.tdm = static_cast<vimpact::lyapunov_tdm>(state.range(1));
-    vimpact::lyapunov_result<4> r;
+    vimpact::lyapunov_result r;
     for (auto _ : state) {
-        r = vimpact::lyapunov_spectrum(m, paper_ic, lo);
+        r = vimpact::lyapunov(m, x0, lo);
         benchmark::DoNotOptimize(r.exponents.data());
     }
     vimpact::run_stats s = r.transient_stats;
-    s.steps += r.stats.steps;
-    s.rhs_calls += r.stats.rhs_calls;
+    s.add(r.stats);
     set_counters(state, s);
     state.counters["t_final"] = r.t_start + r.time;
 }
@@ -129,13 +148,15 @@ void lyapunov_point(benchmark::State& state)
 void plain_run_of_lyapunov_length(benchmark::State& state)
 {
     const auto m = lyapunov_model(static_cast<int>(state.range(0)));
-    const auto L = vimpact::lyapunov_spectrum(m, paper_ic, vimpact::lyapunov_options{});
+    const native em(m.parameters());
+    const Eigen::VectorXd x0 = m.initial_state();
+    const auto L = vimpact::lyapunov(m, x0, vimpact::lyapunov_options{});
     vimpact::flow_options fo;
     fo.t_max = L.t_start + L.time;
     vimpact::run_stats s;
     for (auto _ : state) {
-        vimpact::hybrid_flow<vimpact::wake_impact> flow(m, fo);
-        flow.start(0.0, paper_ic);
+        vimpact::hybrid_flow<native, vimpact::dop853> flow(em, fo);
+        flow.start(0.0, vec<4>(x0));
         vimpact::flow_observer obs;
         benchmark::DoNotOptimize(flow.run(obs));
         s = flow.stats();

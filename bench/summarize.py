@@ -1,4 +1,9 @@
-"""Reads the outputs of bench/run_benchmarks.sh and prints the Markdown comparison table."""
+"""Reads the outputs of bench/run_benchmarks.sh and prints the Markdown comparison table.
+
+The vimpact rows time build/protocol_bench (the library's simulate); their accuracy comes
+from `vimpact period --out` runs of the same protocol (sections.csv), whose step counts
+(run.json) must equal the benchmark's: the same arithmetic, so the same points.
+"""
 import json
 import os
 import sys
@@ -7,8 +12,10 @@ import numpy as np
 
 
 def ys(path):
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    return data[:, 1]
+    """The y column of section points, found by name: vimpact names the columns after the
+    model's state (t,y,ydot,x,xdot), the baselines write t,y,v,x,w."""
+    data = np.genfromtxt(path, delimiter=",", names=True)
+    return np.atleast_1d(data["y"])
 
 
 def main(d):
@@ -20,6 +27,11 @@ def main(d):
             continue
         method = b["run_name"].split("/")[1]
         wall = b["real_time"] / 1000.0  # ms -> s
+        run = json.load(open(os.path.join(d, method, "run.json")))
+        cli_steps = run["result"]["stats"]["steps"]
+        if cli_steps != int(b["steps"]):
+            sys.exit(f"{method}: the benchmark took {int(b['steps'])} steps, `vimpact period` {cli_steps}: "
+                     "not the same run")
         rows.append((f"vimpact {method}", wall, int(b["steps"]), int(b["rhs_calls"]),
                      np.max(np.abs(ys(os.path.join(d, method, "sections.csv")) - ref))))
     o = json.load(open(os.path.join(d, "odeint.json")))
