@@ -134,8 +134,11 @@ def main(d):
             for c in res["curves"]:
                 amp = [a for a in c["amplitude"] if a is not None]
                 k = c["amplitude"].index(max(amp))
-                print(f"  A = {c['A']:g}, eps = {c['eps']:.4g}: peak amplitude {max(amp):.4f} at Ur = {c['values'][k]:.4g},"
-                      f" frequency ratio there {c['frequency_ratio'][k]:.4f}; not converged {c['not_converged']}")
+                # The paper's model's time unit makes the wake's own angular frequency 1: the
+                # response's angular frequency is the ratio to the shedding frequency.
+                p = c["parameters"]
+                print(f"  A = {p['A']:g}, eps = {p['eps']:.4g}: peak amplitude {max(amp):.4f} at Ur = {c['values'][k]:.4g},"
+                      f" frequency ratio there {c['frequency'][k]:.4f}; not converged {c['not_converged']}")
             print()
     for s in "abcdef":
         sweep_facts(d, f"fig11{s}", "Ur", [25])
