@@ -18,6 +18,7 @@ print(f"{m.name}: {', '.join(m.state_names)}; parameters {', '.join(m.parameter_
 s = vimpact.sweep(m, "a", vimpact.grid(0.8, 0.94, pick(141, 15)), section="strobe", **PROTOCOL)
 print("sweep:", s)
 vimpact.plot.bifurcation(s, picture("own_model.png"))
+print("picture:", picture("own_model.png"))
 f = vimpact.floquet(m.with_(a=0.85), section="strobe", **PROTOCOL)
 print("floquet at a = 0.85:", f)
 l = vimpact.lyapunov(m.with_(a=0.891), impacts=pick(800, 100), transient=PROTOCOL.get("transient", 500))
