@@ -1,7 +1,9 @@
 // vimpact: the command line. A thin layer over the library: parse, resolve names, call one
 // analysis, report. Exit codes: 0 success (numerical trouble is reported as an outcome), 1
 // internal or I/O failure, 2 bad input, 130 interrupted (job commands; resumable).
+#include <charconv>
 #include <iostream>
+#include <system_error>
 #include <string>
 #include <vector>
 
@@ -13,13 +15,39 @@
 
 namespace {
 
-// One line: CLI11's messages may span several.
+// One printable line: CLI11's messages may span several, and a message that quotes a user's
+// file may hold control bytes that a terminal would act on.
 std::string one_line(std::string s)
 {
-    for (auto& ch : s)
-        if (ch == '\n' || ch == '\r') ch = ' ';
+    for (auto& ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c == '\n' || c == '\r' || c == '\t') ch = ' ';
+        else if (c < 0x20 || c == 0x7f) ch = '?';
+    }
     while (!s.empty() && s.back() == ' ') s.pop_back();
     return s;
+}
+
+// Values CLI11 accepts but would turn silently into something else: an empty value (`--ic
+// ''`) means the option's default, and an integer beyond 64 bits is clamped to 2^63 - 1.
+void refuse_silent_values(const CLI::App& command)
+{
+    for (const CLI::Option* opt : command.get_options()) {
+        if (opt->count() == 0 || opt->get_expected_min() == 0) continue;
+        for (const auto& value : opt->results()) {
+            if (value.empty())
+                throw vimpact::input_error(opt->get_name() + " is given an empty value (leave the option out for " +
+                                           "its default)");
+            if (opt->get_type_name() == "INT") {
+                long long v = 0;
+                const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+                if (ec == std::errc::result_out_of_range)
+                    throw vimpact::input_error(opt->get_name() + " = " + value +
+                                               " does not fit in a 64-bit integer");
+                (void)end;
+            }
+        }
+    }
 }
 
 int fail(const std::string& message)
@@ -67,7 +95,10 @@ int main(int argc, char** argv)
     }
     try {
         for (const auto& c : commands)
-            if (c.app->parsed()) return c.run();
+            if (c.app->parsed()) {
+                refuse_silent_values(*c.app);
+                return c.run();
+            }
     } catch (const vimpact::input_error& e) {
         return fail(e.what());
     } catch (const std::exception& e) {

@@ -172,6 +172,11 @@ model::model(std::shared_ptr<const model_code> code, std::vector<double> paramet
                           " parameter values (got " + std::to_string(m_parameters.size()) + ")");
     for (std::size_t i = 0; i < m_parameters.size(); ++i) {
         const auto& p = info.parameters[i];
+        // A subnormal value (e.g. 4.9e-324) is inside a range like (0, inf) but its
+        // reciprocals overflow: the run would end in a step underflow with no word why.
+        if (m_parameters[i] != 0.0 && std::fpclassify(m_parameters[i]) == FP_SUBNORMAL)
+            throw input_error("parameter " + p.name + " = " + format_double(m_parameters[i]) +
+                              " is subnormal: give 0 or a value of magnitude >= 2.2e-308");
         if (!p.range.admits(m_parameters[i]))
             throw input_error("parameter " + p.name + " = " + format_double(m_parameters[i]) +
                               " is outside its valid range " + p.range.text() +

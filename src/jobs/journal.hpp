@@ -43,6 +43,19 @@ private:
 // the journal; returns the records of the whole run known to this call (resumed, computed, and
 // those of other shards), by job, with the report. run(job, const Record* predecessor) computes
 // a job; encode/decode translate a record to and from its journal line.
+// A journal record decoded, or an input_error naming the job when the line is not a record
+// of this analysis (an edited journal): damage to report, not an internal error.
+template <class Record, class Decode>
+Record decode_record(Decode& decode, long job, const json& r, const std::filesystem::path& journal)
+{
+    try {
+        return decode(r);
+    } catch (const json::exception&) {
+        throw input_error("the journal " + journal.string() + " holds a damaged record of job " + std::to_string(job) +
+                          "; remove the journal and run again");
+    }
+}
+
 template <class Record, class Run, class Encode, class Decode>
 std::map<long, Record> run_journaled(const json& spec, const job_schedule& schedule, const job_options& o, Run&& run,
                                      Encode&& encode, Decode&& decode, job_report& report)
@@ -58,7 +71,7 @@ std::map<long, Record> run_journaled(const json& spec, const job_schedule& sched
     if (o.journal) {
         j.emplace(*o.journal, spec, o, schedule.jobs);
         for (auto& [job, r] : j->finished()) {
-            finished.emplace(job, decode(r));
+            finished.emplace(job, decode_record<Record>(decode, job, r, *o.journal));
             records.emplace(job, finished.at(job));
         }
         j->finished().clear();
@@ -75,7 +88,7 @@ std::map<long, Record> run_journaled(const json& spec, const job_schedule& sched
     // Shards finishing at the same time: what the others wrote meanwhile counts too.
     if (j && !s.stopped && static_cast<long>(records.size()) < schedule.jobs)
         for (auto& [job, r] : j->reread())
-            if (!records.count(job)) records.emplace(job, decode(r));
+            if (!records.count(job)) records.emplace(job, decode_record<Record>(decode, job, r, *o.journal));
     report.jobs = schedule.jobs;
     report.owned = s.owned;
     report.resumed = s.resumed;
