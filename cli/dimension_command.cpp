@@ -97,9 +97,6 @@ dimension_options make_options(const dimension_args& a)
     o.max_pairs = parse_count(a.max_pairs, "--max-pairs", 1.0);
     o.correlation.bins_per_octave = a.bins_per_octave;
     o.correlation.search = parse_name(a.search, all_pair_searches, "--search");
-    if (a.threads < 0 || a.threads > max_threads)
-        throw input_error("--threads must be in [0, " + std::to_string(max_threads) + "] (got " +
-                          std::to_string(a.threads) + ")");
     o.correlation.threads = resolve_threads(a.threads);
     o.scaling.slope_tolerance = a.slope_tolerance;
     o.scaling.slope_window = a.slope_window;
@@ -264,11 +261,6 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
                   {"record", c.protocol.record_points},
                   {"section_points", run->points.size()},
                   {"t_final", run->stats.t_final}};
-    if (ps.size() < 3)
-        throw input_error("the dimension needs at least 3 points; " +
-                          (from_file ? "points file '" + a.points_file + "' has " : std::string("the run recorded ")) +
-                          std::to_string(ps.size()));
-
     const dimension_result r = correlation_dimension(ps, opt);
 
     json summary = curve_summary(r);

@@ -657,6 +657,8 @@ double pair_distance_quantile(const point_set& ps, double fraction)
 dimension_result correlation_dimension(const point_set& ps, const dimension_options& opt)
 {
     validate(opt.scaling);
+    // Two points make one pair and one distance: no curve to fit a slope to.
+    detail::validate_points(ps, 3, "the dimension");
     dimension_result res;
     res.estimator = opt.estimator;
     res.points = ps.size();

@@ -15,10 +15,23 @@ void validate(const model& m, const lyapunov_options& o)
     if (!(o.t0 > 0.0) || !std::isfinite(o.t0))
         throw input_error("t0 = " + format_double(o.t0) + " is outside its valid range (0, inf)");
     if (o.transient_impacts < 0) throw input_error("transient must be >= 0 impacts");
-    if (o.warmup_intervals < 0) throw input_error("warmup must be >= 0 intervals");
+    if (o.warmup_intervals < 0 || o.warmup_intervals > 1000000)
+        throw input_error("warmup must be in [0, 1e6] intervals (got " + std::to_string(o.warmup_intervals) + ")");
     if (o.impacts < 1) throw input_error("impacts must be >= 1");
     if (!(o.time >= 0.0) || !std::isfinite(o.time)) throw input_error("time must be >= 0 and finite");
     if (!(o.max_time > 0.0) || !(o.p0_time > 0.0)) throw input_error("averaging time limits must be > 0");
+    // Each interval keeps its growth rates (the history), so the number of intervals bounds
+    // both the memory and the time; the longest averaging is `time` when given, else max_time.
+    constexpr double max_intervals = 2e6;
+    const double horizon =
+        static_cast<double>(o.warmup_intervals) * o.t0 + (o.time > 0.0 ? o.time : std::max(o.max_time, o.p0_time));
+    if (horizon / o.t0 > max_intervals) {
+        const double t0_min = (o.time > 0.0 ? o.time : std::max(o.max_time, o.p0_time)) /
+                              (max_intervals - static_cast<double>(o.warmup_intervals));
+        throw input_error("t0 = " + format_double(o.t0) + " would need more than 2e6 intervals over the averaging (" +
+                          (o.time > 0.0 ? "time " + format_double(o.time) : "up to max_time " + format_double(o.max_time)) +
+                          "): t0 must be >= " + format_double(t0_min) + (o.time > 0.0 ? "" : ", or give a shorter time"));
+    }
     if (!(o.quiet_time > 0.0)) throw input_error("quiet_time must be > 0");
     if (o.record_points < 0) throw input_error("record must be >= 0 section points");
     if ((o.record_points > 0 || m.section_count() > 0) && (o.section < 0 || o.section >= std::max(1, m.section_count())))

@@ -72,12 +72,17 @@ void validate(const integrator_options& in)
 
 void validate(const protocol_options& o)
 {
-    if (o.transient_impacts < 0)
-        throw input_error("transient must be >= 0 impacts (got " + std::to_string(o.transient_impacts) + ")");
-    if (o.record_points < 1)
-        throw input_error("record must be >= 1 section points (got " + std::to_string(o.record_points) + ")");
+    // The upper bounds are far beyond any use (a billion impacts is days of one run; ten
+    // million points are 400 MB) and refuse the overflowed or mistyped value instead of
+    // running it to a time limit or out of memory.
+    if (o.transient_impacts < 0 || o.transient_impacts > 1'000'000'000)
+        throw input_error("transient must be in [0, 1e9] impacts (got " + std::to_string(o.transient_impacts) + ")");
+    if (o.record_points < 1 || o.record_points > 10'000'000)
+        throw input_error("record must be in [1, 1e7] section points (got " + std::to_string(o.record_points) + ")");
     if (!(o.quiet_time > 0.0)) throw input_error("quiet_time must be > 0");
     if (!(o.sample_dt >= 0.0) || !std::isfinite(o.sample_dt)) throw input_error("sample_dt must be >= 0 and finite");
+    if (o.max_samples < 1)
+        throw input_error("max_samples must be >= 1 (got " + std::to_string(o.max_samples) + ")");
     if (!(o.flow.t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(o.flow.t_max) + ")");
     validate(o.flow.integration);
 }

@@ -35,7 +35,7 @@ struct floquet_options {
     // accurate, so never looser than 1e-12 whatever the protocol's.
     integrator_options tangent_integration{.rtol = 1e-12, .atol = 1e-12};
     impact_tangent jump = impact_tangent::saltation;  // jump used in the final monodromy
-    double sample_dt = 0.0;            // > 0: sample the refined orbit over one period
+    double sample_dt = 0.0;            // >= 1e-6: sample the refined orbit over one period
 };
 
 struct floquet_result {

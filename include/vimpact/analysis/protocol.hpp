@@ -65,6 +65,11 @@ struct protocol_options {
     section_choice section{};  // default: the model's first section
     double quiet_time = 2000.0;
     double sample_dt = 0.0;    // > 0: sample the recorded window every sample_dt (time series)
+    // The time series' size limit: a run whose series reaches it, or whose sample_dt is too
+    // small to advance the time, ends with the outcome sample_limit: a tiny sample_dt ends in
+    // bounded memory (a million samples of a 4-dimensional state are 40 MB, about 100 MB of
+    // CSV) instead of filling the machine.
+    long max_samples = 1'000'000;
     // Integration, limits and the chattering rule; the analysis sets the surfaces and the
     // events itself.
     flow_options flow{.t_max = 1e6};

@@ -19,12 +19,14 @@ enum class outcome {
     aperiodic,       // a periodic orbit was required (Floquet) but none was found
     not_converged,   // Newton's method did not reach its tolerance
     inadmissible,    // the initial state lies beyond an impact surface
+    sample_limit,    // the time series reached its sample limit (protocol_options::max_samples)
 };
 
 inline constexpr outcome all_outcomes[] = {
     outcome::ok,         outcome::time_limit, outcome::step_limit,    outcome::impact_limit,
     outcome::step_underflow, outcome::non_finite, outcome::interrupted, outcome::chattering,
     outcome::sticking,   outcome::aperiodic,  outcome::not_converged, outcome::inadmissible,
+    outcome::sample_limit,
 };
 
 constexpr std::string_view to_string(outcome o)
@@ -42,6 +44,7 @@ constexpr std::string_view to_string(outcome o)
         case outcome::aperiodic: return "aperiodic";
         case outcome::not_converged: return "not_converged";
         case outcome::inadmissible: return "inadmissible";
+        case outcome::sample_limit: return "sample_limit";
     }
     return "unknown";
 }

@@ -28,8 +28,10 @@ public:
             begin_recording(t);
             if (m_opt.section.type == section_choice::kind::impacts) m_done = true;
         }
-        return m_done ? flow_control::stop : flow_control::proceed;
+        return m_done || m_sample_limit ? flow_control::stop : flow_control::proceed;
     }
+    // The series reached protocol_options::max_samples (the run stops at the step's end).
+    [[nodiscard]] bool sample_limit() const { return m_sample_limit; }
     void set_start(double t)
     {
         m_last_impact = t;
@@ -70,10 +72,13 @@ public:
     template <class D>
     void on_segment(const D& d, double ta, double tb, flow_mode)
     {
-        while (m_next_sample <= tb) {
+        while (m_next_sample <= tb && !m_sample_limit) {
             if (m_next_sample > ta || (m_next_sample == ta && m_res.series.empty()))
                 m_res.series.push_back(m_next_sample, d.value(m_next_sample));
+            const double previous = m_next_sample;
             m_next_sample = m_res.t_record_start + static_cast<double>(++m_sample_index) * m_opt.sample_dt;
+            // A sample_dt below the time's resolution (t + dt == t) would never leave this loop.
+            m_sample_limit = m_next_sample <= previous || static_cast<long>(m_res.series.size()) >= m_opt.max_samples;
         }
     }
 
@@ -91,6 +96,7 @@ private:
     simulation& m_res;
     bool m_recording = false;
     bool m_done = false;
+    bool m_sample_limit = false;
     long m_impacts = 0;
     double m_last_impact = 0.0;
     double m_next_sample = 0.0;
@@ -124,6 +130,7 @@ simulation run_protocol(const Model& model, const vec<Model::dim>& x0, const pro
     protocol_observer<N> obs(opt, res);
     obs.set_start(0.0);
     res.status = flow.run(obs);
+    if (obs.sample_limit() && res.status == outcome::ok) res.status = outcome::sample_limit;
     res.final_state = to_dynamic(flow.x());
     res.stats = flow.stats();
     return res;
