@@ -176,6 +176,13 @@ bool make_plot(const std::string& kind, const std::filesystem::path& dir)
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
+std::string unsettled_text(long unsettled)
+{
+    if (unsettled == 0) return {};
+    return "warning: " + std::to_string(unsettled) +
+           " run(s) not settled: aperiodic over the record but periodic in its last half (lengthen --transient)\n";
+}
+
 std::vector<std::string> impact_count_columns(const model_info& info)
 {
     std::vector<std::string> out;

@@ -69,6 +69,10 @@ void write_run(const run_config& c, const std::string& kind, const json& summary
     write_run(c, kind, kind, summary, std::forward<Write>(write));
 }
 
+// The warning of runs whose record has not settled (period_label::settled: aperiodic as a
+// whole, periodic in its last half), a line for the text output; empty when all settled.
+std::string unsettled_text(long unsettled);
+
 // impacts_SURFACE for each surface: the columns of impacts per period on each.
 std::vector<std::string> impact_count_columns(const model_info& info);
 

@@ -98,6 +98,7 @@ int run_period(const period_args& a)
                           {"impacts", lab.impacts_per_period},
                           {"impacts_by_surface", by_surface(lab.impacts_by_surface, info)},
                           {"closure", lab.closure},
+                          {"settled", lab.settled},
                           {"tolerance", a.tol},
                           {"outcome", std::string(to_string(r.run.status))},
                           {"section_" + info.state.front().name, first},
@@ -118,7 +119,7 @@ int run_period(const period_args& a)
     if (lab.period > 0)
         text += " (" + std::to_string(lab.impacts_per_period) + " impact(s) per period, closure " +
                 format_double(lab.closure) + ")";
-    text += "\n" + written_to(c);
+    text += "\n" + unsettled_text(lab.settled ? 0 : 1) + written_to(c);
     print(c, summary, text);
     return 0;
 }

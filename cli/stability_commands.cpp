@@ -298,7 +298,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
     if (!session.complete(res.jobs)) return session.exit_code();
 
     json per_value = json::array();
-    long positive = 0;
+    long positive = 0, unsettled = 0;
     for (const auto& p : res.points) {
         const auto& r = p.result;
         const bool have = r.has_exponents();
@@ -307,27 +307,34 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                              {"outcome", std::string(to_string(r.status))},
                              {"lle", finite_or_null(lle)},
                              {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+                             {"settled", r.settled},
                              {"exponents", exponents_json(r)},
                              {"impacts", r.impacts},
                              {"impacts_by_surface", by_surface(r.impacts_by_surface, info)}});
         if (have && std::isfinite(lle) && std::isfinite(r.lle_standard_error) && lle > 3.0 * r.lle_standard_error) ++positive;
+        if (have && !r.settled) ++unsettled;
     }
     const json summary = {{"command", "lyapunov"},
                           {"param", sv.name},
                           {"values", res.points.size()},
                           {"tdm", std::string(to_string(lo.tdm))},
                           {"positive", positive},
+                          {"unsettled", unsettled},
                           {"points", per_value},
                           {"files", {"exponents.csv", "points.csv"}},
                           {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     std::string text = "lyapunov sweep of " + sv.name + " over " + std::to_string(res.points.size()) + " values (" +
                        std::string(to_string(lo.tdm)) + "): largest exponent above 3 standard errors at " +
                        std::to_string(positive) + "\n";
+    if (unsettled > 0)
+        text += "warning: the largest exponent drifts between the halves of the averaging at " +
+                std::to_string(unsettled) + " value(s) (column settled = 0): lengthen --transient or --impacts\n";
     if (c.out) {
         write_run(c, "lyapunov", "lyapunov_sweep", summary, [&](staged_output& out) {
             std::vector<std::string> h{sv.name};
             for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
-            for (const char* k : {"lle_standard_error", "impacts", "time", "misses", "outcome"}) h.emplace_back(k);
+            for (const char* k : {"lle_standard_error", "settled", "impacts", "time", "misses", "outcome"})
+                h.emplace_back(k);
             for (const auto& n : impact_count_columns(info)) h.push_back(n);
             csv_writer w(out.file("exponents.csv"), h);
             for (const auto& p : res.points) {
@@ -336,6 +343,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                 std::vector<std::string> row{format_double(p.value)};
                 for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(have ? r.exponents[i] : std::nan("")));
                 row.push_back(format_double(nan_unless(r.has_exponents(), r.lle_standard_error)));
+                row.emplace_back(r.settled ? "1" : "0");
                 row.push_back(std::to_string(r.impacts));
                 row.push_back(format_double(r.time));
                 row.push_back(std::to_string(r.misses));
@@ -396,6 +404,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         {"exponents", exponents_json(r)},
         {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
         {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+        {"settled", r.settled},
         {"sum", have ? finite_or_null(r.exponents.sum()) : json(nullptr)},
         {"sum_rule", have ? finite_or_null(r.sum_rule) : json(nullptr)},
         {"divergence_average", have ? finite_or_null(r.divergence_average) : json(nullptr)},
@@ -443,6 +452,9 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         for (Eigen::Index i = 0; i < r.exponents.size(); ++i) text += " " + fixed(r.exponents[i], 6);
         text += "\nlargest " + fixed(r.exponents[0], 6) + " +- " + fixed(r.lle_standard_error, 2) +
                 " (standard error of 8 block means)\n";
+        if (!r.settled)
+            text += "warning: not settled: the largest exponent differs between the halves of the averaging by more "
+                    "than 4 standard errors; lengthen --transient or --impacts\n";
         text += "averaged over " + std::to_string(r.impacts) + " impacts, t = " + fixed(r.time, 8) + " (" +
                 std::to_string(r.intervals) + " intervals of t0 = " + fixed(a.t0, 6) + ")\n";
         if (std::isfinite(r.sum_rule))

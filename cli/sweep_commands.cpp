@@ -107,14 +107,17 @@ int run_sweep(const sweep_args& a)
         npoints += p.points.size();
     }
     const json counts = label_counts(all_labels);
+    const long unsettled =
+        std::count_if(res.points.begin(), res.points.end(), [](const sweep_point& p) { return !p.label.settled; });
     json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
                     {"ic_mode", a.ic_mode},       {"direction", a.direction}, {"section_points", npoints},
-                    {"label_counts", counts},     {"labels", labels},        {"out", out_json(c)}};
+                    {"label_counts", counts},     {"labels", labels},        {"unsettled", unsettled},
+                    {"out", out_json(c)}};
     if (!labels_down.empty()) summary[o.direction == sweep_direction::down ? "labels" : "labels_down"] = labels_down;
     if (o.grazing_parameter >= 0)
         summary["grazing_param"] = info.parameters[static_cast<std::size_t>(o.grazing_parameter)].name;
     std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" + a.ic_mode +
-                       " starts): " + counts_text(counts) + "\n";
+                       " starts): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
         // Without --grazing the columns of the model's usual grazing parameter stay, empty (nan).
         const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : first_gap_parameter(m);
@@ -122,7 +125,7 @@ int run_sweep(const sweep_args& a)
             std::vector<std::string> ph{"branch", pname};
             append(ph, state_columns(info));
             csv_writer pts(out.file("points.csv"), ph);
-            std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "outcome"};
+            std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "settled", "outcome"};
             append(lh, grazing_columns(m, gp));
             append(lh, impact_count_columns(info));
             csv_writer lab(out.file("labels.csv"), lh);
@@ -137,7 +140,8 @@ int run_sweep(const sweep_args& a)
                 std::vector<std::string> cells{format_double(p.branch), format_double(p.value), p.label.label,
                                                std::to_string(p.label.period),
                                                std::to_string(p.label.impacts_per_period),
-                                               format_double(p.label.closure), std::string(to_string(p.status))};
+                                               format_double(p.label.closure), p.label.settled ? "1" : "0",
+                                               std::string(to_string(p.status))};
                 if (gp >= 0)
                     for (std::size_t s = 0; s < info.surfaces.size(); ++s)
                         cells.push_back(format_double(s < p.grazing.size() ? p.grazing[s] : std::nan("")));
@@ -193,9 +197,12 @@ int run_map(const map_args& a)
     }
     for (const auto& cell : res.cells) all_labels.push_back(cell.label.label);
     const json counts = label_counts(all_labels);
+    const long unsettled =
+        std::count_if(res.cells.begin(), res.cells.end(), [](const map_cell& cell) { return !cell.label.settled; });
     json summary = {{"command", "map"},         {"x", ax.name},          {"y", ay.name},
                     {"shape", {ny, nx}},        {"x_values", ax.values}, {"y_values", ay.values},
-                    {"label_counts", counts},   {"labels", rows},        {"out", out_json(c)}};
+                    {"label_counts", counts},   {"labels", rows},        {"unsettled", unsettled},
+                    {"out", out_json(c)}};
     int gp = -1;
     std::string other;
     json grazing = json::array();
@@ -213,10 +220,10 @@ int run_map(const map_args& a)
         for (const auto& s : info.surfaces) summary["grazing_surfaces"].push_back(s.name);
     }
     std::string text = "map " + ax.name + " x " + ay.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
-                       "): " + counts_text(counts) + "\n";
+                       "): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
         write_run(c, "map", summary, [&](staged_output& out) {
-            std::vector<std::string> lh{ax.name, ay.name, "label", "period", "impacts", "outcome"};
+            std::vector<std::string> lh{ax.name, ay.name, "label", "period", "impacts", "settled", "outcome"};
             append(lh, impact_count_columns(info));
             csv_writer lab(out.file("labels.csv"), lh);
             for (std::size_t job = 0; job < res.cells.size(); ++job) {
@@ -224,7 +231,7 @@ int run_map(const map_args& a)
                 std::vector<std::string> cells{format_double(ax.values[job % nx]), format_double(ay.values[job / nx]),
                                                cell.label.label, std::to_string(cell.label.period),
                                                std::to_string(cell.label.impacts_per_period),
-                                               std::string(to_string(cell.status))};
+                                               cell.label.settled ? "1" : "0", std::string(to_string(cell.status))};
                 append_counts(cells, cell.label.impacts_by_surface, info.surfaces.size());
                 lab.text_row(cells);
             }
@@ -292,12 +299,15 @@ int run_basins(const basins_args& a)
         labels.push_back(e.signature.label);
     }
     const long excluded = std::count_if(res.cells.begin(), res.cells.end(), [](const basin_cell& b) { return !b.admissible; });
+    const long unsettled =
+        std::count_if(res.cells.begin(), res.cells.end(), [](const basin_cell& b) { return !b.label.settled; });
     const json summary = {{"command", "basins"},
                           {"x", ax.name},
                           {"y", ay.name},
                           {"shape", {ny, nx}},
                           {"attractors", {{"count", res.attractors.size()}, {"labels", labels}, {"table", table}}},
                           {"inadmissible_cells", excluded},
+                          {"unsettled", unsettled},
                           {"out", out_json(c)}};
     std::string text = std::to_string(res.attractors.size()) + " attractor(s) on the " + std::to_string(nx) + " x " +
                        std::to_string(ny) + " grid of initial " + ax.name + ", " + ay.name + ":\n";
@@ -305,12 +315,14 @@ int run_basins(const basins_args& a)
         text += "  " + std::to_string(t["id"].get<int>()) + ": " + t["label"].get<std::string>() + ", " +
                 std::to_string(t["cells"].get<long>()) + " cells\n";
     if (excluded) text += "  (" + std::to_string(excluded) + " cells start beyond a surface and are excluded)\n";
+    text += unsettled_text(unsettled);
     if (c.out) {
         write_run(c, "basins", summary, [&](staged_output& out) {
-            csv_writer cells(out.file("cells.csv"), {ax.name, ay.name, "attractor", "label"});
+            csv_writer cells(out.file("cells.csv"), {ax.name, ay.name, "attractor", "label", "settled"});
             for (std::size_t job = 0; job < res.cells.size(); ++job)
                 cells.text_row({format_double(ax.values[job % nx]), format_double(ay.values[job / nx]),
-                                std::to_string(res.cells[job].attractor), res.cells[job].label.label});
+                                std::to_string(res.cells[job].attractor), res.cells[job].label.label,
+                                res.cells[job].label.settled ? "1" : "0"});
             cells.close();
             return json{"cells.csv"};
         });

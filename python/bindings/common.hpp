@@ -266,6 +266,10 @@ private:
         try {
             return m_d[key].cast<T>();
         } catch (const py::cast_error&) {
+            if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>)
+                if (py::isinstance<py::int_>(m_d[key]))
+                    throw input_error(std::string(key) + " = " + std::string(py::str(m_d[key])) +
+                                      " does not fit in a " + std::to_string(8 * sizeof(T)) + "-bit integer");
             throw py::type_error(std::string(key) + " has the wrong type (got " +
                                  std::string(py::str(py::type::of(m_d[key]).attr("__name__"))) + ")");
         }

@@ -37,6 +37,7 @@ void put_labels(py::dict& d, const Range& items, Label&& label_of, int surfaces)
     d["period"] = column<std::int64_t>(items, [&](const auto& x) { return label_of(x).period; });
     d["impacts"] = column<std::int64_t>(items, [&](const auto& x) { return label_of(x).impacts_per_period; });
     d["closure"] = column<double>(items, [&](const auto& x) { return label_of(x).closure; });
+    d["settled"] = column<bool>(items, [&](const auto& x) { return label_of(x).settled; });
     py::array_t<std::int64_t> by({static_cast<py::ssize_t>(items.size()), static_cast<py::ssize_t>(surfaces)});
     auto bv = by.mutable_unchecked<2>();
     py::ssize_t r = 0;

@@ -38,6 +38,7 @@ py::dict label_dict(const period_label& l)
     d["impacts"] = l.impacts_per_period;
     d["impacts_by_surface"] = py::cast(l.impacts_by_surface);
     d["closure"] = l.closure;
+    d["settled"] = l.settled;
     return d;
 }
 

@@ -6,6 +6,7 @@ the library's numbers into a result object. The library checks every input (a Va
 vimpact.InputError, with its message), runs with the GIL released (other Python threads keep
 running) and stops within about 0.1 s on Ctrl-C (KeyboardInterrupt).
 """
+import collections.abc
 import math
 import os
 import string
@@ -241,7 +242,8 @@ def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], r
     opts = _options(ic, **o)
     by = dict(zip(model.surfaces, d["impacts_by_surface"]))
     return Period(label=d["label"], period=d["period"], impacts=d["impacts"], impacts_by_surface=by,
-                  closure=d["closure"], tol=tol, simulation=_simulation(d["simulation"], model, opts))
+                  closure=d["closure"], tol=tol, simulation=_simulation(d["simulation"], model, opts),
+                  settled=d["settled"])
 
 
 def _default_gap_parameter(model):
@@ -320,7 +322,8 @@ def _labels(d, shape, model):
     by = np.asarray(d["impacts_by_surface"], dtype=np.int64)
     return dict(label=_strings(d["label"], shape), period=d["period"].reshape(shape),
                 impacts=d["impacts"].reshape(shape), impacts_by_surface=by.reshape(shape + (by.shape[-1],)),
-                closure=d["closure"].reshape(shape), outcome=_strings(d["outcome"], shape))
+                closure=d["closure"].reshape(shape), settled=d["settled"].reshape(shape),
+                outcome=_strings(d["outcome"], shape))
 
 
 @_with_defaults
@@ -513,7 +516,8 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     opts = _result_options(ic, o, "x_values", "y_values")
     return Basins(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, match_tol=match_tol,
                   attractor=d["attractor"].reshape(shape), label=labels["label"], period=labels["period"],
-                  outcome=labels["outcome"], steps=d["steps"].reshape(shape), attractors=attractors,
+                  outcome=labels["outcome"], settled=labels["settled"], steps=d["steps"].reshape(shape),
+                  attractors=attractors,
                   stats=_job_stats(d, report), jobs=report, **_context(model, opts))
 
 
@@ -566,6 +570,9 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
     gparam = _default_gap_parameter(model) if grazing is True else (grazing or None)
     if gparam == param:
         gparam = None
+    if curves is not None and (isinstance(curves, (str, dict)) or
+                               not all(isinstance(c, collections.abc.Mapping) for c in curves)):
+        raise TypeError("curves must be a list of dicts of parameter values, e.g. [{'A': 12, 'eps': 0.3}]")
     cs = [{}] if curves is None else [dict(c) for c in curves]
     for c in cs:
         for k, v in c.items():
@@ -693,7 +700,7 @@ def _lyapunov_options(tdm, r0, t0, impacts, time_, warmup, p0_time, max_time, di
 def _lyapunov_result(d, model, opts):
     stats = {"transient": RunStats.from_dict(d["transient_stats"], model.surfaces),
              "tangent": RunStats.from_dict(d["stats"], model.surfaces)}
-    keys = ("status", "tdm", "impacting", "exponents", "lle_standard_error", "t_start", "time", "impacts",
+    keys = ("status", "tdm", "impacting", "exponents", "lle_standard_error", "settled", "t_start", "time", "impacts",
             "intervals", "divergence_average", "jump_log_det_rate", "sum_rule", "misses", "history_t",
             "history_growth", "section_t", "section")
     return Lyapunov(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
@@ -855,6 +862,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
     exps = np.vstack([r.exponents for r in results]) if results else np.empty((0, model.dim))
     return LyapunovSweep(exponents=exps,
                          lle_standard_error=np.array([r.lle_standard_error for r in results], dtype=float),
+                         settled=np.array([r.settled for r in results], dtype=bool),
                          status=_strings([r.status for r in results]), tdm=tdm, **fields)
 
 

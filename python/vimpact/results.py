@@ -405,6 +405,9 @@ class Period:
         The period tolerance used.
     simulation : Simulation
         The run that was classified (its section points, impacts and statistics).
+    settled : bool
+        False when the record is aperiodic as a whole but periodic in its last half: the
+        transient ended during the recording, and a longer one would give that period.
     """
     label: str
     period: int
@@ -413,6 +416,7 @@ class Period:
     closure: float
     tol: Optional[float]
     simulation: Simulation
+    settled: bool = True
 
     def __getattr__(self, name):
         # The run's context (parameters, state_names, model, stats, outcome, ...).
@@ -428,6 +432,8 @@ class Period:
 
     def __repr__(self):
         extra = f", {self.impacts} impact(s) per period, closure {self.closure:.3g}" if self.period > 0 else ""
+        if not self.settled:
+            extra += ", not settled (periodic in the last half of the record: lengthen the transient)"
         return f"Period(label={self.label!r}{extra}, outcome={self.simulation.outcome!r})"
 
     @classmethod
@@ -441,7 +447,8 @@ class Period:
         if not isinstance(by, dict):
             by = _by_surface(by, sim.surfaces)
         return cls(label=res["label"], period=period, impacts=res.get("impacts", 0), impacts_by_surface=by,
-                   closure=res.get("closure", 0.0), tol=res.get("tolerance"), simulation=sim)
+                   closure=res.get("closure", 0.0), tol=res.get("tolerance"), simulation=sim,
+                   settled=res.get("settled", True))
 
 
 @dataclass(repr=False)
@@ -535,6 +542,9 @@ class Sweep(_Context, _Labels, _PointRuns):
     impacts_by_surface : ndarray, int64, shape (runs, surfaces)
         Impacts per period on each surface.
     closure : ndarray, float64, shape (runs,)
+    settled : ndarray, bool, shape (runs,)
+        False where the record is aperiodic as a whole but periodic in its last half (the
+        transient ended during the recording: lengthen it).
     outcome : ndarray, str, shape (runs,)
     grazing_param : str or None
         The parameter whose grazing value ``grazing`` holds.
@@ -564,6 +574,7 @@ class Sweep(_Context, _Labels, _PointRuns):
     impacts: np.ndarray = None
     impacts_by_surface: Optional[np.ndarray] = None
     closure: Optional[np.ndarray] = None
+    settled: Optional[np.ndarray] = None
     outcome: np.ndarray = None
     grazing_param: Optional[str] = None
     grazing: np.ndarray = None
@@ -613,9 +624,17 @@ class Sweep(_Context, _Labels, _PointRuns):
                    label=_str_array(lab["label"]), period=np.array(lab["period"], dtype=np.int64),
                    impacts=np.array(lab["impacts"], dtype=np.int64), impacts_by_surface=None,
                    closure=np.array(lab["closure"], dtype=float) if "closure" in lab else None,
-                   outcome=_str_array(lab["outcome"]), grazing_param=res.get("grazing_param"),
+                   settled=_settled(lab), outcome=_str_array(lab["outcome"]), grazing_param=res.get("grazing_param"),
                    grazing=_grazing_columns(lab, surfaces, runs), final_state=None, steps=None,
                    points=_states(pts, names, len(pv)), point_run=point_run, **ctx)
+
+
+def _settled(lab, shape=None):
+    """The labels table's settled column (1/0) as booleans; None for a table without it."""
+    if "settled" not in lab:
+        return None
+    a = np.array(lab["settled"], dtype=float) > 0.5
+    return a.reshape(shape) if shape is not None else a
 
 
 @dataclass(repr=False)
@@ -636,6 +655,8 @@ class Map(_Context, _Labels):
         None when loaded.
     closure : ndarray, float64, shape (ny, nx)
         None when loaded.
+    settled : ndarray, bool, shape (ny, nx)
+        False where the record is aperiodic as a whole but periodic in its last half.
     outcome : ndarray, str, shape (ny, nx)
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
@@ -659,6 +680,7 @@ class Map(_Context, _Labels):
     impacts: np.ndarray = None
     impacts_by_surface: Optional[np.ndarray] = None
     closure: Optional[np.ndarray] = None
+    settled: Optional[np.ndarray] = None
     outcome: np.ndarray = None
     steps: Optional[np.ndarray] = None
     grazing_param: Optional[str] = None
@@ -695,7 +717,8 @@ class Map(_Context, _Labels):
                    label=_str_array(lab["label"], shape),
                    period=np.array(lab["period"], dtype=np.int64).reshape(shape),
                    impacts=np.array(lab["impacts"], dtype=np.int64).reshape(shape),
-                   outcome=_str_array(lab["outcome"], shape), grazing_param=gparam, grazing_other=gother,
+                   settled=_settled(lab, shape), outcome=_str_array(lab["outcome"], shape), grazing_param=gparam,
+                   grazing_other=gother,
                    grazing=graze, **ctx)
 
 
@@ -746,6 +769,9 @@ class Basins(_Context):
         None when loaded.
     outcome : ndarray, str, shape (ny, nx)
         None when loaded.
+    settled : ndarray, bool, shape (ny, nx)
+        False where a start's record is aperiodic as a whole but periodic in its last half
+        (such a start may show a spurious attractor: lengthen the transient). None when loaded.
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
     attractors : list of Attractor
@@ -762,6 +788,7 @@ class Basins(_Context):
     label: np.ndarray = None
     period: Optional[np.ndarray] = None
     outcome: Optional[np.ndarray] = None
+    settled: Optional[np.ndarray] = None
     steps: Optional[np.ndarray] = None
     attractors: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
@@ -1012,6 +1039,9 @@ class Lyapunov(_Context):
         Descending (NaN when the run failed).
     lle_standard_error : float
         Of the largest exponent, from 8 block means.
+    settled : bool
+        False when the largest exponent drifts: its means over the two halves of the
+        averaging differ by more than 4 standard errors (lengthen the transient or averaging).
     t_start, time : float
         Start and length of the averaging window.
     impacts, intervals, misses : int
@@ -1033,6 +1063,7 @@ class Lyapunov(_Context):
     impacting: Optional[bool] = None
     exponents: np.ndarray = None
     lle_standard_error: float = np.nan
+    settled: bool = True
     t_start: float = 0.0
     time: float = np.nan
     impacts: int = 0
@@ -1078,7 +1109,8 @@ class Lyapunov(_Context):
         growth = np.diff(np.vstack([np.zeros((1, len(lam))), total]), axis=0) if len(total) else total
         return cls(status=res.get("outcome", "ok"), tdm=res.get("tdm", "saltation"),
                    exponents=np.array([_num(v) for v in res.get("exponents", [])], dtype=float),
-                   lle_standard_error=_num(res.get("lle_standard_error")), t_start=t_start,
+                   lle_standard_error=_num(res.get("lle_standard_error")), settled=res.get("settled", True),
+                   t_start=t_start,
                    time=_num(res.get("time")), impacts=res.get("impacts", 0), sum_rule=_num(res.get("sum_rule")),
                    misses=res.get("misses", 0), history_t=conv["t"], history_growth=growth, **ctx)
 
@@ -1161,6 +1193,8 @@ class LyapunovSweep(_Context, _PointRuns):
     exponents : ndarray, float64, shape (n, dim)
     lle : ndarray, float64, shape (n,)
     lle_standard_error : ndarray, float64, shape (n,)
+    settled : ndarray, bool, shape (n,)
+        False where the largest exponent drifts between the halves of the averaging.
     status : ndarray, str, shape (n,)
     points, point_run : ndarray
         Section points of each value's averaging window (``record > 0``) and the value
@@ -1173,6 +1207,7 @@ class LyapunovSweep(_Context, _PointRuns):
     results: list = field(default_factory=list)
     exponents: np.ndarray = None
     lle_standard_error: np.ndarray = None
+    settled: Optional[np.ndarray] = None
     status: np.ndarray = None
     points: np.ndarray = None
     point_run: np.ndarray = None
@@ -1206,7 +1241,7 @@ class LyapunovSweep(_Context, _PointRuns):
             if len(value) else np.empty((0, len(lam)))
         se = np.array([float(x) if x not in ("", "nan") else np.nan for x in tab.get("lle_standard_error", [])])
         pts, run = _points(directory, param, value, ctx["state_names"])
-        return cls(param=param, value=value, exponents=exps, lle_standard_error=se,
+        return cls(param=param, value=value, exponents=exps, lle_standard_error=se, settled=_settled(tab),
                    status=_str_array(tab.get("outcome", ["ok"] * len(value))), points=pts, point_run=run,
                    tdm=res.get("tdm", "saltation"), **ctx)
 

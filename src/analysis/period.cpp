@@ -43,14 +43,19 @@ period_label classify_period(const model& m, const simulation& r, double tol)
     }
     const auto& info = m.info();
     double closure = 0.0;
-    const int p = smallest_period(
-        static_cast<int>(r.points.size()), tol,
-        [&](int i, int j) {
-            return state_distance(info, r.points.x(static_cast<std::size_t>(i)), r.points.x(static_cast<std::size_t>(j)));
-        },
-        &closure);
+    const auto period_from = [&](int first, double* worst) {
+        return smallest_period(
+            static_cast<int>(r.points.size()) - first, tol,
+            [&](int i, int j) {
+                return state_distance(info, r.points.x(static_cast<std::size_t>(first + i)),
+                                      r.points.x(static_cast<std::size_t>(first + j)));
+            },
+            worst);
+    };
+    const int p = period_from(0, &closure);
     if (p == 0) {
         out.label = "aperiodic";
+        out.settled = period_from(static_cast<int>(r.points.size()) / 2, nullptr) == 0;
         return out;
     }
     out.period = p;

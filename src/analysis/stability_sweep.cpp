@@ -84,6 +84,7 @@ json encode(const lyapunov_sweep_point& p)
             {"impacting", r.impacting},
             {"exponents", detail::vector_json(r.exponents)},
             {"lle_standard_error", detail::number(r.lle_standard_error)},
+            {"settled", r.settled},
             {"t_start", detail::number(r.t_start)},
             {"time", detail::number(r.time)},
             {"impacts", r.impacts},
@@ -108,6 +109,7 @@ lyapunov_sweep_point decode_lyapunov(const json& j, lyapunov_tdm tdm)
     r.impacting = j.at("impacting").get<bool>();
     r.exponents = detail::vector_from(j.at("exponents"));
     r.lle_standard_error = detail::number_from(j.at("lle_standard_error"));
+    r.settled = j.at("settled").get<bool>();
     r.t_start = detail::number_from(j.at("t_start"));
     r.time = detail::number_from(j.at("time"));
     r.impacts = j.at("impacts").get<long>();

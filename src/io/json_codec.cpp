@@ -156,7 +156,7 @@ run_stats stats_from(const json& j)
 json to_json(const period_label& l)
 {
     return {{"label", l.label}, {"period", l.period}, {"impacts", l.impacts_per_period},
-            {"impacts_by_surface", l.impacts_by_surface}, {"closure", number(l.closure)}};
+            {"impacts_by_surface", l.impacts_by_surface}, {"closure", number(l.closure)}, {"settled", l.settled}};
 }
 
 period_label label_from(const json& j)
@@ -167,6 +167,7 @@ period_label label_from(const json& j)
     l.impacts_per_period = j.at("impacts").get<long>();
     l.impacts_by_surface = j.at("impacts_by_surface").get<std::vector<long>>();
     l.closure = number_from(j.at("closure"));
+    l.settled = j.at("settled").get<bool>();
     return l;
 }
 

@@ -26,8 +26,9 @@ def assert_by_surface(j, total_key="impacts"):
     assert sum(by.values()) == j[total_key]
 
 
-# The paper's labels (its Section 3 and Figure 2e, f): P2 at Ur = 16, P3 at 19.
-@pytest.mark.parametrize("ur,label", [("16", "P2"), ("19", "P3")])
+# The paper's labels (its Section 3 and Figure 2d-h): P2 at Ur = 16, P3 at 19, P4 at 21.5,
+# P8 at 24.8, each with one impact per period; aperiodic at 24.4 below.
+@pytest.mark.parametrize("ur,label", [("16", "P2"), ("19", "P3"), ("21.5", "P4"), ("24.8", "P8")])
 def test_period_labels_match_the_paper(vimpact, ur, label):
     j = run_json(vimpact, "period", "--set", f"Ur={ur}")
     assert j["label"] == label
@@ -37,6 +38,20 @@ def test_period_labels_match_the_paper(vimpact, ur, label):
     assert len(j["section_y"]) == j["period"]
     assert len(j["cycle"]) == j["period"] and all(len(x) == 4 for x in j["cycle"])
     assert [x[0] for x in j["cycle"]] == j["section_y"]
+
+
+def test_the_papers_aperiodic_example(vimpact):
+    j = run_json(vimpact, "period", "--set", "Ur=24.4")
+    assert j["label"] == "aperiodic" and j["period"] is None and j["outcome"] == "ok"
+
+
+# The paper's Figure 5c-f at Ur = 25: P6 at sigma = -0.149, aperiodic at -0.146, P2 at -0.020
+# and P4 at -0.021 (the paper gives no impact counts; these are ours).
+@pytest.mark.parametrize("sigma,label", [("-0.149", "P6"), ("-0.146", "aperiodic"), ("-0.020", "P2"),
+                                         ("-0.021", "P4")])
+def test_period_labels_of_figure_5(vimpact, sigma, label):
+    j = run_json(vimpact, "period", "--set", "Ur=25", "--set", f"sigma={sigma}")
+    assert j["label"] == label and j["outcome"] == "ok"
 
 
 def test_period_without_impacts_is_P0(vimpact):

@@ -39,7 +39,7 @@ def test_sweep_files_carry_impacts_by_surface_and_grazing(vimpact, tmp_path):
     p = run(vimpact, "sweep", "--param", "Ur", "--range", "16:19:2", "--grazing", "--no-plot", "--out", str(out))
     assert p.returncode == 0, p.stderr
     header, rows = read_rows(out / "labels.csv")
-    assert header == ["branch", "Ur", "label", "period", "impacts", "closure", "outcome", "sigma_graze",
+    assert header == ["branch", "Ur", "label", "period", "impacts", "closure", "settled", "outcome", "sigma_graze",
                       "impacts_barrier"]
     assert [r["label"] for r in rows] == ["P2", "P3"]
     for r in rows:
@@ -177,7 +177,7 @@ def test_map_json_rows_and_picture(vimpact, tmp_path):
     check_png(out / "plot.png")
     assert (out / "grazing.csv").read_text().splitlines()[0] == "Ur,sigma_graze"
     header, rows = read_rows(out / "labels.csv")
-    assert header == ["Ur", "sigma", "label", "period", "impacts", "outcome", "impacts_barrier"]
+    assert header == ["Ur", "sigma", "label", "period", "impacts", "settled", "outcome", "impacts_barrier"]
     assert all(r["impacts"] == r["impacts_barrier"] for r in rows)
 
 
@@ -189,7 +189,7 @@ def test_basins_find_the_coexisting_attractors(vimpact, tmp_path):
     j = json.loads(p.stdout)
     assert sorted(j["attractors"]["labels"]) == ["P1", "P2"]
     assert j["inadmissible_cells"] == 5  # the column y = -0.2 is below the barrier
-    assert (out / "cells.csv").read_text().splitlines()[0] == "y,ydot,attractor,label"
+    assert (out / "cells.csv").read_text().splitlines()[0] == "y,ydot,attractor,label,settled"
     check_png(out / "plot.png")
 
 

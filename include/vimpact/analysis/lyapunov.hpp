@@ -75,6 +75,10 @@ struct lyapunov_result {
     bool impacting = true;            // false: no impact during the transient's quiet time
     Eigen::VectorXd exponents;        // descending (NaN when none)
     double lle_standard_error = std::numeric_limits<double>::quiet_NaN();  // from 8 block means
+    // False when the largest exponent drifts: its means over the two halves of the window
+    // differ by more than 4 standard errors of their difference (and 1e-3 of the spectrum's
+    // spread); a longer transient or averaging is needed. True when too few intervals to say.
+    bool settled = true;
     double t_start = 0.0;             // start of the averaging window
     double time = 0.0;                // length of the averaging window
     long impacts = 0;                 // impacts of the reference in the window

@@ -17,6 +17,10 @@ struct period_label {
     long impacts_per_period = 0;  // on every surface
     std::vector<long> impacts_by_surface;  // per period
     double closure = 0.0;         // max distance between points N apart (periodic labels)
+    // False when the record has not settled: it is aperiodic as a whole but its last half
+    // is periodic, so the transient ended only during the recording and a longer one would
+    // give that period. A warning about the protocol, not about the orbit.
+    bool settled = true;
 };
 
 // The paper's period tolerance for its Figures 2 and 5 (Figure 4 used 1e-5).

@@ -135,6 +135,23 @@ void finish_exponents(lyapunov_result& res, const vec<N>& sum)
         for (double m : means) mean += m / blocks;
         for (double m : means) var += (m - mean) * (m - mean) / (blocks - 1);
         res.lle_standard_error = std::sqrt(var / blocks);
+        // The two halves of the window (4 blocks each) against each other, a two-sample test:
+        // with the block variance pooled within the halves (a drift between them must not
+        // inflate it), their difference has the standard error sqrt(pooled / 2). A drift
+        // (the transient not over, a slow attractor change) shows as a difference of more
+        // than 4 of those, and more than 1e-3 of the spectrum's spread, the floor for orbits
+        // whose blocks agree to rounding.
+        constexpr int half = blocks / 2;
+        double first = 0.0, second = 0.0;
+        for (int b = 0; b < half; ++b) first += means[static_cast<std::size_t>(b)] / half;
+        for (int b = half; b < blocks; ++b) second += means[static_cast<std::size_t>(b)] / half;
+        double pooled = 0.0;
+        for (int b = 0; b < blocks; ++b) {
+            const double d = means[static_cast<std::size_t>(b)] - (b < half ? first : second);
+            pooled += d * d / (blocks - 2);
+        }
+        const double spread = e[0] - e[N - 1];
+        res.settled = std::abs(first - second) <= std::max(4.0 * std::sqrt(pooled / 2.0), 1e-3 * spread);
     }
 }
 
