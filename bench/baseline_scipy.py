@@ -1,10 +1,10 @@
 #!/usr/bin/python3
 """Peer baseline: the paper's impact-oscillator protocol, written plainly with
-scipy.integrate.solve_ivp (RK45, rtol = atol = 1e-10, event location).
+scipy.integrate.solve_ivp (RK45 or DOP853, rtol = atol = 1e-10, event location).
 
 Standalone; run with /usr/bin/python3 (needs numpy + scipy):
 
-    /usr/bin/python3 bench/baseline_scipy.py [--points FILE] [--repeat N]
+    /usr/bin/python3 bench/baseline_scipy.py [--method RK45|DOP853] [--points FILE] [--repeat N]
 
 Model (state X = (y, v, x, w)):
     dy/dt = v
@@ -84,7 +84,7 @@ section_last.terminal = True
 section_last.direction = -1
 
 
-def run_protocol():
+def run_protocol(method):
     t = 0.0
     X = [0.0, 0.0, 0.0, 0.1]
     impacts = 0
@@ -96,7 +96,7 @@ def run_protocol():
     while len(points) < N_POINTS:
         recording = impacts >= N_DISCARD_IMPACTS
         last = recording and (N_POINTS - len(points) == 1)
-        sol = solve_ivp(rhs, (t, t + SEGMENT_SPAN), X, method="RK45",
+        sol = solve_ivp(rhs, (t, t + SEGMENT_SPAN), X, method=method,
                         rtol=TOL, atol=TOL,
                         events=[impact, section_last if last else section])
         if sol.status < 0:
@@ -128,6 +128,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--points", metavar="FILE",
                     help="write the recorded section points as CSV")
+    ap.add_argument("--method", choices=("RK45", "DOP853"), default="RK45",
+                    help="solve_ivp's method: RK45 (DOPRI5) or DOP853, the orders of vimpact's two")
     ap.add_argument("--repeat", type=int, default=1, metavar="N",
                     help="run the protocol N times, report the median wall time")
     args = ap.parse_args()
@@ -137,7 +139,7 @@ def main():
     walls = []
     res = None
     for _ in range(args.repeat):
-        res = run_protocol()
+        res = run_protocol(args.method)
         walls.append(res["wall_s"])
 
     if args.points:
@@ -146,7 +148,7 @@ def main():
             for p in res["points"]:
                 f.write(",".join("%.17g" % c for c in p) + "\n")
 
-    out = {"wall_s": statistics.median(walls), "steps": res["steps"],
+    out = {"method": args.method, "wall_s": statistics.median(walls), "steps": res["steps"],
            "rhs_calls": res["nfev"], "nfev": res["nfev"],
            "impacts": res["impacts"], "points": len(res["points"])}
     if args.repeat > 1:

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Side-by-side benchmark of one point of the paper's protocol (Ur = 16, sigma = -0.150298,
 # paper preset, 500 impacts discarded, 200 maxima kept, rtol = atol = 1e-10):
-#   vimpact (DOP853 and DOPRI5), Boost.Odeint DOPRI5 + bisection, scipy solve_ivp RK45.
+#   vimpact (DOP853 and DOPRI5), Boost.Odeint DOPRI5 + bisection, scipy solve_ivp RK45 and DOP853.
 # Accuracy: max |y| difference of the 200 section points against a reference run of vimpact
 # at rtol = atol = 1e-13 (`vimpact period --out`, its sections.csv). Prints a Markdown table
 # (the one in the README).
@@ -20,6 +20,8 @@ trap 'rm -rf "$tmp"' EXIT
 "$build"/protocol_bench --benchmark_format=json > "$tmp/bench.json" 2> /dev/null
 "$build"/baseline_odeint --repeat 7 --points "$tmp/odeint.csv" > "$tmp/odeint.json"
 if [ "${1:-}" != "--no-scipy" ]; then
-  /usr/bin/python3 bench/baseline_scipy.py --repeat 3 --points "$tmp/scipy.csv" > "$tmp/scipy.json"
+  for m in RK45 DOP853; do
+    /usr/bin/python3 bench/baseline_scipy.py --method "$m" --repeat 3 --points "$tmp/scipy-$m.csv" > "$tmp/scipy-$m.json"
+  done
 fi
 /usr/bin/python3 bench/summarize.py "$tmp"

@@ -37,10 +37,11 @@ def main(d):
     o = json.load(open(os.path.join(d, "odeint.json")))
     rows.append(("Boost.Odeint dopri5 + bisection", o["wall_s"], o["steps"], o["rhs_calls"],
                  np.max(np.abs(ys(os.path.join(d, "odeint.csv")) - ref))))
-    if os.path.exists(os.path.join(d, "scipy.json")):
-        s = json.load(open(os.path.join(d, "scipy.json")))
-        rows.append(("scipy solve_ivp RK45", s["wall_s"], s.get("steps", 0), s.get("rhs_calls", s.get("nfev", 0)),
-                     np.max(np.abs(ys(os.path.join(d, "scipy.csv")) - ref))))
+    for m in ("RK45", "DOP853"):
+        if os.path.exists(os.path.join(d, f"scipy-{m}.json")):
+            s = json.load(open(os.path.join(d, f"scipy-{m}.json")))
+            rows.append((f"scipy solve_ivp {m}", s["wall_s"], s["steps"], s["rhs_calls"],
+                         np.max(np.abs(ys(os.path.join(d, f"scipy-{m}.csv")) - ref))))
     ours = rows[0][1]
     print("| implementation | median wall [ms] | accepted steps | rhs calls | steps/s | max abs error of y at section | time / vimpact dop853 |")
     print("|---|---|---|---|---|---|---|")
