@@ -35,9 +35,10 @@ void add_common_options(CLI::App& app, common_args& a)
     a.section_option = app.add_option("--section", a.section,
                                       "Where points are recorded: a section of the model (default its first), impacts "
                                       "(after every impact) or impacts:SURFACE");
-    app.add_option("--out", a.out, "Write CSV files, run.json and a PNG to this directory");
+    app.add_option("--out", a.out, "Write CSV files, run.json and a picture (--format) to this directory");
     app.add_flag("--json", a.json, "Print one JSON object to stdout");
-    app.add_flag("--no-plot", a.no_plot, "With --out: skip the PNG");
+    app.add_flag("--no-plot", a.no_plot, "With --out: skip the picture");
+    app.add_option("--format", a.format, "With --out: the picture's format, png (default), pdf or svg");
 }
 
 namespace {
@@ -252,6 +253,9 @@ run_config resolve(const common_args& a)
     if (!a.out.empty()) c.out = fs::path(a.out);
     c.json = a.json;
     c.plot = !a.no_plot;
+    if (a.format != "png" && a.format != "pdf" && a.format != "svg")
+        throw input_error("--format '" + a.format + "' is not one of png, pdf, svg");
+    c.plot_format = a.format;
     return c;
 }
 

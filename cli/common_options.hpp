@@ -32,6 +32,7 @@ struct common_args {
     std::string out;
     bool json = false;
     bool no_plot = false;
+    std::string format = "png";
     CLI::Option* model_option = nullptr;
     CLI::Option* preset_option = nullptr;
     CLI::Option* rtol_option = nullptr;
@@ -50,6 +51,7 @@ struct run_config {
     std::optional<std::filesystem::path> out;
     bool json = false;
     bool plot = true;
+    std::string plot_format = "png";  // the picture's file type: png, pdf or svg
 
     [[nodiscard]] const model_info& info() const { return model.info(); }
     [[nodiscard]] std::string section_name() const { return section_choice_name(model, protocol.section); }

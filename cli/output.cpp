@@ -150,7 +150,7 @@ void write_impacts(const std::filesystem::path& p, const impact_series& s, const
     w.close();
 }
 
-bool make_plot(const std::string& kind, const std::filesystem::path& dir)
+bool make_plot(const std::string& kind, const std::filesystem::path& dir, const std::string& format)
 {
     const std::string pydir(python_dir());
     const std::string interp(python_interpreter());
@@ -167,7 +167,7 @@ bool make_plot(const std::string& kind, const std::filesystem::path& dir)
         ::setenv("MPLBACKEND", "Agg", 1);
         ::dup2(2, 1);  // keep stdout clean for --json
         const std::string d = dir.string();
-        const char* argv[] = {interp.c_str(), "-m", "vimpact.plot", kind.c_str(), d.c_str(), nullptr};
+        const char* argv[] = {interp.c_str(), "-m", "vimpact.plot", kind.c_str(), d.c_str(), format.c_str(), nullptr};
         ::execv(interp.c_str(), const_cast<char* const*>(argv));
         std::_Exit(127);
     }
@@ -197,11 +197,11 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
     const auto record_path = out.file("run.json");
     write_json(record_path, record);  // the plot reads it
     if (c.plot) {
-        if (make_plot(kind, out.staging_dir())) {
-            record["files"].push_back("plot.png");
+        if (make_plot(kind, out.staging_dir(), c.plot_format)) {
+            record["files"].push_back("plot." + c.plot_format);
             write_json(record_path, record);
         } else {
-            std::cerr << "vimpact: warning: the PNG could not be made (python3 -m vimpact.plot " << kind
+            std::cerr << "vimpact: warning: the picture could not be made (python3 -m vimpact.plot " << kind
                       << " failed; the results are written)\n";
         }
     }

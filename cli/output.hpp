@@ -43,9 +43,9 @@ void write_states(const std::filesystem::path& p, const state_series& s, const m
 // t, the impact columns of the model (io/state_columns.hpp), and the surface's name.
 void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m);
 
-// Runs `python3 -m vimpact.plot KIND DIR`. A failure is reported, not fatal: the numbers are
+// Runs `python3 -m vimpact.plot KIND DIR FORMAT` (png, pdf, svg). A failure is reported, not fatal: the numbers are
 // the result, the picture is a view of them.
-bool make_plot(const std::string& kind, const std::filesystem::path& dir);
+bool make_plot(const std::string& kind, const std::filesystem::path& dir, const std::string& format);
 
 // Writes run.json (record["files"] gets run.json, and plot.png when made), makes the PNG
 // unless --no-plot, and commits the directory.

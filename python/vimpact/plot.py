@@ -16,7 +16,8 @@ Period or Simulation), ``bifurcation`` (Sweep), ``map`` (Map), ``basins`` (Basin
 ``plot_variable`` (the model's first state variable).
 
 Command line: ``vimpact COMMAND ... --out DIR`` runs ``python3 -m vimpact.plot KIND DIR``,
-which loads DIR into the result object of KIND and draws DIR/plot.png with the same function.
+which loads DIR into the result object of KIND and draws DIR/plot.png (or plot.pdf, plot.svg:
+a third argument) with the same function.
 """
 import os
 import sys
@@ -139,10 +140,15 @@ def sections(result, path=None, ax=None):
 # ---------------------------------------------------------------- the command line's PNGs
 
 def _draw(loader, drawer):
-    def from_directory(directory):
-        return drawer(loader(directory), os.path.join(directory, "plot.png"))
-    from_directory.__doc__ = f"{drawer.__name__}({loader.__qualname__}(DIR)) into DIR/plot.png"
+    def from_directory(directory, fmt="png"):
+        return drawer(loader(directory), os.path.join(directory, f"plot.{fmt}"))
+    from_directory.__doc__ = f"{drawer.__name__}({loader.__qualname__}(DIR)) into DIR/plot.FORMAT"
     return from_directory
+
+
+# The formats of the command line's pictures (its --format): matplotlib picks the writer by
+# the file's extension.
+FORMATS = ("png", "pdf", "svg")
 
 
 def _kinds():
@@ -156,7 +162,7 @@ def _kinds():
         "map": _draw(Map.load, periodicity_map),
         "basins": _draw(Basins.load, basins),
         "response": _draw(Response.load, response),
-        "dimension": plot_dimension.dimension,
+        "dimension": lambda directory, fmt="png": plot_dimension.dimension(directory, f"plot.{fmt}"),
         "floquet": _draw(Floquet.load, floquet),
         "lyapunov": _draw(Lyapunov.load, lyapunov),
         "floquet_sweep": _draw(FloquetSweep.load, floquet_sweep),
@@ -168,10 +174,10 @@ def main(argv):
     import matplotlib
     matplotlib.use("Agg")
     kinds = _kinds()
-    if len(argv) != 3 or argv[1] not in kinds:
-        print(f"usage: python3 -m vimpact.plot {'|'.join(sorted(kinds))} DIR", file=sys.stderr)
+    if len(argv) not in (3, 4) or argv[1] not in kinds or (len(argv) == 4 and argv[3] not in FORMATS):
+        print(f"usage: python3 -m vimpact.plot {'|'.join(sorted(kinds))} DIR [{'|'.join(FORMATS)}]", file=sys.stderr)
         return 2
-    kinds[argv[1]](argv[2])
+    kinds[argv[1]](argv[2], *argv[3:])
     return 0
 
 

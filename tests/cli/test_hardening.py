@@ -171,3 +171,17 @@ def test_two_points_are_too_few_for_a_dimension(vimpact, tmp_path):
     pts = tmp_path / "p.csv"
     pts.write_text("x,y\n0,0\n1,1\n")
     refused(run(vimpact, "dimension", "--points", str(pts)), "the dimension needs at least 3 points (got 2)")
+
+
+@pytest.mark.parametrize("fmt,magic", [("svg", b"<?xml"), ("pdf", b"%PDF")])
+def test_picture_formats(vimpact, tmp_path, fmt, magic):
+    out = tmp_path / "o"
+    p = run(vimpact, "period", "--transient", "20", "--record", "20", "--format", fmt, "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    assert (out / f"plot.{fmt}").read_bytes().startswith(magic)
+    assert not (out / "plot.png").exists()
+    assert f"plot.{fmt}" in json.loads((out / "run.json").read_text())["files"]
+
+
+def test_an_unknown_picture_format_is_refused(vimpact, tmp_path):
+    refused(run(vimpact, "period", "--format", "gif", "--out", str(tmp_path / "o")), "--format 'gif' is not one of png, pdf, svg")
