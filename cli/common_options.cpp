@@ -7,6 +7,7 @@
 #include <toml++/toml.h>
 
 #include "parse.hpp"
+#include "replay.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
@@ -24,9 +25,12 @@ void add_common_options(CLI::App& app, common_args& a)
     a.preset_option = app.add_option("--preset", a.preset, "A parameter preset of the model");
     app.add_option("--set", a.sets, "Set a parameter of the model, KEY=VALUE (repeatable)")->allow_extra_args(false);
     app.add_option("--ic", a.ic, "Initial state: the model's state variables in order, comma-separated");
+    a.command = &app;
     app.add_option("--config", a.config,
-                   "TOML file with the same settings: model, preset, parameters by name, ic = [..], rtol, atol, "
-                   "transient, record, method, section");
+                   "TOML file with the same settings: model, preset, parameters by name (or in a table "
+                   "[parameters]), ic = [..], rtol, atol, transient, record, method, section, and the command's "
+                   "own options in a table named after it; every --out directory holds one (config.toml) that "
+                   "replays the run");
     a.rtol_option = app.add_option("--rtol", a.rtol, "Relative tolerance (default 1e-10)");
     a.atol_option = app.add_option("--atol", a.atol, "Absolute tolerance (default 1e-10)");
     a.transient_option = app.add_option("--transient", a.transient, "Impacts discarded before recording (default 500)");
@@ -85,6 +89,17 @@ std::string toml_string(const toml::node& node, const std::string& key, const st
     throw input_error(config_where(file) + ": key '" + key + "' must be a string");
 }
 
+// The keys a config file may have besides the model's parameters.
+const std::vector<std::string>& setting_keys()
+{
+    static const std::vector<std::string> keys{"model",     "model_identity", "preset",  "ic",
+                                               "rtol",      "atol",           "method",  "transient",
+                                               "record",    "section",        "[parameters]"};
+    return keys;
+}
+
+}  // namespace
+
 toml::table read_config(const std::string& file)
 {
     std::error_code ec;
@@ -98,16 +113,6 @@ toml::table read_config(const std::string& file)
                           std::to_string(e.source().begin.line) + ")");
     }
 }
-
-// The keys a config file may have besides the model's parameters.
-const std::vector<std::string>& setting_keys()
-{
-    static const std::vector<std::string> keys{"model", "preset",    "ic",     "rtol",  "atol",
-                                               "method", "transient", "record", "section"};
-    return keys;
-}
-
-}  // namespace
 
 model load_model(const std::string& spec, const fs::path& base)
 {
@@ -162,8 +167,17 @@ run_config resolve(const common_args& a)
                   ? load_model(a.model)
                   : load_model(toml_string(*cfg_model, "model", a.config), cfg_dir);
     const model_info& info = m.info();
+    if (cfg && cfg->contains("model_identity") && a.model_option->count() == 0) {
+        const std::string expected = toml_string(*cfg->get("model_identity"), "model_identity", a.config);
+        if (expected != info.identity)
+            throw input_error(config_where(a.config) + ": the model " + info.source + " is not the one of the run (" +
+                              "identity " + info.identity + ", the config expects " + expected +
+                              "): it has changed since; remove model_identity to run it anyway");
+    }
 
     run_config c;
+    c.command = a.command->get_name();
+    c.command_options = recorded_options(*a.command);
     c.preset = a.preset;
     if (a.preset_option->count() == 0 && cfg && cfg->contains("preset"))
         c.preset = toml_string(*cfg->get("preset"), "preset", a.config);
@@ -186,9 +200,23 @@ run_config resolve(const common_args& a)
 
     if (cfg) {
         const std::string& file = a.config;
+        const auto set_parameter = [&](const std::string& key, const toml::node& node) {
+            const int i = info.parameter_index(key);
+            if (i < 0) return false;
+            values[static_cast<std::size_t>(i)] = toml_number(node, key, file);
+            return true;
+        };
         for (const auto& [k, node] : *cfg) {
             const std::string key(k.str());
-            if (key == "model" || key == "preset") {
+            if (key == c.command && node.is_table()) continue;  // the command's options: applied when parsing
+            c.config_sets_run = true;
+            if (key == "parameters" && node.is_table()) {
+                for (const auto& [pk, pnode] : *node.as_table())
+                    if (!set_parameter(std::string(pk.str()), pnode))
+                        throw input_error(config_where(file) + ": unknown parameter '" + std::string(pk.str()) +
+                                          "' in [parameters] (model " + m.name() + " has " + info.parameter_names() +
+                                          ")");
+            } else if (key == "model" || key == "preset" || key == "model_identity") {
                 (void)toml_string(node, key, file);
             } else if (key == "ic") {
                 const auto* arr = node.as_array();
@@ -209,8 +237,7 @@ run_config resolve(const common_args& a)
                 method = toml_string(node, key, file);
             } else if (key == "section") {
                 section = toml_string(node, key, file);
-            } else if (const int i = info.parameter_index(key); i >= 0) {
-                values[static_cast<std::size_t>(i)] = toml_number(node, key, file);
+            } else if (set_parameter(key, node)) {
             } else {
                 throw input_error(config_where(file) + ": unknown key '" + key + "' (valid: the parameters of model " +
                                   m.name() + ", " + info.parameter_names() + ", and " + joined(setting_keys()) + ")");

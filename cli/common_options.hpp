@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/model/model.hpp"
@@ -41,6 +42,7 @@ struct common_args {
     CLI::Option* record_option = nullptr;
     CLI::Option* method_option = nullptr;
     CLI::Option* section_option = nullptr;
+    const CLI::App* command = nullptr;  // the command these options belong to
 };
 
 struct run_config {
@@ -52,6 +54,10 @@ struct run_config {
     bool json = false;
     bool plot = true;
     std::string plot_format = "png";  // the picture's file type: png, pdf or svg
+    std::string command;                // for config.toml: the command and its own options
+    nlohmann::json command_options;
+    bool describes_run = true;          // false: no run of the model (dimension of a points file)
+    bool config_sets_run = false;       // the config file set up the run (model, parameters, ...)
 
     [[nodiscard]] const model_info& info() const { return model.info(); }
     [[nodiscard]] std::string section_name() const { return section_choice_name(model, protocol.section); }
@@ -68,6 +74,9 @@ run_config resolve(const common_args& args);
 // Throws input_error unless the initial state is admissible (on the allowed side of every
 // surface), naming the surface.
 void check_admissible(const run_config& c);
+
+// A TOML config file; throws input_error naming the file and the line of a syntax error.
+toml::table read_config(const std::string& file);
 
 // Indices by name, with messages listing the valid names. `what` is the option.
 int parameter_index(const model& m, const std::string& name, const std::string& what);

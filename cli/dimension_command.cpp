@@ -3,6 +3,7 @@
 // A run's points are its recorded section states, every state variable a coordinate and a
 // phase a (cos, sin) pair (state_point_table); --columns chooses among them.
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -17,6 +18,8 @@
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/jobs/job_loop.hpp"
+
+namespace fs = std::filesystem;
 
 namespace vimpact::cli {
 namespace {
@@ -123,7 +126,7 @@ dimension_options make_options(const dimension_args& a)
 // The model's options make no sense with --points: say so rather than ignore them.
 void reject_model_options(const CLI::App& app)
 {
-    for (const char* name : {"--model", "--preset", "--set", "--ic", "--config", "--rtol", "--atol", "--transient",
+    for (const char* name : {"--model", "--preset", "--set", "--ic", "--rtol", "--atol", "--transient",
                              "--record", "--method", "--section", "--tol"})
         if (app.get_option(name)->count() > 0)
             throw input_error(std::string(name) + " configures a run of the model; it cannot be combined with --points");
@@ -218,7 +221,12 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
 {
     const bool from_file = !a.points_file.empty();
     if (from_file) reject_model_options(app);
-    const run_config c = resolve(a.common);
+    run_config c = resolve(a.common);
+    if (from_file && c.config_sets_run)
+        throw input_error("config " + a.common.config +
+                          " configures a run of the model; it cannot be combined with --points (only a table "
+                          "[dimension] can)");
+    c.describes_run = !from_file;
     const dimension_options opt = make_options(a);
 
     point_table table;
@@ -249,8 +257,10 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
     std::vector<std::string> names;
     for (const auto k : cols) names.push_back(table.header[k]);
     const point_set ps = make_point_set(table, cols);
+    // Records name the file absolute, as config.toml does: they replay from anywhere.
+    const std::string points_path = from_file ? fs::absolute(a.points_file).lexically_normal().string() : "";
     if (from_file)
-        source = {{"kind", "file"}, {"file", a.points_file}, {"columns", names}, {"rows", ps.size()}};
+        source = {{"kind", "file"}, {"file", points_path}, {"columns", names}, {"rows", ps.size()}};
     else
         source = {{"kind", "model"},
                   {"columns", names},
@@ -275,7 +285,7 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
             record = {{"command", "dimension"},
                       {"version", std::string(version())},
                       {"git_hash", std::string(git_hash())},
-                      {"config", {{"points_file", a.points_file}, {"columns", names}}}};
+                      {"config", {{"points_file", points_path}, {"columns", names}}}};
         } else {
             record = record_header("dimension", c);
         }

@@ -1,6 +1,7 @@
 // vimpact: the command line. A thin layer over the library: parse, resolve names, call one
 // analysis, report. Exit codes: 0 success (numerical trouble is reported as an outcome), 1
 // internal or I/O failure, 2 bad input, 130 interrupted (job commands; resumable).
+#include <algorithm>
 #include <charconv>
 #include <iostream>
 #include <system_error>
@@ -10,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "replay.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
 
@@ -74,7 +76,11 @@ int main(int argc, char** argv)
     };
 
     try {
-        app.parse(argc, argv);
+        std::vector<std::string> args = arguments_with_config(app, argc, argv);
+        std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+        app.parse(args);
+    } catch (const vimpact::input_error& e) {
+        return fail(e.what());
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {

@@ -1,4 +1,5 @@
 #include "output.hpp"
+#include "replay.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -194,9 +195,11 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
 {
     if (!record.contains("files")) record["files"] = json::array();
     record["files"].push_back("run.json");
+    write_replay_config(out.file("config.toml"), c);
+    record["files"].push_back("config.toml");
     const auto record_path = out.file("run.json");
     write_json(record_path, record);  // the plot reads it
-    if (c.plot) {
+    if (c.plot && !kind.empty()) {
         if (make_plot(kind, out.staging_dir(), c.plot_format)) {
             record["files"].push_back("plot." + c.plot_format);
             write_json(record_path, record);

@@ -47,8 +47,9 @@ void write_impacts(const std::filesystem::path& p, const impact_series& s, const
 // the result, the picture is a view of them.
 bool make_plot(const std::string& kind, const std::filesystem::path& dir, const std::string& format);
 
-// Writes run.json (record["files"] gets run.json, and plot.png when made), makes the PNG
-// unless --no-plot, and commits the directory.
+// Writes run.json and config.toml (record["files"] gets them, and the picture when made),
+// makes the picture of `kind` (none for an empty kind) unless --no-plot, and commits the
+// directory.
 void finish_output(staged_output& out, const std::string& kind, const run_config& c, json& record);
 
 // Writes --out DIR: the files `write(out)` makes (it returns their names), run.json with the

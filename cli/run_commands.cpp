@@ -175,10 +175,7 @@ int run_grazing(const grazing_args& a)
         json record = record_header("grazing", c);
         record["result"] = summary;
         record["note"] = "grazing runs the surface-free system: the positions of the surfaces do not change the orbit";
-        record["files"] = json::array();
-        record["files"].push_back("run.json");
-        write_json(out.file("run.json"), record);
-        out.commit();
+        finish_output(out, "", c, record);  // no picture
     }
     text += written_to(c);
     print(c, summary, text);
