@@ -6,6 +6,7 @@
 #include <map>
 #include <toml++/toml.h>
 
+#include "interrupts.hpp"
 #include "parse.hpp"
 #include "replay.hpp"
 #include "vimpact/core/format.hpp"
@@ -195,6 +196,7 @@ run_config resolve(const common_args& a)
     c.protocol.record_points = a.record;
     c.protocol.flow.integration.rtol = a.rtol;
     c.protocol.flow.integration.atol = a.atol;
+    c.protocol.flow.cancel = &interrupt_flag();  // Ctrl-C ends a run with the outcome `interrupted`
     std::string method = a.method;
     std::string section;
 

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "interrupts.hpp"
 #include "output.hpp"
 #include "parse.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
@@ -279,6 +280,7 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
     summary["theiler_window"] = a.theiler;
     summary["out"] = c.out ? json(c.out->string()) : json(nullptr);
     if (c.out) {
+        throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
         json record;
         if (from_file) {

@@ -3,10 +3,10 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 
+#include "interrupts.hpp"
 #include "parse.hpp"
 #include "vimpact/core/input_error.hpp"
 
@@ -21,36 +21,6 @@ void add_job_options(CLI::App& app, job_args& a)
                    "Run only shard I/N of the jobs (with --out; the last shard to finish writes the result)");
     app.add_flag("--resume", a.resume, "Continue an interrupted run of the same command in --out");
 }
-
-namespace {
-
-// Set by SIGINT/SIGTERM; the job loop polls it. A lock-free atomic is async-signal-safe.
-std::atomic<bool> g_interrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free);
-
-extern "C" void on_interrupt(int) { g_interrupted.store(true); }
-
-}  // namespace
-
-struct job_session::signals {
-    struct sigaction old_int {}, old_term {};
-    signals()
-    {
-        g_interrupted.store(false);
-        struct sigaction sa {};
-        sa.sa_handler = on_interrupt;
-        sigemptyset(&sa.sa_mask);
-        sigaction(SIGINT, &sa, &old_int);
-        sigaction(SIGTERM, &sa, &old_term);
-    }
-    ~signals()
-    {
-        sigaction(SIGINT, &old_int, nullptr);
-        sigaction(SIGTERM, &old_term, nullptr);
-    }
-    signals(const signals&) = delete;
-    signals& operator=(const signals&) = delete;
-};
 
 // "[#####     ] 120/400 jobs  8.1 jobs/s  ETA 0:00:35" on a terminal, at most 5 times a second.
 struct job_session::progress {
@@ -103,8 +73,7 @@ job_session::job_session(const job_args& a, const std::optional<fs::path>& out) 
             throw input_error(m_options.journal->string() +
                               " holds an unfinished run: add --resume to continue it, or remove it");
     }
-    m_signals = std::make_unique<signals>();
-    m_options.stop = &g_interrupted;
+    m_options.stop = &interrupt_flag();
     if (::isatty(2)) {
         m_progress = std::make_shared<progress>();
         m_options.progress = [p = m_progress](long done, long total) { p->update(done, total); };

@@ -35,7 +35,7 @@ public:
     job_session(const job_session&) = delete;
     job_session& operator=(const job_session&) = delete;
 
-    // The options for the library call (Ctrl-C sets their stop flag while the session lives).
+    // The options for the library call (Ctrl-C sets their stop flag: cli/interrupts.hpp).
     [[nodiscard]] const job_options& options() const { return m_options; }
 
     // After the call: true when every job of the run is done and the outputs are to be
@@ -46,11 +46,9 @@ public:
     [[nodiscard]] int exit_code() const { return m_exit_code; }
 
 private:
-    struct signals;
     struct progress;
     job_options m_options;
     std::optional<std::filesystem::path> m_out;
-    std::unique_ptr<signals> m_signals;
     std::shared_ptr<progress> m_progress;
     int m_exit_code = 0;
 };

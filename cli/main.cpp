@@ -1,6 +1,7 @@
 // vimpact: the command line. A thin layer over the library: parse, resolve names, call one
 // analysis, report. Exit codes: 0 success (numerical trouble is reported as an outcome), 1
-// internal or I/O failure, 2 bad input, 130 interrupted (job commands; resumable).
+// internal or I/O failure, 2 bad input, 130 interrupted (Ctrl-C or SIGTERM: nothing written;
+// job commands keep their journal).
 #include <algorithm>
 #include <charconv>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "interrupts.hpp"
 #include "replay.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
@@ -100,11 +102,15 @@ int main(int argc, char** argv)
         return fail(message);
     }
     try {
+        const interrupt_guard interrupts;
         for (const auto& c : commands)
             if (c.app->parsed()) {
                 refuse_silent_values(*c.app);
                 return c.run();
             }
+    } catch (const interrupted&) {
+        std::cerr << "vimpact: interrupted; nothing written\n";
+        return 130;
     } catch (const vimpact::input_error& e) {
         return fail(e.what());
     } catch (const std::exception& e) {

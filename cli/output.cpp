@@ -1,4 +1,5 @@
 #include "output.hpp"
+#include "interrupts.hpp"
 #include "replay.hpp"
 
 #include <sys/wait.h>
@@ -204,15 +205,18 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
             record["files"].push_back("plot." + c.plot_format);
             write_json(record_path, record);
         } else {
+            throw_if_interrupted();  // the picture was cut short by Ctrl-C, not failed
             std::cerr << "vimpact: warning: the picture could not be made (python3 -m vimpact.plot " << kind
                       << " failed; the results are written)\n";
         }
     }
+    throw_if_interrupted();  // results of interrupted runs are not committed (exit 130)
     out.commit();
 }
 
 void print(const run_config& c, const json& summary, const std::string& text)
 {
+    throw_if_interrupted();  // a run cut short by Ctrl-C has no result to report
     if (c.json) std::cout << summary.dump() << '\n';
     else std::cout << text;
 }

@@ -10,7 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+
 #include "common_options.hpp"
+#include "interrupts.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/io/staged_output.hpp"
@@ -58,6 +60,7 @@ template <class Write>
 void write_run(const run_config& c, const std::string& command, const std::string& plot, const json& summary,
                Write&& write)
 {
+    throw_if_interrupted();  // before anything is written
     staged_output out(*c.out);
     json record = record_header(command, c);
     record["result"] = summary;

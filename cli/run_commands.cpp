@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "interrupts.hpp"
 #include "output.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/period.hpp"
@@ -58,6 +59,7 @@ int run_simulate(const simulate_args& a)
                           {"stats", stats_json(r.stats, info)},
                           {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     if (c.out) {
+        throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
         json record = record_header("simulate", c);
         record["result"] = summary;
@@ -107,6 +109,7 @@ int run_period(const period_args& a)
                           {"stats", stats_json(r.run.stats, info)},
                           {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     if (c.out) {
+        throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
         json record = record_header("period", c);
         record["result"] = summary;
@@ -171,6 +174,7 @@ int run_grazing(const grazing_args& a)
         summary[info.parameters[static_cast<std::size_t>(g.surfaces.front().parameter)].name + "_graze"] =
             finite_or_null(g.surfaces.front().parameter_value);
     if (c.out) {
+        throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
         json record = record_header("grazing", c);
         record["result"] = summary;

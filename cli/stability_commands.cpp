@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "job_runner.hpp"
+#include "interrupts.hpp"
 #include "output.hpp"
 #include "parse.hpp"
 #include "vimpact/analysis/floquet.hpp"
@@ -234,6 +235,7 @@ int run_floquet(const floquet_args& a)
         {"stats", {{"protocol", stats_json(r.protocol_stats, info)}, {"tangent", stats_json(r.tangent_stats, info)}}},
         {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     if (c.out) {
+        throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
         json record = record_header("floquet", c);
         record["result"] = summary;
@@ -422,6 +424,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         {"stats", {{"transient", stats_json(r.transient_stats, info)}, {"tangent", stats_json(r.stats, info)}}},
         {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     if (c.out) {
+        throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
         json record = record_header("lyapunov", c);
         record["result"] = summary;

@@ -124,6 +124,42 @@ def test_a_killed_runs_staging_directory_is_cleaned_by_the_next_run(vimpact, tmp
     no_staging(tmp_path)
 
 
+@pytest.mark.parametrize("args", [
+    ["simulate", "--transient", "10000000"],
+    ["lyapunov", "--impacts", "10000000", "--transient", "20"],
+    ["floquet", "--transient", "10000000"],
+])
+def test_ctrl_c_ends_a_single_run_with_130_and_nothing_written(vimpact, tmp_path, args):
+    import signal
+    import time
+    out = tmp_path / "run"
+    proc = subprocess.Popen([vimpact, *args, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130, err
+    assert "interrupted; nothing written" in err
+    assert not out.exists()
+    no_staging(tmp_path)
+
+
+def test_a_second_ctrl_c_ends_work_that_does_not_poll(vimpact, tmp_path):
+    import signal
+    import time
+    pts = tmp_path / "p.csv"
+    pts.write_text("a,b,c\n" + "".join(f"{(i * 0.618034) % 1},{(i * 0.414214) % 1},{(i * 0.732051) % 1}\n"
+                                        for i in range(300000)))
+    proc = subprocess.Popen([vimpact, "dimension", "--points", str(pts), "--search", "brute_force",
+                             "--max-pairs", "1e12"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    time.sleep(1.5)
+    proc.send_signal(signal.SIGINT)
+    time.sleep(0.2)
+    proc.send_signal(signal.SIGINT)
+    proc.communicate(timeout=30)
+    assert proc.returncode == -signal.SIGINT
+
+
 def _journal_file(out):
     jdir = str(out) + ".jobs"
     files = [f for f in os.listdir(jdir) if f.endswith(".jsonl")]
