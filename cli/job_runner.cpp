@@ -94,6 +94,11 @@ bool job_session::complete(const job_report& r)
         m_exit_code = 130;
         return false;
     }
+    if (r.written_elsewhere) {
+        std::cerr << "vimpact: shard " << m_options.shard.index << "/" << m_options.shard.count << " done ("
+                  << r.owned << " jobs); another shard completed the run and wrote " << m_out->string() << '\n';
+        return false;
+    }
     if (!r.complete()) {
         std::cerr << "vimpact: shard " << m_options.shard.index << "/" << m_options.shard.count << " done ("
                   << r.owned << " jobs); " << r.done << " of " << r.jobs << " jobs of the run are in "

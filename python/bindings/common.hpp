@@ -434,6 +434,7 @@ inline py::dict report_dict(const job_report& r)
     d["computed"] = r.computed;
     d["done"] = r.done;
     d["stopped"] = r.stopped;
+    d["written_elsewhere"] = r.written_elsewhere;
     d["complete"] = r.complete();
     d["threads"] = r.threads;
     return d;

@@ -236,6 +236,11 @@ class JobReport:
         Jobs of the whole run with a result.
     complete : bool
     threads : int
+    stopped : bool
+        Ctrl-C (or an exception from ``progress``) ended the call early.
+    written_elsewhere : bool
+        A shard that found the journal removed at its end: another shard completed the run
+        (and its caller wrote the outputs and removed the journal).
     journal : str or None
     """
     jobs: int
@@ -246,12 +251,13 @@ class JobReport:
     complete: bool
     threads: int
     stopped: bool = False
+    written_elsewhere: bool = False
     journal: Optional[str] = None
 
     @classmethod
     def from_dict(cls, d, journal=None):
         return cls(**{k: d[k] for k in ("jobs", "owned", "resumed", "computed", "done", "complete", "threads",
-                                         "stopped")}, journal=journal)
+                                         "stopped", "written_elsewhere")}, journal=journal)
 
     def __repr__(self):
         return (f"JobReport({self.done} of {self.jobs} jobs done: {self.computed} computed now, {self.resumed} "

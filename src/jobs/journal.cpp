@@ -1,6 +1,10 @@
 #include "journal.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <system_error>
 
@@ -76,7 +80,22 @@ journal::journal(const fs::path& dir, const json& spec, const job_options& o, lo
 {
     std::error_code ec;
     const fs::path spec_file = dir / "spec.json";
-    if (fs::exists(dir, ec)) {
+    // Shards may start at the same moment: the journal appears whole (spec.json and the lock
+    // file inside) by one rename of a directory made aside, or not at all; whoever loses the
+    // race opens the winner's.
+    bool created = false;
+    if (!fs::exists(dir, ec)) {
+        const fs::path aside = dir.parent_path() / (dir.filename().string() + ".new-" + std::to_string(::getpid()));
+        fs::remove_all(aside, ec);
+        fs::create_directories(aside, ec);
+        if (ec) throw input_error("cannot create the journal " + dir.string() + ": " + ec.message());
+        write_atomically(aside / "spec.json", spec.dump(2) + "\n");
+        write_atomically(aside / "lock", "");
+        fs::rename(aside, dir, ec);  // fails when another process made `dir` first (not empty)
+        created = !ec;
+        if (!created) fs::remove_all(aside, ec);
+    }
+    if (!created) {
         if (!fs::is_directory(dir, ec)) throw input_error(dir.string() + " exists and is not a journal directory");
         std::ifstream in(spec_file);
         if (!in)
@@ -90,6 +109,7 @@ journal::journal(const fs::path& dir, const json& spec, const job_options& o, lo
                               "choose another output");
         if (!o.resume && o.shard.count == 1)
             throw input_error(dir.string() + " holds an unfinished run of this analysis: resume it, or remove it");
+        if (!fs::exists(dir / "lock", ec)) std::ofstream(dir / "lock", std::ios::app);  // a journal of an older version
         for (const auto& e : fs::directory_iterator(dir)) {
             if (e.path().extension() != ".jsonl") continue;
             for (auto& r : read_journal_file(e.path(), jobs, false)) {
@@ -97,15 +117,30 @@ journal::journal(const fs::path& dir, const json& spec, const job_options& o, lo
                 m_finished.emplace(j, std::move(r["record"]));
             }
         }
-    } else {
-        fs::create_directories(dir, ec);
-        if (ec) throw input_error("cannot create the journal " + dir.string() + ": " + ec.message());
-        write_atomically(spec_file, spec.dump(2) + "\n");
     }
     const fs::path file = dir / shard_file_name(o.shard);
     if (fs::exists(file)) (void)read_journal_file(file, jobs, true);  // cut a torn last line
     m_out.open(file, std::ios::app);
     if (!m_out) throw std::runtime_error("cannot write " + file.string());
+}
+
+std::shared_ptr<void> journal::lock_completion() const
+{
+    const fs::path lock = m_dir / "lock";
+    const int fd = ::open(lock.c_str(), O_RDWR | O_CLOEXEC);  // no O_CREAT: a removed journal stays removed
+    if (fd < 0) return nullptr;
+    auto handle = std::shared_ptr<void>(new int(fd), [](void* p) {
+        const int* f = static_cast<int*>(p);
+        ::close(*f);  // releases the lock
+        delete f;
+    });
+    while (::flock(fd, LOCK_EX) != 0)
+        if (errno != EINTR) throw std::runtime_error("cannot lock " + lock.string());
+    // The journal's owner of the moment may have written the outputs and removed it while this
+    // process waited (the lock then belonged to a file no longer in the directory).
+    std::error_code ec;
+    if (!fs::exists(m_dir / "spec.json", ec)) return nullptr;
+    return handle;
 }
 
 void journal::append(long job, const json& record)

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -28,6 +29,10 @@ public:
     [[nodiscard]] std::unordered_map<long, json>& finished() { return m_finished; }
     // Appends one finished job, flushed.
     void append(long job, const json& record);
+    // Waits for the journal's completion lock (an flock on DIR/lock, released by the kernel when
+    // its holder ends, so a killed holder cannot block the others) and returns its handle, or
+    // null when the journal was removed meanwhile: another shard completed the run and wrote it.
+    [[nodiscard]] std::shared_ptr<void> lock_completion() const;
     // Rereads every shard file: the jobs other processes finished meanwhile.
     [[nodiscard]] std::unordered_map<long, json> reread() const;
     [[nodiscard]] const std::filesystem::path& dir() const { return m_dir; }
@@ -85,10 +90,21 @@ std::map<long, Record> run_journaled(const json& spec, const job_schedule& sched
         if (j) j->append(job, encode(r));
         records.insert_or_assign(job, std::move(r));
     });
-    // Shards finishing at the same time: what the others wrote meanwhile counts too.
-    if (j && !s.stopped && static_cast<long>(records.size()) < schedule.jobs)
-        for (auto& [job, r] : j->reread())
-            if (!records.count(job)) records.emplace(job, decode_record<Record>(decode, job, r, *o.journal));
+    // Shards finishing at the same time: one at a time, under the journal's lock, each counts
+    // what the others wrote meanwhile; the first to find the run complete keeps the lock until
+    // its caller has written the outputs and removed the journal, and the others then find the
+    // journal gone. So the result is written exactly once, and a writer killed midway leaves
+    // the journal (and the lock free) to the next.
+    if (j && !s.stopped && static_cast<long>(records.size()) < schedule.jobs) {
+        report.completion_lock = j->lock_completion();
+        if (!report.completion_lock) {
+            report.written_elsewhere = true;
+        } else {
+            for (auto& [job, r] : j->reread())
+                if (!records.count(job)) records.emplace(job, decode_record<Record>(decode, job, r, *o.journal));
+            if (static_cast<long>(records.size()) < schedule.jobs) report.completion_lock.reset();
+        }
+    }
     report.jobs = schedule.jobs;
     report.owned = s.owned;
     report.resumed = s.resumed;

@@ -91,6 +91,26 @@ def test_map_shards_combine_to_the_whole(vimpact, tmp_path):
     assert not os.path.exists(str(sharded) + ".jobs"), "the journal is removed when the run is complete"
 
 
+@pytest.mark.parametrize("shards", [2, 3])
+def test_shards_started_at_the_same_moment_write_the_result_once(vimpact, tmp_path, shards):
+    # Each round starts every shard at once into one directory: the journal must appear once,
+    # no shard may call it another run's, and exactly one complete result must be written.
+    # (Before the completion lock, 3 of 29 such starts failed and some rounds wrote nothing.)
+    whole = tmp_path / "whole"
+    assert run(vimpact, *MAP, "--no-plot", "--out", str(whole), "--threads", "1").returncode == 0
+    expected = read(whole / "labels.csv")
+    for round_ in range(8):
+        out = tmp_path / f"o{round_}"
+        procs = [subprocess.Popen([vimpact, *MAP, "--no-plot", "--out", str(out), "--shard", f"{i}/{shards}",
+                                   "--threads", "1"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                 for i in range(shards)]
+        results = [p.communicate(timeout=300) + (p.returncode,) for p in procs]
+        assert [r[2] for r in results] == [0] * shards, [r[1] for r in results]
+        assert read(out / "labels.csv") == expected
+        assert not os.path.exists(str(out) + ".jobs")
+        assert not [f for f in os.listdir(tmp_path) if ".new-" in f], "no journal made aside is left"
+
+
 def test_rerun_with_resume_combines_shards_and_fills_gaps(vimpact, tmp_path):
     whole = tmp_path / "whole"
     assert run(vimpact, *MAP, "--no-plot", "--out", str(whole)).returncode == 0

@@ -14,6 +14,7 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 
 #include "vimpact/jobs/job_loop.hpp"
@@ -36,7 +37,13 @@ struct job_report {
     long computed = 0;  // by this call
     long done = 0;      // jobs of the whole run with a result (journal and this call)
     bool stopped = false;  // the stop flag ended the call early
+    // A shard that found the journal removed at its end: another shard completed the run and
+    // wrote its outputs (done counts only what this call knew).
+    bool written_elsewhere = false;
     int threads = 0;
+    // Held by the shard that completes a journaled run while its caller writes the outputs and
+    // removes the journal; other shards wait for it. Released with the report.
+    std::shared_ptr<void> completion_lock;
     [[nodiscard]] bool complete() const { return done == jobs; }
 };
 
