@@ -106,6 +106,7 @@ def test_shards_started_at_the_same_moment_write_the_result_once(vimpact, tmp_pa
                  for i in range(shards)]
         results = [p.communicate(timeout=300) + (p.returncode,) for p in procs]
         assert [r[2] for r in results] == [0] * shards, [r[1] for r in results]
+        assert sum("output written to" in r[0] for r in results) == 1, "exactly one shard writes the result"
         assert read(out / "labels.csv") == expected
         assert not os.path.exists(str(out) + ".jobs")
         assert not [f for f in os.listdir(tmp_path) if ".new-" in f], "no journal made aside is left"
