@@ -159,13 +159,15 @@ bool make_plot(const std::string& kind, const std::filesystem::path& dir, const 
     const pid_t pid = ::fork();
     if (pid < 0) return false;
     if (pid == 0) {
-        const char* old = std::getenv("PYTHONPATH");
-        std::string path = pydir;
-        if (old && *old) {
-            path += ":";
-            path += old;
+        if (!pydir.empty()) {
+            const char* old = std::getenv("PYTHONPATH");
+            std::string path = pydir;
+            if (old && *old) {
+                path += ":";
+                path += old;
+            }
+            ::setenv("PYTHONPATH", path.c_str(), 1);
         }
-        ::setenv("PYTHONPATH", path.c_str(), 1);
         ::setenv("MPLBACKEND", "Agg", 1);
         ::dup2(2, 1);  // keep stdout clean for --json
         const std::string d = dir.string();

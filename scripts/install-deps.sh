@@ -9,6 +9,8 @@ packages=(
   libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-dev libnanoflann-dev libginac-dev
   python3 python3-numpy python3-scipy python3-matplotlib python3-pytest pybind11-dev python3-dev
+  # pip install --no-build-isolation . (docs/python.md) builds with these, not PyPI's
+  python3-venv python3-pip python3-setuptools python3-wheel
 )
 
 missing=()

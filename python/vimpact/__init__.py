@@ -19,8 +19,10 @@ command line's output directories (``vimpact.Sweep.load(DIR)``). Plots: ``vimpac
 Bad input raises ValueError (``vimpact.InputError``) with the library's message; long calls
 release the GIL and stop on Ctrl-C.
 
-The compiled part lives in the build tree (``PYTHONPATH=build/python``). Without it,
-``vimpact.plot`` and ``vimpact.results`` still work (the command line draws its PNGs with them).
+The compiled part is built by CMake (``PYTHONPATH=build/python``) or installed with the package
+(``pip install --no-build-isolation .``). Without it, ``vimpact.plot`` and ``vimpact.results``
+still work (the command line of a CMake build draws its pictures with them from the source
+tree), and everything else raises an ImportError saying why.
 """
 import importlib
 
@@ -55,5 +57,6 @@ def __getattr__(name):
     if name in _COMPILED and _import_error is not None:
         raise ImportError(f"vimpact.{name} needs the compiled module vimpact._vimpact, which could not be "
                           f"imported ({_import_error}). Build it (cmake --build build --target _vimpact) and put "
-                          f"build/python on PYTHONPATH.")
+                          f"build/python on PYTHONPATH, or install the package with it (pip install "
+                          f"--no-build-isolation . in the source tree).")
     raise AttributeError(f"module 'vimpact' has no attribute {name!r}")

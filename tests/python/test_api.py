@@ -327,8 +327,11 @@ def test_without_the_compiled_module_results_and_plots_still_import(tmp_path):
             (pkg / name).write_text(open(os.path.join(src, name)).read())
     code = ("import vimpact, vimpact.plot, vimpact.results\n"
             "print(vimpact.__version__)\n"
-            "try:\n    vimpact.Model\nexcept ImportError as e:\n    print(e)\n")
+            "try:\n    vimpact.Model\nexcept ImportError as e:\n    print(e)\n"
+            "try:\n    from vimpact import simulate\nexcept ImportError as e:\n    print('from-import:', e)\n")
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path,
                        env=dict(os.environ, PYTHONPATH=str(tmp_path), MPLBACKEND="Agg"))
     assert p.returncode == 0, p.stderr
     assert "not built" in p.stdout and "cmake --build build --target _vimpact" in p.stdout
+    assert "pip install --no-build-isolation ." in p.stdout
+    assert "from-import: vimpact.simulate needs the compiled module vimpact._vimpact" in p.stdout
