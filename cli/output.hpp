@@ -27,7 +27,8 @@ json matrix_json(const Eigen::MatrixXd& m);
 json by_surface(const std::vector<long>& counts, const model_info& info);
 json stats_json(const run_stats& s, const model_info& info);
 // The model as run: name, source, identity, parameter values by name, state, surface and
-// section names.
+// section names, and the meaning and unit of every state variable and parameter (the
+// pictures' axis labels).
 json model_json(const vimpact::model& m);
 
 // Label -> count, and its text "P1 3, P2 4".
