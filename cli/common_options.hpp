@@ -52,6 +52,9 @@ struct run_config {
     bool json = false;
     bool plot = true;
     std::string plot_format = "png";  // the picture's file type: png, pdf or svg
+    // How the picture is drawn (sweep's --color-by): run.json's plot_options, which
+    // `python3 -m vimpact.plot` passes to the drawing function, so a directory redraws alike.
+    nlohmann::json plot_options = nlohmann::json::object();
 
     [[nodiscard]] const model_info& info() const { return model.info(); }
     [[nodiscard]] std::string section_name() const { return section_choice_name(model, protocol.section); }

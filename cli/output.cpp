@@ -112,6 +112,7 @@ json record_header(const std::string& command, const run_config& c)
     j["state_names"] = state_columns(c.info());
     j["plot_variable"] = c.info().state.front().name;
     j["config"] = c.to_json();
+    if (!c.plot_options.empty()) j["plot_options"] = c.plot_options;
     return j;
 }
 

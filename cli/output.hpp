@@ -36,7 +36,8 @@ json label_counts(const std::vector<std::string>& labels);
 std::string counts_text(const json& counts);
 
 // run.json's common part: command, version, git hash, the model, the state names and the
-// variable the pictures show first, the configuration.
+// variable the pictures show first, the configuration, and the picture's options when the
+// command has any.
 json record_header(const std::string& command, const run_config& c);
 void write_json(const std::filesystem::path& p, const json& j);
 // t and one column per state variable.
