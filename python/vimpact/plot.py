@@ -29,8 +29,8 @@ import sys
 
 import numpy as np
 
-from .plot_common import (finish_figure, label_axis, legend_outside, new_figure, plot_index, section_name, state_name,
-                          suptitle, surface_levels, title)
+from .plot_common import (coincident_limits, finish_figure, label_axis, legend_outside, new_figure, plot_index,
+                          section_name, state_name, suptitle, surface_levels, title)
 from .plot_stability import floquet, floquet_sweep, lyapunov, lyapunov_sweep  # noqa: F401
 from .plot_sweeps import basins, bifurcation, periodicity_map, response, timeseries_overlay  # noqa: F401
 from .results import (Basins, Floquet, FloquetSweep, Lyapunov, LyapunovSweep, Map, Period, Response,  # noqa: F401
@@ -134,6 +134,7 @@ def sections(result, path=None, ax=None):
     j = varying[0] if varying else (k + 1) % max(len(r.state_names), 1)
     if len(sec):
         ax.plot(sec[:, k], sec[:, j], "o", ms=3)
+        coincident_limits(ax, sec[:, k], sec[:, j])
     label_axis(ax, "x", r, state_name(r, k), after=f" at the section ({section_name(r)})")
     label_axis(ax, "y", r, state_name(r, j), after=" at the section")
     label = getattr(result, "label", None)

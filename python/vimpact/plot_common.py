@@ -136,6 +136,24 @@ def label_axis(ax, axis, result, name, before="", after=""):
     return text
 
 
+def coincident_limits(ax, xs, ys):
+    """Widens an axis whose values coincide to within a millionth of their size (the section
+    points of a periodic orbit, apart in the last digits): drawn as they are, matplotlib
+    magnifies the rounding errors into a cloud under an offset text that covers the labels.
+    They then show as one point, in a window a thousandth of their size wide, with few ticks
+    (their labels are long)."""
+    for axis, values, set_limits in (("x", xs, ax.set_xlim), ("y", ys, ax.set_ylim)):
+        v = np.asarray(values, dtype=float)
+        v = v[np.isfinite(v)]
+        if not len(v):
+            continue
+        size = max(float(np.abs(v).max()), 1.0)
+        if np.ptp(v) < 1e-6 * size:
+            centre = 0.5 * (v.min() + v.max())
+            set_limits(centre - 1e-3 * size, centre + 1e-3 * size)
+            ax.locator_params(axis=axis, nbins=4)
+
+
 def twins(ax):
     """The axes drawn over ``ax`` (twinx): the same box."""
     return [o for o in ax.figure.axes if o is not ax and o.bbox.bounds == ax.bbox.bounds]

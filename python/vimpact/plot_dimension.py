@@ -32,7 +32,7 @@ import numpy as np  # noqa: E402
 
 from types import SimpleNamespace  # noqa: E402
 
-from .plot_common import label_axis, legend_outside, save_in, suptitle  # noqa: E402
+from .plot_common import coincident_limits, label_axis, legend_outside, save_in, suptitle  # noqa: E402
 from .results import _context, read_csv  # noqa: E402
 
 
@@ -84,6 +84,7 @@ def _described(record):
 def _projection(ax, points, names, i, j, model, centres=None):
     x, y = points[names[i]], points[names[j]]
     ax.plot(x, y, ",", color="C0", alpha=0.7) if len(x) > 5000 else ax.plot(x, y, ".", ms=2, color="C0")
+    coincident_limits(ax, x, y)
     if centres:
         ax.plot(x[centres], y[centres], "o", mfc="none", mec="C3", ms=9, mew=1.2, label="centres")
         legend_outside(ax)

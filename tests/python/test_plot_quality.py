@@ -240,3 +240,15 @@ def test_the_command_lines_option_reaches_the_picture(cli, tmp_path):
     check_colour_by_period(loaded, fig)
     assert loaded.state_info == vimpact.sweep(W, "Ur", [16], **Q).state_info
     assert plot._kinds()["sweep"](str(out["none"])).axes[0].get_legend() is None
+
+
+def test_coinciding_section_points_show_as_one_point_without_an_offset(tmp_path):
+    """A periodic orbit's section points agree to rounding: the axes must not magnify the
+    rounding into a cloud under an offset text ("1e-12+0.3963") that covers the labels."""
+    p = vimpact.period(vimpact.ForcedImpactOscillator(), section="strobe", transient=100, record=24)
+    assert p.label == "P1" and np.ptp(p.simulation.section[:, 0]) > 0  # distinct in the last digits
+    fig = plot.sections(p, str(tmp_path / "p.png"))
+    fig.draw_without_rendering()
+    ax = fig.axes[0]
+    assert ax.xaxis.get_offset_text().get_text() == "" and ax.yaxis.get_offset_text().get_text() == ""
+    check_layout(fig)
