@@ -81,6 +81,12 @@ def _described(record):
     return SimpleNamespace(**_context(record))
 
 
+def _varying_first(points):
+    """The columns, those that vary first: one a section fixes (ydot = 0 at the maxima) shows
+    nothing in a projection."""
+    return sorted(points, key=lambda k: len(points[k]) > 0 and np.ptp(points[k]) == 0)
+
+
 def _projection(ax, points, names, i, j, model, centres=None):
     x, y = points[names[i]], points[names[j]]
     ax.plot(x, y, ",", color="C0", alpha=0.7) if len(x) > 5000 else ax.plot(x, y, ".", ms=2, color="C0")
@@ -95,8 +101,7 @@ def _projection(ax, points, names, i, j, model, centres=None):
 def dimension(directory, out_name="plot.png"):
     record, points, curve = _load(directory)
     res = record["result"]
-    # Coordinates that vary first: one a section fixes (ydot = 0 at the maxima) shows nothing.
-    names = sorted(points, key=lambda k: len(points[k]) > 0 and np.ptp(points[k]) == 0)
+    names = _varying_first(points)
     centres = res.get("centres")
     model = _described(record)
 
@@ -150,12 +155,16 @@ def dimension(directory, out_name="plot.png"):
     return save_in(fig, directory, out_name)
 
 
-def overlay(out_png, directories, columns=(0, 1)):
-    """Points of several runs in one projection (Figure 6c, d)."""
+def overlay(out_png, directories, columns=None):
+    """Points of several runs in one projection (Figure 6c, d): the columns of points.csv at
+    the indices ``columns``, by default the first two of the first run that vary."""
     fig, ax = plt.subplots(figsize=(7, 5.5))
     names = None
     loaded = [_load(d) for d in directories]
     varied = _varied([r for r, _, _ in loaded])
+    if loaded and columns is None:
+        first = list(loaded[0][1])
+        columns = tuple(first.index(n) for n in _varying_first(loaded[0][1])[:2])
     for k, (record, points, _) in enumerate(loaded):
         names = list(points.keys())
         i, j = columns
