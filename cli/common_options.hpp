@@ -58,6 +58,9 @@ struct run_config {
     nlohmann::json command_options;
     bool describes_run = true;          // false: no run of the model (dimension of a points file)
     bool config_sets_run = false;       // the config file set up the run (model, parameters, ...)
+    // How the picture is drawn (sweep's --color-by): run.json's plot_options, which
+    // `python3 -m vimpact.plot` passes to the drawing function, so a directory redraws alike.
+    nlohmann::json plot_options = nlohmann::json::object();
 
     [[nodiscard]] const model_info& info() const { return model.info(); }
     [[nodiscard]] std::string section_name() const { return section_choice_name(model, protocol.section); }

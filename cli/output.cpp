@@ -72,14 +72,18 @@ json stats_json(const run_stats& s, const model_info& info)
 json model_json(const vimpact::model& m)
 {
     const auto& info = m.info();
-    json surfaces = json::array(), sections = json::array();
+    json surfaces = json::array(), sections = json::array(), state = json::array(), parameters = json::object();
     for (const auto& s : info.surfaces) surfaces.push_back(s.name);
     for (const auto& s : info.sections) sections.push_back(s.name);
+    for (const auto& v : info.state) state.push_back({{"name", v.name}, {"meaning", v.meaning}, {"unit", v.unit}});
+    for (const auto& p : info.parameters) parameters[p.name] = {{"meaning", p.meaning}, {"unit", p.unit}};
     return {{"name", info.name},
             {"source", info.source},
             {"identity", info.identity},
             {"parameters", parameters_json(m)},
             {"state_names", state_columns(info)},
+            {"state_info", state},
+            {"parameter_info", parameters},
             {"surfaces", surfaces},
             {"sections", sections}};
 }
@@ -110,6 +114,7 @@ json record_header(const std::string& command, const run_config& c)
     j["state_names"] = state_columns(c.info());
     j["plot_variable"] = c.info().state.front().name;
     j["config"] = c.to_json();
+    if (!c.plot_options.empty()) j["plot_options"] = c.plot_options;
     return j;
 }
 

@@ -29,7 +29,8 @@ json matrix_json(const Eigen::MatrixXd& m);
 json by_surface(const std::vector<long>& counts, const model_info& info);
 json stats_json(const run_stats& s, const model_info& info);
 // The model as run: name, source, identity, parameter values by name, state, surface and
-// section names.
+// section names, and the meaning and unit of every state variable and parameter (the
+// pictures' axis labels).
 json model_json(const vimpact::model& m);
 
 // Label -> count, and its text "P1 3, P2 4".
@@ -37,7 +38,8 @@ json label_counts(const std::vector<std::string>& labels);
 std::string counts_text(const json& counts);
 
 // run.json's common part: command, version, git hash, the model, the state names and the
-// variable the pictures show first, the configuration.
+// variable the pictures show first, the configuration, and the picture's options when the
+// command has any.
 json record_header(const std::string& command, const run_config& c);
 void write_json(const std::filesystem::path& p, const json& j);
 // t and one column per state variable.

@@ -66,12 +66,14 @@ struct sweep_args {
     std::string direction = "up";
     double tol = default_period_tolerance;
     std::string grazing;
+    std::string color_by = "none";
     CLI::Option* grazing_option = nullptr;
 };
 
 int run_sweep(const sweep_args& a)
 {
-    const run_config c = resolve(a.common);
+    run_config c = resolve(a.common);
+    c.plot_options["color_by"] = a.color_by;
     job_session session(a.jobs, c.out);
     const model& m = c.model;
     const auto& info = c.info();
@@ -484,6 +486,10 @@ cli_command add_sweep_command(CLI::App& app)
                                       "Also the grazing value of parameter P (default: the first that moves a surface "
                                       "without entering the vector field) at each point, per surface")
                             ->expected(0, 1);
+    s->add_option("--color-by", a->color_by,
+                  "With --out: colour the diagram's points by none (default: black) or period (each value's period "
+                  "label, with a legend)")
+        ->check(CLI::IsMember({"none", "period"}));
     return {s, [a] { return run_sweep(*a); }};
 }
 

@@ -18,7 +18,7 @@ from . import _vimpact
 from ._model import Model
 from ._vimpact import InputError
 from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
-                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
+                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, model_quantities)
 
 _D = _vimpact.defaults
 
@@ -99,8 +99,10 @@ def _section(model, section):
 
 
 def _context(model, options):
+    state_info, parameter_info = model_quantities(model.info["state"], model.info["parameters"])
     return dict(parameters=model.parameters, state_names=model.state_names, surfaces=model.surfaces,
-                plot_variable=model.state_names[0], model=model, options=options, model_name=model.name)
+                plot_variable=model.state_names[0], model=model, options=options, model_name=model.name,
+                state_info=state_info, parameter_info=parameter_info)
 
 
 def _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, **extra):

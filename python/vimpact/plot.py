@@ -17,18 +17,24 @@ Period or Simulation), ``bifurcation`` (Sweep), ``map`` (Map), ``basins`` (Basin
 
 Command line: ``vimpact COMMAND ... --out DIR`` runs ``python3 -m vimpact.plot KIND DIR``,
 which loads DIR into the result object of KIND and draws DIR/plot.png (or plot.pdf, plot.svg:
-a third argument) with the same function.
+a third argument) with the same function, given the options run.json's ``plot_options``
+holds (``color_by`` of ``sweep --color-by``).
+
+Axes name their quantity with the model's symbol, its unit in brackets where the model gives
+one, and its meaning where that fits (``Ur, reduced velocity U/(f_n D)``, ``y at the section
+(maxima) [D]``); legends stand outside the axes.
 """
 import os
 import sys
 
 import numpy as np
 
-from .plot_common import finish_figure, new_figure, plot_index, section_name, state_name, surface_levels, title
+from .plot_common import (coincident_limits, finish_figure, label_axis, legend_outside, new_figure, plot_index,
+                          section_name, state_name, suptitle, surface_levels, title)
 from .plot_stability import floquet, floquet_sweep, lyapunov, lyapunov_sweep  # noqa: F401
 from .plot_sweeps import basins, bifurcation, periodicity_map, response, timeseries_overlay  # noqa: F401
 from .results import (Basins, Floquet, FloquetSweep, Lyapunov, LyapunovSweep, Map, Period, Response,  # noqa: F401
-                      Simulation, Sweep, read_csv)
+                      Simulation, Sweep, read_csv, read_record)
 
 map = periodicity_map  # vimpact.plot.map(result): the periodicity map
 
@@ -84,8 +90,8 @@ def phase(result, path=None, window=200.0):
     if ks.any():
         ax1.plot(sec_t[ks], sec[ks, k], "g^", ms=4, label="section points")
     ax1.set_xlabel("t")
-    ax1.set_ylabel(name)
-    ax1.legend(loc="upper right", fontsize=8)
+    label_axis(ax1, "y", r, name)
+    legend_outside(ax1)
     ax1.set_title(f"time series, last {window:g} time units (outcome {r.outcome})", fontsize=10)
 
     if len(ts):
@@ -96,10 +102,10 @@ def phase(result, path=None, window=200.0):
         ax2.plot(sec[:, k], sec[:, j], "g^", ms=4)
     if len(imp):
         ax2.plot(imp[:, k], imp[:, j], "rv", ms=3)
-    ax2.set_xlabel(name)
-    ax2.set_ylabel(state_name(r, j))
+    label_axis(ax2, "x", r, name)
+    label_axis(ax2, "y", r, state_name(r, j))
     ax2.set_title("phase portrait", fontsize=10)
-    fig.suptitle(title(r), fontsize=9)
+    suptitle(fig, title(r))
     return finish_figure(fig, path, dpi=120)
 
 
@@ -128,12 +134,13 @@ def sections(result, path=None, ax=None):
     j = varying[0] if varying else (k + 1) % max(len(r.state_names), 1)
     if len(sec):
         ax.plot(sec[:, k], sec[:, j], "o", ms=3)
-    ax.set_xlabel(f"{state_name(r, k)} at the section ({section_name(r)})")
-    ax.set_ylabel(f"{state_name(r, j)} at the section")
+        coincident_limits(ax, sec[:, k], sec[:, j])
+    label_axis(ax, "x", r, state_name(r, k), after=f" at the section ({section_name(r)})")
+    label_axis(ax, "y", r, state_name(r, j), after=" at the section")
     label = getattr(result, "label", None)
     ax.set_title(f"{label + ': ' if label else ''}{len(sec)} section points", fontsize=10)
     if own:
-        fig.suptitle(title(r), fontsize=9)
+        suptitle(fig, title(r))
     return finish_figure(fig, path, dpi=120, own=own)
 
 
@@ -141,7 +148,9 @@ def sections(result, path=None, ax=None):
 
 def _draw(loader, drawer):
     def from_directory(directory, fmt="png"):
-        return drawer(loader(directory), os.path.join(directory, f"plot.{fmt}"))
+        # The command's picture options (sweep --color-by), so that DIR redraws as it was drawn.
+        options = read_record(directory).get("plot_options") or {}
+        return drawer(loader(directory), os.path.join(directory, f"plot.{fmt}"), **options)
     from_directory.__doc__ = f"{drawer.__name__}({loader.__qualname__}(DIR)) into DIR/plot.FORMAT"
     return from_directory
 

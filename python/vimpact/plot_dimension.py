@@ -30,10 +30,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .plot_common import save_in  # noqa: E402
-from .results import _context, read_csv  # noqa: E402
+from types import SimpleNamespace  # noqa: E402
 
-_LABELS = {}  # column name -> axis label (the names themselves: they are the model's)
+from .plot_common import coincident_limits, label_axis, legend_outside, save_in, suptitle  # noqa: E402
+from .results import _context, read_csv  # noqa: E402
 
 
 def _load(directory):
@@ -76,36 +76,49 @@ def _varied(records):
     return tuple(k for k in keys if any(p.get(k) != ps[0].get(k) for p in ps))
 
 
-def _projection(ax, points, names, i, j, centres=None):
+def _described(record):
+    """What the axis labels need of a run's model (its units; none for a points file)."""
+    return SimpleNamespace(**_context(record))
+
+
+def _varying_first(points):
+    """The columns, those that vary first: one a section fixes (ydot = 0 at the maxima) shows
+    nothing in a projection."""
+    return sorted(points, key=lambda k: len(points[k]) > 0 and np.ptp(points[k]) == 0)
+
+
+def _projection(ax, points, names, i, j, model, centres=None):
     x, y = points[names[i]], points[names[j]]
     ax.plot(x, y, ",", color="C0", alpha=0.7) if len(x) > 5000 else ax.plot(x, y, ".", ms=2, color="C0")
+    coincident_limits(ax, x, y)
     if centres:
         ax.plot(x[centres], y[centres], "o", mfc="none", mec="C3", ms=9, mew=1.2, label="centres")
-        ax.legend(fontsize=8, loc="best")
-    ax.set_xlabel(_LABELS.get(names[i], names[i]))
-    ax.set_ylabel(_LABELS.get(names[j], names[j]))
+        legend_outside(ax)
+    label_axis(ax, "x", model, names[i])
+    label_axis(ax, "y", model, names[j])
 
 
 def dimension(directory, out_name="plot.png"):
     record, points, curve = _load(directory)
     res = record["result"]
-    names = list(points.keys())
+    names = _varying_first(points)
     centres = res.get("centres")
+    model = _described(record)
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
     (a1, a2), (a3, a4) = axes
     if len(names) >= 2:
-        _projection(a1, points, names, 0, 1, centres)
+        _projection(a1, points, names, 0, 1, model, centres)
         a1.set_title(f"(a) {len(points[names[0]])} points", fontsize=10)
         if len(names) >= 3:
-            _projection(a2, points, names, 1, 2, centres)
+            _projection(a2, points, names, 1, 2, model, centres)
             a2.set_title("(b) another projection", fontsize=10)
         else:
             a2.axis("off")
     else:
         v = points[names[0]]
         a1.plot(v, np.zeros_like(v), "|", ms=10)
-        a1.set_xlabel(names[0])
+        label_axis(a1, "x", model, names[0])
         a1.set_title(f"(a) {len(v)} points", fontsize=10)
         a2.axis("off")
 
@@ -121,9 +134,10 @@ def dimension(directory, out_name="plot.png"):
         intercept = np.mean(lc) - d * np.mean(lr)
         rr = np.array([rf[0], rf[-1]])
         a3.loglog(rr, np.exp(intercept) * rr ** d, "-", color="C3", lw=1.5, label=f"slope {d:.3f}")
-    a3.set_xlabel("r")
-    a3.set_ylabel("C(r)")
-    a3.legend(fontsize=8, loc="lower right")
+    # r is a distance in the coordinates' own units (mixed when their units differ).
+    a3.set_xlabel("r, distance between points")
+    a3.set_ylabel("C(r), fraction of pairs closer")
+    legend_outside(a3)
     a3.set_title(f"(c) {res['estimator']}: nu = {d:.3f}" if d is not None else f"(c) {res['estimator']}",
                  fontsize=10)
 
@@ -132,21 +146,25 @@ def dimension(directory, out_name="plot.png"):
     if fit.any() and d is not None:
         a4.axvspan(r[fit][0], r[fit][-1], color="C2", alpha=0.15)
         a4.axhline(d, color="C3", lw=1.0, label=f"fitted {d:.3f}")
-    a4.set_xlabel("r")
+    a4.set_xlabel("r, distance between points")
     a4.set_ylabel("d log C / d log r")
     a4.set_title(f"(d) local slope; region {res['scaling_region']}", fontsize=10)
-    a4.legend(fontsize=8, loc="best")
+    legend_outside(a4)
 
-    fig.suptitle(_title(record), fontsize=10)
+    suptitle(fig, _title(record), fontsize=10)
     return save_in(fig, directory, out_name)
 
 
-def overlay(out_png, directories, columns=(0, 1)):
-    """Points of several runs in one projection (Figure 6c, d)."""
+def overlay(out_png, directories, columns=None):
+    """Points of several runs in one projection (Figure 6c, d): the columns of points.csv at
+    the indices ``columns``, by default the first two of the first run that vary."""
     fig, ax = plt.subplots(figsize=(7, 5.5))
     names = None
     loaded = [_load(d) for d in directories]
     varied = _varied([r for r, _, _ in loaded])
+    if loaded and columns is None:
+        first = list(loaded[0][1])
+        columns = tuple(first.index(n) for n in _varying_first(loaded[0][1])[:2])
     for k, (record, points, _) in enumerate(loaded):
         names = list(points.keys())
         i, j = columns
@@ -155,9 +173,10 @@ def overlay(out_png, directories, columns=(0, 1)):
         ax.plot(points[names[i]], points[names[j]], ",", color=f"C{k % 10}")
         ax.plot([], [], "s", color=f"C{k % 10}", label=label)
     if names:
-        ax.set_xlabel(_LABELS.get(names[columns[0]], names[columns[0]]))
-        ax.set_ylabel(_LABELS.get(names[columns[1]], names[columns[1]]))
-    ax.legend(fontsize=8, loc="best")
+        model = _described(loaded[0][0])
+        label_axis(ax, "x", model, names[columns[0]])
+        label_axis(ax, "y", model, names[columns[1]])
+    legend_outside(ax)
     ax.set_title("section points", fontsize=10)
     fig.tight_layout()
     fig.savefig(out_png, dpi=120)

@@ -11,7 +11,8 @@ parameter over the bifurcation diagram (the paper's Figures 14-17).
 """
 import numpy as np
 
-from .plot_common import finish_figure, new_figure, plot_index, state_name, surface_levels, title
+from .plot_common import (finish_figure, label_axis, legend_outside, new_figure, plot_index, section_name, state_name,
+                          suptitle, surface_levels, title)
 
 
 def floquet(result, path=None):
@@ -29,7 +30,7 @@ def floquet(result, path=None):
     -------
     matplotlib.figure.Figure
     """
-    fig, (ax1, ax2) = new_figure(path, None, figsize=(11, 5), nrows=1, ncols=2)
+    fig, (ax1, ax2) = new_figure(path, None, figsize=(13, 5), nrows=1, ncols=2)
     phi = np.linspace(0.0, 2.0 * np.pi, 400)
     ax1.plot(np.cos(phi), np.sin(phi), "k-", lw=0.8, label="unit circle")
     ax1.axhline(0.0, color="0.8", lw=0.6)
@@ -39,13 +40,15 @@ def floquet(result, path=None):
         ax1.plot(mus[1:].real, mus[1:].imag, "o", color="C0", ms=7, label="multipliers")
         ax1.plot(mus[:1].real, mus[:1].imag, "s", mfc="none", color="C3", ms=9,
                  label=f"trivial (|mu - 1| = {result.trivial_error:.1e})")
-    ax1.set_aspect("equal")
+    # Equal scales shrink the box to a square; kept at its left edge, where tight_layout made
+    # room for the label (centred, the label slid off the figure).
+    ax1.set_aspect("equal", anchor="W")
     lim = max(1.3, 1.1 * float(np.max(np.abs(mus)))) if len(mus) else 1.3
     ax1.set_xlim(-lim, lim)
     ax1.set_ylim(-lim, lim)
     ax1.set_xlabel("Re mu")
     ax1.set_ylabel("Im mu")
-    ax1.legend(loc="lower left", fontsize=8)
+    legend_outside(ax1)
     if len(mus):
         head = (f"{result.label}: T = {result.period:.6g}, {result.impacts_per_period} impact(s), "
                 f"{'stable' if result.stable else 'unstable'}")
@@ -66,13 +69,12 @@ def floquet(result, path=None):
         ax2.plot(post[:, k], post[:, j], "r^", ms=5, label="impact (after)")
     for name, level in surface_levels(result, k).items():
         ax2.axvline(level, color="k", ls="--", lw=1.0, label=f"{name}: {state_name(result, k)} = {level:g}")
-    ax2.set_xlabel(state_name(result, k))
-    ax2.set_ylabel(state_name(result, j))
-    if ax2.get_legend_handles_labels()[0]:
-        ax2.legend(loc="upper right", fontsize=8)
+    label_axis(ax2, "x", result, state_name(result, k))
+    label_axis(ax2, "y", result, state_name(result, j))
+    legend_outside(ax2)
     ax2.set_title("the orbit over one period" if len(orbit) else "impacts over one period (sample_dt = 0)",
                   fontsize=10)
-    fig.suptitle(title(result), fontsize=9)
+    suptitle(fig, title(result))
     return finish_figure(fig, path, dpi=120)
 
 
@@ -107,18 +109,19 @@ def lyapunov(result, path=None):
             se = result.lle_standard_error if np.isfinite(result.lle_standard_error) else 0.0
             ax1.axhspan(exps[0] - se, exps[0] + se, color=f"C{lead}", alpha=0.15,
                         label=f"LLE = {exps[0]:.4g} +- {se:.1g}")
-            ax1.legend(loc="upper right", fontsize=8)
+            legend_outside(ax1)
         tail = run[len(run) // 10:, lead]
         span = float(np.abs(tail).max()) if len(run) > 10 and np.abs(tail).max() > 0 else 1.0
         ax1.set_ylim(-1.5 * span, 1.5 * span)
-        ax2.legend(loc="lower right", fontsize=8)
-    ax1.set_ylabel("largest exponent")
+        legend_outside(ax2)
+    # Exponents are rates: per unit of the model's time.
+    ax1.set_ylabel("largest exponent [per unit t]")
     ax1.set_title(f"mapping at impacts: {result.tdm}; {result.impacts} impacts, t = {result.time:.6g} "
                   f"({result.status})", fontsize=10)
     ax2.axhline(0.0, color="k", lw=0.6)
-    ax2.set_xlabel("time since the start of the average")
-    ax2.set_ylabel("running estimate")
-    fig.suptitle(title(result), fontsize=9)
+    ax2.set_xlabel("t - t_start, since the start of the average")
+    ax2.set_ylabel("running estimate [per unit t]")
+    suptitle(fig, title(result))
     return finish_figure(fig, path, dpi=120)
 
 
@@ -128,8 +131,8 @@ def _diagram(ax, result):
     pts = np.asarray(result.points if result.points is not None else np.empty((0, 0)))
     if pts.ndim == 2 and len(pts):
         ax.plot(result.point_value, pts[:, k], "k.", ms=1.2)
-    ax.set_xlabel(result.param)
-    ax.set_ylabel(f"{state_name(result, k)} at the section")
+    label_axis(ax, "x", result, result.param)
+    label_axis(ax, "y", result, state_name(result, k), after=f" at the section ({section_name(result)})")
 
 
 def floquet_sweep(result, path=None):
@@ -156,19 +159,19 @@ def floquet_sweep(result, path=None):
         trivial = np.asarray(result.trivial, dtype=bool)
         have = np.isfinite(mus.real)
         real = np.abs(mus.imag) <= 1e-12
-        sel = have & ~trivial & real
-        ax1.plot(v[sel], mus.real[sel], ".", color="C0", ms=3, label="real multipliers")
-        sel = have & ~trivial & ~real
-        ax1.plot(v[sel], np.abs(mus[sel]), "^", color="C1", ms=3, label="|mu| of complex pairs")
-        sel = have & trivial
-        ax1.plot(v[sel], mus.real[sel], "x", color="0.6", ms=3, label="trivial")
+        # Only the kinds present, so that the legend names nothing absent from the picture.
+        for sel, y, style, colour, name in ((have & ~trivial & real, mus.real, ".", "C0", "real multipliers"),
+                                            (have & ~trivial & ~real, np.abs(mus), "^", "C1", "|mu| of complex pairs"),
+                                            (have & trivial, mus.real, "x", "0.6", "trivial")):
+            if sel.any():
+                ax1.plot(v[sel], y[sel], style, color=colour, ms=3, label=name)
     ax1.set_ylim(-1.6, 1.6)
-    ax1.set_ylabel("Floquet multipliers")
+    ax1.set_ylabel("Floquet multipliers mu")
     counts = ", ".join(f"{k} {n}" for k, n in result.label_counts.items())
     ax1.set_title(f"multipliers over {result.param} ({counts}; aperiodic points have none)", fontsize=10)
-    ax1.legend(loc="lower left", fontsize=8, markerscale=2)
+    legend_outside(ax1, markerscale=2)
     _diagram(ax2, result)
-    fig.suptitle(title(result, (result.param,)), fontsize=9)
+    suptitle(fig, title(result, (result.param,)))
     return finish_figure(fig, path, dpi=120)
 
 
@@ -193,9 +196,9 @@ def lyapunov_sweep(result, path=None):
     ok = np.isfinite(lle)
     ax1.errorbar(v[ok], lle[ok], yerr=np.where(np.isfinite(se[ok]), se[ok], 0.0), fmt=".-", color="C3", ms=4,
                  lw=0.8, elinewidth=0.8, capsize=1.5)
-    ax1.set_ylabel("largest Lyapunov exponent")
+    ax1.set_ylabel("largest Lyapunov exponent [per unit t]")
     ax1.set_title(f"mapping at impacts: {result.tdm}; {result.positive} of {len(v)} values above 3 standard errors",
                   fontsize=10)
     _diagram(ax2, result)
-    fig.suptitle(title(result, (result.param,)), fontsize=9)
+    suptitle(fig, title(result, (result.param,)))
     return finish_figure(fig, path, dpi=120)

@@ -15,14 +15,16 @@ import sys
 
 import numpy as np
 
-from .plot_common import (extent, finish_figure, label_colours, new_figure, plot_index, section_name,
-                          state_name, title)
+from .plot_common import (extent, finish_figure, label_axis, label_colours, legend_entries, legend_outside,
+                          neutral_lines, new_figure, plain_text, plot_index, section_name, state_name, suptitle,
+                          title)
 from .results import Simulation
 
 
-def _grazing_lines(ax, result, xs, label_prefix="grazing value"):
+def _grazing_lines(ax, result, xs, neutral=False):
     """The grazing value of each surface against the swept parameter, on a right-hand axis
-    (on the diagram's scale a line far below the section points would squash it)."""
+    (on the diagram's scale a line far below the section points would squash it); ``neutral``:
+    in the colourless ``neutral_lines``, beside points coloured by label."""
     g = np.asarray(getattr(result, "grazing", None) if getattr(result, "grazing", None) is not None
                    else np.empty((0, 0)), dtype=float)
     gparam = getattr(result, "grazing_param", None)
@@ -31,35 +33,49 @@ def _grazing_lines(ax, result, xs, label_prefix="grazing value"):
     if not g.size or not np.isfinite(g).any():
         return
     surfaces = tuple(getattr(result, "surfaces", ()) or ()) or tuple(f"surface {i}" for i in range(g.shape[1]))
+    lines = neutral_lines()
+
+    def style(s, **default):
+        return lines[s % len(lines)] if neutral else dict(default, color=f"C{s}")
+
     if gparam == result.param:
         for s in range(g.shape[1]):
             if np.isfinite(g[:, s]).any():
                 v = g[np.isfinite(g[:, s]), s][0]
-                ax.axvline(v, color=f"C{s}", lw=1, ls="--", label=f"grazing {gparam} = {v:.6g} ({surfaces[s]})")
+                ax.axvline(v, **style(s, lw=1, ls="--"), label=f"grazing {gparam} = {v:.6g} ({surfaces[s]})")
         return
     order = np.argsort(xs, kind="stable")
     gx = ax.twinx()
     for s in range(g.shape[1]):
         if np.isfinite(g[:, s]).any():
-            gx.plot(xs[order], g[order, s], color=f"C{s}", lw=1.2,
-                    label=f"{label_prefix} of {gparam}, {surfaces[s]} (right axis)")
+            gx.plot(xs[order], g[order, s], **style(s, lw=1.2), label=f"grazing {gparam} ({surfaces[s]}), right axis")
     current = (getattr(result, "parameters", None) or {}).get(gparam)
     if current is not None:
-        gx.axhline(current, color="C2", lw=1, ls=":", label=f"{gparam} = {current:g} (right axis)")
-    gx.set_ylabel(f"grazing value of {gparam}", color="C0")
+        gx.axhline(current, color="0.5" if neutral else "C2", lw=1, ls=":", label=f"{gparam} = {current:g}, right axis")
+    label_axis(gx, "y", result, gparam, before="grazing value of ")
+    gx.yaxis.label.set_color("k" if neutral else "C0")
 
 
-def _legend_with_twins(ax, **kw):
-    handles, labels = ax.get_legend_handles_labels()
-    for other in ax.figure.axes:
-        if other is not ax and other.bbox.bounds == ax.bbox.bounds:
-            h, lab = other.get_legend_handles_labels()
-            handles, labels = handles + h, labels + lab
-    if handles:
-        ax.legend(handles, labels, **kw)
+# bifurcation(color_by=...): how the section points are coloured.
+COLOR_BY = ("none", "period")
 
 
-def bifurcation(result, path=None, ax=None):
+def _period_points(ax, result, pv, ys):
+    """Each run's section points in the colour of its period label (``label_colours``), and a
+    legend entry for every label of the result, also those of runs without points (failed
+    runs), so that the legend lists the outcomes the sweep met."""
+    from matplotlib.lines import Line2D
+    labels = np.asarray(result.label).astype(str)
+    point_label = labels[np.asarray(result.point_run, dtype=int)] if len(pv) else np.empty(0, dtype=str)
+    order, colours = label_colours(labels.tolist())
+    for lab in order:
+        sel = point_label == lab
+        ax.plot(pv[sel], ys[sel], color=colours[lab], marker=".", ms=2.0, ls="none")
+    return [Line2D([], [], color=colours[lab], marker="o", ms=5, mec="k", mew=0.3, ls="none", label=lab)
+            for lab in order]
+
+
+def bifurcation(result, path=None, ax=None, color_by="none"):
     """The plot variable at the section against the swept parameter (the paper's Figures 2,
     5, 7, 11), with the grazing values of the surfaces when the sweep computed them.
 
@@ -68,34 +84,53 @@ def bifurcation(result, path=None, ax=None):
     result : Sweep
         Uses ``param``, ``points``, ``point_value``, ``point_branch``, ``ic_mode``,
         ``value``, ``grazing``, ``grazing_param``, ``state_names``, ``plot_variable``,
-        ``parameters``.
+        ``parameters`` (and ``label``, ``point_run`` to colour by period; ``state_info``,
+        ``parameter_info`` for the units).
     path : str, optional
         Write the picture there (PNG at 130 dpi).
     ax : matplotlib Axes, optional
         Draw into it instead of a new figure.
+    color_by : {"none", "period"}, default "none"
+        ``"period"``: each value's section points in the colour of its period label (P1, P2,
+        ..., aperiodic, and the outcomes of failed runs), with a legend of the labels present;
+        ``"none"``: black points (red for the downward branch of ``direction="both"``).
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        ``color_by`` is not one of ``COLOR_BY``.
     """
+    if color_by is None:
+        color_by = "none"
+    if color_by not in COLOR_BY:
+        raise ValueError(f"color_by must be one of {', '.join(COLOR_BY)} (got {color_by!r})")
     own = ax is None
-    fig, ax = new_figure(path, ax, figsize=(9, 5))
+    fig, ax = new_figure(path, ax, figsize=(10.5, 5))
     param = result.param
     k = plot_index(result)
     pv, pb = np.asarray(result.point_value), np.asarray(result.point_branch)
     ys = np.asarray(result.points)[:, k] if len(pv) else np.empty(0)
-    for b in sorted(set(pb.tolist())) or [0]:
-        sel = pb == b
-        name = {0: "up" if getattr(result, "ic_mode", "fixed") == "follow" else None, 1: "down"}[b]
-        ax.plot(pv[sel], ys[sel], color="k" if b == 0 else "C3", marker=".", ms=1.2, ls="none",
-                label=f"sweep {name}" if name else None)
-    _grazing_lines(ax, result, np.asarray(result.value, dtype=float))
-    ax.set_xlabel(param)
-    ax.set_ylabel(f"{state_name(result, k)} at the section ({section_name(result)})")
-    _legend_with_twins(ax, loc="lower left", fontsize=8, markerscale=6)
+    if color_by == "period":
+        label_handles = _period_points(ax, result, pv, ys)
+    else:
+        label_handles = []
+        for b in sorted(set(pb.tolist())) or [0]:
+            sel = pb == b
+            name = {0: "up" if getattr(result, "ic_mode", "fixed") == "follow" else None, 1: "down"}[b]
+            ax.plot(pv[sel], ys[sel], color="k" if b == 0 else "C3", marker=".", ms=1.2, ls="none",
+                    label=f"sweep {name}" if name else None)
+    _grazing_lines(ax, result, np.asarray(result.value, dtype=float), neutral=color_by == "period")
+    label_axis(ax, "x", result, param)
+    label_axis(ax, "y", result, state_name(result, k), after=f" at the section ({section_name(result)})")
+    # The labels first: with color_by="period" they are what the colours mean.
+    legend_outside(ax, label_handles + legend_entries(ax), markerscale=1 if label_handles else 6)
     if own:
         ax.set_title(f"bifurcation diagram over {param} ({getattr(result, 'ic_mode', 'fixed')} starts)", fontsize=10)
-        fig.suptitle(title(result, (param,)), fontsize=9)
+        suptitle(fig, title(result, (param,)))
     return finish_figure(fig, path, own=own)
 
 
@@ -134,22 +169,23 @@ def periodicity_map(result, path=None, ax=None):
     if g is not None and other is not None and len(other):
         g = np.asarray(g, dtype=float).reshape(len(other), -1)
         surfaces = tuple(getattr(result, "surfaces", ()) or ()) or tuple(f"surface {i}" for i in range(g.shape[1]))
+        line = neutral_lines()
         for s in range(g.shape[1]):
             if not np.isfinite(g[:, s]).any():
                 continue
             if result.grazing_param == result.y:
-                ax.plot(other, g[:, s], color=f"C{3 + s}", lw=1.5)
+                ax.plot(other, g[:, s], **line[s % len(line)])
             else:
-                ax.plot(g[:, s], other, color=f"C{3 + s}", lw=1.5)
-            handles.append(Line2D([], [], color=f"C{3 + s}", lw=1.5, label=f"grazing line ({surfaces[s]})"))
+                ax.plot(g[:, s], other, **line[s % len(line)])
+            handles.append(Line2D([], [], label=f"grazing line ({surfaces[s]})", **line[s % len(line)]))
         ax.set_xlim(extent(xs, ys)[:2])
         ax.set_ylim(extent(xs, ys)[2:])
-    ax.set_xlabel(result.x)
-    ax.set_ylabel(result.y)
-    ax.legend(handles=handles, loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=8, title="label")
+    label_axis(ax, "x", result, result.x)
+    label_axis(ax, "y", result, result.y)
+    legend_outside(ax, handles, title="label")
     if own:
         ax.set_title(f"periodicity map {result.x} x {result.y} ({len(xs)} x {len(ys)})", fontsize=10)
-        fig.suptitle(title(result, (result.x, result.y)), fontsize=9)
+        suptitle(fig, title(result, (result.x, result.y)))
     return finish_figure(fig, path, own=own)
 
 
@@ -184,12 +220,12 @@ def basins(result, path=None, ax=None):
                for i, a in enumerate(table)]
     if (ids < 0).any():
         handles.append(Patch(facecolor="white", edgecolor="k", lw=0.3, label="beyond a surface"))
-    ax.legend(handles=handles, loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=8, title="attractor")
-    ax.set_xlabel(f"initial {result.x}")
-    ax.set_ylabel(f"initial {result.y}")
+    label_axis(ax, "x", result, result.x, before="initial ")
+    label_axis(ax, "y", result, result.y, before="initial ")
+    legend_outside(ax, handles, title="attractor")
     if own:
         ax.set_title(f"basins of attraction: {len(table)} attractor(s)", fontsize=10)
-        fig.suptitle(title(result), fontsize=9)
+        suptitle(fig, title(result))
     return finish_figure(fig, path, own=own)
 
 
@@ -215,13 +251,14 @@ def response(result, path=None):
         ax1.plot(xs, result.amplitude[k], "-o", ms=2.5, lw=1, color=f"C{k}", label=lab)
         ax2.plot(xs, result.frequency[k], "-o", ms=2.5, lw=1, color=f"C{k}")
     var = getattr(result, "variable", None) or "the variable"
-    ax1.set_ylabel(f"amplitude max |{var}|")
-    ax1.legend(fontsize=8)
-    ax2.set_ylabel(f"angular frequency of {var}")
-    ax2.set_xlabel(result.param)
+    label_axis(ax1, "y", result, var, before="amplitude max |", after="|")
+    legend_outside(ax1)
+    # An angle per unit of the model's time, whatever the variable's unit.
+    ax2.set_ylabel(plain_text(f"angular frequency of {var} [rad per unit t]"))
+    label_axis(ax2, "x", result, result.param)
     ax1.set_title("surface-free response", fontsize=10)
     varied = (result.param,) + tuple(n for c in curves for n in c)
-    fig.suptitle(title(result, varied), fontsize=9)
+    suptitle(fig, title(result, varied))
     return finish_figure(fig, path)
 
 
@@ -243,8 +280,9 @@ def timeseries_overlay(results, path=None, window=200.0):
         for name, level in surface_levels(r, i).items():
             ax.axhline(level, color=f"C{k}", lw=0.8, ls="--")
     ax.set_xlabel(f"t (last {window:g} time units of the recorded window)")
-    ax.set_ylabel(state_name(first, plot_index(first)) if first is not None else "")
-    ax.legend(fontsize=8, loc="upper right")
+    if first is not None:
+        label_axis(ax, "y", first, state_name(first, plot_index(first)))
+    legend_outside(ax)
     ax.set_title("time series, with the surfaces hit (dashed)", fontsize=10)
     return finish_figure(fig, path)
 

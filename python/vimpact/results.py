@@ -5,7 +5,8 @@ Pure Python and numpy (no matplotlib, no compiled module): the plotting modules 
 one, never the reverse, and the command line's PNGs are drawn through it.
 
 Every result carries the model's ``parameters`` (a dict), its ``state_names`` (state columns
-of every array of states are in this order), its ``surfaces``, the ``plot_variable`` its
+of every array of states are in this order), its ``surfaces``, the meaning and unit of each
+state variable (``state_info``) and parameter (``parameter_info``), the ``plot_variable`` its
 pictures show, the effective ``options`` of the run, its ``stats`` and numpy arrays whose
 shapes and dtypes are listed in each class. Arrays of a grid are indexed ``[iy, ix]`` (rows
 follow the y axis). A field that a directory does not record is ``None`` in a loaded result.
@@ -90,6 +91,22 @@ def _str_array(items, shape=None):
 _LEGACY_STATE_NAMES = ("y", "ydot", "x", "xdot")
 
 
+def _described(entries):
+    """name -> {meaning, unit} from the model's description of its state variables or
+    parameters: a list of dicts with a name (``Model.info``, run.json's ``state_info``) or a
+    dict by name (run.json's ``parameter_info``)."""
+    if isinstance(entries, dict):
+        entries = [dict(e, name=n) for n, e in entries.items()]
+    return {e["name"]: {"meaning": e.get("meaning") or "", "unit": e.get("unit") or ""} for e in entries or ()}
+
+
+def model_quantities(state, parameters):
+    """(state_info, parameter_info) of a result from a model's description of its state
+    variables and parameters (see ``_described``): ``state_info`` a tuple of dicts name,
+    meaning, unit in the model's order, ``parameter_info`` a dict name -> {meaning, unit}."""
+    return tuple(dict(name=n, **e) for n, e in _described(state).items()), _described(parameters)
+
+
 def _context(record):
     """What every loaded result carries, from run.json: the model's parameters, state names,
     surfaces, plot variable, options and preset."""
@@ -103,7 +120,10 @@ def _context(record):
     state = record.get("state_names") or model.get("state_names") or cfg.get("state_names") or _LEGACY_STATE_NAMES
     surfaces = record.get("surfaces") or model.get("surfaces") or ()
     surfaces = tuple(s["name"] if isinstance(s, dict) else s for s in surfaces)
+    # Directories written before run.json described the model have neither: labels without units.
+    state_info, parameter_info = model_quantities(model.get("state_info"), model.get("parameter_info"))
     return dict(parameters=dict(parameters), state_names=tuple(state), surfaces=surfaces,
+                state_info=state_info, parameter_info=parameter_info,
                 plot_variable=record.get("plot_variable") or state[0], options=cfg, preset=cfg.get("preset"),
                 model_name=model.get("name") or cfg.get("model_name"))
 
@@ -276,6 +296,8 @@ class _Context:
     options: dict = field(default_factory=dict)
     preset: Optional[str] = None
     model_name: Optional[str] = None
+    state_info: tuple = ()  #: per state variable, {name, meaning, unit}, in the model's order
+    parameter_info: dict = field(default_factory=dict)  #: parameter name -> {meaning, unit}
 
     def state_index(self, name):
         """The column of a state variable in this result's arrays of states."""

@@ -19,7 +19,7 @@ CASES = {
     "period": ["period", "--preset", "facchinetti", "--tol", "1e-7", *SHORT],
     "grazing": ["grazing", "--set", "Ur=14", "--transient-time", "300", "--tol", "1e-9"],
     "sweep": ["sweep", "--param", "Ur", "--range", "14:16:3", "--ic-mode", "follow", "--direction", "both",
-              "--grazing", "--set", "sigma=-0.14", *SHORT],
+              "--grazing", "--set", "sigma=-0.14", "--color-by", "period", *SHORT],
     "map": ["map", "--x", "Ur:14:16:2", "--y", "sigma:-0.16:-0.14:2", "--grazing", "--tol", "1e-5", *SHORT],
     "basins": ["basins", "--x", "y:-0.1:0.1:2", "--y", "ydot:-0.1:0.1:2", "--match-tol", "1e-5", *SHORT],
     "response": ["response", "--param", "Ur", "--range", "14:16:2", "--curves", "A=14,eps=0.35;A=12,eps=0.3",

@@ -56,6 +56,26 @@ def test_sweep_files_carry_impacts_by_surface_and_grazing(vimpact, tmp_path):
     assert all(r["sigma_graze"] == "nan" for r in rows2)
 
 
+@pytest.mark.parametrize("given,stored", [([], "none"), (["--color-by", "none"], "none"),
+                                          (["--color-by", "period"], "period")])
+def test_sweep_colour_option_and_the_models_quantities_are_in_run_json(vimpact, tmp_path, given, stored):
+    """The picture is drawn from run.json: it holds --color-by (python3 -m vimpact.plot sweep DIR
+    reads it) and the meaning and unit of every state variable and parameter (the axis labels),
+    as the model states them."""
+    out = tmp_path / "s"
+    p = run(vimpact, "sweep", "--param", "Ur", "--range", "14:20:4", "--transient", "60", "--record", "20",
+            *given, "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    record = json.loads(read(out / "run.json"))
+    assert record["plot_options"] == {"color_by": stored}
+    model = run_json(vimpact, "models", "wake_impact")["models"][0]
+    assert record["model"]["state_info"] == [{k: v[k] for k in ("name", "meaning", "unit")} for v in model["state"]]
+    assert record["model"]["parameter_info"] == {v["name"]: {"meaning": v["meaning"], "unit": v["unit"]}
+                                                 for v in model["parameters"]}
+    assert "plot.png" in record["files"]
+    check_png(out / "plot.png")
+
+
 def test_sweep_is_identical_for_any_thread_count(vimpact, tmp_path):
     args = ["sweep", "--param", "Ur", "--range", "20:25:11", "--transient", "200", "--no-plot"]
     p1 = run(vimpact, *args, "--threads", "1", "--out", str(tmp_path / "t1"))
