@@ -30,13 +30,13 @@ from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazi
                       Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
 
 _COMPILED = ("Model", "WakeImpact", "ForcedImpactOscillator", "TwoSidedImpactOscillator", "InputError", "git_hash",
-             "basins", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov", "lyapunov_sweep", "map",
-             "period", "response", "simulate", "sweep")
+             "basins", "cylinder_units", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov",
+             "lyapunov_sweep", "map", "period", "response", "simulate", "sweep")
 
 try:
     from ._vimpact import InputError, __version__, git_hash  # noqa: F401
     from ._model import ForcedImpactOscillator, Model, TwoSidedImpactOscillator, WakeImpact  # noqa: F401
-    from ._api import (basins, dimension, floquet, floquet_sweep, grazing, grid, lyapunov,  # noqa: F401
+    from ._api import (basins, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov,  # noqa: F401
                        lyapunov_sweep, map, period, response, simulate, sweep)
 except ImportError as _error:  # the compiled module is not built or not on the path
     _import_error = _error
@@ -44,8 +44,8 @@ except ImportError as _error:  # the compiled module is not built or not on the 
 else:
     _import_error = None
     Model.__module__ = __name__
-    for _f in (basins, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep, map, period,
-               response, simulate, sweep):
+    for _f in (basins, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep,
+               map, period, response, simulate, sweep):
         _f.__module__ = __name__  # help() and tracebacks name them vimpact.sweep, not vimpact._api.sweep
 
 

@@ -601,6 +601,47 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
                     stats=_job_stats(d, report), jobs=report, **ctx)
 
 
+def cylinder_units(D, m, fn, zeta, rho, U, CM=1.0, St=0.2):
+    """A cylinder in a flow, in SI units, as the wake model's dimensionless parameters.
+
+    The conversion of Facchinetti, de Langre & Biolley (2004), the model ``wake_impact`` builds
+    on (``vimpact units`` on the command line; docs/engineering.md)::
+
+        Ur = U / (fn D)
+        mu = (m + m_f) / (rho D^2),  m_f = CM rho pi D^2 / 4   (added mass)
+        xi = zeta                     (damping ratio from a free decay in still fluid)
+
+    and the model's units: length D, time 1 / Omega_f with Omega_f = 2 pi St U / D.
+
+    Parameters
+    ----------
+    D : float       diameter [m]
+    m : float       structural mass per unit length [kg/m]
+    fn : float      natural frequency in still fluid [Hz]
+    zeta : float    structural damping ratio
+    rho : float     fluid density [kg/m^3]
+    U : float       flow speed [m/s]
+    CM : float      added-mass coefficient (1)
+    St : float      Strouhal number (0.2)
+
+    Returns
+    -------
+    dict
+        ``U``, ``Ur``, ``mu``, ``xi``, ``St`` (pass ``mu``, ``xi``, ``St`` and ``Ur`` to
+        ``Model("wake_impact", ...)``), and the SI value of one model unit: ``time_scale`` [s],
+        ``length_scale`` [m], ``velocity_scale`` [m/s], ``frequency_scale`` [Hz] (of a
+        dimensionless angular frequency).
+    """
+    args = {}
+    for name, value in (("D", D), ("m", m), ("fn", fn), ("zeta", zeta), ("rho", rho), ("U", U), ("CM", CM),
+                        ("St", St)):
+        try:
+            args[name] = float(value)
+        except (TypeError, ValueError):
+            raise InputError(f"{name} must be a number (got {value!r})") from None
+    return _vimpact.cylinder_units(**args)
+
+
 def grid(a, b, n):
     """n values from a to b inclusive, evenly spaced, as the command line's range ``a:b:n``.
 

@@ -1,0 +1,112 @@
+// The units command: an engineer's cylinder in SI units to the wake model's dimensionless
+// parameters at each flow speed, with the scales that turn the model's outputs back into
+// metres, seconds and hertz (include/vimpact/physical/flow_units.hpp has the formulas).
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include "commands.hpp"
+#include "output.hpp"
+#include "parse.hpp"
+#include "vimpact/core/format.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/physical/flow_units.hpp"
+
+namespace vimpact::cli {
+namespace {
+
+struct units_args {
+    std::string si;
+    std::string speeds;
+    bool json = false;
+};
+
+constexpr const char* si_keys = "D, m, fn, zeta, rho (required), CM, St (optional)";
+
+cylinder_in_flow parse_si(const std::string& text)
+{
+    std::map<std::string, double> values;
+    for (const auto& item : split(text, ',')) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0) throw input_error("--si expects KEY=VALUE,... (got '" + item + "')");
+        const std::string key = item.substr(0, eq);
+        if (std::string(" D m fn zeta rho CM St ").find(" " + key + " ") == std::string::npos)
+            throw input_error("--si: unknown key '" + key + "' (keys: " + si_keys + ")");
+        if (!values.emplace(key, parse_number(item.substr(eq + 1), "--si " + key)).second)
+            throw input_error("--si: " + key + " is given twice");
+    }
+    for (const char* key : {"D", "m", "fn", "zeta", "rho"})
+        if (!values.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys + ")");
+    cylinder_in_flow c;
+    c.diameter = values.at("D");
+    c.mass = values.at("m");
+    c.natural_frequency = values.at("fn");
+    c.damping_ratio = values.at("zeta");
+    c.fluid_density = values.at("rho");
+    if (values.count("CM")) c.added_mass_coefficient = values.at("CM");
+    if (values.count("St")) c.strouhal = values.at("St");
+    validate(c);
+    return c;
+}
+
+int run_units(const units_args& a)
+{
+    const cylinder_in_flow c = parse_si(a.si);
+    const std::vector<double> speeds = parse_range(a.speeds, "--speeds");
+    json rows = json::array();
+    std::string text = "U [m/s]  Ur  mu  xi  | one model unit: time [s]  velocity [m/s]  frequency [Hz]\n";
+    for (const double U : speeds) {
+        const wake_dimensionless d = dimensionless(c, U);
+        const flow_scales s = scales(c, U);
+        rows.push_back({{"U", U},
+                        {"Ur", d.Ur},
+                        {"mu", d.mu},
+                        {"xi", d.xi},
+                        {"St", d.St},
+                        {"time_scale", s.time},
+                        {"length_scale", s.length},
+                        {"velocity_scale", s.velocity},
+                        {"frequency_scale", s.frequency}});
+        text += format_double(U) + "  " + format_double(d.Ur) + "  " + format_double(d.mu) + "  " +
+                format_double(d.xi) + "  | " + format_double(s.time) + "  " + format_double(s.velocity) + "  " +
+                format_double(s.frequency) + "\n";
+    }
+    const wake_dimensionless first = dimensionless(c, speeds.front());
+    text += "model parameters: --set mu=" + format_double(first.mu) + " --set xi=" + format_double(first.xi) +
+            " --set St=" + format_double(first.St) + ", Ur from " + format_double(first.Ur) + " to " +
+            format_double(dimensionless(c, speeds.back()).Ur) + "; y in units of D = " + format_double(c.diameter) +
+            " m\n";
+    const json summary = {{"command", "units"},
+                          {"si",
+                           {{"D", c.diameter},
+                            {"m", c.mass},
+                            {"fn", c.natural_frequency},
+                            {"zeta", c.damping_ratio},
+                            {"rho", c.fluid_density},
+                            {"CM", c.added_mass_coefficient},
+                            {"St", c.strouhal}}},
+                          {"dimensionless", rows}};
+    if (a.json) std::cout << summary.dump() << '\n';
+    else std::cout << text;
+    return 0;
+}
+
+}  // namespace
+
+cli_command add_units_command(CLI::App& app)
+{
+    auto a = std::make_shared<units_args>();
+    auto* s = app.add_subcommand("units",
+                                 "A cylinder in a flow in SI units -> the wake model's Ur, mu, xi at each speed, and the "
+                                 "scales back to metres, seconds, hertz (Facchinetti et al. 2004)");
+    s->add_option("--si", a->si,
+                  "D=diameter [m],m=structural mass per length [kg/m],fn=natural frequency in still fluid [Hz],"
+                  "zeta=structural damping ratio (free decay in still fluid),rho=fluid density [kg/m^3]; optional "
+                  "CM=added-mass coefficient (1), St=Strouhal number (0.2)")
+        ->required();
+    s->add_option("--speeds", a->speeds, "Flow speeds a:b:n [m/s]")->required();
+    s->add_flag("--json", a->json, "Print one JSON object to stdout");
+    return {s, [a] { return run_units(*a); }};
+}
+
+}  // namespace vimpact::cli
