@@ -58,15 +58,9 @@ int run_units(const units_args& a)
     for (const double U : speeds) {
         const wake_dimensionless d = dimensionless(c, U);
         const flow_scales s = scales(c, U);
-        rows.push_back({{"U", U},
-                        {"Ur", d.Ur},
-                        {"mu", d.mu},
-                        {"xi", d.xi},
-                        {"St", d.St},
-                        {"time_scale", s.time},
-                        {"length_scale", s.length},
-                        {"velocity_scale", s.velocity},
-                        {"frequency_scale", s.frequency}});
+        json row = json::object();
+        for (const auto& [name, value] : units_at(c, U)) row[name] = value;
+        rows.push_back(std::move(row));
         text += format_double(U) + "  " + format_double(d.Ur) + "  " + format_double(d.mu) + "  " +
                 format_double(d.xi) + "  | " + format_double(s.time) + "  " + format_double(s.velocity) + "  " +
                 format_double(s.frequency) + "\n";

@@ -101,18 +101,8 @@ PYBIND11_MODULE(_vimpact, m)
                                      .fluid_density = rho,
                                      .added_mass_coefficient = CM,
                                      .strouhal = St};
-            const wake_dimensionless d = dimensionless(c, U);
-            const flow_scales s = scales(c, U);
             py::dict r;
-            r["U"] = U;
-            r["Ur"] = d.Ur;
-            r["mu"] = d.mu;
-            r["xi"] = d.xi;
-            r["St"] = d.St;
-            r["time_scale"] = s.time;
-            r["length_scale"] = s.length;
-            r["velocity_scale"] = s.velocity;
-            r["frequency_scale"] = s.frequency;
+            for (const auto& [name, value] : units_at(c, U)) r[name] = value;
             return r;
         },
         py::arg("D"), py::arg("m"), py::arg("fn"), py::arg("zeta"), py::arg("rho"), py::arg("U"), py::arg("CM"),

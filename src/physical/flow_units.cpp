@@ -60,6 +60,21 @@ flow_scales scales(const cylinder_in_flow& c, double U)
             .frequency = omega_f / (2.0 * std::numbers::pi)};
 }
 
+std::vector<named_value> units_at(const cylinder_in_flow& c, double U)
+{
+    const wake_dimensionless d = dimensionless(c, U);
+    const flow_scales s = scales(c, U);
+    return {{"U", U},
+            {"Ur", d.Ur},
+            {"mu", d.mu},
+            {"xi", d.xi},
+            {"St", d.St},
+            {"time_scale", s.time},
+            {"length_scale", s.length},
+            {"velocity_scale", s.velocity},
+            {"frequency_scale", s.frequency}};
+}
+
 double flow_speed(const cylinder_in_flow& c, double Ur)
 {
     validate(c);

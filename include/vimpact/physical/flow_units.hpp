@@ -16,6 +16,8 @@
 //                                             i.e. what a free-decay test in still fluid gives
 // St (0.2) and C_M (1) are the values Facchinetti et al. use for the subcritical range
 // 300 < Re < 1.5e5.
+#include <vector>
+
 namespace vimpact {
 
 struct cylinder_in_flow {
@@ -47,6 +49,15 @@ struct flow_scales {
 };
 
 flow_scales scales(const cylinder_in_flow& c, double flow_speed);
+
+// One flow speed's numbers by name (U, Ur, mu, xi, St, time_scale, length_scale,
+// velocity_scale, frequency_scale), as `vimpact units --json` and vimpact.cylinder_units give
+// them: the names are defined here once.
+struct named_value {
+    const char* name;
+    double value;
+};
+std::vector<named_value> units_at(const cylinder_in_flow& c, double flow_speed);
 
 // The flow speed [m/s] at which the cylinder has reduced velocity Ur.
 double flow_speed(const cylinder_in_flow& c, double Ur);
