@@ -6,6 +6,7 @@
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/analysis/orbit_map.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/model/builtin/forced_impact_oscillator.hpp"
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
@@ -26,6 +27,9 @@ floquet_result run_floquet(const EM& em, const Eigen::VectorXd& x0, const floque
 
 template <class EM>
 floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, int returns, const floquet_options& o);
+
+template <class EM>
+orbit_map_value run_orbit_map(const EM& em, const orbit_map_request& r);
 
 template <class EM>
 lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyapunov_options& o);

@@ -4,6 +4,7 @@
 #include "vimpact/engine/floquet.hpp"
 #include "vimpact/engine/grazing.hpp"
 #include "vimpact/engine/lyapunov.hpp"
+#include "vimpact/engine/orbit_map.hpp"
 #include "vimpact/engine/protocol.hpp"
 #include "vimpact/integrate/runge_kutta.hpp"
 
@@ -57,6 +58,15 @@ floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, in
     else return engine::floquet_from_point<dop853>(em, fixed<EM::dim>(x), returns, o);
 }
 
+// DOP853, as every tangent run (see run_floquet); the runs without the tangent use it too, so
+// that the residual is the same function of z with and without the tangent.
+template <class EM>
+orbit_map_value run_orbit_map(const EM& em, const orbit_map_request& r)
+{
+    if constexpr (EM::dim < 2) return orbit_map_value{};
+    else return engine::orbit_map<dop853>(em, r);
+}
+
 template <class EM>
 lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyapunov_options& o)
 {
@@ -75,5 +85,7 @@ lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyap
         const EM&, const Eigen::VectorXd&, const vimpact::floquet_options&, const vimpact::model_info&);         \
     template vimpact::floquet_result vimpact::detail::run_floquet_from_point<EM>(                                \
         const EM&, const Eigen::VectorXd&, int, const vimpact::floquet_options&);                                 \
+    template vimpact::orbit_map_value vimpact::detail::run_orbit_map<EM>(const EM&,                               \
+                                                                          const vimpact::orbit_map_request&);    \
     template vimpact::lyapunov_result vimpact::detail::run_lyapunov<EM>(const EM&, const Eigen::VectorXd&,       \
                                                                          const vimpact::lyapunov_options&);

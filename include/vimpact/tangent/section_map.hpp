@@ -47,6 +47,13 @@ public:
             if (std::abs(g[j]) > std::abs(g[m_dropped])) m_dropped = j;
     }
 
+    // A chart that solves for coordinate `dropped` (a continuation keeps one chart along its
+    // branch, chosen at its start).
+    section_chart(const Model& m, int section, int dropped) : m_model(&m), m_section(section), m_dropped(dropped)
+    {
+        if (dropped < 0 || dropped >= N) throw input_error("section chart coordinate out of range");
+    }
+
     [[nodiscard]] int dropped() const { return m_dropped; }
 
     [[nodiscard]] chart_point<N> to_chart(const vec<N>& x) const
@@ -111,6 +118,15 @@ struct section_map_options {
     int section = 0;
     impact_tangent jump = impact_tangent::saltation;
     double sample_dt = 0.0;       // > 0: also sample the orbit (state part) every sample_dt
+    bool gap_minima = false;      // also record every local minimum of every gap (grazing)
+};
+
+// A local minimum of a gap between impacts: how closely the orbit passes a surface it does
+// not hit there (its value reaching 0 is a grazing).
+struct gap_minimum {
+    double t = 0.0;
+    int surface = 0;
+    double gap = 0.0;
 };
 
 template <int N>
@@ -126,6 +142,8 @@ struct section_return {
     double divergence_integral = 0.0;   // integral of div F over [0, time]
     double log_det_jumps = 0.0;         // sum of ln|det(jump)| over the impacts
     impact_series impact_list{N};       // reference states at the impacts
+    std::vector<gap_minimum> gap_minima;  // before the last return (section_map_options::gap_minima)
+    state_series crossings{N};          // the state at each return (the last is x_end)
     state_series samples{N};            // the orbit every sample_dt (if asked)
     run_stats stats;
 
@@ -147,10 +165,16 @@ public:
     [[nodiscard]] const typename VModel::state& end_state() const { return m_end; }
 
     // With sampling, the run goes on to the end of the step that holds the last return, so
-    // that the step's interpolant is delivered (up to the return) before the stop.
-    flow_control on_section(int, crossing, double t, const typename VModel::state& X)
+    // that the step's interpolant is delivered (up to the return) before the stop. Event 0 is
+    // the section; any others are the minima of the gaps, in surface order.
+    flow_control on_section(int event, crossing, double t, const typename VModel::state& X)
     {
         if (reached()) return flow_control::proceed;
+        if (event > 0) {
+            m_out.gap_minima.push_back({t, event - 1, m_vm.base().gap(event - 1, VModel::point(X))});
+            return flow_control::proceed;
+        }
+        m_out.crossings.push_back(t, VModel::point(X));
         if (++m_seen < m_returns) return flow_control::proceed;
         m_end = X;
         m_out.time = t;
@@ -250,6 +274,8 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     fo.integration = VM::integration_options(opt.flow.integration);
     fo.surfaces = true;
     fo.events = {flow_event::section(opt.section, model.section_direction(opt.section))};
+    if (opt.gap_minima)
+        for (int i = 0; i < model.surface_count(); ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
     hybrid_flow<VM, Method> flow(vm, fo);
     section_return<N> out;
     out.x0 = detail::past_section(model, opt.section, x0);

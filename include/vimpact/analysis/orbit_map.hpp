@@ -1,0 +1,103 @@
+#pragma once
+// The section map of any model as a function of chart coordinates: the one evaluation that
+// continuation (analysis/continuation.hpp) and bifurcation curves are built on.
+//
+// A point of the section Sigma_k = { s_k(x) = 0 } is given by its chart coordinates z, the
+// state without the coordinate x_c that the section is solved for (tangent/section_map.hpp).
+// The map returns the point of the `returns`-th crossing of Sigma_k, through every impact on
+// the way, and the residual
+//   G(z) = chart(P^k(x(z)) - x(z))     (phases compared modulo their period),
+// whose zeros are the periodic orbits that cross Sigma_k k times per period. With the tangent,
+// also DG = dG/dz = DP - I (DP the chart Jacobian of P^k, saltation matrices at the impacts)
+// and the monodromy of the orbit segment: at a zero of G, the eigenvalues of DP are the
+// orbit's nontrivial Floquet multipliers and those of the monodromy all of them (the
+// trivial one, 1, among them).
+//
+// What a continuation watches for grazing is recorded too: every impact's normal velocity
+// (minus the gap rate before the reset) and gap acceleration, and every local minimum of every
+// gap between impacts. Surfaces may be made absent (passed through) so that the depth by
+// which an orbit crosses a surface it only grazed stays a smooth function (its gap minimum
+// goes negative instead of turning into an impact).
+#include <complex>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/core/outcome.hpp"
+#include "vimpact/hybrid/flow.hpp"
+#include "vimpact/hybrid/run_stats.hpp"
+#include "vimpact/model/model.hpp"
+
+namespace vimpact {
+
+struct orbit_map_request {
+    int section = 0;
+    int returns = 1;
+    int chart_coordinate = -1;   // x_c; -1: where |ds/dx_j| is largest at `guess`
+    Eigen::VectorXd z;           // chart coordinates (dim - 1 numbers)
+    Eigen::VectorXd guess;       // a state near the point (its x_c starts the solve for x_c)
+    bool tangent = true;         // also DG, the monodromy and the multipliers
+    std::uint64_t absent_surfaces = 0;  // see flow_options::absent_surfaces, with its window
+    double absent_from = -std::numeric_limits<double>::infinity();  // (time from the start)
+    double absent_until = std::numeric_limits<double>::infinity();
+    // Newton closes orbits to 1e-10 only if the map is much more accurate: 1e-12 by default.
+    integrator_options integration{.rtol = 1e-12, .atol = 1e-12};
+    double t_max = 1e4;          // flight time allowed for the returns
+    long max_steps = 50'000'000;
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+// One impact of the orbit segment, for grazing: velocity = -g'(x-) >= 0 and the gap's
+// acceleration g''(x-) of the free flow there (g'' > 0: the free orbit would turn back after
+// a penetration of about velocity^2 / (2 g'')).
+struct impact_record {
+    double t = 0.0;
+    int surface = 0;
+    double velocity = 0.0;
+    double acceleration = 0.0;
+};
+
+struct gap_minimum_record {
+    double t = 0.0;
+    int surface = 0;
+    double gap = 0.0;
+};
+
+struct orbit_map_value {
+    // ok; inadmissible (the point lies beyond a surface); not_converged (the chart does not
+    // reach the section at z); sticking (a contact phase: no tangent map); or a run's outcome.
+    outcome status = outcome::ok;
+    int chart_coordinate = 0;
+    Eigen::VectorXd x;           // the point of the section
+    Eigen::VectorXd x_end;       // P^k(x)
+    Eigen::VectorXd residual;    // G(z)
+    double period = 0.0;         // time of the k-th return
+    std::vector<Eigen::VectorXd> crossings;  // the state at each return (the last is x_end)
+    std::vector<impact_record> impacts;
+    std::vector<gap_minimum_record> gap_minima;
+    // With the tangent:
+    Eigen::MatrixXd residual_jacobian;  // DG = DP - I
+    Eigen::MatrixXd monodromy;          // dx(T)/dx(0), N x N, impacts included
+    std::vector<std::complex<double>> multipliers;  // of the monodromy: trivial first, then by modulus
+    std::vector<std::complex<double>> section_multipliers;  // of DP, by decreasing modulus
+    run_stats stats;
+
+    [[nodiscard]] bool ok() const { return status == outcome::ok; }
+    // Impacts on each of `surfaces` surfaces.
+    [[nodiscard]] std::vector<long> impacts_by_surface(int surfaces) const;
+    // The sequence of surfaces hit, in time order.
+    [[nodiscard]] std::vector<int> impact_sequence() const;
+};
+
+// Throws input_error for a request that does not fit the model (section, sizes, returns).
+orbit_map_value orbit_map(const model& m, const orbit_map_request& r);
+
+// The chart coordinate a request with chart_coordinate = -1 would choose at x.
+int default_chart_coordinate(const model& m, int section, const Eigen::VectorXd& x);
+
+// Chart coordinates of x (x without coordinate c).
+Eigen::VectorXd chart_of(const Eigen::VectorXd& x, int c);
+
+}  // namespace vimpact

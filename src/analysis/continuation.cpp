@@ -1,0 +1,678 @@
+#include "vimpact/analysis/continuation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <functional>
+#include <limits>
+#include <optional>
+
+#include <Eigen/Eigenvalues>
+
+#include "arclength.hpp"
+#include "orbit_system.hpp"
+#include "vimpact/core/format.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/jobs/job_loop.hpp"
+
+namespace vimpact {
+
+using detail::arc_point;
+using detail::orbit_system;
+
+long continuation_point::impacts() const
+{
+    long n = 0;
+    for (const long k : impacts_by_surface) n += k;
+    return n;
+}
+
+double multiplier_test(const std::vector<std::complex<double>>& mu, bifurcation_type type)
+{
+    std::complex<double> prod = 1.0;
+    if (type == bifurcation_type::neimark_sacker) {
+        for (std::size_t i = 0; i < mu.size(); ++i)
+            for (std::size_t j = i + 1; j < mu.size(); ++j) prod *= mu[i] * mu[j] - 1.0;
+    } else {
+        const double c = type == bifurcation_type::period_doubling ? -1.0 : 1.0;
+        for (const auto& m : mu) prod *= m - c;
+    }
+    // Conjugate pairs make the product real; what is left is rounding.
+    return prod.real();
+}
+
+void validate(const model& m, const continuation_options& o)
+{
+    if (m.dim() < 2) throw input_error("continuation needs at least 2 state variables");
+    const int P = static_cast<int>(m.parameters().size());
+    if (o.parameter < 0 || o.parameter >= P)
+        throw input_error("continuation parameter index " + std::to_string(o.parameter) + " is out of range [0, " +
+                          std::to_string(P - 1) + "]");
+    if (!std::isfinite(o.start) || !std::isfinite(o.end))
+        throw input_error("the continuation range must be finite");
+    if (o.start == o.end)
+        throw input_error("the continuation range is empty (start = end = " + format_double(o.start) + ")");
+    // The parameter's own valid range: with_parameter names it.
+    (void)m.with_parameter(o.parameter, o.start);
+    (void)m.with_parameter(o.parameter, o.end);
+    validate(o.protocol);
+    validate(m, o.protocol.section);
+    if (o.protocol.section.type != section_choice::kind::crossing)
+        throw input_error("continuation needs a section crossing (one of " + m.info().section_names() +
+                          "), not the impacts");
+    check_period_tolerance(o.period_tolerance);
+    if (o.returns < 0 || o.returns > 1000)
+        throw input_error("section returns per period must be in [0, 1000] (got " + std::to_string(o.returns) + ")");
+    if (!o.from_attractor && o.returns < 1)
+        throw input_error("a continuation from a given point needs its section returns per period (>= 1)");
+    const arclength_options& a = o.arclength;
+    for (const auto& [name, v] : {std::pair{"step", a.step}, {"min_step", a.min_step}, {"max_step", a.max_step}})
+        if (!(v >= 0.0) || !std::isfinite(v))
+            throw input_error(std::string(name) + " must be >= 0 and finite (0: from the range; got " + format_double(v) +
+                              ")");
+    if (a.min_step > 0.0 && a.max_step > 0.0 && a.min_step > a.max_step)
+        throw input_error("min_step (" + format_double(a.min_step) + ") exceeds max_step (" + format_double(a.max_step) + ")");
+    if (a.max_points < 2 || a.max_points > 1'000'000)
+        throw input_error("max_points must be in [2, 1000000] (got " + std::to_string(a.max_points) + ")");
+    if (!(a.tolerance > 0.0) || !(a.tolerance <= 1e-4))
+        throw input_error("the closure tolerance must be in (0, 1e-4] (got " + format_double(a.tolerance) + ")");
+    if (a.newton_iterations < 1 || a.newton_iterations > 100)
+        throw input_error("Newton iterations must be in [1, 100] (got " + std::to_string(a.newton_iterations) + ")");
+    validate(a.integration);
+    if (!(o.locate_tolerance > 0.0) || !std::isfinite(o.locate_tolerance))
+        throw input_error("the location tolerance must be > 0 (got " + format_double(o.locate_tolerance) + ")");
+    if (o.switch_depth < 0 || o.switch_depth > 8)
+        throw input_error("switch depth must be in [0, 8] (got " + std::to_string(o.switch_depth) + ")");
+}
+
+namespace detail {
+
+// A root of test(point(s)) for s in [0, s_b] along a's tangent, by the Illinois method
+// (regula falsi that halves the retained end's value), with a bisection whenever the bracket
+// has not halved in three steps; until the bracket is below `tol` in arclength (the
+// parameter's error is then below `tol` too: |dp/ds| <= 1).
+struct located_point {
+    bool converged = false;
+    arc_point point;
+    double bracket = 0.0;
+};
+
+using test_function = std::function<std::optional<double>(const arc_point&)>;
+
+std::optional<located_point> locate(const arc_system& f, const arc_point& a, const arc_point& b, const test_function& test,
+                                    double tol, const arc_settings& st)
+{
+    const std::optional<double> fa = test(a), fb = test(b);
+    if (!fa || !fb) return std::nullopt;
+    double s_lo = 0.0, s_hi = a.t.dot(b.u - a.u);
+    double f_lo = *fa, f_hi = *fb;
+    if (!(s_hi > 0.0) || f_lo * f_hi > 0.0) return std::nullopt;
+    located_point best{false, std::abs(f_lo) < std::abs(f_hi) ? a : b, s_hi};
+    int side = 0;  // which end moved last: -1 lo, +1 hi
+    double width_before = s_hi;
+    for (int it = 0; it < 200 && s_hi - s_lo > tol; ++it) {
+        double s = (s_lo * f_hi - s_hi * f_lo) / (f_hi - f_lo);
+        if (it % 3 == 2) {
+            if (s_hi - s_lo > 0.5 * width_before) s = 0.5 * (s_lo + s_hi);
+            width_before = s_hi - s_lo;
+        }
+        if (!(s > s_lo && s < s_hi)) s = 0.5 * (s_lo + s_hi);
+        std::optional<arc_point> p = point_at(f, a, s, st.tolerance, st.newton_iterations);
+        std::optional<double> fs = p ? test(*p) : std::nullopt;
+        if (!fs) {
+            // A trial point the corrector cannot reach, or that has no test value: bisect.
+            s = 0.5 * (s_lo + s_hi);
+            p = point_at(f, a, s, st.tolerance, st.newton_iterations);
+            fs = p ? test(*p) : std::nullopt;
+            if (!fs) break;
+        }
+        best.point = *p;
+        if (*fs == 0.0) {
+            s_lo = s_hi = s;
+            break;
+        }
+        if ((*fs < 0.0) == (f_lo < 0.0)) {
+            s_lo = s;
+            f_lo = *fs;
+            if (side == -1) f_hi *= 0.5;
+            side = -1;
+        } else {
+            s_hi = s;
+            f_hi = *fs;
+            if (side == 1) f_lo *= 0.5;
+            side = 1;
+        }
+    }
+    best.bracket = s_hi - s_lo;
+    best.converged = best.bracket <= tol;
+    return best;
+}
+
+// The surfaces whose impact count differs between two orbits; the first such one.
+int changed_surface(const continuation_point& a, const continuation_point& b)
+{
+    for (std::size_t i = 0; i < a.impacts_by_surface.size(); ++i)
+        if (a.impacts_by_surface[i] != b.impacts_by_surface[i]) return static_cast<int>(i);
+    return -1;
+}
+
+// What a branch job returns: the branch, its bifurcations (branch indices local: 0), and
+// what switching at each period doubling needs.
+struct switch_seed {
+    int bifurcation = -1;   // local index
+    Eigen::VectorXd u;      // the bifurcation point
+    Eigen::VectorXd v;      // eigenvector of DP for -1 (chart coordinates)
+};
+
+struct branch_record {
+    outcome status = outcome::ok;
+    std::string label;
+    bool has_branch = false;
+    continuation_branch branch;
+    std::vector<bifurcation> bifurcations;
+    std::vector<switch_seed> seeds;
+    long tangent_maps = 0, plain_maps = 0;
+};
+
+// A switched leg to compute: the bifurcation point, the direction and the parent's system.
+struct leg_job {
+    int parent = -1, origin = -1, leg = 1;
+    int returns = 1;       // of the new branch
+    int chart = 0;
+    Eigen::VectorXd guess;
+    switch_seed seed;
+};
+
+class branch_runner {
+public:
+    branch_runner(const model& m, const continuation_options& o) : m_model(m), m_opt(o)
+    {
+        const double lo = std::min(o.start, o.end), hi = std::max(o.start, o.end);
+        m_range = hi - lo;
+        m_bounds = {arc_bound{m.dim() - 1, lo, hi}};
+        m_settings = settings_of(o.arclength, m_range, m_bounds, o.cancel);
+    }
+
+    [[nodiscard]] orbit_map_request request(int returns, int chart, const Eigen::VectorXd& guess) const
+    {
+        orbit_map_request r;
+        r.section = m_opt.protocol.section.index;
+        r.returns = returns;
+        r.chart_coordinate = chart;
+        r.guess = guess;
+        r.integration = m_opt.arclength.integration;
+        r.cancel = m_opt.cancel;
+        return r;
+    }
+
+    // The first branch from an initial state.
+    branch_record from_start(const Eigen::VectorXd& x0) const
+    {
+        branch_record rec;
+        const model m0 = m_model.with_parameter(m_opt.parameter, m_opt.start);
+        Eigen::VectorXd xg = x0;
+        int returns = m_opt.returns;
+        if (m_opt.from_attractor) {
+            protocol_options po = m_opt.protocol;
+            if (!po.flow.cancel) po.flow.cancel = m_opt.cancel;
+            const simulation run = simulate(m0, x0, po);
+            if (run.status != outcome::ok || run.points.empty()) {
+                rec.status = run.status == outcome::ok ? outcome::aperiodic : run.status;
+                rec.label = std::string(to_string(rec.status));
+                return rec;
+            }
+            const auto distance = [&](int i, int j) {
+                return state_distance(m0.info(), run.points.x(static_cast<std::size_t>(i)),
+                                      run.points.x(static_cast<std::size_t>(j)));
+            };
+            const int period = smallest_period(static_cast<int>(run.points.size()), m_opt.period_tolerance, distance);
+            rec.label = !run.impacting ? "P0" : period > 0 ? "P" + std::to_string(period) : "aperiodic";
+            if (period <= 0) {
+                rec.status = outcome::aperiodic;
+                return rec;
+            }
+            if (returns == 0) returns = period;
+            xg = run.points.x(0);
+        }
+        const int section = m_opt.protocol.section.index;
+        const int chart = default_chart_coordinate(m0, section, xg);
+        const orbit_system sys(m_model, {m_opt.parameter}, request(returns, chart, xg));
+        const int K = sys.chart_size();
+        Eigen::VectorXd u(K + 1);
+        u << chart_of(xg, chart), m_opt.start;
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(K + 1);
+        e[K] = 1.0;
+        outcome why = outcome::ok;
+        std::optional<arc_point> first =
+            correct(sys.as_function(), u, e, m_opt.arclength.tolerance, 2 * m_opt.arclength.newton_iterations, &why);
+        if (!first) {
+            rec.status = why == outcome::ok ? outcome::not_converged : why;
+            count(rec, sys);
+            return rec;
+        }
+        set_tangent(*first, e * (m_opt.end > m_opt.start ? 1.0 : -1.0));
+        follow(sys, std::move(*first), rec);
+        rec.branch.returns = returns;
+        rec.branch.chart_coordinate = chart;
+        return rec;
+    }
+
+    // A leg of the doubled branch at a period doubling.
+    branch_record from_switch(const leg_job& job) const
+    {
+        branch_record rec;
+        const orbit_system sys(m_model, {m_opt.parameter}, request(job.returns, job.chart, job.guess));
+        const int K = sys.chart_size();
+        Eigen::VectorXd d = Eigen::VectorXd::Zero(K + 1);
+        d.head(K) = job.seed.v.normalized();
+        const double scale = 1.0 + job.seed.u.head(K).cwiseAbs().maxCoeff();
+        std::optional<arc_point> first;
+        for (const double eps : {1e-3, 3e-3, 3e-4, 1e-2}) {
+            first = correct(sys.as_function(), job.seed.u + job.leg * eps * scale * d, d, m_opt.arclength.tolerance,
+                            2 * m_opt.arclength.newton_iterations);
+            // Not the old orbit taken twice round: its half-way return is another point.
+            if (first && half_way_distance(first->at.orbit, job.returns) > 1e-3 * eps * scale) break;
+            first.reset();
+        }
+        if (!first) {
+            rec.status = outcome::not_converged;
+            count(rec, sys);
+            return rec;
+        }
+        set_tangent(*first, job.leg * d);
+        // The bifurcation point itself starts the leg: the old orbit taken twice round, where
+        // the new branch meets it.
+        // (Taken as it is: at the branch point Newton's matrix is singular.)
+        std::optional<arc_point> start = correct(sys.as_function(), job.seed.u, d, m_opt.arclength.tolerance, 0);
+        if (start) {
+            start->t = job.leg * d;
+            first->s = (first->u - start->u).norm();
+        }
+        follow(sys, std::move(*first), rec);
+        if (start) rec.branch.points.insert(rec.branch.points.begin(), sys.to_point(*start));
+        if (start)
+            for (auto& b : rec.bifurcations) ++b.after_point;
+        rec.branch.returns = job.returns;
+        rec.branch.chart_coordinate = job.chart;
+        rec.branch.parent = job.parent;
+        rec.branch.origin = job.origin;
+        rec.branch.leg = job.leg;
+        return rec;
+    }
+
+private:
+    static double half_way_distance(const orbit_map_value& o, int returns)
+    {
+        const auto h = static_cast<std::size_t>(returns / 2 - 1);
+        if (returns < 2 || o.crossings.size() <= h) return 0.0;
+        return (o.crossings[h] - o.x).cwiseAbs().maxCoeff();
+    }
+
+    static void count(branch_record& rec, const orbit_system& sys)
+    {
+        rec.tangent_maps += sys.tangent_maps();
+        rec.plain_maps += sys.plain_maps();
+    }
+
+    void follow(const orbit_system& sys, arc_point first, branch_record& rec) const
+    {
+        const int K = sys.chart_size();
+        const arc_system f = sys.as_function();
+        std::deque<orbit_system> helpers;  // alive while their functions are used; counted at the end
+        std::vector<arc_point> points;     // of the pieces before the current one
+        long piece_accepted = 0;           // steps accepted in the current piece
+        std::optional<grazing_turn> turn;  // where a piece ended at a grazing
+        auto on_step = [&](const arc_point& a, const arc_point& b) {
+            const int after = static_cast<int>(static_cast<long>(points.size()) + piece_accepted);
+            if (m_opt.cancel && m_opt.cancel->load()) return step_verdict::accept;
+            const continuation_point pa = sys.to_point(a), pb = sys.to_point(b);
+            if (pa.impact_sequence != pb.impact_sequence) {
+                // A grazing lies between a and b: the branch ends at it and goes on, if it can,
+                // on the family the grazing turns it onto. A step that merely jumped to another
+                // family (no grazing found from a) is retried shorter.
+                const int i = changed_surface(pa, pb);
+                if (i < 0) return step_verdict::reject;
+                const bool impacting = pa.impacts_by_surface[static_cast<std::size_t>(i)] >
+                                       pb.impacts_by_surface[static_cast<std::size_t>(i)];
+                grazing_turn t = turn_at_grazing(sys, a, i, impacting, after, rec, helpers);
+                if (!t.located) return step_verdict::reject;
+                turn = std::move(t);
+                return step_verdict::stop_before;
+            }
+            ++piece_accepted;
+            if (!m_opt.detect) return step_verdict::accept;
+            const auto fold = [K](const arc_point& p) -> std::optional<double> { return p.t[K]; };
+            const auto pd = [](const arc_point& p) -> std::optional<double> {
+                return multiplier_test(p.at.orbit.section_multipliers, bifurcation_type::period_doubling);
+            };
+            const auto ns = [](const arc_point& p) -> std::optional<double> {
+                return multiplier_test(p.at.orbit.section_multipliers, bifurcation_type::neimark_sacker);
+            };
+            const std::pair<bifurcation_type, test_function> tests[] = {
+                {bifurcation_type::fold, fold}, {bifurcation_type::period_doubling, pd}, {bifurcation_type::neimark_sacker, ns}};
+            for (const auto& [type, test] : tests) {
+                const std::optional<double> fa = test(a), fb = test(b);
+                if (!fa || !fb || !(*fa * *fb < 0.0)) continue;
+                const auto loc = locate(f, a, b, test, m_opt.locate_tolerance, m_settings);
+                if (!loc) continue;
+                const continuation_point c = sys.to_point(loc->point);
+                if (type == bifurcation_type::neimark_sacker && !complex_pair_on_circle(c.section_multipliers)) continue;
+                bifurcation bf;
+                bf.type = type;
+                bf.after_point = after;
+                bf.located = loc->converged;
+                bf.parameter = c.parameter;
+                bf.bracket = loc->bracket;
+                bf.point = c;
+                if (type == bifurcation_type::period_doubling)
+                    rec.seeds.push_back({static_cast<int>(rec.bifurcations.size()), loc->point.u,
+                                         flip_vector(loc->point.at.orbit.residual_jacobian)});
+                rec.bifurcations.push_back(std::move(bf));
+            }
+            return step_verdict::accept;
+        };
+        detail::arc_curve curve = follow_curve(f, std::move(first), m_settings, on_step);
+        std::optional<Eigen::VectorXd> last_grazing;
+        for (;;) {
+            for (auto& p : curve.points) points.push_back(std::move(p));
+            piece_accepted = 0;
+            rec.branch.end = curve.end;
+            rec.branch.failure = curve.failure;
+            if (!turn && (curve.end == branch_end::step_limit || curve.end == branch_end::failed)) {
+                // Stalled: near a grazing the corrector's reach shrinks like the square of the
+                // grazing impact's velocity, and the branch cannot be stepped past it.
+                turn = through_grazing(sys, points, rec, helpers);
+            }
+            if (!turn || !turn->located) break;
+            // The grazing orbit ends this piece; it starts the next one if the branch goes on.
+            const bool repeated = last_grazing && (turn->point.u - *last_grazing).norm() <= 1e-9 * (1.0 + turn->point.u.norm());
+            last_grazing = turn->point.u;
+            rec.branch.end = branch_end::grazing;
+            rec.branch.failure = outcome::ok;
+            if (!turn->next || repeated || static_cast<long>(points.size()) + 1 >= m_settings.max_points) {
+                points.push_back(std::move(turn->point));
+                break;
+            }
+            arc_settings rest = m_settings;
+            rest.max_points = m_settings.max_points - static_cast<long>(points.size());
+            arc_point next = std::move(*turn->next);
+            turn.reset();
+            curve = follow_curve(f, std::move(next), rest, on_step);
+        }
+        rec.has_branch = true;
+        for (const auto& p : points) rec.branch.points.push_back(sys.to_point(p));
+        std::sort(rec.bifurcations.begin(), rec.bifurcations.end(),
+                  [](const bifurcation& x, const bifurcation& y) { return x.after_point < y.after_point; });
+        count(rec, sys);
+        for (const auto& h : helpers) count(rec, h);
+    }
+
+    // The impact of an orbit on surface i with the smallest velocity (its time), if any.
+    static std::optional<double> softest_impact(const orbit_map_value& o, int i)
+    {
+        std::optional<double> t;
+        double v = std::numeric_limits<double>::infinity();
+        for (const auto& im : o.impacts)
+            if (im.surface == i && im.velocity < v) {
+                v = im.velocity;
+                t = im.t;
+            }
+        return t;
+    }
+
+    // The gap minimum of an orbit on surface i closest to 0 (its time), if any.
+    static std::optional<double> closest_minimum(const orbit_map_value& o, int i)
+    {
+        std::optional<double> t;
+        double g = std::numeric_limits<double>::infinity();
+        for (const auto& m : o.gap_minima)
+            if (m.surface == i && m.gap < g) {
+                g = m.gap;
+                t = m.t;
+            }
+        return t;
+    }
+
+    struct grazing_turn {
+        bool located = false;           // a grazing point was located and recorded
+        arc_point point;                // the grazing orbit
+        std::optional<arc_point> next;  // where the branch goes on, on the other family
+    };
+
+    // A branch that stalls close to grazing a surface: an impact's velocity goes to 0, or a gap
+    // minimum goes to 0, while the corrector cannot step past it. The surface and side are
+    // those whose approach shrank the most (to below 5 % of its largest on the branch).
+    grazing_turn through_grazing(const orbit_system& sys, const std::vector<arc_point>& points, branch_record& rec,
+                                 std::deque<orbit_system>& helpers) const
+    {
+        const arc_point& L = points.back();
+        const continuation_point pl = sys.to_point(L);
+        const int S = sys.base().surface_count();
+        int surface = -1;
+        bool impacting = false;
+        double best = 0.05;
+        for (int i = 0; i < S && i < 64; ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            for (const bool imp : {true, false}) {
+                double largest = 0.0;
+                for (const auto& p : points) {
+                    const orbit_map_value& o = p.at.orbit;
+                    if (imp)
+                        for (const auto& im : o.impacts)
+                            if (im.surface == i) largest = std::max(largest, im.velocity);
+                    if (!imp)
+                        for (const auto& g : o.gap_minima)
+                            if (g.surface == i) largest = std::max(largest, g.gap);
+                }
+                const double now = imp ? pl.min_impact_velocity[k] : pl.min_gap[k];
+                if (!(largest > 0.0) || !std::isfinite(now) || !(now >= 0.0) || now / largest >= best) continue;
+                best = now / largest;
+                surface = i;
+                impacting = imp;
+            }
+        }
+        if (surface < 0) return {};
+        return turn_at_grazing(sys, L, surface, impacting, static_cast<int>(points.size()) - 1, rec, helpers);
+    }
+
+    // The grazing of surface i next to the branch's point L, recorded as a bifurcation after
+    // point `after`. With `impacting`, L's softest impact on i is the one that grazes, and the
+    // grazing orbit G is found on the family without it; otherwise L's closest gap minimum on i
+    // grazes. That family is followed with the surface absent around the grazing (its gap
+    // minimum is then smooth through 0) from L to where the minimum is 0. From the impacting
+    // side the branch goes on from G along that family, away from the surface (onward when
+    // the orbits persist through the grazing, back when the two families meet at a
+    // non-smooth fold); from the other side it ends at G.
+    grazing_turn turn_at_grazing(const orbit_system& sys, const arc_point& L, int surface, bool impacting, int after,
+                                 branch_record& rec, std::deque<orbit_system>& helpers) const
+    {
+        grazing_turn turn;
+        const int K = sys.chart_size();
+        const orbit_map_value& ol = L.at.orbit;
+        const std::optional<double> tg = impacting ? softest_impact(ol, surface) : closest_minimum(ol, surface);
+        if (!tg) return turn;
+        const grazing_window w = window_around(ol, surface, *tg);
+        helpers.push_back(sys.with_absent(w));
+        const arc_system fw = helpers.back().as_function();
+        const auto test = [w](const arc_point& p) { return grazing_test(p.at.orbit, w); };
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(K + 1);
+        e[K] = 1.0;
+        // The family without the grazing impact, at L's parameter.
+        std::optional<arc_point> F = correct(fw, L.u, e, m_settings.tolerance, 2 * m_settings.newton_iterations);
+        if (!F) return turn;
+        set_tangent(*F, L.t);
+        F->s = L.s;
+        const std::optional<double> gF = test(*F);
+        if (!gF) return turn;
+        // Towards the grazing: the side where the gap minimum goes to 0, probed with a step far
+        // shorter than the distance to it (the gap changes at a rate of order 1 along the tangent).
+        {
+            const double probe_step = std::max(m_settings.min_step, std::min(0.1 * m_settings.step, 1e-3 * std::abs(*gF)));
+            const std::optional<arc_point> probe =
+                point_at(fw, *F, probe_step, m_settings.tolerance, m_settings.newton_iterations);
+            const std::optional<double> gp = probe ? test(*probe) : std::nullopt;
+            if (!gp) return turn;
+            if (std::abs(*gp) > std::abs(*gF)) F->t = -F->t;
+        }
+        std::optional<arc_point> before, after_g;
+        if (*gF == 0.0) {
+            before = after_g = *F;
+        } else {
+            arc_settings march = m_settings;
+            march.max_points = 100;
+            march.step = std::min(m_settings.step, std::max(march.min_step, std::abs(*gF)));
+            march.bounds.clear();
+            (void)follow_curve(fw, *F, march, [&](const arc_point& a, const arc_point& b) {
+                const auto ga = test(a), gb = test(b);
+                if (!ga || !gb) return step_verdict::stop_before;
+                if ((*ga > 0.0) == (*gb > 0.0)) return step_verdict::accept;
+                before = a;
+                after_g = b;
+                return step_verdict::stop_after;
+            });
+        }
+        if (!before) return turn;
+        std::optional<located_point> loc;
+        if (before->u == after_g->u) loc = located_point{true, *before, 0.0};
+        else loc = locate(fw, *before, *after_g, test, m_opt.locate_tolerance, m_settings);
+        if (!loc) return turn;
+        bifurcation bf;
+        bf.type = bifurcation_type::grazing;
+        bf.after_point = after;
+        bf.located = loc->converged;
+        bf.bracket = loc->bracket;
+        bf.point = sys.to_point(loc->point);
+        bf.parameter = bf.point.parameter;
+        bf.surface = surface;
+        bf.sequence_before = sys.to_point(L).impact_sequence;
+        // Past G: from the impacting side, the family without the impact (G's own sequence);
+        // from the other side, what an orbit just past G does with the surface present (the
+        // point of the bracket that crosses the surface, where the new impact appears).
+        bf.sequence_after = bf.point.impact_sequence;
+        if (!impacting) {
+            const arc_point& crossing = *test(*before) > 0.0 ? *after_g : *before;
+            const orbit_map_value past = sys.map(crossing.u, false);
+            if (past.ok()) bf.sequence_after = past.impact_sequence();
+        }
+        rec.bifurcations.push_back(std::move(bf));
+        turn.located = true;
+        arc_point G = loc->point;
+        G.s = L.s + (G.u - L.u).norm();
+        if (impacting) {
+            // On along the family without the impact, away from the surface.
+            const arc_point& clear = *test(*before) > 0.0 ? *before : *after_g;
+            if ((clear.u - G.u).dot(G.t) < 0.0) G.t = -G.t;
+            turn.next = G;
+        }
+        turn.point = std::move(G);
+        return turn;
+    }
+
+    // A complex pair of DP at the unit circle (a Neimark-Sacker point, not a neutral saddle).
+    static bool complex_pair_on_circle(const std::vector<std::complex<double>>& mu)
+    {
+        for (const auto& m : mu)
+            if (std::abs(m.imag()) > 1e-6 && std::abs(std::abs(m) - 1.0) < 1e-4) return true;
+        return false;
+    }
+
+    // The eigenvector of DP = DG + I for the eigenvalue nearest -1.
+    static Eigen::VectorXd flip_vector(const Eigen::MatrixXd& DG)
+    {
+        const Eigen::MatrixXd DP = DG + Eigen::MatrixXd::Identity(DG.rows(), DG.cols());
+        const Eigen::EigenSolver<Eigen::MatrixXd> es(DP);
+        Eigen::Index best = 0;
+        for (Eigen::Index k = 1; k < DP.rows(); ++k)
+            if (std::abs(es.eigenvalues()[k] + 1.0) < std::abs(es.eigenvalues()[best] + 1.0)) best = k;
+        Eigen::VectorXd v = es.eigenvectors().col(best).real();
+        return v.normalized();
+    }
+
+    const model& m_model;
+    const continuation_options& m_opt;
+    double m_range = 0.0;
+    std::vector<arc_bound> m_bounds;
+    arc_settings m_settings;
+};
+
+}  // namespace detail
+
+continuation_result continuation(const model& m, const std::vector<Eigen::VectorXd>& starts,
+                                 const continuation_options& o, int threads)
+{
+    validate(m, o);
+    if (starts.empty()) throw input_error("a continuation needs at least one initial state");
+    for (const auto& x : starts) {
+        check_state_size(m, x.size(), "the initial state");
+        if (violated_surface(m.with_parameter(o.parameter, o.start), x) >= 0)
+            throw input_error("the initial state lies beyond a surface at the start of the range");
+    }
+    const detail::branch_runner runner(m, o);
+    continuation_result res;
+    job_loop_options jo;
+    jo.threads = threads;
+    jo.stop = o.cancel;
+
+    // Adds a job's branch (a new orbit only) and its bifurcations; returns the leg jobs of
+    // its period doublings.
+    std::vector<detail::leg_job> next;
+    auto absorb = [&](detail::branch_record&& r, int depth) {
+        res.tangent_maps += r.tangent_maps;
+        res.plain_maps += r.plain_maps;
+        if (!r.has_branch) return;
+        // The same orbit found from two starts (switched legs all start at their bifurcation).
+        const bool duplicate = r.branch.parent < 0 &&
+                               std::any_of(res.branches.begin(), res.branches.end(), [&](const continuation_branch& b) {
+            return b.parent < 0 && b.returns == r.branch.returns && !b.points.empty() && !r.branch.points.empty() &&
+                   b.points.front().parameter == r.branch.points.front().parameter &&
+                   state_distance(m.info(), b.points.front().state, r.branch.points.front().state) < 1e-6;
+        });
+        if (duplicate) return;
+        const int index = static_cast<int>(res.branches.size());
+        const int first_bif = static_cast<int>(res.bifurcations.size());
+        for (auto& b : r.bifurcations) {
+            b.branch = index;
+            res.bifurcations.push_back(std::move(b));
+        }
+        if (depth < o.switch_depth)
+            for (const auto& s : r.seeds)
+                for (const int leg : {1, -1}) {
+                    detail::leg_job j;
+                    j.parent = index;
+                    j.origin = first_bif + s.bifurcation;
+                    j.leg = leg;
+                    j.returns = 2 * r.branch.returns;
+                    j.chart = r.branch.chart_coordinate;
+                    j.guess = res.bifurcations[static_cast<std::size_t>(j.origin)].point.state;
+                    j.seed = s;
+                    next.push_back(std::move(j));
+                }
+        res.branches.push_back(std::move(r.branch));
+    };
+
+    std::vector<detail::branch_record> first(starts.size());
+    run_jobs<detail::branch_record>(
+        {static_cast<long>(starts.size()), 0}, jo, {},
+        [&](long j, const detail::branch_record*) { return runner.from_start(starts[static_cast<std::size_t>(j)]); },
+        [&](long j, detail::branch_record&& r) { first[static_cast<std::size_t>(j)] = std::move(r); });
+    for (auto& r : first) {
+        if (res.start_label.empty()) res.start_label = r.label;
+        if (!r.has_branch && res.status == outcome::ok && res.branches.empty()) res.status = r.status;
+        absorb(std::move(r), 0);
+    }
+    if (!res.branches.empty()) res.status = outcome::ok;
+    for (int depth = 1; !next.empty(); ++depth) {
+        const std::vector<detail::leg_job> jobs = std::move(next);
+        next.clear();
+        std::vector<detail::branch_record> recs(jobs.size());
+        run_jobs<detail::branch_record>(
+            {static_cast<long>(jobs.size()), 0}, jo, {},
+            [&](long j, const detail::branch_record*) { return runner.from_switch(jobs[static_cast<std::size_t>(j)]); },
+            [&](long j, detail::branch_record&& r) { recs[static_cast<std::size_t>(j)] = std::move(r); });
+        for (auto& r : recs) absorb(std::move(r), depth);
+    }
+    return res;
+}
+
+}  // namespace vimpact

@@ -1,0 +1,166 @@
+#include "orbit_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "vimpact/core/input_error.hpp"
+
+namespace vimpact::detail {
+
+orbit_system orbit_system::with_returns(int k) const
+{
+    orbit_map_request r = m_request;
+    r.returns = k;
+    return {m_base, m_parameters, r};
+}
+
+orbit_system orbit_system::with_absent(const grazing_window& w) const
+{
+    orbit_map_request r = m_request;
+    r.absent_surfaces = w.surface < 64 ? std::uint64_t{1} << w.surface : 0;
+    r.absent_from = w.from;
+    r.absent_until = w.until;
+    return {m_base, m_parameters, r};
+}
+
+orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent) const
+{
+    const int K = chart_size();
+    std::vector<double> values = m_base.parameters();
+    for (int j = 0; j < parameter_count(); ++j)
+        values[static_cast<std::size_t>(m_parameters[static_cast<std::size_t>(j)])] = u[K + j];
+    orbit_map_request r = m_request;
+    r.z = u.head(K);
+    r.tangent = tangent;
+    ++(tangent ? m_tangent_maps : m_plain_maps);
+    try {
+        return orbit_map(m_base.with_parameters(values), r);
+    } catch (const input_error&) {
+        // A Newton iterate outside a parameter's valid range (r > 1, a negative damping...):
+        // not an orbit of the model, like a point beyond a surface.
+        orbit_map_value v;
+        v.status = outcome::inadmissible;
+        return v;
+    }
+}
+
+Eigen::VectorXd orbit_system::parameter_derivative(const Eigen::VectorXd& u, int j) const
+{
+    const int K = chart_size();
+    const double p = u[K + j];
+    const Eigen::VectorXd none = Eigen::VectorXd::Constant(K, std::numeric_limits<double>::quiet_NaN());
+    // A central difference of step h, one-sided where one side fails (the end of the
+    // parameter's valid range, an orbit beyond a surface).
+    std::optional<orbit_map_value> centre;
+    auto difference = [&](double h) -> Eigen::VectorXd {
+        Eigen::VectorXd up = u, dn = u;
+        up[K + j] += h;
+        dn[K + j] -= h;
+        const orbit_map_value a = map(up, false);
+        const orbit_map_value b = map(dn, false);
+        if (a.ok() && b.ok()) return (a.residual - b.residual) / (2.0 * h);
+        if (!centre) centre = map(u, false);
+        if (a.ok() && centre->ok()) return (a.residual - centre->residual) / h;
+        if (b.ok() && centre->ok()) return (centre->residual - b.residual) / h;
+        return none;
+    };
+    // The central difference errs by about h^2 |G'''| + eps / h, the map accurate to eps
+    // (1e-12 at the default tolerances): some 1e-7 relative for the first step. Near a grazing
+    // G changes on the scale of v^2 (v the smallest impact velocity), so a fixed step is
+    // useless there: the step is cut by 4 until two successive differences agree.
+    double h = 1e-5 * std::max(1.0, std::abs(p));
+    Eigen::VectorXd d1 = difference(h);
+    Eigen::VectorXd best = d1;
+    double best_change = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 8 && d1.allFinite(); ++k) {
+        h *= 0.25;
+        const Eigen::VectorXd d2 = difference(h);
+        if (!d2.allFinite()) break;
+        const double change = (d2 - d1).cwiseAbs().maxCoeff();
+        if (change < best_change) {
+            best_change = change;
+            best = d2;
+        }
+        if (change <= 1e-6 * std::max(1.0, d2.cwiseAbs().maxCoeff())) return d2;
+        d1 = d2;
+    }
+    return best.allFinite() ? best : none;
+}
+
+arc_eval orbit_system::operator()(const Eigen::VectorXd& u, bool jacobian) const
+{
+    arc_eval e;
+    e.orbit = map(u, jacobian);
+    e.status = e.orbit.status;
+    if (!e.ok()) return e;
+    e.F = e.orbit.residual;
+    if (!jacobian) return e;
+    const int K = chart_size();
+    e.J.resize(K, K + parameter_count());
+    e.J.leftCols(K) = e.orbit.residual_jacobian;
+    for (int j = 0; j < parameter_count(); ++j) e.J.col(K + j) = parameter_derivative(u, j);
+    if (!e.J.allFinite()) e.status = outcome::non_finite;
+    return e;
+}
+
+bool stable_multipliers(const std::vector<std::complex<double>>& section_multipliers)
+{
+    for (const auto& m : section_multipliers)
+        if (!(std::abs(m) < 1.0)) return false;
+    return true;
+}
+
+grazing_window window_around(const orbit_map_value& o, int i, double t)
+{
+    double gap = o.period;
+    for (const auto& im : o.impacts)
+        if (std::abs(im.t - t) > 1e-9 * std::max(1.0, o.period)) gap = std::min(gap, std::abs(im.t - t));
+    // Impacts of the next period seen from the start, and of the last seen from the end.
+    for (const auto& im : o.impacts) gap = std::min(gap, std::abs(im.t + o.period - t));
+    for (const auto& im : o.impacts) gap = std::min(gap, std::abs(t + o.period - im.t));
+    const double w = 0.25 * gap;
+    return {i, t - w, t + w};
+}
+
+std::optional<double> grazing_test(const orbit_map_value& o, const grazing_window& w)
+{
+    double g = std::numeric_limits<double>::infinity();
+    for (const auto& m : o.gap_minima)
+        if (m.surface == w.surface && m.t >= w.from && m.t <= w.until) g = std::min(g, m.gap);
+    if (!std::isfinite(g)) return std::nullopt;
+    return g;
+}
+
+continuation_point orbit_system::to_point(const arc_point& p) const
+{
+    const int K = chart_size();
+    const int S = m_base.surface_count();
+    const orbit_map_value& o = p.at.orbit;
+    continuation_point c;
+    c.parameter = p.u[K];
+    c.state = o.x;
+    c.section_points = state_series(m_base.dim());
+    c.section_points.push_back(0.0, o.x);
+    for (std::size_t i = 0; i + 1 < o.crossings.size(); ++i) c.section_points.push_back(0.0, o.crossings[i]);
+    c.period = o.period;
+    c.impacts_by_surface = o.impacts_by_surface(S);
+    c.impact_sequence = o.impact_sequence();
+    c.multipliers = o.multipliers;
+    c.section_multipliers = o.section_multipliers;
+    c.stable = stable_multipliers(o.section_multipliers);
+    c.closure = o.residual.size() ? o.residual.cwiseAbs().maxCoeff() : 0.0;
+    c.newton_iterations = p.iterations;
+    c.arclength = p.s;
+    const double inf = std::numeric_limits<double>::infinity();
+    c.min_gap.assign(static_cast<std::size_t>(S), inf);
+    c.min_impact_velocity.assign(static_cast<std::size_t>(S), inf);
+    for (const auto& g : o.gap_minima)
+        c.min_gap[static_cast<std::size_t>(g.surface)] = std::min(c.min_gap[static_cast<std::size_t>(g.surface)], g.gap);
+    for (const auto& i : o.impacts)
+        c.min_impact_velocity[static_cast<std::size_t>(i.surface)] =
+            std::min(c.min_impact_velocity[static_cast<std::size_t>(i.surface)], i.velocity);
+    return c;
+}
+
+}  // namespace vimpact::detail

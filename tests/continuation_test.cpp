@@ -1,0 +1,265 @@
+// Continuation of impacting periodic orbits (analysis/continuation.hpp), checked against
+// mathematics that does not use the code under test:
+//  - the forced impact oscillator's 1:1 impacting orbits in closed form (exact_impact_oscillator.hpp):
+//    every branch point is a fixed point of the exact stroboscopic map, its multipliers are
+//    the eigenvalues of that map's finite-difference Jacobian, and the fold, period-doubling
+//    and grazing points are the closed form's (an extremum of sigma(phi), det(J + I) = 0, an
+//    interior minimum of the orbit touching the barrier), to 1e-8 in the parameter;
+//  - branch switching: the new branch has twice the period, meets the old one at the
+//    bifurcation point, and its orbits are period-2 points of the exact map;
+//  - the paper's model: a located period doubling lies between two Floquet analyses on either
+//    side (the multiplier through -1), unstable orbits' multipliers equal those of a
+//    finite-difference Jacobian of the section map, and the grazing of the barrier-free orbit
+//    equals the grazing analysis's value.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
+
+#include "exact_impact_oscillator.hpp"
+#include "test_support.hpp"
+#include "vimpact/analysis/continuation.hpp"
+#include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/analysis/orbit_map.hpp"
+
+namespace {
+
+using vimpact::bifurcation;
+using vimpact::bifurcation_type;
+using vimpact::continuation_options;
+using vimpact::continuation_result;
+using vimpact::model;
+using vimpact::outcome;
+using vimpact::test::exact_impact_oscillator;
+using vimpact::test::ld;
+using cplx = std::complex<double>;
+
+double parameter(const model& m, const char* name) { return m.parameter(m.info().parameter_index(name)); }
+
+model oscillator(double omega)
+{
+    return vimpact::test::with(model::builtin("forced_impact_oscillator"), "omega", omega);
+}
+
+exact_impact_oscillator exact_for(const model& m)
+{
+    return {parameter(m, "zeta"), parameter(m, "omega"), parameter(m, "F"), parameter(m, "r")};
+}
+
+// Continuation in sigma on the stroboscopic section, from the attractor at `start`.
+continuation_options sigma_options(const model& m, double start, double end)
+{
+    continuation_options o;
+    o.parameter = m.info().parameter_index("sigma");
+    o.start = start;
+    o.end = end;
+    o.protocol.section = vimpact::section_choice::crossings(m.info().section_index("strobe"));
+    o.protocol.transient_impacts = 200;
+    o.protocol.record_points = 20;
+    return o;
+}
+
+std::vector<const bifurcation*> of_type(const continuation_result& r, bifurcation_type t, int branch = -1)
+{
+    std::vector<const bifurcation*> out;
+    for (const auto& b : r.bifurcations)
+        if (b.type == t && (branch < 0 || b.branch == branch)) out.push_back(&b);
+    return out;
+}
+
+// The eigenvalues of a 2 x 2 matrix, by decreasing modulus.
+std::vector<cplx> eigenvalues(const Eigen::Matrix2d& J)
+{
+    const Eigen::EigenSolver<Eigen::Matrix2d> es(J, false);
+    std::vector<cplx> v{es.eigenvalues()[0], es.eigenvalues()[1]};
+    std::sort(v.begin(), v.end(), [](cplx a, cplx b) { return std::abs(a) > std::abs(b); });
+    return v;
+}
+
+double distance(const std::vector<cplx>& a, const std::vector<cplx>& b)
+{
+    // Unordered comparison of two pairs (equal moduli of a complex pair).
+    const double d1 = std::max(std::abs(a[0] - b[0]), std::abs(a[1] - b[1]));
+    const double d2 = std::max(std::abs(a[0] - b[1]), std::abs(a[1] - b[0]));
+    return std::min(d1, d2);
+}
+
+// Every point: closure within the tolerance, a fixed point of the exact map (periods-fold),
+// multipliers of the exact map's Jacobian.
+void check_points_exact(const model& m, const vimpact::continuation_branch& b, int every, const char* what)
+{
+    const auto ex = exact_for(m);
+    int checked = 0, grazing = 0;
+    double worst_fixed = 0.0, worst_mu = 0.0;
+    for (std::size_t k = 0; k < b.points.size(); k += static_cast<std::size_t>(every)) {
+        const auto& p = b.points[k];
+        EXPECT_LE(p.closure, 1e-10) << what << " point " << k;
+        // A grazing orbit (an impact velocity v or a gap minimum near 0) is not compared: the
+        // exact map has no Jacobian there, and a gap minimum of -1e-12 (the located grazing's
+        // accuracy) is an impact of velocity 1e-6 for the exact map.
+        const double v_min = *std::min_element(p.min_impact_velocity.begin(), p.min_impact_velocity.end());
+        const double g_min = *std::min_element(p.min_gap.begin(), p.min_gap.end());
+        const double graze = std::min(v_min * v_min, std::abs(g_min));
+        if (graze < 1e-8) {
+            ++grazing;
+            continue;
+        }
+        const ld y = p.state[0], v = p.state[1];
+        const auto [y1, v1] = ex.strobe(y, v, p.parameter, b.returns);
+        worst_fixed = std::max(worst_fixed, static_cast<double>(std::max(std::abs(y1 - y), std::abs(v1 - v))));
+        // A difference step far below the distance to grazing (the map changes on the scale
+        // v^2 there).
+        const ld h = std::min(1e-6L, 1e-5L * static_cast<ld>(graze));
+        const auto mu = eigenvalues(ex.strobe_jacobian(y, v, p.parameter, b.returns, h));
+        ASSERT_EQ(p.section_multipliers.size(), 2U);
+        // Relative to the largest multiplier (near grazing they grow like 1 / v), and to the
+        // conditioning there: the map, accurate to about 1e-11, changes on the scale v^2.
+        const double allowed = 1e-6 + 1e-11 / graze;
+        worst_mu = std::max(worst_mu, distance(mu, p.section_multipliers) / std::max(1.0, std::abs(mu[0])) / allowed);
+        EXPECT_EQ(p.stable, std::abs(mu[0]) < 1.0) << what << " point " << k << " |mu| " << std::abs(mu[0]);
+        ++checked;
+    }
+    std::printf("%s: %d points against the exact map (%d grazing skipped): fixed-point error %.2e, multipliers %.2e of the allowed error\n",
+                what, checked, grazing, worst_fixed, worst_mu);
+    EXPECT_LE(worst_fixed, 1e-8) << what;
+    EXPECT_LE(worst_mu, 1.0) << what;  // in units of the allowed error
+    EXPECT_GE(checked, 5) << what;
+}
+
+// ---- fold -----------------------------------------------------------------------------------
+
+// omega = 1.5: the 1:1 branch over sigma turns at a fold, the stable orbit (complex pair
+// inside the circle) meeting an unstable one (a real multiplier through +1); the fold is the
+// smallest sigma(phi) of the closed form.
+TEST(Continuation, FoldOfTheOneOneOrbitIsTheExtremumOfTheClosedForm)
+{
+    const model m = oscillator(1.5);
+    const auto ex = exact_for(m);
+    // Golden section on sigma(phi) near its minimum.
+    ld lo = 4.6L, hi = 5.2L;
+    const ld g = (std::sqrt(5.0L) - 1) / 2;
+    for (int it = 0; it < 200; ++it) {
+        const ld a = hi - g * (hi - lo), b = lo + g * (hi - lo);
+        if (ex.one_one(a).first < ex.one_one(b).first) hi = b;
+        else lo = a;
+    }
+    const double sigma_fold = static_cast<double>(ex.one_one((lo + hi) / 2).first);
+
+    auto o = sigma_options(m, 0.0, -3.0);
+    const auto res = vimpact::continuation(m, {Eigen::Vector3d(0.5, 0.0, 0.0)}, o, 1);
+    ASSERT_EQ(res.status, outcome::ok) << res.start_label;
+    ASSERT_GE(res.branches.size(), 1U);
+    const auto folds = of_type(res, bifurcation_type::fold, 0);
+    ASSERT_EQ(folds.size(), 1U);
+    std::printf("fold: sigma %.12f, closed form %.12f, error %.2e, multipliers %.6f %.6f\n", folds[0]->parameter,
+                sigma_fold, folds[0]->parameter - sigma_fold, folds[0]->point.section_multipliers[0].real(),
+                folds[0]->point.section_multipliers[1].real());
+    EXPECT_TRUE(folds[0]->located);
+    EXPECT_NEAR(folds[0]->parameter, sigma_fold, 1e-8);
+    // At the fold a multiplier is 1.
+    EXPECT_NEAR(folds[0]->point.section_multipliers[0].real(), 1.0, 1e-5);
+    // Stable before it, unstable after it.
+    const auto& pts = res.branches[0].points;
+    const auto after = static_cast<std::size_t>(folds[0]->after_point);
+    EXPECT_TRUE(pts[after].stable);
+    ASSERT_LT(after + 2, pts.size());
+    EXPECT_FALSE(pts[after + 2].stable);
+    check_points_exact(m, res.branches[0], 3, "omega 1.5 branch");
+}
+
+// ---- period doubling and branch switching ---------------------------------------------------
+
+// omega = 0.8: a real multiplier of the 1:1 orbit goes through -1 as sigma decreases.
+TEST(Continuation, PeriodDoublingAndSwitchedBranchAgainstTheExactMap)
+{
+    const model m = oscillator(0.8);
+    const auto ex = exact_for(m);
+    // The closed form's period doubling: det(J + I) = 0 along phi, J the exact map's Jacobian
+    // at the 1:1 orbit's strobe point.
+    auto pd_test = [&](ld phi) {
+        const auto [sigma, v] = ex.one_one(phi);
+        const auto [y0, v0] = ex.one_one_strobe_point(phi);
+        const Eigen::Matrix2d J = ex.strobe_jacobian(y0, v0, sigma);
+        return (J + Eigen::Matrix2d::Identity()).determinant();
+    };
+    const bool sign_lo = pd_test(3.18L) > 0;
+    ASSERT_NE(sign_lo, pd_test(3.22L) > 0);
+    const ld phi_pd = exact_impact_oscillator::bisect([&](ld p) { return (pd_test(p) > 0) == sign_lo; }, 3.18L, 3.22L);
+    const double sigma_pd = static_cast<double>(ex.one_one(phi_pd).first);
+
+    auto o = sigma_options(m, -1.5, -2.3);
+    o.switch_depth = 1;
+    const auto res = vimpact::continuation(m, {Eigen::Vector3d(0.5, 0.0, 0.0)}, o, 2);
+    ASSERT_EQ(res.status, outcome::ok) << res.start_label;
+    const auto pds = of_type(res, bifurcation_type::period_doubling, 0);
+    ASSERT_EQ(pds.size(), 1U);
+    const bifurcation& pd = *pds[0];
+    std::printf("period doubling: sigma %.12f, closed form %.12f, error %.2e\n", pd.parameter, sigma_pd,
+                pd.parameter - sigma_pd);
+    EXPECT_TRUE(pd.located);
+    EXPECT_NEAR(pd.parameter, sigma_pd, 1e-8);
+    EXPECT_NEAR(pd.point.section_multipliers.back().real() < -0.5 ? pd.point.section_multipliers.back().real()
+                                                                  : pd.point.section_multipliers.front().real(),
+                -1.0, 1e-5);
+    check_points_exact(m, res.branches[0], 3, "omega 0.8 branch");
+
+    // Two legs of the doubled branch, each from the bifurcation point.
+    int legs = 0;
+    const double T = static_cast<double>(ex.period());
+    for (std::size_t b = 1; b < res.branches.size(); ++b) {
+        const auto& br = res.branches[b];
+        if (br.parent != 0) continue;
+        ++legs;
+        EXPECT_EQ(br.returns, 2);
+        EXPECT_EQ(br.origin, static_cast<int>(&pd - res.bifurcations.data()));
+        ASSERT_GE(br.points.size(), 5U);
+        // It meets the old branch at the bifurcation point.
+        EXPECT_EQ(br.points.front().parameter, pd.parameter);
+        EXPECT_LE(vimpact::test::max_abs_diff(br.points.front().state, pd.point.state), 1e-12);
+        for (const auto& p : br.points) EXPECT_NEAR(p.period, 2.0 * T, 1e-9);
+        // Away from it, a genuine period-2 orbit: P(x) != x.
+        const auto& q = br.points[4];
+        EXPECT_GT(std::abs(q.section_points.x(1, 0) - q.section_points.x(0, 0)), 1e-6);
+        std::vector<vimpact::continuation_point> rest(br.points.begin() + 1, br.points.end());
+        vimpact::continuation_branch tail = br;
+        tail.points = rest;
+        check_points_exact(m, tail, 4, "doubled branch");
+    }
+    EXPECT_EQ(legs, 2);
+}
+
+// ---- grazing ----------------------------------------------------------------------------------
+
+// omega = 0.8, sigma increasing from -1: the 1:1 orbit's interior minimum comes down to the
+// barrier; there the impact sequence changes.
+TEST(Continuation, GrazingIsWhereTheClosedFormsInteriorMinimumTouchesTheBarrier)
+{
+    const model m = oscillator(0.8);
+    const auto ex = exact_for(m);
+    ASSERT_LT(ex.interior_min_gap(2.91L), 0);
+    ASSERT_GT(ex.interior_min_gap(2.93L), 0);
+    const ld phi_g = exact_impact_oscillator::bisect([&](ld p) { return ex.interior_min_gap(p) < 0; }, 2.91L, 2.93L);
+    const double sigma_g = static_cast<double>(ex.one_one(phi_g).first);
+
+    const auto o = sigma_options(m, -1.0, -0.3);
+    const auto res = vimpact::continuation(m, {Eigen::Vector3d(0.5, 0.0, 0.0)}, o, 1);
+    ASSERT_EQ(res.status, outcome::ok);
+    const auto g = of_type(res, bifurcation_type::grazing, 0);
+    ASSERT_GE(g.size(), 1U);
+    std::printf("grazing: sigma %.12f, closed form %.12f, error %.2e; branch ends %s\n", g[0]->parameter, sigma_g,
+                g[0]->parameter - sigma_g, std::string(vimpact::to_string(res.branches[0].end)).c_str());
+    EXPECT_TRUE(g[0]->located);
+    EXPECT_NEAR(g[0]->parameter, sigma_g, 1e-8);
+    EXPECT_EQ(g[0]->surface, 0);
+    EXPECT_EQ(g[0]->sequence_before, std::vector<int>{0});
+    EXPECT_EQ(g[0]->sequence_after, (std::vector<int>{0, 0}));
+    EXPECT_LE(std::abs(g[0]->point.min_gap[0]), 1e-9);
+}
+
+}  // namespace
