@@ -27,6 +27,7 @@
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/orbit_map.hpp"
+#include "vimpact/analysis/sweep.hpp"
 
 namespace {
 
@@ -65,12 +66,21 @@ continuation_options sigma_options(const model& m, double start, double end)
     return o;
 }
 
+double pds_parameter(const continuation_result& r);
+
 std::vector<const bifurcation*> of_type(const continuation_result& r, bifurcation_type t, int branch = -1)
 {
     std::vector<const bifurcation*> out;
     for (const auto& b : r.bifurcations)
         if (b.type == t && (branch < 0 || b.branch == branch)) out.push_back(&b);
     return out;
+}
+
+double pds_parameter(const continuation_result& r)
+{
+    for (const auto& b : r.bifurcations)
+        if (b.type == bifurcation_type::period_doubling) return b.parameter;
+    return std::nan("");
 }
 
 // The eigenvalues of a 2 x 2 matrix, by decreasing modulus.
@@ -262,4 +272,228 @@ TEST(Continuation, GrazingIsWhereTheClosedFormsInteriorMinimumTouchesTheBarrier)
     EXPECT_LE(std::abs(g[0]->point.min_gap[0]), 1e-9);
 }
 
+// ---- Neimark-Sacker ---------------------------------------------------------------------------
+
+// A forced linear oscillator whose damping c may be negative (a model file), its barrier far
+// away: the periodic response y_p is an orbit for every c, and its strobe multipliers are
+// exp((-c +- i sqrt(1 - c^2)) T), T = 2 pi / w: a complex pair that leaves the unit circle at
+// c = 0 with argument +-T (mod 2 pi).
+TEST(Continuation, NeimarkSackerOfTheForcedResponseIsAtZeroDamping)
+{
+    const char* text = R"toml(
+name = "signed_damping_oscillator"
+state = [{ name = "y" }, { name = "ydot" }, { name = "theta", unit = "rad" }]
+initial_state = [0.0, 0.0, 0.0]
+[parameters]
+c = { default = 0.05, meaning = "damping ratio, of either sign" }
+w = { default = 1.3 }
+F = { default = 1.0 }
+sigma = { default = -100.0 }
+[derivatives]
+y = "ydot"
+ydot = "-2*c*ydot - y + F*cos(theta)"
+theta = "w"
+[angles]
+theta = "2*pi"
+[[surfaces]]
+name = "barrier"
+gap = "y - sigma"
+reset = { ydot = "-0.8*ydot" }
+[[sections]]
+name = "strobe"
+when = "sin(theta)"
+direction = "up"
+)toml";
+    const model m = model::from_toml(text, "signed_damping_oscillator.toml");
+    continuation_options o;
+    o.parameter = m.info().parameter_index("c");
+    o.start = 0.05;
+    o.end = -0.05;
+    o.protocol.section = vimpact::section_choice::crossings(m.info().section_index("strobe"));
+    // From a point (the orbit closes after one return), not an attractor: Newton finds it.
+    o.from_attractor = false;
+    o.returns = 1;
+    const auto res = vimpact::continuation(m, {Eigen::Vector3d(0.0, 0.0, 0.0)}, o, 1);
+    ASSERT_EQ(res.status, outcome::ok);
+    const auto ns = of_type(res, bifurcation_type::neimark_sacker, 0);
+    ASSERT_EQ(ns.size(), 1U);
+    const double T = 2.0 * std::numbers::pi / 1.3;
+    const cplx mu = ns[0]->point.section_multipliers[0];
+    std::printf("Neimark-Sacker: c = %.3e, multiplier %.12f%+.12fi (|mu| - 1 = %.1e), closed form arg %.12f\n",
+                ns[0]->parameter, mu.real(), mu.imag(), std::abs(mu) - 1.0, std::remainder(T, 2.0 * std::numbers::pi));
+    EXPECT_TRUE(ns[0]->located);
+    EXPECT_NEAR(ns[0]->parameter, 0.0, 1e-8);
+    EXPECT_NEAR(std::abs(mu), 1.0, 1e-7);
+    EXPECT_NEAR(std::abs(std::arg(mu)), std::abs(std::remainder(T, 2.0 * std::numbers::pi)), 1e-7);
+    // No fold or period doubling on the way, stable before and unstable after.
+    EXPECT_EQ(res.bifurcations.size(), 1U);
+    const auto& pts = res.branches[0].points;
+    EXPECT_TRUE(pts.front().stable);
+    EXPECT_FALSE(pts.back().stable);
+    // Every point is the forced response: y_p(0) = F (1 - w^2) / D, ydot_p(0) = 2 c w^2 F / D.
+    for (const auto& p : pts) {
+        const double c = p.parameter, w = 1.3;
+        const double D = (1 - w * w) * (1 - w * w) + (2 * c * w) * (2 * c * w);
+        EXPECT_NEAR(p.state[0], (1 - w * w) / D, 1e-9);
+        EXPECT_NEAR(p.state[1], 2 * c * w * w / D, 1e-9);
+        EXPECT_NEAR(std::abs(p.section_multipliers[0]), std::exp(-c * T), 1e-8);
+    }
+}
+
+// ---- the paper's model ------------------------------------------------------------------------
+
+// Continuation in Ur on the paper's section (maxima of y), paper preset.
+continuation_options paper_options(double start, double end)
+{
+    const model m;
+    continuation_options o;
+    o.parameter = m.info().parameter_index("Ur");
+    o.start = start;
+    o.end = end;
+    return o;
+}
+
+// The P1 branch from Ur = 12 loses stability at a period doubling: a Floquet analysis of the
+// orbit on either side (Newton from the branch's points, its own monodromy) has its multiplier
+// on either side of -1, and a sweep that follows P1 upward leaves the label P1 there.
+TEST(ContinuationPaper, PeriodDoublingOfP1AgreesWithFloquetAndTheSweep)
+{
+    const model m = vimpact::test::paper(12.0);
+    const auto res = vimpact::continuation(m, {vimpact::test::paper_ic()}, paper_options(12.0, 15.1), 1);
+    ASSERT_EQ(res.status, outcome::ok);
+    EXPECT_EQ(res.start_label, "P1");
+    const auto pds = of_type(res, bifurcation_type::period_doubling, 0);
+    ASSERT_EQ(pds.size(), 1U);
+    const double ur = pds[0]->parameter;
+    std::printf("P1 period doubling at Ur = %.12f\n", ur);
+    EXPECT_TRUE(pds[0]->located);
+    // Floquet on either side, 1e-6 away, from the bifurcation's orbit point.
+    vimpact::floquet_options fo;
+    double lowest[2];
+    for (int side = 0; side < 2; ++side) {
+        const model ms = vimpact::test::with(m, "Ur", ur + (side == 0 ? -1e-6 : 1e-6));
+        const auto f = vimpact::floquet_from_point(ms, pds[0]->point.state, 1, fo);
+        ASSERT_EQ(f.status, outcome::ok);
+        lowest[side] = 0.0;
+        for (std::size_t i = 1; i < f.multipliers.size(); ++i)
+            lowest[side] = std::min(lowest[side], f.multipliers[i].real());
+    }
+    std::printf("Floquet at Ur -+ 1e-6: smallest multiplier %.9f, %.9f\n", lowest[0], lowest[1]);
+    EXPECT_GT(lowest[0], -1.0);
+    EXPECT_LT(lowest[1], -1.0);
+    // A sweep that follows P1 upward in steps of 0.02 has P1 up to the period doubling and
+    // another label past it. Close below it the multiplier is near -1 and the transient decays
+    // like |mu|^n: the 500 impacts settle to the period tolerance only from 0.025 below.
+    vimpact::sweep_options so;
+    so.parameter = m.info().parameter_index("Ur");
+    so.values = vimpact::grid_values(14.94, 15.10, 9);
+    // From the branch's orbit (P1 and P2 coexist there: the paper's start goes to P2).
+    for (const auto& p : res.branches[0].points)
+        if (p.parameter <= so.values.front()) so.initial_state = p.state;
+    so.follow = true;
+    vimpact::job_options jo;
+    jo.threads = 1;
+    const auto sw = vimpact::sweep(vimpact::test::with(m, "Ur", 14.94), so, jo);
+    int checked = 0;
+    for (const auto& p : sw.points) {
+        std::printf("  sweep Ur = %.2f: %s\n", p.value, p.label.label.c_str());
+        if (p.value <= ur - 0.025) {
+            EXPECT_EQ(p.label.label, "P1") << p.value;
+        }
+        if (p.value >= ur) {
+            EXPECT_NE(p.label.label, "P1") << p.value;
+        }
+        checked += p.value <= ur - 0.025 || p.value >= ur;
+    }
+    EXPECT_GE(checked, 7);
+}
+
+// Switched at that period doubling, the P2 branch is unstable, turns at a grazing of the
+// barrier (an impact's velocity going to 0) and comes back as the stable P2 with one impact
+// per period. Every orbit closes to 1e-10, and the unstable ones have the multipliers of a
+// finite-difference Jacobian of the section map without the tangent flow.
+TEST(ContinuationPaper, UnstableP2MultipliersEqualFiniteDifferencesOfTheSectionMap)
+{
+    const model m = vimpact::test::paper(14.0);
+    auto o = paper_options(14.0, 15.3);
+    o.switch_depth = 1;
+    const auto res = vimpact::continuation(m, {vimpact::test::paper_ic()}, o, 2);
+    ASSERT_EQ(res.status, outcome::ok);
+    ASSERT_GE(res.branches.size(), 2U);
+    const auto& p2 = res.branches[1];
+    EXPECT_EQ(p2.returns, 2);
+    int unstable = 0;
+    double worst = 0.0;
+    for (const auto& p : p2.points) {
+        EXPECT_LE(p.closure, 1e-10);
+        if (p.stable || std::abs(p.section_multipliers[0]) < 1.05) continue;
+        // The map's Jacobian in the branch's chart by central differences of plain runs.
+        const model mp = vimpact::test::with(m, "Ur", p.parameter);
+        vimpact::orbit_map_request rq;
+        rq.section = 0;
+        rq.returns = 2;
+        rq.chart_coordinate = p2.chart_coordinate;
+        rq.guess = p.state;
+        rq.tangent = false;
+        const Eigen::VectorXd z = vimpact::chart_of(p.state, p2.chart_coordinate);
+        const double h = 1e-6;
+        Eigen::Matrix3d J;
+        for (int j = 0; j < 3; ++j) {
+            rq.z = z;
+            rq.z[j] += h;
+            const auto a = vimpact::orbit_map(mp, rq);
+            rq.z = z;
+            rq.z[j] -= h;
+            const auto b = vimpact::orbit_map(mp, rq);
+            ASSERT_TRUE(a.ok() && b.ok());
+            J.col(j) = (a.residual - b.residual) / (2 * h);
+        }
+        J += Eigen::Matrix3d::Identity();
+        const Eigen::EigenSolver<Eigen::Matrix3d> es(J, false);
+        double largest = 0.0;
+        for (int i = 0; i < 3; ++i) largest = std::max(largest, std::abs(es.eigenvalues()[i]));
+        const double ours = std::abs(p.section_multipliers[0]);
+        worst = std::max(worst, std::abs(largest - ours) / ours);
+        ++unstable;
+    }
+    std::printf("%d unstable P2 orbits: largest multiplier against finite differences, worst relative error %.2e\n",
+                unstable, worst);
+    EXPECT_GE(unstable, 3);
+    EXPECT_LE(worst, 1e-5);
+    // The grazing turn, and the stable P2 at Ur = 15.3 with one impact per period.
+    const auto g = of_type(res, bifurcation_type::grazing, 1);
+    ASSERT_EQ(g.size(), 1U);
+    EXPECT_EQ(g[0]->sequence_before.size(), 2U);
+    EXPECT_EQ(g[0]->sequence_after.size(), 1U);
+    EXPECT_LT(g[0]->parameter, pds_parameter(res));
+    EXPECT_TRUE(p2.points.back().stable);
+    EXPECT_EQ(p2.points.back().impacts(), 1);
+    EXPECT_EQ(p2.end, vimpact::branch_end::range);
+}
+
+// In sigma at Ur = 25 the barrier-free orbit (P0) is followed up to where its minimum of y
+// reaches the barrier: the grazing analysis's value.
+TEST(ContinuationPaper, GrazingOfTheBarrierFreeOrbitIsTheGrazingValue)
+{
+    const model m = vimpact::test::paper(25.0, -0.2);
+    continuation_options o;
+    o.parameter = m.info().parameter_index("sigma");
+    o.start = -0.2;
+    o.end = -0.1;
+    const auto res = vimpact::continuation(m, {vimpact::test::paper_ic()}, o, 1);
+    ASSERT_EQ(res.status, outcome::ok);
+    EXPECT_EQ(res.start_label, "P0");
+    const auto g = of_type(res, bifurcation_type::grazing, 0);
+    ASSERT_EQ(g.size(), 1U);
+    vimpact::grazing_options go;
+    go.parameter = m.info().parameter_index("sigma");
+    const auto gr = vimpact::grazing(m, vimpact::test::paper_ic(), go);
+    ASSERT_EQ(gr.status, outcome::ok);
+    const double expected = gr.surfaces[0].parameter_value;
+    std::printf("grazing by continuation %.12f, by the grazing analysis %.12f\n", g[0]->parameter, expected);
+    EXPECT_NEAR(g[0]->parameter, expected, 1e-8);
+    EXPECT_EQ(res.branches[0].end, vimpact::branch_end::grazing);
+}
+
 }  // namespace
+
