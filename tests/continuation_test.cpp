@@ -23,6 +23,7 @@
 
 #include "exact_impact_oscillator.hpp"
 #include "test_support.hpp"
+#include "vimpact/analysis/bifurcation_curve.hpp"
 #include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
@@ -493,6 +494,120 @@ TEST(ContinuationPaper, GrazingOfTheBarrierFreeOrbitIsTheGrazingValue)
     std::printf("grazing by continuation %.12f, by the grazing analysis %.12f\n", g[0]->parameter, expected);
     EXPECT_NEAR(g[0]->parameter, expected, 1e-8);
     EXPECT_EQ(res.branches[0].end, vimpact::branch_end::grazing);
+}
+
+// ---- two-parameter curves ---------------------------------------------------------------------
+
+// The curve's points against the exact map: each a fixed point whose Jacobian has the
+// bifurcation's multiplier (+1 fold, -1 period doubling), or whose flight just touches the
+// barrier (grazing).
+void check_curve_exact(const model& m, const vimpact::bifurcation_curve& c, const char* q_name, int returns,
+                       const char* what)
+{
+    double worst_fixed = 0.0, worst_condition = 0.0;
+    for (const auto& p : c.points) {
+        EXPECT_LE(p.closure, 1e-10) << what;
+        const model mq = vimpact::test::with(vimpact::test::with(m, "sigma", p.parameter), q_name, p.parameter2);
+        const auto ex = exact_for(mq);
+        const ld y = p.state[0], v = p.state[1];
+        // A grazing orbit's minimum is 0 to about 1e-12 of either sign, and a negative one is
+        // an impact of velocity 1e-6 to the exact map: the barrier is lowered by 1e-9 for it.
+        const ld shift = c.type == bifurcation_type::grazing ? 1e-9L : 0.0L;
+        const auto [y1, v1] = ex.strobe(y, v, p.parameter - shift, returns);
+        worst_fixed = std::max(worst_fixed, static_cast<double>(std::max(std::abs(y1 - y), std::abs(v1 - v))));
+        double condition = 0.0;
+        if (c.type == bifurcation_type::grazing) {
+            condition = static_cast<double>(std::abs(ex.smallest_interior_gap(y, v, p.parameter - shift, returns) - shift));
+        } else {
+            const double target = c.type == bifurcation_type::fold ? 1.0 : -1.0;
+            const auto mu = eigenvalues(ex.strobe_jacobian(y, v, p.parameter, returns));
+            condition = std::min(std::abs(mu[0] - target), std::abs(mu[1] - target));
+        }
+        worst_condition = std::max(worst_condition, condition);
+    }
+    std::printf("%s: %zu points, %s from %.4f to %.4f (ends %s, %s); fixed-point error %.2e, condition error %.2e\n",
+                what, c.points.size(), q_name, c.points.front().parameter2, c.points.back().parameter2,
+                std::string(vimpact::to_string(c.end_backward)).c_str(), std::string(vimpact::to_string(c.end_forward)).c_str(),
+                worst_fixed, worst_condition);
+    EXPECT_GE(c.points.size(), 5U) << what;
+    EXPECT_LE(worst_fixed, 1e-8) << what;
+    EXPECT_LE(worst_condition, 1e-8) << what;
+}
+
+TEST(BifurcationCurves, FoldPeriodDoublingAndGrazingCurvesOfTheImpactOscillatorAgainstTheExactMap)
+{
+    // Fold of the 1:1 orbit at omega = 1.5, followed in r.
+    {
+        const model m = oscillator(1.5);
+        const auto o = sigma_options(m, 0.0, -3.0);
+        const auto res = vimpact::continuation(m, {Eigen::Vector3d(0.5, 0.0, 0.0)}, o, 1);
+        ASSERT_EQ(of_type(res, bifurcation_type::fold, 0).size(), 1U);
+        vimpact::curve_options c;
+        c.parameter2 = m.info().parameter_index("r");
+        c.lo2 = 0.6;
+        c.hi2 = 0.95;
+        c.types = {bifurcation_type::fold};
+        const auto curves = vimpact::continue_bifurcations(m, res, o, c, 1);
+        ASSERT_EQ(curves.size(), 1U);
+        check_curve_exact(m, curves[0], "r", 1, "fold curve");
+        EXPECT_DOUBLE_EQ(curves[0].points[curves[0].start].parameter2, 0.8);
+    }
+    // Period doubling and grazing of the 1:1 orbit at omega = 0.8, followed in omega.
+    {
+        const model m = oscillator(0.8);
+        auto o = sigma_options(m, -1.0, -2.3);
+        const auto res = vimpact::continuation(m, {Eigen::Vector3d(0.5, 0.0, 0.0)}, o, 1);
+        vimpact::curve_options c;
+        c.parameter2 = m.info().parameter_index("omega");
+        c.lo2 = 0.75;
+        c.hi2 = 0.85;
+        c.types = {bifurcation_type::period_doubling};
+        const auto pd = vimpact::continue_bifurcations(m, res, o, c, 1);
+        ASSERT_EQ(pd.size(), 1U);
+        check_curve_exact(m, pd[0], "omega", 1, "period-doubling curve");
+
+        o = sigma_options(m, -1.0, -0.3);
+        const auto rg = vimpact::continuation(m, {Eigen::Vector3d(0.5, 0.0, 0.0)}, o, 1);
+        c.types = {bifurcation_type::grazing};
+        const auto g = vimpact::continue_bifurcations(m, rg, o, c, 1);
+        ASSERT_EQ(g.size(), 1U);
+        check_curve_exact(m, g[0], "omega", 1, "grazing curve");
+    }
+}
+
+// The grazing of the paper's barrier-free orbit followed in (sigma, Ur) is the grazing line of
+// the periodicity map: at every point the grazing analysis's value of sigma.
+TEST(BifurcationCurves, GrazingCurveOfTheBarrierFreeOrbitIsTheGrazingLine)
+{
+    const model m = vimpact::test::paper(25.0, -0.2);
+    continuation_options o;
+    o.parameter = m.info().parameter_index("sigma");
+    o.start = -0.2;
+    o.end = -0.1;
+    const auto res = vimpact::continuation(m, {vimpact::test::paper_ic()}, o, 1);
+    vimpact::curve_options c;
+    c.parameter2 = m.info().parameter_index("Ur");
+    c.lo2 = 12.0;
+    c.hi2 = 25.0;
+    const auto curves = vimpact::continue_bifurcations(m, res, o, c, 1);
+    ASSERT_EQ(curves.size(), 1U);
+    const auto& g = curves[0];
+    EXPECT_EQ(g.type, bifurcation_type::grazing);
+    ASSERT_GE(g.points.size(), 10U);
+    EXPECT_DOUBLE_EQ(g.points.front().parameter2, 12.0);
+    EXPECT_DOUBLE_EQ(g.points.back().parameter2, 25.0);
+    double worst = 0.0;
+    vimpact::grazing_options go;
+    go.parameter = m.info().parameter_index("sigma");
+    for (std::size_t k = 0; k < g.points.size(); k += 3) {
+        const auto& p = g.points[k];
+        const auto gr = vimpact::grazing(vimpact::test::with(m, "Ur", p.parameter2), vimpact::test::paper_ic(), go);
+        ASSERT_EQ(gr.status, outcome::ok);
+        worst = std::max(worst, std::abs(p.parameter - gr.surfaces[0].parameter_value));
+    }
+    std::printf("grazing curve: %zu points over Ur 12..25, worst difference from the grazing analysis %.2e\n",
+                g.points.size(), worst);
+    EXPECT_LE(worst, 1e-9);
 }
 
 }  // namespace

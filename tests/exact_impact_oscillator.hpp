@@ -150,6 +150,36 @@ public:
         return best;
     }
 
+    // The smallest interior minimum of y - sigma over `periods` forcing periods from (y0, v0)
+    // at t = 0, through every impact (infinity if the flights have none).
+    [[nodiscard]] ld smallest_interior_gap(ld y0, ld v0, ld sigma, int periods = 1) const
+    {
+        const ld T = periods * period();
+        ld best = INFINITY, t = 0, y = y0, v = v0;
+        for (;;) {
+            const std::optional<ld> ti = next_impact(t, y, v, sigma, T);
+            const ld t_end = ti ? *ti : T;
+            auto at = [&](ld s) { return flow(t, y, v, s); };
+            const int n = 20000;
+            ld ta = t, va = v;
+            for (int k = 1; k <= n; ++k) {
+                const ld tb = t + (t_end - t) * k / n;
+                const ld vb = at(tb).second;
+                if (va < 0 && vb >= 0 && k < n) {
+                    const ld tm = bisect([&](ld s) { return at(s).second < 0; }, ta, tb);
+                    best = std::min(best, at(tm).first - sigma);
+                }
+                ta = tb;
+                va = vb;
+            }
+            if (!ti) return best;
+            const ld vi = at(*ti).second;
+            t = *ti;
+            y = sigma;
+            v = -m_r * vi;
+        }
+    }
+
     // lo, hi with pred(lo) true, pred(hi) false: the boundary.
     template <class P>
     static ld bisect(P&& pred, ld lo, ld hi)

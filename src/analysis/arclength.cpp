@@ -141,6 +141,11 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
                     const double x = b->u[bd.index];
                     if (x >= bd.lo && x <= bd.hi) continue;
                     const double target = x < bd.lo ? bd.lo : bd.hi;
+                    // Already on that bound (a curve started there): it ends where it is.
+                    if (a.u[bd.index] == target) {
+                        curve.end = branch_end::range;
+                        return curve;
+                    }
                     const double rate = a.t[bd.index];
                     std::optional<arc_point> e;
                     if (std::abs(rate) > 1e-12) {

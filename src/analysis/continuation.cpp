@@ -42,6 +42,23 @@ double multiplier_test(const std::vector<std::complex<double>>& mu, bifurcation_
     return prod.real();
 }
 
+void validate(const arclength_options& a)
+{
+    for (const auto& [name, v] : {std::pair{"step", a.step}, {"min_step", a.min_step}, {"max_step", a.max_step}})
+        if (!(v >= 0.0) || !std::isfinite(v))
+            throw input_error(std::string(name) + " must be >= 0 and finite (0: from the range; got " + format_double(v) +
+                              ")");
+    if (a.min_step > 0.0 && a.max_step > 0.0 && a.min_step > a.max_step)
+        throw input_error("min_step (" + format_double(a.min_step) + ") exceeds max_step (" + format_double(a.max_step) + ")");
+    if (a.max_points < 2 || a.max_points > 1'000'000)
+        throw input_error("max_points must be in [2, 1000000] (got " + std::to_string(a.max_points) + ")");
+    if (!(a.tolerance > 0.0) || !(a.tolerance <= 1e-4))
+        throw input_error("the closure tolerance must be in (0, 1e-4] (got " + format_double(a.tolerance) + ")");
+    if (a.newton_iterations < 1 || a.newton_iterations > 100)
+        throw input_error("Newton iterations must be in [1, 100] (got " + std::to_string(a.newton_iterations) + ")");
+    validate(a.integration);
+}
+
 void validate(const model& m, const continuation_options& o)
 {
     if (m.dim() < 2) throw input_error("continuation needs at least 2 state variables");
@@ -66,20 +83,7 @@ void validate(const model& m, const continuation_options& o)
         throw input_error("section returns per period must be in [0, 1000] (got " + std::to_string(o.returns) + ")");
     if (!o.from_attractor && o.returns < 1)
         throw input_error("a continuation from a given point needs its section returns per period (>= 1)");
-    const arclength_options& a = o.arclength;
-    for (const auto& [name, v] : {std::pair{"step", a.step}, {"min_step", a.min_step}, {"max_step", a.max_step}})
-        if (!(v >= 0.0) || !std::isfinite(v))
-            throw input_error(std::string(name) + " must be >= 0 and finite (0: from the range; got " + format_double(v) +
-                              ")");
-    if (a.min_step > 0.0 && a.max_step > 0.0 && a.min_step > a.max_step)
-        throw input_error("min_step (" + format_double(a.min_step) + ") exceeds max_step (" + format_double(a.max_step) + ")");
-    if (a.max_points < 2 || a.max_points > 1'000'000)
-        throw input_error("max_points must be in [2, 1000000] (got " + std::to_string(a.max_points) + ")");
-    if (!(a.tolerance > 0.0) || !(a.tolerance <= 1e-4))
-        throw input_error("the closure tolerance must be in (0, 1e-4] (got " + format_double(a.tolerance) + ")");
-    if (a.newton_iterations < 1 || a.newton_iterations > 100)
-        throw input_error("Newton iterations must be in [1, 100] (got " + std::to_string(a.newton_iterations) + ")");
-    validate(a.integration);
+    validate(o.arclength);
     if (!(o.locate_tolerance > 0.0) || !std::isfinite(o.locate_tolerance))
         throw input_error("the location tolerance must be > 0 (got " + format_double(o.locate_tolerance) + ")");
     if (o.switch_depth < 0 || o.switch_depth > 8)
@@ -545,6 +549,7 @@ private:
         bf.point = sys.to_point(loc->point);
         bf.parameter = bf.point.parameter;
         bf.surface = surface;
+        if (const auto gm = grazing_minimum(loc->point.at.orbit, w)) bf.time = gm->t;
         bf.sequence_before = sys.to_point(L).impact_sequence;
         // Past G: from the impacting side, the family without the impact (G's own sequence);
         // from the other side, what an orbit just past G does with the surface present (the

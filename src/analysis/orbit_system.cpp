@@ -123,13 +123,19 @@ grazing_window window_around(const orbit_map_value& o, int i, double t)
     return {i, t - w, t + w};
 }
 
+std::optional<gap_minimum_record> grazing_minimum(const orbit_map_value& o, const grazing_window& w)
+{
+    std::optional<gap_minimum_record> best;
+    for (const auto& m : o.gap_minima)
+        if (m.surface == w.surface && m.t >= w.from && m.t <= w.until && (!best || m.gap < best->gap)) best = m;
+    return best;
+}
+
 std::optional<double> grazing_test(const orbit_map_value& o, const grazing_window& w)
 {
-    double g = std::numeric_limits<double>::infinity();
-    for (const auto& m : o.gap_minima)
-        if (m.surface == w.surface && m.t >= w.from && m.t <= w.until) g = std::min(g, m.gap);
-    if (!std::isfinite(g)) return std::nullopt;
-    return g;
+    const auto m = grazing_minimum(o, w);
+    if (!m) return std::nullopt;
+    return m->gap;
 }
 
 continuation_point orbit_system::to_point(const arc_point& p) const

@@ -77,6 +77,8 @@ grazing_window window_around(const orbit_map_value& o, int i, double t);
 // window, with the surface absent there (negative: the orbit crosses the surface). None when
 // the window holds no minimum.
 std::optional<double> grazing_test(const orbit_map_value& o, const grazing_window& w);
+// That minimum itself (its time, surface and gap).
+std::optional<gap_minimum_record> grazing_minimum(const orbit_map_value& o, const grazing_window& w);
 
 // The nontrivial multipliers of a point inside the unit circle.
 bool stable_multipliers(const std::vector<std::complex<double>>& section_multipliers);

@@ -160,6 +160,7 @@ struct bifurcation {
     double bracket = 0.0;  // width of the last parameter bracket (or change of the last step)
     continuation_point point;  // the orbit at the bifurcation
     int surface = -1;      // grazing: the surface
+    double time = 0.0;     // grazing: when, from the orbit's section point
     std::vector<int> sequence_before, sequence_after;  // grazing: impact sequences along the branch
 };
 
@@ -174,7 +175,8 @@ struct continuation_result {
     long plain_maps = 0;       // without it (finite differences in the parameter)
 };
 
-// Throws input_error for bad options (parameter, range, a section that is not a crossing...).
+// Throw input_error for bad options (parameter, range, a section that is not a crossing...).
+void validate(const arclength_options& a);
 void validate(const model& m, const continuation_options& o);
 
 // One branch from each initial state (the same orbit found twice is kept once), its
