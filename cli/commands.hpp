@@ -12,6 +12,7 @@ cli_command add_map_command(CLI::App& app);
 cli_command add_basins_command(CLI::App& app);
 cli_command add_response_command(CLI::App& app);
 cli_command add_floquet_command(CLI::App& app);    // stability_commands.cpp
+cli_command add_continue_command(CLI::App& app);   // continue_command.cpp
 cli_command add_lyapunov_command(CLI::App& app);
 cli_command add_dimension_command(CLI::App& app);  // dimension_command.cpp
 cli_command add_models_command(CLI::App& app);     // models_command.cpp

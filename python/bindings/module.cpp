@@ -7,6 +7,7 @@
 #include "bindings.hpp"
 #include "common.hpp"
 #include "vimpact/analysis/attractor.hpp"
+#include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
@@ -57,6 +58,11 @@ py::dict defaults()
     d["r0"] = lo.r0;
     d["t0"] = lo.t0;
     d["lyapunov_impacts"] = lo.impacts;
+    const continuation_options co;
+    d["max_points"] = co.arclength.max_points;
+    d["closure_tol"] = co.arclength.tolerance;
+    d["locate_tol"] = co.locate_tolerance;
+    d["continuation_newton_iterations"] = co.arclength.newton_iterations;
     d["lyapunov_time"] = lo.time;
     d["warmup"] = lo.warmup_intervals;
     d["p0_time"] = lo.p0_time;
@@ -112,4 +118,5 @@ PYBIND11_MODULE(_vimpact, m)
     vimpact::python::bind_jobs(m);
     vimpact::python::bind_stability(m);
     vimpact::python::bind_dimension(m);
+    vimpact::python::bind_continuation(m);
 }

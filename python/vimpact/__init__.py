@@ -13,7 +13,8 @@ a dict with a model file's keys), with ``WakeImpact``, ``ForcedImpactOscillator`
 ``TwoSidedImpactOscillator`` as shortcuts for the built-ins. Analyses: ``simulate``,
 ``period``, ``grazing`` (single runs); ``sweep``, ``map``, ``basins``, ``response`` (the
 library's threaded, deterministic, resumable job loop); stability: ``floquet``, ``lyapunov``,
-``floquet_sweep``, ``lyapunov_sweep``; ``dimension`` of a point set. Each returns a result
+``floquet_sweep``, ``lyapunov_sweep``; ``continuation`` of periodic orbits (stable and unstable,
+with their bifurcations and two-parameter curves); ``dimension`` of a point set. Each returns a result
 object (``vimpact.results``) with numpy arrays and run statistics; the same objects load the
 command line's output directories (``vimpact.Sweep.load(DIR)``). Plots: ``vimpact.plot``.
 Bad input raises ValueError (``vimpact.InputError``) with the library's message; long calls
@@ -28,15 +29,16 @@ import importlib
 
 from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport,  # noqa: F401
                       Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
+from .results_continuation import Bifurcation, Branch, Continuation, Curve  # noqa: F401
 
 _COMPILED = ("Model", "WakeImpact", "ForcedImpactOscillator", "TwoSidedImpactOscillator", "InputError", "git_hash",
-             "basins", "cylinder_units", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov",
+             "basins", "continuation", "cylinder_units", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov",
              "lyapunov_sweep", "map", "period", "response", "simulate", "sweep")
 
 try:
     from ._vimpact import InputError, __version__, git_hash  # noqa: F401
     from ._model import ForcedImpactOscillator, Model, TwoSidedImpactOscillator, WakeImpact  # noqa: F401
-    from ._api import (basins, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov,  # noqa: F401
+    from ._api import (basins, continuation, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov,  # noqa: F401
                        lyapunov_sweep, map, period, response, simulate, sweep)
 except ImportError as _error:  # the compiled module is not built or not on the path
     _import_error = _error
@@ -44,7 +46,7 @@ except ImportError as _error:  # the compiled module is not built or not on the 
 else:
     _import_error = None
     Model.__module__ = __name__
-    for _f in (basins, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep,
+    for _f in (basins, continuation, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep,
                map, period, response, simulate, sweep):
         _f.__module__ = __name__  # help() and tracebacks name them vimpact.sweep, not vimpact._api.sweep
 

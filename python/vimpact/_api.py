@@ -7,6 +7,7 @@ vimpact.InputError, with its message), runs with the GIL released (other Python 
 running) and stops within about 0.1 s on Ctrl-C (KeyboardInterrupt).
 """
 import collections.abc
+import json
 import math
 import os
 import string
@@ -17,6 +18,7 @@ import numpy as np
 from . import _vimpact
 from ._model import Model
 from ._vimpact import InputError
+from .results_continuation import Continuation
 from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
                       LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, model_quantities)
 
@@ -999,3 +1001,98 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
             "fit_first", "fit_last", "r", "pairs", "total_pairs", "local_slope", "centres", "r_cap", "all_pairs",
             "estimator", "points", "embedding")
     return Dimension(**{k: d[k] for k in keys}, columns=cols, options=opts)
+
+
+@_with_defaults
+def continuation(model, param, range, ic=None, *, period=None, starts=None, switch=0, param2=None, range2=None,
+                 curves=("fold", "period_doubling", "grazing"), step=0.0, min_step=0.0, max_step=0.0,
+                 max_points=_D["max_points"], closure_tol=_D["closure_tol"], locate_tol=_D["locate_tol"],
+                 newton_iterations=_D["continuation_newton_iterations"], detect=True, tol=_D["period_tol"],
+                 threads=_D["threads"], transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
+                 atol=_D["atol"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+    """Continuation of periodic orbits in one parameter, stable and unstable, with their
+    bifurcations; optionally the curves of the bifurcation points in a second parameter.
+
+    A periodic orbit that crosses the section k times per period is a zero of
+    G(z, p) = P^k(z; p) - z in the section's chart coordinates z. From the start, the branch of
+    zeros is followed by pseudo-arclength continuation (a predictor along the tangent, Newton's
+    method on (z, p) in the plane normal to it, an adaptive step), through folds and onto
+    unstable parts, each point closed to ``closure_tol`` with all its Floquet multipliers
+    (saltation matrices at the impacts). Folds (a multiplier through +1), period doublings
+    (through -1) and Neimark-Sacker points (a complex pair through the unit circle) are located
+    by test functions to ``locate_tol`` in the parameter; a grazing (an impact velocity or a gap
+    minimum reaching 0), where the impact sequence changes, is located on the family without
+    the grazing impact, and the branch turns there onto the other family (or ends).
+
+    Parameters
+    ----------
+    model : Model
+    param : str
+        The parameter continued.
+    range : (float, float)
+        ``(a, b)``: the branch starts at a and runs towards b; it ends where the parameter
+        leaves [a, b].
+    ic : array_like, shape (dim,), optional
+        Without ``period``: the initial state of the protocol whose attractor at a starts the
+        branch (default ``model.default_ic``). With ``period``: a point near the orbit on the
+        section.
+    period : int, optional
+        Section returns per period of the orbit to start from ``ic`` by Newton's method (no
+        transient): for unstable orbits.
+    starts : list of array_like, optional
+        Further initial states, each giving a branch (the same orbit found twice is kept once).
+    switch : int, default 0
+        Switch onto the doubled branch at period doublings, this many times in a row.
+    param2 : str, optional
+        Two-parameter mode: every located bifurcation of the types in ``curves`` is followed in
+        (param, param2).
+    range2 : (float, float)
+        The range of ``param2``; the model's value of it must lie inside.
+    curves : sequence of str, default ("fold", "period_doubling", "grazing")
+    step, min_step, max_step : float, default 0
+        Arclength steps; 0: range / 100, range * 1e-9 and range / 20.
+    max_points : int, default $max_points
+        Points per branch at most.
+    closure_tol : float, default $closure_tol
+        |G|_inf of every point.
+    locate_tol : float, default $locate_tol
+        Parameter accuracy of a located bifurcation.
+    newton_iterations : int, default $continuation_newton_iterations
+        Corrector iterations per step.
+    detect : bool, default True
+        Locate folds, period doublings and Neimark-Sacker points (grazings always are).
+    tol : float, default $period_tol
+        Period tolerance of the start's label.
+    threads : int, default $threads
+        Worker threads for several starts, switched branches and curves; results never depend
+        on it.
+    <protocol>
+
+    Returns
+    -------
+    Continuation
+        ``branches`` (Branch: ``param``, ``state``, ``sections``, ``stable``, ``multipliers``,
+        ``period``, ``impacts``, ...), ``bifurcations`` (Bifurcation: ``type``, ``param``,
+        ``branch``, ``state``, ``multipliers``, ...), ``curves`` (Curve: ``param``, ``param2``,
+        ...). ``vimpact.plot.continuation(result)`` draws it.
+
+    Examples
+    --------
+    >>> c = vimpact.continuation(vimpact.Model("wake_impact"), "Ur", (14, 16), switch=1)
+    >>> [(b.type, round(b.param, 6)) for b in c.bifurcations][:2]
+    [('period_doubling', 15.018158), ('grazing', 14.751445)]
+    """
+    model = _model(model)
+    a, b = (float(v) for v in range)
+    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, param=str(param), start=a,
+                  end=b, tol=tol, period=0 if period is None else int(period), switch=int(switch), detect=bool(detect),
+                  locate_tol=locate_tol, step=step, min_step=min_step, max_step=max_step, max_points=int(max_points),
+                  closure_tol=closure_tol, newton_iterations=int(newton_iterations), threads=int(threads))
+    if param2 is not None or range2 is not None:
+        if param2 is None or range2 is None:
+            raise InputError("param2 and range2 go together")
+        lo2, hi2 = sorted(float(v) for v in range2)
+        o.update(param2=str(param2), lo2=lo2, hi2=hi2, curves=[str(c) for c in curves])
+    xs = [_ic(ic)] + [_ic(x) for x in (starts or [])]
+    d = json.loads(_vimpact._continuation(model._handle, xs, o))
+    return Continuation.from_json(d, **_context(model, _options(ic, **o)))

@@ -12,7 +12,8 @@ attribute names::
 ``phase`` (a Simulation: time series and phase portrait), ``sections`` (section points of a
 Period or Simulation), ``bifurcation`` (Sweep), ``map`` (Map), ``basins`` (Basins),
 ``response`` (Response), ``timeseries_overlay`` (several Simulations), ``floquet``,
-``lyapunov``, ``floquet_sweep``, ``lyapunov_sweep``. The state variable drawn is the result's
+``lyapunov``, ``floquet_sweep``, ``lyapunov_sweep``, ``continuation`` (Continuation: branches,
+bifurcations and two-parameter curves). The state variable drawn is the result's
 ``plot_variable`` (the model's first state variable).
 
 Command line: ``vimpact COMMAND ... --out DIR`` runs ``python3 -m vimpact.plot KIND DIR``,
@@ -31,10 +32,12 @@ import numpy as np
 
 from .plot_common import (coincident_limits, finish_figure, label_axis, legend_outside, new_figure, plot_index,
                           section_name, state_name, suptitle, surface_levels, title)
+from .plot_continuation import continuation  # noqa: F401
 from .plot_stability import floquet, floquet_sweep, lyapunov, lyapunov_sweep  # noqa: F401
 from .plot_sweeps import basins, bifurcation, periodicity_map, response, timeseries_overlay  # noqa: F401
 from .results import (Basins, Floquet, FloquetSweep, Lyapunov, LyapunovSweep, Map, Period, Response,  # noqa: F401
                       Simulation, Sweep, read_csv, read_record)
+from .results_continuation import Continuation  # noqa: F401
 
 map = periodicity_map  # vimpact.plot.map(result): the periodicity map
 
@@ -176,6 +179,7 @@ def _kinds():
         "lyapunov": _draw(Lyapunov.load, lyapunov),
         "floquet_sweep": _draw(FloquetSweep.load, floquet_sweep),
         "lyapunov_sweep": _draw(LyapunovSweep.load, lyapunov_sweep),
+        "continuation": _draw(Continuation.load, continuation),
     }
 
 
