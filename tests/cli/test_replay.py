@@ -28,6 +28,9 @@ CASES = {
     "floquet-sweep": ["floquet", "--param", "Ur", "--range", "12:12.5:2", *SHORT],
     "lyapunov": ["lyapunov", "--set", "Ur=22.5", "--impacts", "60", "--warmup", "8", "--r0", "1e-5", "--transient", "40"],
     "dimension": ["dimension", "--record", "400", "--transient", "40", "--set", "Ur=22.5", "--theiler", "2"],
+    "continue": ["continue", "--param", "Ur", "--range", "14.5:15.2", "--switch", "1", "--diagram", "3", *SHORT],
+    "continue-curves": ["continue", "--param", "Ur", "--range", "14.3:15.1", "--param2", "sigma", "--range2",
+                        "-0.16:-0.14", "--map", "2,2", "--max-step", "0.05", *SHORT],
     "model-file": ["sweep", "--model", TWO_SIDED_TOML, "--param", "w", "--range", "0.9:1.1:2", *SHORT],
 }
 

@@ -1,0 +1,118 @@
+"""vimpact continue: the contract of --json, the files of --out, and bad input (exit 2,
+nothing written). The numbers themselves are checked against closed forms and other analyses
+by the unit tests (tests/continuation_test.cpp); here the program must give the library's."""
+import csv
+import json
+import os
+import subprocess
+
+import pytest
+
+from conftest import TWO_SIDED_TOML, check_png
+
+SHORT = ["--transient", "200", "--record", "20"]
+
+
+def run(vimpact, args):
+    return subprocess.run([vimpact, *args], capture_output=True, text=True)
+
+
+def continue_json(vimpact, args):
+    p = run(vimpact, ["continue", *args, "--json"])
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stdout)
+
+
+def test_json_keys_of_the_contract(vimpact):
+    j = continue_json(vimpact, ["--param", "Ur", "--range", "14.5:15.3", "--switch", "1"])
+    assert j["command"] == "continue" and j["param"] == "Ur" and j["status"] == "ok" and j["start_label"] == "P1"
+    assert len(j["branches"]) == 3 and len(j["branch_info"]) == 3
+    for branch, info in zip(j["branches"], j["branch_info"]):
+        assert len(branch) == info["points"] >= 5
+        for p in branch:
+            assert set(p) >= {"param", "stable", "multipliers", "period", "impacts", "state"}
+            assert len(p["state"]) == 4 and len(p["multipliers"]) == 4 and len(p["multipliers"][0]) == 2
+            assert len(p["section_points"]) == info["returns"]
+            assert p["closure"] <= 1e-10
+            # Stable means every nontrivial multiplier inside the unit circle.
+            assert p["stable"] == all(abs(complex(*m)) < 1 for m in p["multipliers"][1:]) or \
+                abs(max(abs(complex(*m)) for m in p["multipliers"][1:]) - 1) < 1e-9
+    types = [b["type"] for b in j["bifurcations"]]
+    assert types[0] == "period_doubling" and types.count("grazing") == 2
+    pd = j["bifurcations"][0]
+    assert set(pd) >= {"type", "param", "branch", "state"}
+    assert abs(pd["param"] - 15.0181581267) < 1e-8
+    # Its nontrivial multipliers: one at -1.
+    assert min(abs(complex(*m) + 1) for m in pd["multipliers"][1:]) < 1e-6
+    # The switched legs: twice the returns, starting at the period doubling.
+    for info, branch in zip(j["branch_info"][1:], j["branches"][1:]):
+        assert info["returns"] == 2 and info["parent"] == 0 and info["origin"] == 0
+        assert branch[0]["param"] == pd["param"]
+    g = j["bifurcations"][1]
+    assert g["surface"] == "barrier" and g["sequence_before"] == ["barrier", "barrier"]
+    assert g["sequence_after"] == ["barrier"]
+
+
+def test_a_start_from_a_point_with_its_period(vimpact):
+    # The unstable P2 orbit near the period doubling, from a point of it on the section.
+    j = continue_json(vimpact, ["--param", "Ur", "--range", "14.5:15.3", "--switch", "1"])
+    p = next(q for q in j["branches"][1] if not q["stable"] and q["param"] < 15.0)
+    ic = ",".join(repr(v) for v in p["state"])
+    k = continue_json(vimpact, ["--param", "Ur", "--range", f"{p['param']!r}:15.3", "--period", "2", "--ic", ic])
+    first = k["branches"][0][0]
+    assert k["start_label"] == "" and not first["stable"]
+    assert max(abs(a - b) for a, b in zip(first["state"], p["state"])) < 1e-8
+
+
+def test_two_parameter_curves_and_out_files(vimpact, tmp_path):
+    out = str(tmp_path / "c")
+    p = run(vimpact, ["continue", "--param", "Ur", "--range", "14.3:15.1", "--param2", "sigma", "--range2",
+                      "-0.16:-0.14", "--map", "3,3", *SHORT, "--out", out])
+    assert p.returncode == 0, p.stderr
+    for f in ("branches.csv", "sections.csv", "bifurcations.csv", "curves.csv", "map.csv", "run.json",
+              "config.toml", "plot.png"):
+        assert os.path.exists(os.path.join(out, f)), f
+    check_png(os.path.join(out, "plot.png"))
+    res = json.load(open(os.path.join(out, "run.json")))["result"]
+    assert res["param2"] == "sigma" and len(res["curves"]) == 1
+    curve = res["curves"][0]
+    assert curve["type"] == "period_doubling"
+    for q in curve["points"]:
+        assert -0.16 <= q["param2"] <= -0.14 and 14.3 <= q["param"] <= 15.1
+        assert min(abs(complex(*m) + 1) for m in q["multipliers"][1:]) < 1e-6
+    rows = list(csv.DictReader(open(os.path.join(out, "curves.csv"))))
+    assert len(rows) == len(curve["points"]) and float(rows[0]["sigma"]) == curve["points"][0]["param2"]
+    rows = list(csv.DictReader(open(os.path.join(out, "map.csv"))))
+    assert len(rows) == 9 and {"Ur", "sigma", "label"} <= set(rows[0])
+
+
+def test_a_model_file(vimpact):
+    j = continue_json(vimpact, ["--model", TWO_SIDED_TOML, "--section", "strobe", "--param", "w", "--range",
+                                "1.2:1.0", *SHORT])
+    assert j["status"] == "ok" and len(j["branches"][0]) >= 5
+    assert j["branches"][0][0]["impacts_by_surface"] == {"right": 1, "left": 1}
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--param", "Uq", "--range", "12:13"], "--param"),
+    (["--param", "Ur", "--range", "12"], "--range"),
+    (["--param", "Ur", "--range", "12:12"], "--range"),
+    (["--param", "Ur", "--range", "12:x"], "--range"),
+    (["--param", "Ur", "--range", "-1:13"], "Ur"),
+    (["--param", "Ur", "--range", "12:13", "--period", "-1"], "--period"),
+    (["--param", "Ur", "--range", "12:13", "--param2", "sigma"], "--range2"),
+    (["--param", "Ur", "--range", "12:13", "--param2", "sigma", "--range2", "0:0.1"], "outside its range"),
+    (["--param", "Ur", "--range", "12:13", "--param2", "Ur", "--range2", "11:14"], "differ"),
+    (["--param", "Ur", "--range", "12:13", "--map", "3,3"], "--param2"),
+    (["--param", "Ur", "--range", "12:13", "--switch", "9"], "switch"),
+    (["--param", "Ur", "--range", "12:13", "--closure-tol", "0"], "closure"),
+    (["--param", "Ur", "--range", "12:13", "--section", "impacts"], "section crossing"),
+    (["--param", "Ur", "--range", "12:13", "--param2", "sigma", "--range2", "-0.2:0", "--curves", "hopf"],
+     "--curves"),
+])
+def test_bad_input_exits_2_and_writes_nothing(vimpact, tmp_path, args, message):
+    out = tmp_path / "never"
+    p = run(vimpact, ["continue", *args, "--out", str(out)])
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    assert message in p.stderr and p.stderr.startswith("vimpact: error:")
+    assert not out.exists()
