@@ -220,13 +220,13 @@ TEST(Continuation, PeriodDoublingAndSwitchedBranchAgainstTheExactMap)
                 -1.0, 1e-5);
     check_points_exact(m, res.branches[0], 3, "omega 0.8 branch");
 
-    // Two legs of the doubled branch, each from the bifurcation point.
-    int legs = 0;
+    // The doubled branch, from the bifurcation point.
+    int switched = 0;
     const double T = static_cast<double>(ex.period());
     for (std::size_t b = 1; b < res.branches.size(); ++b) {
         const auto& br = res.branches[b];
         if (br.parent != 0) continue;
-        ++legs;
+        ++switched;
         EXPECT_EQ(br.returns, 2);
         EXPECT_EQ(br.origin, static_cast<int>(&pd - res.bifurcations.data()));
         ASSERT_GE(br.points.size(), 5U);
@@ -242,7 +242,7 @@ TEST(Continuation, PeriodDoublingAndSwitchedBranchAgainstTheExactMap)
         tail.points = rest;
         check_points_exact(m, tail, 4, "doubled branch");
     }
-    EXPECT_EQ(legs, 2);
+    EXPECT_EQ(switched, 1);
 }
 
 // ---- grazing ----------------------------------------------------------------------------------

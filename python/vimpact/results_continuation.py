@@ -45,8 +45,6 @@ class Branch:
     parent, origin : int or None
         The branch it was switched from, and the bifurcation (index in
         ``Continuation.bifurcations``) where.
-    leg : int
-        +1 / -1: the two legs of a switched branch (the same orbit, shifted by one return).
     end : str
         Why it ended: range, point_limit, step_limit, closed, grazing, failed, interrupted.
     failure : str
@@ -66,7 +64,6 @@ class Branch:
     returns: int = 1
     parent: Optional[int] = None
     origin: Optional[int] = None
-    leg: int = 0
     end: str = ""
     failure: str = "ok"
     param: np.ndarray = None
@@ -197,7 +194,7 @@ class Continuation(_Context):
         for i, (pts, info) in enumerate(zip(result["branches"], result["branch_info"])):
             k = info["returns"]
             branches.append(Branch(
-                index=i, returns=k, parent=info["parent"], origin=info["origin"], leg=info["leg"], end=info["end"],
+                index=i, returns=k, parent=info["parent"], origin=info["origin"], end=info["end"],
                 failure=info["failure"], param=_floats(p["param"] for p in pts),
                 stable=np.array([bool(p["stable"]) for p in pts], dtype=bool),
                 period=_floats(p["period"] for p in pts), impacts=np.array([p["impacts"] for p in pts], dtype=int),

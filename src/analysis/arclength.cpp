@@ -43,6 +43,7 @@ arc_settings settings_of(const arclength_options& a, double range, std::vector<a
     s.tolerance = a.tolerance;
     s.newton_iterations = a.newton_iterations;
     s.bounds = std::move(bounds);
+    s.stall_step = std::min(range * 1e-6, s.max_step);
     s.cancel = cancel;
     return s;
 }
@@ -101,6 +102,7 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
     arc_curve curve;
     const double cos_max_turn = std::cos(std::numbers::pi / 6.0);
     double ds = s.step;
+    int creeping = 0;
     curve.points.push_back(std::move(first));
     const auto verdict = [&](const arc_point& a, const arc_point& b) {
         return on_step ? on_step(a, b) : step_verdict::accept;
@@ -184,6 +186,7 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
             return curve;
         }
         const int its = b->iterations;
+        creeping = (b->u - a.u).norm() < s.stall_step ? creeping + 1 : 0;
         const bool closed = !on_bound && curve.points.size() >= 8 &&
                             (b->u - curve.points.front().u).norm() < 0.5 * ds && b->t.dot(curve.points.front().t) > 0.0;
         curve.points.push_back(std::move(*b));
@@ -197,6 +200,10 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
         }
         if (closed) {
             curve.end = branch_end::closed;
+            return curve;
+        }
+        if (creeping >= s.stall_steps) {
+            curve.end = branch_end::step_limit;
             return curve;
         }
         if (its <= 3) ds = std::min(1.5 * ds, s.max_step);

@@ -59,11 +59,17 @@ struct arc_settings {
     double tolerance = 1e-10;
     int newton_iterations = 10;
     std::vector<arc_bound> bounds;
+    // A curve that creeps, stall_steps accepted steps in a row each shorter than stall_step,
+    // ends as if its step had fallen below min_step (near a grazing the corrector's reach
+    // shrinks without bound; nowhere else do steps stay that short). 0: never.
+    double stall_step = 0.0;
+    int stall_steps = 5;
     const std::atomic<bool>* cancel = nullptr;
 };
 
 // The settings of a continuation over a parameter range of width `range` (zero steps of the
-// options: range / 100 to start, range / 20 at most, range * 1e-9 at least).
+// options: range / 100 to start, range / 20 at most, range * 1e-9 at least; a creep below
+// range * 1e-6 stalls).
 arc_settings settings_of(const arclength_options& a, double range, std::vector<arc_bound> bounds,
                          const std::atomic<bool>* cancel);
 

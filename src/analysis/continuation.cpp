@@ -179,9 +179,9 @@ struct branch_record {
     long tangent_maps = 0, plain_maps = 0;
 };
 
-// A switched leg to compute: the bifurcation point, the direction and the parent's system.
+// A switched branch to compute: the bifurcation point, the direction and the parent's system.
 struct leg_job {
-    int parent = -1, origin = -1, leg = 1;
+    int parent = -1, origin = -1;
     int returns = 1;       // of the new branch
     int chart = 0;
     Eigen::VectorXd guess;
@@ -262,7 +262,7 @@ public:
         return rec;
     }
 
-    // A leg of the doubled branch at a period doubling.
+    // The doubled branch at a period doubling, from the bifurcation point along +v.
     branch_record from_switch(const leg_job& job) const
     {
         branch_record rec;
@@ -273,7 +273,7 @@ public:
         const double scale = 1.0 + job.seed.u.head(K).cwiseAbs().maxCoeff();
         std::optional<arc_point> first;
         for (const double eps : {1e-3, 3e-3, 3e-4, 1e-2}) {
-            first = correct(sys.as_function(), job.seed.u + job.leg * eps * scale * d, d, m_opt.arclength.tolerance,
+            first = correct(sys.as_function(), job.seed.u + eps * scale * d, d, m_opt.arclength.tolerance,
                             2 * m_opt.arclength.newton_iterations);
             // Not the old orbit taken twice round: its half-way return is another point.
             if (first && half_way_distance(first->at.orbit, job.returns) > 1e-3 * eps * scale) break;
@@ -284,13 +284,13 @@ public:
             count(rec, sys);
             return rec;
         }
-        set_tangent(*first, job.leg * d);
-        // The bifurcation point itself starts the leg: the old orbit taken twice round, where
+        set_tangent(*first, d);
+        // The bifurcation point itself starts the branch: the old orbit taken twice round, where
         // the new branch meets it.
         // (Taken as it is: at the branch point Newton's matrix is singular.)
         std::optional<arc_point> start = correct(sys.as_function(), job.seed.u, d, m_opt.arclength.tolerance, 0);
         if (start) {
-            start->t = job.leg * d;
+            start->t = d;
             first->s = (first->u - start->u).norm();
         }
         follow(sys, std::move(*first), rec);
@@ -301,11 +301,22 @@ public:
         rec.branch.chart_coordinate = job.chart;
         rec.branch.parent = job.parent;
         rec.branch.origin = job.origin;
-        rec.branch.leg = job.leg;
         return rec;
     }
 
 private:
+    // The smallest d dividing k with the orbit's d-th return on its first point (to 1e-7 of
+    // its size): k for a genuine period-k orbit.
+    static int minimal_returns(const orbit_map_value& o, int k)
+    {
+        const double scale = 1.0 + o.x.cwiseAbs().maxCoeff();
+        for (int d = 1; d < k; ++d)
+            if (k % d == 0 && static_cast<std::size_t>(d) <= o.crossings.size() &&
+                (o.crossings[static_cast<std::size_t>(d - 1)] - o.x).cwiseAbs().maxCoeff() <= 1e-7 * scale)
+                return d;
+        return k;
+    }
+
     static double half_way_distance(const orbit_map_value& o, int returns)
     {
         const auto h = static_cast<std::size_t>(returns / 2 - 1);
@@ -344,6 +355,10 @@ private:
                 turn = std::move(t);
                 return step_verdict::stop_before;
             }
+            // A branch of P^2j whose orbit turns into one of P^j is the old branch taken twice
+            // round (it meets the new one at a period doubling): not this branch.
+            if (minimal_returns(b.at.orbit, sys.returns()) < minimal_returns(a.at.orbit, sys.returns()))
+                return step_verdict::reject;
             ++piece_accepted;
             if (!m_opt.detect) return step_verdict::accept;
             const auto fold = [K](const arc_point& p) -> std::optional<double> { return p.t[K]; };
@@ -619,8 +634,8 @@ continuation_result continuation(const model& m, const std::vector<Eigen::Vector
     jo.threads = threads;
     jo.stop = o.cancel;
 
-    // Adds a job's branch (a new orbit only) and its bifurcations; returns the leg jobs of
-    // its period doublings.
+    // Adds a job's branch (a new orbit only) and its bifurcations; returns the switching jobs
+    // of its period doublings.
     std::vector<detail::leg_job> next;
     auto absorb = [&](detail::branch_record&& r, int depth) {
         res.tangent_maps += r.tangent_maps;
@@ -641,18 +656,16 @@ continuation_result continuation(const model& m, const std::vector<Eigen::Vector
             res.bifurcations.push_back(std::move(b));
         }
         if (depth < o.switch_depth)
-            for (const auto& s : r.seeds)
-                for (const int leg : {1, -1}) {
-                    detail::leg_job j;
-                    j.parent = index;
-                    j.origin = first_bif + s.bifurcation;
-                    j.leg = leg;
-                    j.returns = 2 * r.branch.returns;
-                    j.chart = r.branch.chart_coordinate;
-                    j.guess = res.bifurcations[static_cast<std::size_t>(j.origin)].point.state;
-                    j.seed = s;
-                    next.push_back(std::move(j));
-                }
+            for (const auto& s : r.seeds) {
+                detail::leg_job j;
+                j.parent = index;
+                j.origin = first_bif + s.bifurcation;
+                j.returns = 2 * r.branch.returns;
+                j.chart = r.branch.chart_coordinate;
+                j.guess = res.bifurcations[static_cast<std::size_t>(j.origin)].point.state;
+                j.seed = s;
+                next.push_back(std::move(j));
+            }
         res.branches.push_back(std::move(r.branch));
     };
 

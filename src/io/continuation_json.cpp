@@ -78,7 +78,6 @@ json continuation_json(const model& m, const continuation_options& o, const cont
         branch_info.push_back({{"returns", br.returns},
                                {"parent", br.parent >= 0 ? json(br.parent) : json(nullptr)},
                                {"origin", br.origin >= 0 ? json(br.origin) : json(nullptr)},
-                               {"leg", br.leg},
                                {"points", br.points.size()},
                                {"end", std::string(to_string(br.end))},
                                {"failure", std::string(to_string(br.failure))}});

@@ -34,9 +34,10 @@
 //
 // Branch switching at a period doubling of P^k: the fixed points of P^2k near it form a
 // pitchfork whose legs leave the bifurcation point u* along +-v (v the eigenvector of DP for
-// -1); each leg is started at z* +- eps v with that component held fixed, then continued like
-// any branch. The two legs are the same orbit (P^k maps one onto the other); each is
-// reported, so that a diagram of the first section point shows both of its points.
+// -1). The two legs are the same orbit (P^k maps one onto the other), so one is followed: it
+// is started at z* + eps v with that component held fixed, then continued like any branch
+// (all its section points are in every point). A step of a branch of P^2k onto an orbit of
+// P^k (the old branch taken twice round, which crosses it at u*) is refused.
 #include <atomic>
 #include <complex>
 #include <string>
@@ -145,7 +146,6 @@ struct continuation_branch {
     int chart_coordinate = 0;
     int parent = -1;       // the branch it was switched from
     int origin = -1;       // the bifurcation (index in continuation_result::bifurcations)
-    int leg = 0;           // +1 / -1 for the two legs of a switched branch
     std::vector<continuation_point> points;
     branch_end end = branch_end::range;
     outcome failure = outcome::ok;  // end == failed: the map's outcome

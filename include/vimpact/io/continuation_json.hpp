@@ -5,7 +5,7 @@
 //   branches: one list of points per branch, each point {param, stable, multipliers [[re, im]]
 //     (trivial first), period, impacts, impacts_by_surface {surface: n}, state, section_points,
 //     closure, arclength};
-//   branch_info: per branch {returns, parent, origin, leg, points, end, failure};
+//   branch_info: per branch {returns, parent, origin, points, end, failure};
 //   bifurcations: {type, param, branch, after_point, located, bracket, state, section_points, period,
 //     multipliers, section_multipliers, surface, time, sequence_before, sequence_after};
 //   with curves: param2, range2, curves: {type, origin, surface, start, end_backward,
