@@ -13,7 +13,8 @@ attribute names::
 Period or Simulation), ``bifurcation`` (Sweep), ``map`` (Map), ``basins`` (Basins),
 ``response`` (Response), ``timeseries_overlay`` (several Simulations), ``floquet``,
 ``lyapunov``, ``floquet_sweep``, ``lyapunov_sweep``, ``continuation`` (Continuation: branches,
-bifurcations and two-parameter curves). The state variable drawn is the result's
+bifurcations and two-parameter curves; several together), ``curves`` (the two-parameter plane
+over a Map). The state variable drawn is the result's
 ``plot_variable`` (the model's first state variable).
 
 Command line: ``vimpact COMMAND ... --out DIR`` runs ``python3 -m vimpact.plot KIND DIR``,
@@ -32,7 +33,7 @@ import numpy as np
 
 from .plot_common import (coincident_limits, finish_figure, label_axis, legend_outside, new_figure, plot_index,
                           section_name, state_name, suptitle, surface_levels, title)
-from .plot_continuation import continuation  # noqa: F401
+from .plot_continuation import continuation, curves  # noqa: F401
 from .plot_stability import floquet, floquet_sweep, lyapunov, lyapunov_sweep  # noqa: F401
 from .plot_sweeps import basins, bifurcation, periodicity_map, response, timeseries_overlay  # noqa: F401
 from .results import (Basins, Floquet, FloquetSweep, Lyapunov, LyapunovSweep, Map, Period, Response,  # noqa: F401

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <Eigen/LU>
@@ -50,12 +51,55 @@ arc_settings settings_of(const arclength_options& a, double range, std::vector<a
 
 void set_tangent(arc_point& p, const Eigen::VectorXd& orient) { p.t = null_direction(p.at.J, orient); }
 
+namespace {
+
+// One Newton step of the bordered system [J; d^T] du = -[F; d . (u - u_pred)].
+std::optional<Eigen::VectorXd> newton_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& F, const Eigen::VectorXd& d,
+                                           const Eigen::VectorXd& u, const Eigen::VectorXd& u_pred)
+{
+    const Eigen::Index n = F.size();
+    Eigen::MatrixXd A(n + 1, n + 1);
+    A.topRows(n) = J;
+    A.row(n) = d.transpose();
+    Eigen::VectorXd rhs(n + 1);
+    rhs.head(n) = -F;
+    rhs[n] = -d.dot(u - u_pred);
+    Eigen::VectorXd du = A.fullPivLu().solve(rhs);
+    if (!du.allFinite()) return std::nullopt;
+    return du;
+}
+
+}  // namespace
+
 std::optional<arc_point> correct(const arc_system& f, const Eigen::VectorXd& u_pred, const Eigen::VectorXd& d,
-                                 double tol, int iterations, outcome* last_failure)
+                                 double tol, int iterations, outcome* last_failure, const Eigen::MatrixXd* chord)
 {
     Eigen::VectorXd u = u_pred;
     double first = -1.0;
-    for (int it = 0; it <= iterations; ++it) {
+    int it = 0, chorded = 0;
+    if (chord && chord->rows() > 0) {
+        // Chord iterations while they converge fast; what they reach is checked (and finished)
+        // by the full iterations below, which also evaluate the Jacobian at the solution.
+        double last = -1.0;
+        Eigen::VectorXd best = u;
+        for (; it < iterations; ++it) {
+            const arc_eval e = f(u, false);
+            const double norm = e.ok() ? max_abs(e.F) : std::numeric_limits<double>::quiet_NaN();
+            if (!std::isfinite(norm) || (last >= 0.0 && norm > 0.5 * last)) {
+                u = best;  // the full iterations go on from the best iterate
+                break;
+            }
+            best = u;
+            if (first < 0.0) first = norm;
+            if (norm <= tol) break;
+            const auto du = newton_step(*chord, e.F, d, u, u_pred);
+            if (!du) break;
+            u += *du;
+            last = norm;
+        }
+        chorded = it;
+    }
+    for (; it <= iterations; ++it) {
         arc_eval e = f(u, true);
         if (!e.ok()) {
             if (last_failure) *last_failure = e.status;
@@ -68,22 +112,16 @@ std::optional<arc_point> correct(const arc_system& f, const Eigen::VectorXd& u_p
             arc_point p;
             p.u = u;
             p.at = std::move(e);
-            p.iterations = it;
+            p.iterations = it - chorded;
+            p.chord_iterations = chorded;
             return p;
         }
         // A corrector that moves away from the curve has left the predictor's basin.
         if (it > 0 && norm > 1e3 * std::max(first, tol)) return std::nullopt;
         if (it == iterations) break;
-        const Eigen::Index n = e.F.size();
-        Eigen::MatrixXd A(n + 1, n + 1);
-        A.topRows(n) = e.J;
-        A.row(n) = d.transpose();
-        Eigen::VectorXd rhs(n + 1);
-        rhs.head(n) = -e.F;
-        rhs[n] = -d.dot(u - u_pred);
-        const Eigen::VectorXd du = A.fullPivLu().solve(rhs);
-        if (!du.allFinite()) return std::nullopt;
-        u += du;
+        const auto du = newton_step(e.J, e.F, d, u, u_pred);
+        if (!du) return std::nullopt;
+        u += *du;
     }
     return std::nullopt;
 }
@@ -129,7 +167,7 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
                 return curve;
             }
             outcome why = outcome::ok;
-            b = correct(f, a.u + ds * a.t, a.t, s.tolerance, s.newton_iterations, &why);
+            b = correct(f, a.u + ds * a.t, a.t, s.tolerance, s.newton_iterations, &why, &a.at.J);
             if (b) {
                 set_tangent(*b, a.t);
                 // Too sharp a turn: the step jumped to another curve or cut a corner.
@@ -185,7 +223,8 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
             curve.stopped = true;
             return curve;
         }
-        const int its = b->iterations;
+        // The corrector's effort: a chord iteration (no tangent flow) counts half.
+        const double its = b->iterations + 0.5 * b->chord_iterations;
         creeping = (b->u - a.u).norm() < s.stall_step ? creeping + 1 : 0;
         const bool closed = !on_bound && curve.points.size() >= 8 &&
                             (b->u - curve.points.front().u).norm() < 0.5 * ds && b->t.dot(curve.points.front().t) > 0.0;
@@ -206,8 +245,8 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
             curve.end = branch_end::step_limit;
             return curve;
         }
-        if (its <= 3) ds = std::min(1.5 * ds, s.max_step);
-        else if (its >= 6) ds *= 0.6;
+        if (its <= 3.0) ds = std::min(1.5 * ds, s.max_step);
+        else if (its >= 6.0) ds *= 0.6;
     }
 }
 

@@ -30,15 +30,20 @@ struct arc_point {
     Eigen::VectorXd u;
     Eigen::VectorXd t;       // unit tangent, oriented along the curve
     arc_eval at;             // with J
-    int iterations = 0;
+    int iterations = 0;      // corrector iterations with the Jacobian
+    int chord_iterations = 0;  // and with the previous point's (see correct)
     double s = 0.0;          // arclength from the curve's first point
 };
 
-// Newton's method on F(u) = 0, d . (u - u_pred) = 0 from u_pred, until |F|_inf <= tol; every
-// iterate evaluated with its Jacobian, so the result carries J at the solution. nullopt when it
-// does not converge (last_failure: the map's outcome if the map failed).
+// Newton's method on F(u) = 0, d . (u - u_pred) = 0 from u_pred, until |F|_inf <= tol; the
+// result carries J at the solution. With `chord` (the Jacobian of a nearby point, the last of
+// the curve) the iterates are first evaluated without their Jacobian and corrected with that
+// one (a chord method: a map run without the tangent flow costs a fraction of one with it),
+// as long as each step at least halves |F|; then with their own. nullopt when it does not
+// converge (last_failure: the map's outcome if the map failed).
 std::optional<arc_point> correct(const arc_system& f, const Eigen::VectorXd& u_pred, const Eigen::VectorXd& d,
-                                 double tol, int iterations, outcome* last_failure = nullptr);
+                                 double tol, int iterations, outcome* last_failure = nullptr,
+                                 const Eigen::MatrixXd* chord = nullptr);
 
 // The unit null vector of J (n x (n + 1)), oriented to have a positive dot product with
 // `orient` (or a positive last component when orient is empty).

@@ -532,7 +532,8 @@ private:
                 point_at(fw, *F, probe_step, m_settings.tolerance, m_settings.newton_iterations);
             const std::optional<double> gp = probe ? test(*probe) : std::nullopt;
             if (!gp) return turn;
-            if (std::abs(*gp) > std::abs(*gF)) F->t = -F->t;
+            // Away from 0 on the same side: the other way (a probe that crossed 0 went right).
+            if ((*gp > 0.0) == (*gF > 0.0) && std::abs(*gp) > std::abs(*gF)) F->t = -F->t;
         }
         std::optional<arc_point> before, after_g;
         if (*gF == 0.0) {
@@ -542,6 +543,7 @@ private:
             march.max_points = 100;
             march.step = std::min(m_settings.step, std::max(march.min_step, std::abs(*gF)));
             march.bounds.clear();
+            march.stall_step = 0.0;  // short steps are the point here
             (void)follow_curve(fw, *F, march, [&](const arc_point& a, const arc_point& b) {
                 const auto ga = test(a), gb = test(b);
                 if (!ga || !gb) return step_verdict::stop_before;

@@ -45,47 +45,32 @@ orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent) const
     }
 }
 
-Eigen::VectorXd orbit_system::parameter_derivative(const Eigen::VectorXd& u, int j) const
+Eigen::VectorXd orbit_system::parameter_derivative(const Eigen::VectorXd& u, int j, const orbit_map_value& centre) const
 {
     const int K = chart_size();
     const double p = u[K + j];
-    const Eigen::VectorXd none = Eigen::VectorXd::Constant(K, std::numeric_limits<double>::quiet_NaN());
-    // A central difference of step h, one-sided where one side fails (the end of the
-    // parameter's valid range, an orbit beyond a surface).
-    std::optional<orbit_map_value> centre;
-    auto difference = [&](double h) -> Eigen::VectorXd {
-        Eigen::VectorXd up = u, dn = u;
-        up[K + j] += h;
-        dn[K + j] -= h;
-        const orbit_map_value a = map(up, false);
-        const orbit_map_value b = map(dn, false);
-        if (a.ok() && b.ok()) return (a.residual - b.residual) / (2.0 * h);
-        if (!centre) centre = map(u, false);
-        if (a.ok() && centre->ok()) return (a.residual - centre->residual) / h;
-        if (b.ok() && centre->ok()) return (centre->residual - b.residual) / h;
-        return none;
-    };
-    // The central difference errs by about h^2 |G'''| + eps / h, the map accurate to eps
-    // (1e-12 at the default tolerances): some 1e-7 relative for the first step. Near a grazing
-    // G changes on the scale of v^2 (v the smallest impact velocity), so a fixed step is
-    // useless there: the step is cut by 4 until two successive differences agree.
-    double h = 1e-5 * std::max(1.0, std::abs(p));
-    Eigen::VectorXd d1 = difference(h);
-    Eigen::VectorXd best = d1;
-    double best_change = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 8 && d1.allFinite(); ++k) {
-        h *= 0.25;
-        const Eigen::VectorXd d2 = difference(h);
-        if (!d2.allFinite()) break;
-        const double change = (d2 - d1).cwiseAbs().maxCoeff();
-        if (change < best_change) {
-            best_change = change;
-            best = d2;
-        }
-        if (change <= 1e-6 * std::max(1.0, d2.cwiseAbs().maxCoeff())) return d2;
-        d1 = d2;
-    }
-    return best.allFinite() ? best : none;
+    // The map is smooth in p on the scale of the orbit's distance to grazing: v^2 for an impact
+    // of normal velocity v (a free flight would go about v^2 / (2 g'') deep), g for a gap
+    // minimum g > 0. A central difference of step h errs by about h^2 |G'''| + eps / h, the map
+    // accurate to eps (1e-12 at the default tolerances): h = 1e-6 max(1, |p|) away from
+    // grazing, a thousandth of that scale near it.
+    double scale = std::numeric_limits<double>::infinity();
+    for (const auto& i : centre.impacts) scale = std::min(scale, i.velocity * i.velocity);
+    for (const auto& g : centre.gap_minima)
+        if (g.gap > 0.0) scale = std::min(scale, g.gap);
+    const double size = std::max(1.0, std::abs(p));
+    const double h = std::max(std::min(1e-6 * size, 1e-3 * scale), 1e-11 * size);
+    Eigen::VectorXd up = u, dn = u;
+    up[K + j] += h;
+    dn[K + j] -= h;
+    const orbit_map_value a = map(up, false);
+    const orbit_map_value b = map(dn, false);
+    // One-sided where one side fails (the end of the parameter's valid range, an orbit beyond
+    // a surface).
+    if (a.ok() && b.ok()) return (a.residual - b.residual) / (2.0 * h);
+    if (a.ok() && centre.ok()) return (a.residual - centre.residual) / h;
+    if (b.ok() && centre.ok()) return (centre.residual - b.residual) / h;
+    return Eigen::VectorXd::Constant(K, std::numeric_limits<double>::quiet_NaN());
 }
 
 arc_eval orbit_system::operator()(const Eigen::VectorXd& u, bool jacobian) const
@@ -99,7 +84,7 @@ arc_eval orbit_system::operator()(const Eigen::VectorXd& u, bool jacobian) const
     const int K = chart_size();
     e.J.resize(K, K + parameter_count());
     e.J.leftCols(K) = e.orbit.residual_jacobian;
-    for (int j = 0; j < parameter_count(); ++j) e.J.col(K + j) = parameter_derivative(u, j);
+    for (int j = 0; j < parameter_count(); ++j) e.J.col(K + j) = parameter_derivative(u, j, e.orbit);
     if (!e.J.allFinite()) e.status = outcome::non_finite;
     return e;
 }

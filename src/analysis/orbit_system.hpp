@@ -47,8 +47,10 @@ public:
     [[nodiscard]] orbit_map_value map(const Eigen::VectorXd& u, bool tangent) const;
     // G at u, with [G_z G_p] when `jacobian`.
     [[nodiscard]] arc_eval operator()(const Eigen::VectorXd& u, bool jacobian) const;
-    // dG/dp_j at u by differences of the map (NaN-filled when the map fails on both sides).
-    [[nodiscard]] Eigen::VectorXd parameter_derivative(const Eigen::VectorXd& u, int j) const;
+    // dG/dp_j at u by a central difference of the map, its step scaled to the orbit's distance
+    // to grazing (`centre`: the map at u); NaN-filled when the map fails on both sides.
+    [[nodiscard]] Eigen::VectorXd parameter_derivative(const Eigen::VectorXd& u, int j,
+                                                       const orbit_map_value& centre) const;
 
     [[nodiscard]] arc_system as_function() const
     {

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Cost of continuation against Floquet points (bench/continuation_bench.cpp), medians of 5
+# repetitions in one run: the P1 branch over 12 <= Ur <= 15.1 with its period doubling, its
+# time per point, and the ratios to a Floquet point from a point (Newton and monodromy) and to
+# a whole Floquet analysis (the protocol first). Prints the table of docs/continuation.md.
+# Usage: bash bench/run_continuation_bench.sh   (BUILD_DIR=DIR, default build)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${BUILD_DIR:-build}
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build "$build" -j"$(nproc)" --target continuation_bench > /dev/null
+tmp=$(mktemp)
+trap 'rm -f "$tmp"' EXIT
+"$build"/continuation_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+    --benchmark_format=json > "$tmp" 2> /dev/null
+/usr/bin/python3 - "$tmp" <<'PY'
+import json, sys
+runs = {b["run_name"]: b for b in json.load(open(sys.argv[1]))["benchmarks"] if b.get("aggregate_name") == "median"}
+branch = runs["p1_branch_with_its_period_doubling"]
+point = branch["real_time"] / branch["points"]
+near = runs["floquet_from_a_point"]["real_time"]
+full = runs["floquet_with_its_protocol"]["real_time"]
+print(f"| measure (medians of 5, one run) | value |")
+print(f"|---|---|")
+print(f"| P1 branch, Ur 12 -> 15.1, {branch['points']:.0f} points, period doubling at Ur = {branch['pd_Ur']:.10f} "
+      f"| {branch['real_time']:.1f} ms |")
+print(f"| section-map evaluations of the branch (with tangent / without) | {branch['tangent_maps']:.0f} / "
+      f"{branch['plain_maps']:.0f} |")
+print(f"| one continuation point (branch time / points) | {point:.2f} ms |")
+print(f"| one Floquet point from a point (Newton + monodromy) | {near:.2f} ms |")
+print(f"| one Floquet point with its protocol (a stability sweep's) | {full:.2f} ms |")
+print(f"| continuation point / Floquet point from a point | {point / near:.2f} |")
+print(f"| continuation point / Floquet point with its protocol | {point / full:.3f} |")
+PY
