@@ -35,7 +35,7 @@ grid = vimpact.map(model, ("Ur", vimpact.grid(12, 25, pick(66, 6))), ("sigma", v
                    tol=1e-5, **PROTOCOL)
 curves = [
     # The P1 orbit's period doubling, and the P2 branch's grazing and period doubling.
-    vimpact.continuation(model, "Ur", (12, 19), switch=1, param2="sigma", range2=sigma, **PROTOCOL),
+    vimpact.continuation(model, "Ur", (12, 25), switch=1, param2="sigma", range2=sigma, **PROTOCOL),
     # The barrier-free orbit's grazing: the grazing line, from sigma at Ur = 25.
     vimpact.continuation(model.with_(Ur=25, sigma=-0.2), "sigma", (-0.2, -0.1), param2="Ur", range2=(12, 25),
                          **PROTOCOL),

@@ -376,7 +376,10 @@ private:
                 const auto loc = locate(f, a, b, test, m_opt.locate_tolerance, m_settings);
                 if (!loc) continue;
                 const continuation_point c = sys.to_point(loc->point);
-                if (type == bifurcation_type::neimark_sacker && !complex_pair_on_circle(c.section_multipliers)) continue;
+                // A test function also changes sign where a multiplier passes through infinity,
+                // or the tangent turns at a non-smooth point (a grazing): only a multiplier at
+                // +1, -1 or a complex pair on the circle makes the bifurcation.
+                if (!has_critical_multiplier(c.section_multipliers, type)) continue;
                 bifurcation bf;
                 bf.type = type;
                 bf.after_point = after;
@@ -591,11 +594,17 @@ private:
         return turn;
     }
 
-    // A complex pair of DP at the unit circle (a Neimark-Sacker point, not a neutral saddle).
-    static bool complex_pair_on_circle(const std::vector<std::complex<double>>& mu)
+    // The multiplier of the bifurcation at a located point: +1 (fold), -1 (period doubling),
+    // or a complex pair on the unit circle (Neimark-Sacker, not a neutral saddle).
+    static bool has_critical_multiplier(const std::vector<std::complex<double>>& mu, bifurcation_type type)
     {
-        for (const auto& m : mu)
-            if (std::abs(m.imag()) > 1e-6 && std::abs(std::abs(m) - 1.0) < 1e-4) return true;
+        for (const auto& m : mu) {
+            if (type == bifurcation_type::neimark_sacker && std::abs(m.imag()) > 1e-6 &&
+                std::abs(std::abs(m) - 1.0) < 1e-4)
+                return true;
+            if (type == bifurcation_type::fold && std::abs(m - 1.0) < 1e-3) return true;
+            if (type == bifurcation_type::period_doubling && std::abs(m + 1.0) < 1e-3) return true;
+        }
         return false;
     }
 
