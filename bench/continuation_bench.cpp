@@ -1,6 +1,7 @@
 // Cost of continuation (paper preset, sigma = -0.150298, the maxima of y), through the library:
 //  - the whole P1 branch over 12 <= Ur <= 15.1 from the attractor at Ur = 12, its period
 //    doubling located to 1e-10 (counters: points, bifurcations, map evaluations);
+//  - the same branch from a point of the orbit (the continuation alone, no protocol first);
 //  - per point of that branch (its time over its points) against a Floquet point at the same
 //    tolerances: Newton shooting and the monodromy from a point near the orbit
 //    (floquet_from_point, the like-for-like part: no transient), and the whole Floquet analysis
@@ -46,6 +47,23 @@ void p1_branch_with_its_period_doubling(benchmark::State& state)
     state.counters["pd_Ur"] = r.bifurcations.empty() ? 0.0 : r.bifurcations[0].parameter;
 }
 BENCHMARK(p1_branch_with_its_period_doubling)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+// The same branch from a point of the orbit (no protocol first): the continuation alone.
+void p1_branch_from_a_point(benchmark::State& state)
+{
+    const auto m = paper(12.0);
+    auto o = p1_branch();
+    o.from_attractor = false;
+    o.returns = 1;
+    const auto start = vimpact::floquet(m, m.initial_state(), {}).orbit_point;
+    vimpact::continuation_result r;
+    for (auto _ : state) {
+        r = vimpact::continuation(m, {start}, o, 1);
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["points"] = static_cast<double>(r.branches.at(0).points.size());
+}
+BENCHMARK(p1_branch_from_a_point)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 // A Floquet point on the same branch (Ur = 14, P1): Newton and monodromy from a point of the
 // orbit's neighbourhood on the section.

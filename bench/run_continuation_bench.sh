@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Cost of continuation against Floquet points (bench/continuation_bench.cpp), medians of 5
-# repetitions in one run: the P1 branch over 12 <= Ur <= 15.1 with its period doubling, its
-# time per point, and the ratios to a Floquet point from a point (Newton and monodromy) and to
+# repetitions in one run: the P1 branch over 12 <= Ur <= 15.1 with its period doubling (from the
+# attractor, and from a point of the orbit: the continuation alone), its time per point, and the ratios to a Floquet point from a point (Newton and monodromy) and to
 # a whole Floquet analysis (the protocol first). Prints the table of docs/continuation.md.
 # Usage: bash bench/run_continuation_bench.sh   (BUILD_DIR=DIR, default build)
 set -euo pipefail
@@ -15,9 +15,10 @@ trap 'rm -f "$tmp"' EXIT
     --benchmark_format=json > "$tmp" 2> /dev/null
 /usr/bin/python3 - "$tmp" <<'PY'
 import json, sys
-runs = {b["run_name"]: b for b in json.load(open(sys.argv[1]))["benchmarks"] if b.get("aggregate_name") == "median"}
+runs = {b["run_name"].split("/")[0]: b for b in json.load(open(sys.argv[1]))["benchmarks"] if b.get("aggregate_name") == "median"}
 branch = runs["p1_branch_with_its_period_doubling"]
-point = branch["real_time"] / branch["points"]
+alone = runs["p1_branch_from_a_point"]
+point = alone["real_time"] / alone["points"]
 near = runs["floquet_from_a_point"]["real_time"]
 full = runs["floquet_with_its_protocol"]["real_time"]
 print(f"| measure (medians of 5, one run) | value |")
@@ -26,7 +27,8 @@ print(f"| P1 branch, Ur 12 -> 15.1, {branch['points']:.0f} points, period doubli
       f"| {branch['real_time']:.1f} ms |")
 print(f"| section-map evaluations of the branch (with tangent / without) | {branch['tangent_maps']:.0f} / "
       f"{branch['plain_maps']:.0f} |")
-print(f"| one continuation point (branch time / points) | {point:.2f} ms |")
+print(f"| the same branch from a point of the orbit (no protocol first) | {alone['real_time']:.1f} ms |")
+print(f"| one continuation point (that time / points) | {point:.2f} ms |")
 print(f"| one Floquet point from a point (Newton + monodromy) | {near:.2f} ms |")
 print(f"| one Floquet point with its protocol (a stability sweep's) | {full:.2f} ms |")
 print(f"| continuation point / Floquet point from a point | {point / near:.2f} |")
