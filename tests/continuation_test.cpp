@@ -273,6 +273,31 @@ TEST(Continuation, GrazingIsWhereTheClosedFormsInteriorMinimumTouchesTheBarrier)
     EXPECT_LE(std::abs(g[0]->point.min_gap[0]), 1e-9);
 }
 
+// From the side without the impact, past the grazing onto the family with the new impact: the
+// 1:1 orbit at omega = 0.8 whose interior minimum reaches the barrier goes on as an orbit with
+// two impacts per period, every point of which is a fixed point of the exact map.
+TEST(Continuation, PastAGrazingOntoTheFamilyWithTheNewImpact)
+{
+    const model m = oscillator(0.8);
+    const auto o = sigma_options(m, -1.0, -0.3);
+    const auto res = vimpact::continuation(m, {Eigen::Vector3d(0.5, 0.0, 0.0)}, o, 1);
+    ASSERT_EQ(res.status, outcome::ok);
+    const auto& b = res.branches[0];
+    const auto g = of_type(res, bifurcation_type::grazing, 0);
+    ASSERT_GE(g.size(), 1U);
+    EXPECT_EQ(g[0]->sequence_after, (std::vector<int>{0, 0}));
+    // Points past the grazing with two impacts per period.
+    vimpact::continuation_branch past = b;
+    past.points.clear();
+    for (std::size_t k = static_cast<std::size_t>(g[0]->after_point) + 1; k < b.points.size(); ++k)
+        if (b.points[k].impacts() == 2) past.points.push_back(b.points[k]);
+    std::printf("past the grazing at sigma = %.9f: %zu points with two impacts, sigma %.6f .. %.6f; branch ends %s\n",
+                g[0]->parameter, past.points.size(), past.points.empty() ? NAN : past.points.front().parameter,
+                past.points.empty() ? NAN : past.points.back().parameter, std::string(vimpact::to_string(b.end)).c_str());
+    ASSERT_GE(past.points.size(), 5U);
+    check_points_exact(m, past, 1, "two-impact branch past the grazing");
+}
+
 // ---- Neimark-Sacker ---------------------------------------------------------------------------
 
 // A forced linear oscillator whose damping c may be negative (a model file), its barrier far
@@ -476,8 +501,38 @@ TEST(ContinuationPaper, UnstableP2MultipliersEqualFiniteDifferencesOfTheSectionM
     EXPECT_EQ(p2.end, vimpact::branch_end::range);
 }
 
+// The stable P2 followed downward from Ur = 16 reaches its grazing (its second minimum touches
+// the barrier), goes on as the unstable P2 with two impacts per period, and turns where it
+// meets P1 taken twice: the P1 period doubling (a pitchfork of P^2), located on the P1 family
+// from this side to the P1 branch's own value, to 1e-8.
+TEST(ContinuationPaper, TheStableP2LeadsBackToThePeriodDoublingOfP1)
+{
+    const model m = vimpact::test::paper(16.0);
+    const auto from_p1 = vimpact::continuation(vimpact::test::paper(14.0), {vimpact::test::paper_ic()},
+                                               paper_options(14.0, 15.3), 1);
+    const double pd = pds_parameter(from_p1);
+    const auto res = vimpact::continuation(m, {vimpact::test::paper_ic()}, paper_options(16.0, 14.5), 1);
+    ASSERT_EQ(res.status, outcome::ok);
+    EXPECT_EQ(res.start_label, "P2");
+    const auto g = of_type(res, bifurcation_type::grazing, 0);
+    const auto pds = of_type(res, bifurcation_type::period_doubling, 0);
+    ASSERT_GE(g.size(), 1U);
+    ASSERT_EQ(pds.size(), 1U);
+    EXPECT_TRUE(of_type(res, bifurcation_type::fold, 0).empty());
+    std::printf("stable P2 from Ur = 16: grazing at %.10f, P1's period doubling met at %.12f (from the P1 branch %.12f)\n",
+                g[0]->parameter, pds[0]->parameter, pd);
+    EXPECT_NEAR(pds[0]->parameter, pd, 1e-8);
+    EXPECT_EQ(g[0]->sequence_before.size(), 1U);
+    EXPECT_EQ(g[0]->sequence_after.size(), 2U);
+    // The point is the P1 orbit: one section point, a multiplier at -1.
+    EXPECT_EQ(pds[0]->point.section_points.size(), 1U);
+    EXPECT_NEAR(pds[0]->point.section_multipliers[0].real(), -1.0, 1e-6);
+    // Past it the branch runs back down to the grazing on its other leg.
+    EXPECT_GE(g.size(), 2U);
+}
+
 // In sigma at Ur = 25 the barrier-free orbit (P0) is followed up to where its minimum of y
-// reaches the barrier: the grazing analysis's value.
+// reaches the barrier: the grazing analysis's value; past it, onto the impacting orbits.
 TEST(ContinuationPaper, GrazingOfTheBarrierFreeOrbitIsTheGrazingValue)
 {
     const model m = vimpact::test::paper(25.0, -0.2);
@@ -497,7 +552,12 @@ TEST(ContinuationPaper, GrazingOfTheBarrierFreeOrbitIsTheGrazingValue)
     const double expected = gr.surfaces[0].parameter_value;
     std::printf("grazing by continuation %.12f, by the grazing analysis %.12f\n", g[0]->parameter, expected);
     EXPECT_NEAR(g[0]->parameter, expected, 1e-8);
-    EXPECT_EQ(res.branches[0].end, vimpact::branch_end::grazing);
+    // Past it the orbit hits the barrier: the branch goes on with an impact per period.
+    const auto& pts = res.branches[0].points;
+    ASSERT_GT(pts.size(), static_cast<std::size_t>(g[0]->after_point) + 2);
+    EXPECT_EQ(pts[static_cast<std::size_t>(g[0]->after_point)].impacts(), 0);
+    EXPECT_GE(pts.back().impacts(), 1);
+    EXPECT_GT(pts.back().parameter, expected);
 }
 
 // ---- two-parameter curves ---------------------------------------------------------------------

@@ -19,6 +19,7 @@
 namespace vimpact {
 
 using detail::arc_point;
+using detail::forced_system;
 using detail::orbit_system;
 
 long continuation_point::impacts() const
@@ -167,6 +168,7 @@ struct switch_seed {
     int bifurcation = -1;   // local index
     Eigen::VectorXd u;      // the bifurcation point
     Eigen::VectorXd v;      // eigenvector of DP for -1 (chart coordinates)
+    orbit_map_value orbit;  // the orbit there
 };
 
 struct branch_record {
@@ -305,6 +307,64 @@ public:
     }
 
 private:
+    // Two orbits of the same returns are the same (to `tol` of their size) from any of their
+    // section points: the one started from a shifted point of the other.
+    static bool same_orbit(const orbit_map_value& a, const orbit_map_value& b, double tol)
+    {
+        const std::size_t k = a.crossings.size();
+        if (k == 0 || k != b.crossings.size()) return false;
+        const double scale = tol * (1.0 + a.x.cwiseAbs().maxCoeff());
+        // Section point i of an orbit: x for i = 0, else its i-th return.
+        const auto at = [k](const orbit_map_value& o, std::size_t i) -> const Eigen::VectorXd& {
+            return i % k == 0 ? o.x : o.crossings[i % k - 1];
+        };
+        for (std::size_t shift = 0; shift < k; ++shift) {
+            bool all = true;
+            for (std::size_t i = 0; i < k && all; ++i) all = (at(a, i + shift) - at(b, i)).cwiseAbs().maxCoeff() <= scale;
+            if (all) return true;
+        }
+        return false;
+    }
+
+    // Where a branch of P^2j turns next to an orbit of P^j (its half-way return within 1e-2 of
+    // its first point): that orbit's period doubling, located on the P^j family by its test
+    // function between two points on either side.
+    std::optional<bifurcation> half_period_doubling(const orbit_system& sys, const arc_point& near) const
+    {
+        const int k = sys.returns();
+        const int K = sys.chart_size();
+        const double scale = 1.0 + near.at.orbit.x.cwiseAbs().maxCoeff();
+        if (k % 2 != 0 || half_way_distance(near.at.orbit, k) > 1e-2 * scale) return std::nullopt;
+        const orbit_system half = sys.with_returns(k / 2);
+        const arc_system fh = half.as_function();
+        Eigen::VectorXd hold = Eigen::VectorXd::Zero(K + 1);
+        hold[K] = 1.0;
+        std::optional<arc_point> mid = correct(fh, near.u, hold, m_settings.tolerance, 2 * m_settings.newton_iterations);
+        if (!mid || minimal_returns(mid->at.orbit, k / 2) != k / 2) return std::nullopt;
+        set_tangent(*mid, hold);
+        const auto pd = [](const arc_point& p) -> std::optional<double> {
+            return multiplier_test(p.at.orbit.section_multipliers, bifurcation_type::period_doubling);
+        };
+        for (const double ds : {1e-4 * m_range, 1e-3 * m_range, 1e-2 * m_range}) {
+            const auto a = point_at(fh, *mid, -ds, m_settings.tolerance, m_settings.newton_iterations);
+            const auto b = point_at(fh, *mid, ds, m_settings.tolerance, m_settings.newton_iterations);
+            if (!a || !b) continue;
+            const auto fa = pd(*a), fb = pd(*b);
+            if (!fa || !fb || !(*fa * *fb < 0.0)) continue;
+            const auto loc = locate(fh, *a, *b, pd, m_opt.locate_tolerance, m_settings);
+            if (!loc) return std::nullopt;
+            bifurcation bf;
+            bf.type = bifurcation_type::period_doubling;
+            bf.point = half.to_point(loc->point);
+            if (!has_critical_multiplier(bf.point.section_multipliers, bf.type)) return std::nullopt;
+            bf.parameter = bf.point.parameter;
+            bf.located = loc->converged;
+            bf.bracket = loc->bracket;
+            return bf;
+        }
+        return std::nullopt;
+    }
+
     // The smallest d dividing k with the orbit's d-th return on its first point (to 1e-7 of
     // its size): k for a genuine period-k orbit.
     static int minimal_returns(const orbit_map_value& o, int k)
@@ -387,15 +447,32 @@ private:
                 bf.parameter = c.parameter;
                 bf.bracket = loc->bracket;
                 bf.point = c;
-                if (type == bifurcation_type::period_doubling)
+                // The turn of a branch of P^2j at an orbit of P^j is that orbit's period
+                // doubling (a pitchfork of P^2j), not a fold; it is located on the P^j family,
+                // where it is a regular point (the branch itself crosses the doubled orbit
+                // there and cannot reach it).
+                if (type == bifurcation_type::fold) {
+                    if (auto half = half_period_doubling(sys, loc->point)) {
+                        bf = std::move(*half);
+                        bf.after_point = after;
+                        rec.bifurcations.push_back(std::move(bf));
+                        continue;
+                    }
+                }
+                // A branch that passes a period doubling twice (on the two legs of a loop of
+                // orbits) switches there once.
+                const bool seen = std::any_of(rec.seeds.begin(), rec.seeds.end(), [&](const switch_seed& s) {
+                    return same_orbit(s.orbit, loc->point.at.orbit, 1e-7);
+                });
+                if (type == bifurcation_type::period_doubling && !seen)
                     rec.seeds.push_back({static_cast<int>(rec.bifurcations.size()), loc->point.u,
-                                         flip_vector(loc->point.at.orbit.residual_jacobian)});
+                                         flip_vector(loc->point.at.orbit.residual_jacobian), loc->point.at.orbit});
                 rec.bifurcations.push_back(std::move(bf));
             }
             return step_verdict::accept;
         };
         detail::arc_curve curve = follow_curve(f, std::move(first), m_settings, on_step);
-        std::optional<Eigen::VectorXd> last_grazing;
+        std::vector<orbit_map_value> grazings;  // the grazing orbits the branch met
         for (;;) {
             for (auto& p : curve.points) points.push_back(std::move(p));
             piece_accepted = 0;
@@ -408,16 +485,27 @@ private:
             }
             if (!turn || !turn->located) break;
             // The grazing orbit ends this piece; it starts the next one if the branch goes on.
-            const bool repeated = last_grazing && (turn->point.u - *last_grazing).norm() <= 1e-9 * (1.0 + turn->point.u.norm());
-            last_grazing = turn->point.u;
-            rec.branch.end = branch_end::grazing;
+            // A grazing met before (from either of the orbit's points on the section): the
+            // branch has gone round a loop of orbits.
+            const bool repeated = std::any_of(grazings.begin(), grazings.end(), [&](const orbit_map_value& o) {
+                return same_orbit(o, turn->point.at.orbit, 1e-7);
+            });
+            grazings.push_back(turn->point.at.orbit);
+            if (repeated) rec.branch.end = branch_end::closed;
+            if (!repeated) rec.branch.end = branch_end::grazing;
             rec.branch.failure = outcome::ok;
             if (!turn->next || repeated || static_cast<long>(points.size()) + 1 >= m_settings.max_points) {
                 points.push_back(std::move(turn->point));
                 break;
             }
+            // The grazing orbit itself, where the next piece does not start from it.
+            if (turn->next->u != turn->point.u) points.push_back(turn->point);
             arc_settings rest = m_settings;
             rest.max_points = m_settings.max_points - static_cast<long>(points.size());
+            // Off a grazing onto the family with the new impact, the corrector's reach grows with
+            // the distance from it: the first step is no longer than that distance.
+            if (turn->next->u != turn->point.u)
+                rest.step = std::clamp((turn->next->u - turn->point.u).norm(), m_settings.min_step, m_settings.step);
             arc_point next = std::move(*turn->next);
             turn.reset();
             curve = follow_curve(f, std::move(next), rest, on_step);
@@ -589,9 +677,66 @@ private:
             const arc_point& clear = *test(*before) > 0.0 ? *before : *after_g;
             if ((clear.u - G.u).dot(G.t) < 0.0) G.t = -G.t;
             turn.next = G;
+        } else if (const auto gm = grazing_minimum(G.at.orbit, w)) {
+            turn.next = onto_impacting_family(sys, w, G, gm->t);
         }
         turn.point = std::move(G);
         return turn;
+    }
+
+    // From the grazing orbit G reached from the side without the impact, onto the family with
+    // it: that family is followed from G with the impact forced (detail::forced_system, smooth
+    // through G) towards impact velocities > 0, until the section map's corrector closes an
+    // orbit with the same impacts next to one of its points; the branch goes on from there.
+    // None when the forced family leaves the range or no such orbit is found in 40 steps.
+    std::optional<arc_point> onto_impacting_family(const orbit_system& sys, const grazing_window& w, const arc_point& G,
+                                                   double t_graze) const
+    {
+        const int K = sys.chart_size();
+        const forced_system forced(sys, w);
+        const arc_system ff = forced.as_function();
+        Eigen::VectorXd U(K + 2);
+        U << G.u, t_graze;
+        Eigen::VectorXd hold_p = Eigen::VectorXd::Zero(K + 2);
+        hold_p[K] = 1.0;
+        std::optional<arc_point> first = correct(ff, U, hold_p, m_settings.tolerance, 2 * m_settings.newton_iterations);
+        if (!first) return std::nullopt;
+        set_tangent(*first, Eigen::VectorXd());
+        // The physical way: the gap decreasing at the forced impact (its velocity > 0).
+        {
+            const std::optional<arc_point> probe =
+                point_at(ff, *first, std::max(m_settings.min_step, 0.01 * m_settings.step), m_settings.tolerance,
+                         m_settings.newton_iterations);
+            if (!probe) return std::nullopt;
+            if (probe->at.orbit.forced_gap_rate > 0.0) first->t = -first->t;
+        }
+        arc_settings st = m_settings;
+        st.max_points = 40;
+        st.step = std::max(m_settings.min_step, 0.1 * m_settings.step);
+        st.stall_step = 0.0;
+        st.bounds = {arc_bound{K, m_bounds.front().lo, m_bounds.front().hi}};
+        Eigen::VectorXd hold = Eigen::VectorXd::Zero(K + 1);
+        hold[K] = 1.0;
+        std::optional<arc_point> found;
+        const arc_system f = sys.as_function();
+        int steps = 0;
+        (void)follow_curve(ff, *first, st, [&](const arc_point&, const arc_point& b) {
+            if (!(b.at.orbit.forced_gap_rate < 0.0)) return step_verdict::stop_before;
+            // A few steps off the grazing first: right next to it the section map's corrector
+            // has no reach.
+            if (++steps < 3) return step_verdict::accept;
+            std::optional<arc_point> c =
+                correct(f, b.u.head(K + 1), hold, m_settings.tolerance, m_settings.newton_iterations);
+            if (c && c->at.orbit.impact_sequence() == b.at.orbit.impact_sequence() &&
+                (c->u - b.u.head(K + 1)).norm() <= 1e-6 * (1.0 + c->u.norm())) {
+                set_tangent(*c, b.t.head(K + 1));
+                found = std::move(c);
+                return step_verdict::stop_after;
+            }
+            return step_verdict::accept;
+        });
+        if (found) found->s = G.s + (found->u - G.u).norm();
+        return found;
     }
 
     // The multiplier of the bifurcation at a located point: +1 (fold), -1 (period doubling),

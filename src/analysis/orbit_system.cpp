@@ -24,7 +24,7 @@ orbit_system orbit_system::with_absent(const grazing_window& w) const
     return {m_base, m_parameters, r};
 }
 
-orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent) const
+orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent, int forced_surface, double forced_time) const
 {
     const int K = chart_size();
     std::vector<double> values = m_base.parameters();
@@ -32,7 +32,9 @@ orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent) const
         values[static_cast<std::size_t>(m_parameters[static_cast<std::size_t>(j)])] = u[K + j];
     orbit_map_request r = m_request;
     r.z = u.head(K);
-    r.tangent = tangent;
+    r.tangent = tangent || forced_surface >= 0;
+    r.forced_surface = forced_surface;
+    r.forced_time = forced_time;
     ++(tangent ? m_tangent_maps : m_plain_maps);
     try {
         return orbit_map(m_base.with_parameters(values), r);
@@ -85,6 +87,43 @@ arc_eval orbit_system::operator()(const Eigen::VectorXd& u, bool jacobian) const
     e.J.resize(K, K + parameter_count());
     e.J.leftCols(K) = e.orbit.residual_jacobian;
     for (int j = 0; j < parameter_count(); ++j) e.J.col(K + j) = parameter_derivative(u, j, e.orbit);
+    if (!e.J.allFinite()) e.status = outcome::non_finite;
+    return e;
+}
+
+orbit_map_value forced_system::map(const Eigen::VectorXd& u) const
+{
+    const int K = m_orbits.chart_size();
+    return m_orbits.map(u.head(K + 1), true, m_surface, u[K + 1]);
+}
+
+arc_eval forced_system::operator()(const Eigen::VectorXd& u, bool jacobian) const
+{
+    const int K = m_orbits.chart_size();
+    arc_eval e;
+    e.orbit = map(u);
+    e.status = e.orbit.status;
+    if (!e.ok()) return e;
+    e.F.resize(K + 1);
+    e.F << e.orbit.residual, e.orbit.forced_gap;
+    if (!jacobian) return e;
+    // The parameter's column by a central difference: the forced family is smooth.
+    const double h = 1e-6 * std::max(1.0, std::abs(u[K]));
+    Eigen::VectorXd up = u, dn = u;
+    up[K] += h;
+    dn[K] -= h;
+    const orbit_map_value a = map(up), b = map(dn);
+    if (!a.ok() || !b.ok()) {
+        e.status = a.ok() ? b.status : a.status;
+        return e;
+    }
+    e.J.resize(K + 1, K + 2);
+    e.J.topLeftCorner(K, K) = e.orbit.residual_jacobian;
+    e.J.block(0, K, K, 1) = (a.residual - b.residual) / (2.0 * h);
+    e.J.block(0, K + 1, K, 1) = e.orbit.residual_time_derivative;
+    e.J.block(K, 0, 1, K) = e.orbit.forced_gap_gradient.transpose();
+    e.J(K, K) = (a.forced_gap - b.forced_gap) / (2.0 * h);
+    e.J(K, K + 1) = e.orbit.forced_gap_rate;
     if (!e.J.allFinite()) e.status = outcome::non_finite;
     return e;
 }

@@ -43,8 +43,10 @@ public:
     // Surface w.surface absent in the time window of w (from the orbit's section point).
     [[nodiscard]] orbit_system with_absent(const grazing_window& w) const;
 
-    // The map at u (status inadmissible for parameters outside their valid range).
-    [[nodiscard]] orbit_map_value map(const Eigen::VectorXd& u, bool tangent) const;
+    // The map at u (status inadmissible for parameters outside their valid range); with
+    // forced_surface >= 0 an impact forced on it at forced_time (orbit_map_request).
+    [[nodiscard]] orbit_map_value map(const Eigen::VectorXd& u, bool tangent, int forced_surface = -1,
+                                      double forced_time = 0.0) const;
     // G at u, with [G_z G_p] when `jacobian`.
     [[nodiscard]] arc_eval operator()(const Eigen::VectorXd& u, bool jacobian) const;
     // dG/dp_j at u by a central difference of the map, its step scaled to the orbit's distance
@@ -69,6 +71,29 @@ private:
     orbit_map_request m_request;
     mutable long m_tangent_maps = 0;
     mutable long m_plain_maps = 0;
+};
+
+// The orbits with an impact on a surface forced at a time t_i, the surface absent around it
+// otherwise (orbit_map_request::forced_surface): unknowns (z, p, t_i), equations G = 0 and the
+// gap at t_i = 0. The family of orbits with that impact is smooth through the grazing orbit
+// (impact velocity 0) in these unknowns, where the section map's Jacobian grows like 1 / v:
+// a continuation follows it a few steps off the grazing onto the impacting family.
+class forced_system {
+public:
+    forced_system(const orbit_system& orbits, const grazing_window& w) : m_orbits(orbits.with_absent(w)), m_surface(w.surface)
+    {
+    }
+    [[nodiscard]] const orbit_system& orbits() const { return m_orbits; }
+    [[nodiscard]] orbit_map_value map(const Eigen::VectorXd& u) const;
+    [[nodiscard]] arc_eval operator()(const Eigen::VectorXd& u, bool jacobian) const;
+    [[nodiscard]] arc_system as_function() const
+    {
+        return [this](const Eigen::VectorXd& u, bool jac) { return (*this)(u, jac); };
+    }
+
+private:
+    orbit_system m_orbits;
+    int m_surface;
 };
 
 // The window around time t of an orbit for surface i: a quarter of the time to the nearest

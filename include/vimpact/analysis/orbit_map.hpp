@@ -42,6 +42,13 @@ struct orbit_map_request {
     std::uint64_t absent_surfaces = 0;  // see flow_options::absent_surfaces, with its window
     double absent_from = -std::numeric_limits<double>::infinity();  // (time from the start)
     double absent_until = std::numeric_limits<double>::infinity();
+    // >= 0 (with the tangent, and that surface absent around forced_time): an impact on this
+    // surface forced at forced_time whether or not the orbit reaches it there: its reset is
+    // applied to the state at that time. Near a grazing the family of orbits with the new
+    // impact is smooth in (z, p, forced_time), while its section map is not (its Jacobian
+    // grows like 1 / v); see orbit_map_value::forced_*.
+    int forced_surface = -1;
+    double forced_time = 0.0;
     // Newton closes orbits to 1e-10 only if the map is much more accurate: 1e-12 by default.
     integrator_options integration{.rtol = 1e-12, .atol = 1e-12};
     double t_max = 1e4;          // flight time allowed for the returns
@@ -82,6 +89,12 @@ struct orbit_map_value {
     Eigen::MatrixXd monodromy;          // dx(T)/dx(0), N x N, impacts included
     std::vector<std::complex<double>> multipliers;  // of the monodromy: trivial first, then by modulus
     std::vector<std::complex<double>> section_multipliers;  // of DP, by decreasing modulus
+    // With a forced impact: the gap g just before it, dg/dz (chart), dg/dt_i (minus the impact
+    // velocity) and dG/dt_i.
+    double forced_gap = 0.0;
+    Eigen::VectorXd forced_gap_gradient;
+    double forced_gap_rate = 0.0;
+    Eigen::VectorXd residual_time_derivative;
     run_stats stats;
 
     [[nodiscard]] bool ok() const { return status == outcome::ok; }

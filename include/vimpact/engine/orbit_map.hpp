@@ -82,6 +82,118 @@ std::vector<std::complex<double>> eigenvalues_by_modulus(const mat<K>& m)
     return v;
 }
 
+// Counts section returns (and records what a continuation watches) over the two runs of a
+// forced impact, with the tangent.
+template <class VModel>
+class forced_observer : public flow_observer {
+public:
+    static constexpr int N = VModel::base_dim;
+    forced_observer(const VModel& vm, int returns, orbit_map_value& out) : m_vm(vm), m_returns(returns), m_out(out) {}
+    [[nodiscard]] bool reached() const { return m_seen >= m_returns; }
+    [[nodiscard]] const typename VModel::state& end_state() const { return m_end; }
+    flow_control on_section(int event, crossing, double t, const typename VModel::state& X)
+    {
+        if (reached()) return flow_control::proceed;
+        const vec<N> x = VModel::point(X);
+        if (event > 0) {
+            m_out.gap_minima.push_back({t, event - 1, m_vm.base().gap(event - 1, x)});
+            return flow_control::proceed;
+        }
+        m_out.crossings.push_back(to_dynamic(x));
+        if (++m_seen < m_returns) return flow_control::proceed;
+        m_end = X;
+        m_out.period = t;
+        return flow_control::stop;
+    }
+    flow_control on_impact(int surface, double t, const typename VModel::state& pre, const typename VModel::state&)
+    {
+        if (reached()) return flow_control::stop;
+        m_out.impacts.push_back(plain_return_observer<typename VModel::base_model>::impact_of(m_vm.base(), surface, t,
+                                                                                             VModel::point(pre)));
+        return flow_control::proceed;
+    }
+    template <class X>
+    void on_stick(int, double, const X&)
+    {
+        if (!reached()) ++m_sticking;
+    }
+    [[nodiscard]] long sticking_phases() const { return m_sticking; }
+
+private:
+    const VModel& m_vm;
+    int m_returns;
+    orbit_map_value& m_out;
+    int m_seen = 0;
+    long m_sticking = 0;
+    typename VModel::state m_end;
+};
+
+// The forced-impact map (orbit_map_request::forced_surface): the run to forced_time, the reset
+// there, the run on to the k-th return, each with the tangent from the identity, composed.
+template <template <int> class Method, engine_model Model>
+void forced_orbit_map(const Model& model, const orbit_map_request& rq, const section_chart<Model>& chart,
+                      const vec<Model::dim>& x, const flow_options& fo_in, orbit_map_value& out)
+{
+    constexpr int N = Model::dim;
+    constexpr int K = N - 1;
+    using VM = variational_model<Model>;
+    const VM vm(model, impact_tangent::saltation);
+    flow_options fo = fo_in;
+    fo.integration = VM::integration_options(rq.integration);
+    fo.surfaces = true;
+    fo.events = {flow_event::section(rq.section, model.section_direction(rq.section))};
+    for (int i = 0; i < model.surface_count(); ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
+    forced_observer<VM> obs(vm, rq.returns, out);
+    const int s = rq.forced_surface;
+    // To the forced impact.
+    flow_options f1 = fo;
+    f1.t_max = rq.forced_time;
+    hybrid_flow<VM, Method> one(vm, f1);
+    one.start(0.0, VM::pack(detail::past_section(model, rq.section, x), mat<N>::Identity(), 0.0));
+    const outcome o1 = rq.forced_time > 0.0 ? one.run(obs) : outcome::time_limit;
+    out.stats = one.stats();
+    if (o1 != outcome::time_limit || obs.reached() || obs.sticking_phases() > 0) {
+        // The orbit made its k returns (or failed) before the forced time.
+        out.status = obs.sticking_phases() > 0 ? outcome::sticking : o1 == outcome::time_limit ? outcome::not_converged : o1;
+        return;
+    }
+    const vec<N> pre = VM::point(one.x());
+    const mat<N> Y1 = VM::matrix(one.x());
+    const vec<N> post = model.reset(s, pre);
+    const mat<N> R = model.reset_jacobian(s, pre);
+    out.impacts.push_back(plain_return_observer<Model>::impact_of(model, s, rq.forced_time, pre));
+    // On to the k-th return.
+    hybrid_flow<VM, Method> two(vm, fo);
+    two.start(rq.forced_time, VM::pack(post, mat<N>::Identity(), 0.0));
+    out.status = two.run(obs);
+    out.stats.add(two.stats());
+    if (out.status == outcome::ok && !obs.reached()) out.status = outcome::time_limit;
+    if (out.status == outcome::ok && obs.sticking_phases() > 0) out.status = outcome::sticking;
+    if (out.status != outcome::ok) return;
+    const vec<N> x_end = VM::point(obs.end_state());
+    const mat<N> Y2 = VM::matrix(obs.end_state());
+    const vec<N> F = model.rhs(x_end);
+    const vec<N> g = model.section_gradient(rq.section, x_end);
+    const mat<N> proj = mat<N>::Identity() - F * g.transpose() / g.dot(F);
+    const mat<N> monodromy = Y2 * R * Y1;
+    const mat<K> DP = chart.projection() * proj * monodromy * chart.embedding(x);
+    out.x_end = to_dynamic(x_end);
+    out.residual = to_dynamic(vec<K>(chart.to_chart(model.state_difference(x_end, x))));
+    out.residual_jacobian = to_dynamic(mat<K>(DP - mat<K>::Identity()));
+    out.monodromy = to_dynamic(monodromy);
+    // Moving the impact by dt moves the state after it by (R' F(pre) - F(post)) dt.
+    const vec<N> shift = R * model.rhs(pre) - model.rhs(post);
+    out.residual_time_derivative = to_dynamic(vec<K>(chart.projection() * proj * Y2 * shift));
+    const vec<N> gg = model.gap_gradient(s, pre);
+    out.forced_gap = model.gap(s, pre);
+    out.forced_gap_gradient = to_dynamic(vec<K>((gg.transpose() * Y1 * chart.embedding(x)).transpose()));
+    out.forced_gap_rate = gg.dot(model.rhs(pre));
+    floquet_result fr;
+    fill_multipliers<N>(fr, monodromy, vec<N>(model.rhs(x)));
+    out.multipliers = std::move(fr.multipliers);
+    out.section_multipliers = eigenvalues_by_modulus<K>(DP);
+}
+
 template <template <int> class Method, engine_model Model>
 orbit_map_value orbit_map(const Model& model, const orbit_map_request& rq)
 {
@@ -119,6 +231,10 @@ orbit_map_value orbit_map(const Model& model, const orbit_map_request& rq)
     fo.absent_until = rq.absent_until;
 
     vec<N> x_end;
+    if (rq.forced_surface >= 0) {
+        forced_orbit_map<Method>(model, rq, chart, x, fo, out);
+        return out;
+    }
     if (rq.tangent) {
         section_map_options mo;
         mo.flow = fo;
