@@ -531,15 +531,22 @@ TEST(ContinuationPaper, TheStableP2LeadsBackToThePeriodDoublingOfP1)
     EXPECT_GE(g.size(), 2U);
 }
 
+// Continuation in sigma from -0.2 (where the paper's attractor misses the barrier) to -0.1.
+continuation_options barrier_free_in_sigma(const model& m)
+{
+    continuation_options o;
+    o.parameter = m.info().parameter_index("sigma");
+    o.start = -0.2;
+    o.end = -0.1;
+    return o;
+}
+
 // In sigma at Ur = 25 the barrier-free orbit (P0) is followed up to where its minimum of y
 // reaches the barrier: the grazing analysis's value; past it, onto the impacting orbits.
 TEST(ContinuationPaper, GrazingOfTheBarrierFreeOrbitIsTheGrazingValue)
 {
     const model m = vimpact::test::paper(25.0, -0.2);
-    continuation_options o;
-    o.parameter = m.info().parameter_index("sigma");
-    o.start = -0.2;
-    o.end = -0.1;
+    const continuation_options o = barrier_free_in_sigma(m);
     const auto res = vimpact::continuation(m, {vimpact::test::paper_ic()}, o, 1);
     ASSERT_EQ(res.status, outcome::ok);
     EXPECT_EQ(res.start_label, "P0");
@@ -644,10 +651,7 @@ TEST(BifurcationCurves, FoldPeriodDoublingAndGrazingCurvesOfTheImpactOscillatorA
 TEST(BifurcationCurves, GrazingCurveOfTheBarrierFreeOrbitIsTheGrazingLine)
 {
     const model m = vimpact::test::paper(25.0, -0.2);
-    continuation_options o;
-    o.parameter = m.info().parameter_index("sigma");
-    o.start = -0.2;
-    o.end = -0.1;
+    const continuation_options o = barrier_free_in_sigma(m);
     const auto res = vimpact::continuation(m, {vimpact::test::paper_ic()}, o, 1);
     vimpact::curve_options c;
     c.parameter2 = m.info().parameter_index("Ur");
