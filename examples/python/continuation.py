@@ -7,6 +7,9 @@
 2. Figure 4 with its boundaries: the curves in (Ur, sigma) of the P1 period doubling, of the
    P2 branch's grazing and period doubling and of the barrier-free orbit's grazing (the
    grazing line), over the brute-force periodicity map.
+3. Figure 5b with its skeleton: at Ur = 25, the branches in sigma from the barrier-free orbit
+   at sigma = -0.16 and from the attractors at -0.149 (P6) and -0.03 (P2), both ways, over the
+   brute-force diagram.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/python/continuation.py
 """
@@ -47,5 +50,17 @@ for c in swapped.curves:
 swapped.param, swapped.param2, swapped.range, swapped.range2 = "Ur", "sigma", (12, 25), sigma
 for c in curves:
     print(c)
-vimpact.plot.curves(curves, picture("continuation.png"), map=grid)
+vimpact.plot.curves(curves, picture("continuation-fig4.png"), map=grid)
+
+# 3. Figure 5b: branches in sigma at Ur = 25.
+at25 = model.with_(Ur=25)
+sweep5 = vimpact.sweep(at25, "sigma", vimpact.grid(-0.16, 0, pick(321, 12)), **PROTOCOL)
+starts5 = [(-0.16, 0, 1)] + ([] if QUICK else [(-0.149, -0.16, 1), (-0.149, 0, 1), (-0.03, -0.16, 1), (-0.03, 0, 1)])
+results5 = []
+for a, b, switch in starts5:
+    c = vimpact.continuation(at25.with_(sigma=a), "sigma", (a, b), switch=switch, **PROTOCOL)
+    print(f"from sigma = {a} towards {b}:", c)
+    results5.append(c)
+results5[0].diagram = dict(value=sweep5.point_value, label=sweep5.label[sweep5.point_run], points=sweep5.points)
+vimpact.plot.continuation(results5, picture("continuation.png"))
 print("picture:", picture("continuation.png"))

@@ -66,12 +66,12 @@ def continuation(result, path=None):
     if diagram is not None and len(diagram["value"]):
         ax.plot(diagram["value"], diagram["points"][:, k], ".", ms=2.5, color="0.55", zorder=1)
         handles.append(Line2D([], [], ls="", marker=".", color="0.6", label="brute-force diagram"))
-    returns = set()
+    # A colour per period (returns per period), in order: distinct for up to ten periods.
+    colours = {p: f"C{i % 10}" for i, p in enumerate(sorted({b.returns for r in results for b in r.branches}))}
     seen = set()
     for r in results:
         for b in r.branches:
-            returns.add(b.returns)
-            colour = _colour(b.returns)
+            colour = colours[b.returns]
             for a, e, stable in _runs([bool(v) for v in b.stable]):
                 s = slice(a, e + 1)
                 for j in range(b.returns):
@@ -91,8 +91,8 @@ def continuation(result, path=None):
             mu = np.abs(bf.multipliers[1:]) if len(bf.multipliers) > 1 else [np.nan]
             axm.plot([bf.param], [np.nanmax(mu)], ls="", marker=marker, ms=5, mfc="w", mec="k", mew=1.1, zorder=5)
             seen.add(bf.type)
-    for p in sorted(returns):
-        handles.append(Line2D([], [], color=_colour(p), lw=1.4, label=f"P{p} orbits"))
+    for p, colour in colours.items():
+        handles.append(Line2D([], [], color=colour, lw=1.4, label=f"P{p} orbits"))
     handles += [Line2D([], [], color="k", lw=1.2, ls="-", label="stable"),
                 Line2D([], [], color="k", lw=1.2, ls="--", label="unstable")]
     for t in MARKERS:
@@ -142,10 +142,6 @@ def curves(result, path=None, map=None):
     first = results[0]
     suptitle(fig, title(first, (first.param, first.param2)))
     return finish_figure(fig, path, dpi=120)
-
-
-def _colour(returns):
-    return f"C{(returns - 1) % 10}"
 
 
 def _plane(ax, results, grid=None):
