@@ -28,7 +28,7 @@ std::vector<std::pair<long, double>> collect(const job_schedule& s, job_loop_opt
                                              const std::unordered_map<long, double>& done = {})
 {
     std::vector<std::pair<long, double>> out;
-    run_jobs<double>(s, o, done, work, [&](long j, double&& v) { out.emplace_back(j, v); });
+    run_jobs<double>(s, o, vimpact::finished_in(done), work, [&](long j, double&& v) { out.emplace_back(j, v); });
     return out;
 }
 
