@@ -99,6 +99,7 @@ job_report run_journaled(const json& spec, const job_schedule& schedule, const j
     lo.stop = o.stop;
     lo.progress = o.progress;
     lo.ranks = o.ranks;
+    lo.timed = o.timed;
     // Records travel between ranks as journal lines: the coordinator appends them as they
     // come, and one codec serves the journal, a resume and the wire.
     job_loop_io<Record> io;

@@ -57,6 +57,8 @@ struct job_loop_options {
     const std::atomic<bool>* stop = nullptr;
     std::function<void(long done, long total)> progress;  // called after each delivery
     std::shared_ptr<job_ranks> ranks;                      // null: this process alone
+    // Each job's wall time where it ran (called from the computing threads).
+    std::function<void(long job, double seconds)> timed;
 };
 
 struct job_loop_summary {
@@ -160,7 +162,8 @@ public:
         std::optional<Record> predecessor;
     };
 
-    job_pool(int threads, Run& run, const std::atomic<bool>* stop) : m_run(run), m_stop(stop)
+    job_pool(int threads, Run& run, const std::atomic<bool>* stop, std::function<void(long, double)> timed = {})
+        : m_run(run), m_stop(stop), m_timed(std::move(timed))
     {
         m_threads.reserve(static_cast<std::size_t>(threads));
         for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { work(); });
@@ -229,11 +232,14 @@ private:
             lock.unlock();
             std::optional<Record> result;
             std::exception_ptr failure;
+            const auto t0 = std::chrono::steady_clock::now();
             try {
                 result.emplace(m_run(it.job, it.predecessor ? &*it.predecessor : static_cast<const Record*>(nullptr)));
             } catch (...) {
                 failure = std::current_exception();
             }
+            if (m_timed && result)
+                m_timed(it.job, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
             lock.lock();
             --m_busy;
             if (failure && !m_failure) m_failure = failure;
@@ -248,6 +254,7 @@ private:
 
     Run& m_run;
     const std::atomic<bool>* m_stop;
+    std::function<void(long, double)> m_timed;
     mutable std::mutex m_mutex;
     std::condition_variable m_changed;
     std::deque<item> m_queue;
@@ -283,7 +290,7 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
         std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
     using pool_t = job_pool<Record, Run>;
-    pool_t pool(summary.threads, run, opt.stop);
+    pool_t pool(summary.threads, run, opt.stop, opt.timed);
     // Prefetch: ask for more while half the threads' worth of jobs is still queued.
     const long capacity = 2L * summary.threads;
     bool asked = false, no_more = false, stop = false, bye = false;
@@ -404,7 +411,7 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     job_dispenser dispenser(schedule, todo, todo_count, window * opt.shard.count, all_threads);
 
     using pool_t = detail::job_pool<Record, Run>;
-    pool_t pool(own_threads, run, opt.stop);
+    pool_t pool(own_threads, run, opt.stop, opt.timed);
     std::map<long, Record> ready;                  // arrived, waiting for in-order delivery
     std::unordered_map<long, Record> successors;   // chained results still needed as predecessors
     std::vector<long> wants(static_cast<std::size_t>(nranks), 0);
