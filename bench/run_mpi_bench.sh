@@ -5,8 +5,8 @@
 #  2. Memory of rank 0 on a 1000 x 1000 map with a shortened protocol (--transient 5
 #     --record 10) on 2 ranks: its resident set sampled every 2 s against the jobs done, for
 #     at most MEM_SECONDS (then SIGTERM), and the peak of whole smaller maps.
-#  3. The wall time of every job of a 200 x 200 map on one thread (bench/job_costs.cpp; the
-#     costs file is kept), and from it the simulated schedule of a 1000 x 1000 map at 64, 256
+#  3. The cost (thread CPU time) of every job of a 200 x 200 map (bench/job_costs.cpp, on
+#     COST_THREADS threads, default 2; the costs file is kept), and from it the simulated schedule of a 1000 x 1000 map at 64, 256
 #     and 1024 ranks (bench/schedule_sim.cpp).
 # The machine's load average is printed with each measurement: timings on a busy machine are
 # slower and noisier (the per-job costs least, being single-threaded).
@@ -120,14 +120,14 @@ fi
 
 if want 3; then
   echo
-  echo "## 3. Job costs of a 200 x 200 map (one thread) and the projected schedule of 1000 x 1000"
+  echo "## 3. Job costs (thread CPU time) of a 200 x 200 map and the projected schedule of 1000 x 1000"
   echo
   costs=${COSTS:-}
   if [ -z "$costs" ]; then
     costs="$out_dir/job_costs_200x200.csv"
     echo "measuring: load before $(load)"
     t0=$(date +%s)
-    "$build/job_costs" 200 200 500 200 "$costs"
+    "$build/job_costs" 200 200 500 200 "$costs" "${COST_THREADS:-2}"
     echo "measured in $(( $(date +%s) - t0 )) s; load after $(load)"
   fi
   /usr/bin/python3 - "$costs" <<'PY'

@@ -24,6 +24,8 @@
 // Ranks: every rank calls run_jobs with the same schedule. Rank 0 hands out jobs to its own
 // threads and to the ranks that ask, receives their results as lines of `wire` (the journal's
 // form) and delivers; the other ranks compute and return without delivering anything.
+#include <time.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -57,7 +59,8 @@ struct job_loop_options {
     const std::atomic<bool>* stop = nullptr;
     std::function<void(long done, long total)> progress;  // called after each delivery
     std::shared_ptr<job_ranks> ranks;                      // null: this process alone
-    // Each job's wall time where it ran (called from the computing threads).
+    // Each job's cost: the CPU time of the thread that ran it, which a busy machine does not
+    // inflate as it does the wall time (called from the computing threads).
     std::function<void(long job, double seconds)> timed;
 };
 
@@ -154,6 +157,13 @@ inline void abort_ranks(job_ranks& ranks, const std::exception_ptr& e)
 
 // The threads of one rank: they compute the jobs queued to them and leave the results in
 // an inbox for the rank's main thread, which talks to the other ranks and delivers.
+inline double thread_seconds()
+{
+    timespec t{};
+    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 template <class Record, class Run>
 class job_pool {
 public:
@@ -232,14 +242,13 @@ private:
             lock.unlock();
             std::optional<Record> result;
             std::exception_ptr failure;
-            const auto t0 = std::chrono::steady_clock::now();
+            const double t0 = m_timed ? thread_seconds() : 0.0;
             try {
                 result.emplace(m_run(it.job, it.predecessor ? &*it.predecessor : static_cast<const Record*>(nullptr)));
             } catch (...) {
                 failure = std::current_exception();
             }
-            if (m_timed && result)
-                m_timed(it.job, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            if (m_timed && result) m_timed(it.job, thread_seconds() - t0);
             lock.lock();
             --m_busy;
             if (failure && !m_failure) m_failure = failure;
