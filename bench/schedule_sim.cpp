@@ -176,7 +176,7 @@ int main(int argc, char** argv)
 
     for (int r = 1; r < R; ++r) {
         ranks[static_cast<std::size_t>(r)].asked = true;
-        events.push({L, 1, r, 0, 2 * T, {}});
+        events.push({L, 1, r, 0, 4 * T, {}});
     }
     hand_out(0.0);
     while (!events.empty()) {
@@ -193,8 +193,8 @@ int main(int argc, char** argv)
                 hand_out(coordinator_free);
             } else {
                 long want = 0;
-                if (!s.asked && held(e.rank) <= T) {
-                    want = 2 * T - held(e.rank);
+                if (!s.asked && held(e.rank) <= 2 * T) {
+                    want = 4 * T - held(e.rank);
                     s.asked = true;
                 }
                 events.push({e.t + L, 1, e.rank, 0, want, {e.job}});

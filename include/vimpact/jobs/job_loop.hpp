@@ -300,8 +300,9 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
     }
     using pool_t = job_pool<Record, Run>;
     pool_t pool(summary.threads, run, opt.stop, opt.timed);
-    // Prefetch: ask for more while half the threads' worth of jobs is still queued.
-    const long capacity = 2L * summary.threads;
+    // Prefetch: ask when at most two jobs per thread are held (running and queued), for
+    // enough to hold four, so that a short job's threads do not wait for the answer.
+    const long capacity = 4L * summary.threads;
     bool asked = false, no_more = false, stop = false, bye = false;
     std::exception_ptr failure;
     for (;;) {
@@ -319,7 +320,7 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
         }
         if (opt.stop && opt.stop->load()) stop = true;
         const bool leaving = (stop || no_more) && held == 0;
-        const long want = stop || no_more || asked || held > summary.threads ? 0 : capacity - held;
+        const long want = stop || no_more || asked || held > capacity / 2 ? 0 : capacity - held;
         if (!lines.empty() || want > 0 || leaving) {
             ranks.send(0, tag_report, std::to_string(want) + " " + (leaving ? "1" : "0") + "\n" + lines);
             if (want > 0) asked = true;
@@ -355,7 +356,7 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
             // Running jobs end (and are reported); queued ones are left for a resume.
             pool.close(true);
         }
-        pool.wait(std::chrono::microseconds(500));
+        pool.wait(std::chrono::microseconds(200));
     }
     pool.close(true);
     ranks.flush();
@@ -562,7 +563,7 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
             if (failure) continue;
             if (dispenser.exhausted() && outstanding == 0 && remote_left == 0) break;
         }
-        if (!busy) pool.wait(std::chrono::microseconds(ranks ? 500 : 50'000));
+        if (!busy) pool.wait(std::chrono::microseconds(ranks ? 200 : 50'000));
     }
     pool.close(true);
     for (auto& [job, r] : pool.take()) arrive(job, std::move(r), nullptr);
