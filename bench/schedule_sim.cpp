@@ -19,6 +19,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -51,7 +52,8 @@ measured read_costs(const std::string& path)
 }
 
 // The coordinator's cost per received result, measured here: parsing a map record's journal
-// line (what rank 0 does with every result from another rank) and appending it to a file.
+// line (what rank 0 does with every result from another rank), formatting its row of
+// labels.csv, and writing both to files (the journal written once per batch of 8).
 double measure_record_cost()
 {
     const std::string line =
@@ -61,12 +63,19 @@ double measure_record_cost()
     constexpr int n = 20000;
     const auto t0 = std::chrono::steady_clock::now();
     long sum = 0;
+    char row[256];
     for (int i = 0; i < n; ++i) {
         const auto j = nlohmann::json::parse(line);
-        sum += j["record"]["steps"].get<long>();
+        const auto& r = j["record"];
+        sum += r["steps"].get<long>();
+        std::snprintf(row, sizeof row, "%.17g,%.17g,%s,%d,%d,%d,%s,%d\n", 14.0 + 1e-3 * i, -0.16 + 1e-4 * i,
+                      r["label"]["label"].get<std::string>().c_str(), r["label"]["period"].get<int>(),
+                      r["label"]["impacts"].get<int>(), r["label"]["settled"].get<bool>() ? 1 : 0,
+                      r["status"].get<std::string>().c_str(), r["label"]["impacts_by_surface"][0].get<int>());
+        std::fputs(row, f);
         std::fputs(line.c_str(), f);
         std::fputc('\n', f);
-        std::fflush(f);
+        if (i % 8 == 7) std::fflush(f);
     }
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / n;
     std::fclose(f);
@@ -113,7 +122,8 @@ int main(int argc, char** argv)
     }
 
     const long all_threads = static_cast<long>(R) * T;
-    vimpact::job_dispenser dispenser({jobs, 0}, [](long) { return true; }, jobs, 8 * all_threads, all_threads);
+    vimpact::job_dispenser dispenser({jobs, 0}, [](long) { return true; }, jobs,
+                                     vimpact::ranks_window_per_thread * all_threads, all_threads);
     std::vector<char> arrived(static_cast<std::size_t>(jobs), 0);
     long next_undelivered = 0, buffered = 0, max_buffered = 0;
 
@@ -122,6 +132,13 @@ int main(int argc, char** argv)
         long running = 0;
         bool asked = false;
         long want = 0;  // at the coordinator
+        std::vector<long> unsent;
+        double work = 0.0;  // of the jobs done, for the mean that sets the capacity
+        long done = 0;
+        [[nodiscard]] long capacity(long threads) const
+        {
+            return vimpact::rank_capacity(threads, done > 0 ? work / static_cast<double>(done) : 0.0);
+        }
     };
     std::vector<rank_state> ranks(static_cast<std::size_t>(R));
     std::priority_queue<event, std::vector<event>, std::greater<>> events;
@@ -176,7 +193,7 @@ int main(int argc, char** argv)
 
     for (int r = 1; r < R; ++r) {
         ranks[static_cast<std::size_t>(r)].asked = true;
-        events.push({L, 1, r, 0, 4 * T, {}});
+        events.push({L, 1, r, 0, vimpact::rank_capacity(T, 0.0), {}});
     }
     hand_out(0.0);
     while (!events.empty()) {
@@ -192,12 +209,19 @@ int main(int argc, char** argv)
                 end = std::max(end, coordinator_free);
                 hand_out(coordinator_free);
             } else {
+                // As run_rank: results go with a request, or when half a capacity gathered.
+                s.work += cost[static_cast<std::size_t>(e.job)];
+                ++s.done;
+                s.unsent.push_back(e.job);
+                const long cap = s.capacity(T);
                 long want = 0;
-                if (!s.asked && held(e.rank) <= 2 * T) {
-                    want = 4 * T - held(e.rank);
+                if (!s.asked && held(e.rank) <= cap / 2) {
+                    want = cap - held(e.rank);
                     s.asked = true;
                 }
-                events.push({e.t + L, 1, e.rank, 0, want, {e.job}});
+                const bool last = dispenser.exhausted() && held(e.rank) == 0;
+                if (want > 0 || 2 * static_cast<long>(s.unsent.size()) >= cap || last)
+                    events.push({e.t + L, 1, e.rank, 0, want, std::exchange(s.unsent, {})});
             }
             start_jobs(e.rank, e.t);
         } else if (e.kind == 1) {

@@ -49,6 +49,14 @@ void job_dispenser::completed(long job)
     if (m_schedule.chained() && job + m_schedule.chains < m_schedule.jobs) m_completed.insert(job);
 }
 
+long rank_capacity(long threads, double mean_job_seconds, double batch_seconds)
+{
+    const long least = 4 * threads, most = 64 * threads;
+    if (!(mean_job_seconds > 0.0)) return least;
+    const double want = static_cast<double>(threads) * batch_seconds / mean_job_seconds;
+    return want >= static_cast<double>(most) ? most : std::max(least, static_cast<long>(want));
+}
+
 void job_dispenser::delivered_below(long job) { m_undelivered = std::max(m_undelivered, job); }
 
 }  // namespace vimpact

@@ -118,6 +118,10 @@ journal::journal(const fs::path& dir, const json& spec, const job_options& o, lo
 
 journal::~journal()
 {
+    try {
+        flush();
+    } catch (...) {  // a destructor must not throw: the lines are lost, as in a crash
+    }
     if (m_fd >= 0) ::close(m_fd);
     for (const int fd : m_read_fds)
         if (fd >= 0) ::close(fd);
@@ -188,6 +192,7 @@ json journal::load(long job) const
     const std::uint64_t w = m_where.at(static_cast<std::size_t>(job));
     if (w == 0) throw std::logic_error("journal: job " + std::to_string(job) + " has no line");
     const std::size_t file = static_cast<std::size_t>((w >> offset_bits) & file_mask) - 1;
+    if (!m_unwritten.empty()) flush();
     int& fd = m_read_fds[file];
     if (fd < 0) fd = ::open(m_files[file].c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) throw std::runtime_error("cannot read " + m_files[file].string() + ": " + std::strerror(errno));
@@ -198,17 +203,23 @@ json journal::load(long job) const
     return r["record"];
 }
 
-void journal::append(long job, const std::string& line)
+void journal::flush() const
 {
-    std::string text = line;
-    text += '\n';
     std::size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(m_fd, text.data() + done, text.size() - done);
+    while (done < m_unwritten.size()) {
+        const ssize_t n = ::write(m_fd, m_unwritten.data() + done, m_unwritten.size() - done);
         if (n < 0 && errno == EINTR) continue;
         if (n < 0) throw std::runtime_error("cannot write the journal in " + m_dir.string() + ": " + std::strerror(errno));
         done += static_cast<std::size_t>(n);
     }
+    m_unwritten.clear();
+}
+
+void journal::append(long job, const std::string& line)
+{
+    const std::size_t size = line.size() + 1;
+    m_unwritten += line;
+    m_unwritten += '\n';
     std::size_t number = 0;
     while (number < m_files.size() && m_files[number] != m_own) ++number;
     if (number == m_files.size()) {
@@ -216,7 +227,7 @@ void journal::append(long job, const std::string& line)
         m_read_fds.push_back(-1);
     }
     note(job, number, m_own_size, true);
-    m_own_size += text.size();
+    m_own_size += size;
 }
 
 std::shared_ptr<void> journal::lock_completion() const
@@ -238,7 +249,11 @@ std::shared_ptr<void> journal::lock_completion() const
     return handle;
 }
 
-void journal::reread() { index_all(false); }
+void journal::reread()
+{
+    flush();
+    index_all(false);
+}
 
 }  // namespace detail
 }  // namespace vimpact

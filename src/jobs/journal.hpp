@@ -39,8 +39,10 @@ public:
     [[nodiscard]] json load(long job) const;
     // Jobs with a line (finished before, or appended since).
     [[nodiscard]] long count() const { return m_count; }
-    // Appends one finished job's line, written through to the file at once.
+    // Appends one finished job's line; flush() writes the lines appended since the last one
+    // to the file (one write for the results that arrived together).
     void append(long job, const std::string& line);
+    void flush() const;
     // Waits for the journal's completion lock (an flock on DIR/lock, released by the kernel when
     // its holder ends, so a killed holder cannot block the others) and returns its handle, or
     // null when the journal was removed meanwhile: another shard completed the run and wrote it.
@@ -63,6 +65,7 @@ private:
     int m_fd = -1;                              // m_own, appending
     std::uint64_t m_own_size = 0;
     mutable std::vector<int> m_read_fds;        // per indexed file, opened when first read
+    mutable std::string m_unwritten;            // appended lines not yet written
 };
 
 // A journal record decoded, or an input_error naming the job when the line is not a record
@@ -137,6 +140,7 @@ job_report run_journaled(const json& spec, const job_schedule& schedule, const j
         io.arrived = [&](long job, const Record& r, const std::string* line) {
             jr->append(job, line ? *line : journal_line(job, encode(r)));
         };
+        io.flush = [&] { jr->flush(); };
     }
     // The stream: every job in order, the jobs this call did not compute read from the
     // journal in their place; a job that is nowhere (a stop left a gap) ends it.

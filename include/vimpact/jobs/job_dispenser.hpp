@@ -14,6 +14,17 @@
 
 namespace vimpact {
 
+// The jobs a rank of `threads` threads holds at most (running and queued; it asks for more
+// when it holds half): four per thread, or, when its jobs are short, enough for about
+// `batch_seconds` of work, so that its requests and reports (which carry its results) stay
+// few per second whatever the job's length; at most 64 per thread. mean_job_seconds <= 0:
+// not known yet.
+long rank_capacity(long threads, double mean_job_seconds, double batch_seconds = 0.1);
+
+// The window of a run on several ranks, per computing thread of all ranks: room for every
+// rank's largest holding twice over.
+inline constexpr long ranks_window_per_thread = 128;
+
 class job_dispenser {
 public:
     // The jobs to compute are those of `schedule` for which `todo` holds (this shard's,

@@ -55,7 +55,7 @@ namespace vimpact {
 struct job_loop_options {
     int threads = 0;   // per rank; 0: this machine's cores shared among its ranks
     shard_spec shard{};
-    long window = 0;   // 0: 8 per computing thread of all ranks
+    long window = 0;   // 0: 8 per computing thread (ranks_window_per_thread with several ranks)
     const std::atomic<bool>* stop = nullptr;
     std::function<void(long done, long total)> progress;  // called after each delivery
     std::shared_ptr<job_ranks> ranks;                      // null: this process alone
@@ -98,6 +98,9 @@ struct job_loop_io {
     std::function<std::pair<long, Record>(std::string_view)> decode;
     // On the coordinator, each result as it arrives, with its line when it came from a rank.
     std::function<void(long, const Record&, const std::string*)> arrived;
+    // After the results that arrived together (each turn of the coordinator's loop, under a
+    // millisecond), and at the end: a journal writes them out.
+    std::function<void()> flush;
 };
 
 // The records of a map as finished jobs (tests, and callers holding them in memory).
@@ -202,6 +205,12 @@ public:
         std::unique_lock lock(m_mutex);
         m_changed.wait_for(lock, d, [&] { return !m_inbox.empty() || m_failure; });
     }
+    // The mean wall time of the jobs computed so far (0 before the first).
+    [[nodiscard]] double mean_job_seconds() const
+    {
+        const std::lock_guard lock(m_mutex);
+        return m_done > 0 ? m_wall / static_cast<double>(m_done) : 0.0;
+    }
     [[nodiscard]] std::exception_ptr failure() const
     {
         const std::lock_guard lock(m_mutex);
@@ -243,14 +252,18 @@ private:
             std::optional<Record> result;
             std::exception_ptr failure;
             const double t0 = m_timed ? thread_seconds() : 0.0;
+            const auto w0 = std::chrono::steady_clock::now();
             try {
                 result.emplace(m_run(it.job, it.predecessor ? &*it.predecessor : static_cast<const Record*>(nullptr)));
             } catch (...) {
                 failure = std::current_exception();
             }
             if (m_timed && result) m_timed(it.job, thread_seconds() - t0);
+            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
             lock.lock();
             --m_busy;
+            m_wall += wall;
+            ++m_done;
             if (failure && !m_failure) m_failure = failure;
             // A job that was running when the stop flag was set may have been cut short (its
             // flows poll the same flag and end early): it is not a result, and a journal must
@@ -269,6 +282,8 @@ private:
     std::deque<item> m_queue;
     std::vector<std::pair<long, Record>> m_inbox;
     long m_busy = 0;
+    double m_wall = 0.0;
+    long m_done = 0;
     bool m_closing = false;
     std::exception_ptr m_failure;
     std::vector<std::jthread> m_threads;
@@ -300,18 +315,24 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
     }
     using pool_t = job_pool<Record, Run>;
     pool_t pool(summary.threads, run, opt.stop, opt.timed);
-    // Prefetch: ask when at most two jobs per thread are held (running and queued), for
-    // enough to hold four, so that a short job's threads do not wait for the answer.
-    const long capacity = 4L * summary.threads;
+    // Prefetch: ask when half the rank's capacity is held (running and queued), for enough
+    // to fill it (rank_capacity: more jobs when they are short), so the threads never wait
+    // for the answer. Results go with the requests, or when half a capacity of them or 0.1 s
+    // has gathered: few messages for rank 0, and little lost if this rank is killed.
     bool asked = false, no_more = false, stop = false, bye = false;
     std::exception_ptr failure;
+    std::string lines;
+    long unsent = 0;
+    auto oldest = std::chrono::steady_clock::now();
     for (;;) {
+        const long capacity = rank_capacity(summary.threads, pool.mean_job_seconds());
         // Held before the results are taken: a job done meanwhile is then among them.
         const long held = pool.held();
-        std::string lines;
         for (auto& [job, r] : pool.take()) {
+            if (unsent == 0) oldest = std::chrono::steady_clock::now();
             lines += io.encode(job, r);
             lines += '\n';
+            ++unsent;
             ++summary.computed;
         }
         if (!failure && (failure = pool.failure())) {
@@ -321,8 +342,12 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
         if (opt.stop && opt.stop->load()) stop = true;
         const bool leaving = (stop || no_more) && held == 0;
         const long want = stop || no_more || asked || held > capacity / 2 ? 0 : capacity - held;
-        if (!lines.empty() || want > 0 || leaving) {
+        const bool due = unsent > 0 && (stop || 2 * unsent >= capacity ||
+                                         std::chrono::steady_clock::now() - oldest > std::chrono::milliseconds(100));
+        if (due || want > 0 || leaving) {
             ranks.send(0, tag_report, std::to_string(want) + " " + (leaving ? "1" : "0") + "\n" + lines);
+            lines.clear();
+            unsent = 0;
             if (want > 0) asked = true;
         }
         if (leaving) break;
@@ -416,7 +441,7 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     rank_threads[0] = own_threads;
     long all_threads = 0;
     for (const long t : rank_threads) all_threads += t;
-    const long window = opt.window > 0 ? opt.window : 8L * all_threads;
+    const long window = opt.window > 0 ? opt.window : (nranks > 1 ? ranks_window_per_thread : 8L) * all_threads;
     // With shards a window of jobs spans fewer of this shard's: widen it by the shard count.
     job_dispenser dispenser(schedule, todo, todo_count, window * opt.shard.count, all_threads);
 
@@ -445,7 +470,11 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
         return io.load(p);
     };
     auto arrive = [&](long job, Record&& r, const std::string* line) {
-        if (io.arrived) io.arrived(job, r, line);
+        try {
+            if (io.arrived) io.arrived(job, r, line);
+        } catch (...) {
+            if (!failure) failure = std::current_exception();
+        }
         dispenser.completed(job);
         if (schedule.chained() && job + schedule.chains < schedule.jobs) successors.emplace(job, r);
         ready.emplace(job, std::move(r));
@@ -515,6 +544,13 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
                 if (!failure) failure = detail::failure_from(m->bytes, m->from);
             }
         }
+        if (busy && io.flush) {
+            try {
+                io.flush();
+            } catch (...) {
+                if (!failure) failure = std::current_exception();
+            }
+        }
         if ((failure || stop_requested()) && !stopping) {
             stop_all();
             pool.close(true);
@@ -567,6 +603,7 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     }
     pool.close(true);
     for (auto& [job, r] : pool.take()) arrive(job, std::move(r), nullptr);
+    if (io.flush && !failure) io.flush();
     // After a stop: hand over what did finish, in ascending order, so a resume keeps it.
     if (!failure) {
         deliver();
