@@ -289,6 +289,21 @@ private:
     std::vector<std::jthread> m_threads;
 };
 
+// How long a rank's main thread sleeps between looks at its messages: short after activity,
+// doubling while nothing happens, up to 2 ms (each look costs CPU that the jobs' threads
+// could use; a rank's prefetch covers the answer's delay).
+class poll_interval {
+public:
+    std::chrono::microseconds next(bool active)
+    {
+        m_us = active ? 100 : std::min<long>(2 * m_us, 2000);
+        return std::chrono::microseconds(m_us);
+    }
+
+private:
+    long m_us = 100;
+};
+
 inline int rank_threads(const job_loop_options& opt)
 {
     const int t = resolve_threads(opt.threads);
@@ -323,12 +338,16 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
     std::exception_ptr failure;
     std::string lines;
     long unsent = 0;
+    poll_interval poll;
+    bool active = false;
     auto oldest = std::chrono::steady_clock::now();
     for (;;) {
         const long capacity = rank_capacity(summary.threads, pool.mean_job_seconds());
         // Held before the results are taken: a job done meanwhile is then among them.
         const long held = pool.held();
+        active = false;
         for (auto& [job, r] : pool.take()) {
+            active = true;
             if (unsent == 0) oldest = std::chrono::steady_clock::now();
             lines += io.encode(job, r);
             lines += '\n';
@@ -352,6 +371,7 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
         }
         if (leaving) break;
         while (auto m = ranks.receive()) {
+            active = true;
             if (m->tag == tag_grant) {
                 asked = false;
                 if (m->bytes.empty()) {
@@ -381,7 +401,7 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
             // Running jobs end (and are reported); queued ones are left for a resume.
             pool.close(true);
         }
-        pool.wait(std::chrono::microseconds(200));
+        pool.wait(poll.next(active));
     }
     pool.close(true);
     ranks.flush();
@@ -505,6 +525,7 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     // A stop or a failure waits this long for the other ranks' last reports (a rank killed
     // by a signal never sends one).
     std::optional<std::chrono::steady_clock::time_point> stop_deadline;
+    detail::poll_interval poll;
 
     for (;;) {
         bool busy = false;
@@ -599,7 +620,8 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
             if (failure) continue;
             if (dispenser.exhausted() && outstanding == 0 && remote_left == 0) break;
         }
-        if (!busy) pool.wait(std::chrono::microseconds(ranks ? 200 : 50'000));
+        const auto pause = poll.next(busy);
+        if (!busy) pool.wait(ranks ? pause : std::chrono::microseconds(50'000));
     }
     pool.close(true);
     for (auto& [job, r] : pool.take()) arrive(job, std::move(r), nullptr);
