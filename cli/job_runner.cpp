@@ -74,6 +74,10 @@ job_session::job_session(const job_args& a, const std::optional<fs::path>& out) 
                               " holds an unfinished run: add --resume to continue it, or remove it");
     }
     m_options.stop = &interrupt_flag();
+    // Started by mpirun or srun as one of several ranks: they share the jobs (rank 0 keeps the
+    // journal and writes DIR); with --shard, the ranks of each MPI run share that shard's.
+    m_options.ranks = mpi_world_ranks();
+    if (m_options.ranks && m_options.ranks->rank() != 0) return;  // no progress bar but rank 0's
     if (::isatty(2)) {
         m_progress = std::make_shared<progress>();
         m_options.progress = [p = m_progress](long done, long total) { p->update(done, total); };
@@ -85,6 +89,10 @@ job_session::~job_session() = default;
 bool job_session::complete(const job_report& r)
 {
     if (m_progress) m_progress->end();
+    if (!r.coordinator) {  // a rank other than 0: rank 0 reports and writes
+        m_exit_code = r.stopped ? 130 : 0;
+        return false;
+    }
     if (r.stopped) {
         std::cerr << "vimpact: interrupted: " << r.resumed + r.computed << " of " << r.owned << " jobs done"
                   << (m_out ? " and kept in " + m_options.journal->string() +

@@ -16,6 +16,7 @@
 #include "replay.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
+#include "vimpact/jobs/job_ranks.hpp"
 
 namespace {
 
@@ -54,9 +55,10 @@ void refuse_silent_values(const CLI::App& command)
     }
 }
 
+// Under MPI every rank meets the same bad input: rank 0 alone says so.
 int fail(const std::string& message)
 {
-    std::cerr << "vimpact: error: " << one_line(message) << '\n';
+    if (vimpact::launched_rank() == 0) std::cerr << "vimpact: error: " << one_line(message) << '\n';
     return 2;
 }
 
@@ -110,7 +112,7 @@ int main(int argc, char** argv)
                 return c.run();
             }
     } catch (const interrupted&) {
-        std::cerr << "vimpact: interrupted; nothing written\n";
+        if (vimpact::launched_rank() == 0) std::cerr << "vimpact: interrupted; nothing written\n";
         return 130;
     } catch (const vimpact::input_error& e) {
         return fail(e.what());

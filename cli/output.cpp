@@ -221,6 +221,32 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
     out.commit();
 }
 
+staged_output* streamed_output::get()
+{
+    if (!m_config.out) return nullptr;
+    if (!m_out) {
+        throw_if_interrupted();  // before anything is written
+        m_out.emplace(*m_config.out);
+    }
+    return &*m_out;
+}
+
+void streamed_output::commit(const std::string& command, const std::string& plot, const json& summary, json files)
+{
+    staged_output& out = *get();
+    json record = record_header(command, m_config);
+    record["result"] = summary;
+    record["files"] = std::move(files);
+    finish_output(out, plot, m_config, record);
+}
+
+json label_tally::counts() const
+{
+    json j = json::object();
+    for (const auto& [k, v] : m_counts) j[k] = v;
+    return j;
+}
+
 void print(const run_config& c, const json& summary, const std::string& text)
 {
     throw_if_interrupted();  // a run cut short by Ctrl-C has no result to report

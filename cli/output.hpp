@@ -4,6 +4,7 @@
 // and stdout.
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,6 +75,35 @@ void write_run(const run_config& c, const std::string& kind, const json& summary
 {
     write_run(c, kind, kind, summary, std::forward<Write>(write));
 }
+
+// --out DIR of a many-job run, filled while its results stream in job order (the library's
+// job_stream): the staging directory is made at the first result, so a shard that does not
+// complete the run and the MPI ranks other than 0 write nothing, and the command's files are
+// written row by row, so memory does not grow with the number of jobs. Without commit() (a
+// stop, an error) nothing is written.
+class streamed_output {
+public:
+    explicit streamed_output(const run_config& c) : m_config(c) {}
+    // The staging directory, made on the first call; null without --out.
+    staged_output* get();
+    // run.json (the summary as its result, `files` and the standard ones), config.toml and
+    // the picture of `plot`; then DIR is committed.
+    void commit(const std::string& command, const std::string& plot, const json& summary, json files);
+
+private:
+    const run_config& m_config;
+    std::optional<staged_output> m_out;
+};
+
+// Labels counted as results stream: label -> count (label_counts' form).
+class label_tally {
+public:
+    void add(const std::string& label) { ++m_counts[label]; }
+    [[nodiscard]] json counts() const;
+
+private:
+    std::map<std::string, long> m_counts;
+};
 
 // The warning of runs whose record has not settled (period_label::settled: aperiodic as a
 // whole, periodic in its last half), a line for the text output; empty when all settled.

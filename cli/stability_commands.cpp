@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "commands.hpp"
 #include "job_runner.hpp"
@@ -72,23 +73,23 @@ sweep_values parse_sweep(const sweep_request& s, const model& m)
     return {p, s.param, parse_range(s.range, "--range")};
 }
 
-// points.csv of a stability sweep: the section points of every value's result.
-template <class Points>
-void write_sweep_points(staged_output& out, const std::string& param, const model_info& info, const Points& points)
+// points.csv of a stability sweep: the section points of every value's result, a value at a
+// time as the results stream.
+std::vector<std::string> sweep_points_header(const std::string& param, const model_info& info)
 {
     std::vector<std::string> h{param};
     for (const auto& n : state_columns(info)) h.push_back(n);
-    csv_writer w(out.file("points.csv"), h);
-    std::vector<double> row(h.size());
-    for (const auto& p : points) {
-        const state_series& pts = p.result.section_points;
-        for (std::size_t i = 0; i < pts.size(); ++i) {
-            row[0] = p.value;
-            for (int k = 0; k < pts.dim(); ++k) row[static_cast<std::size_t>(k) + 1] = pts.x(i, k);
-            w.row(row);
-        }
+    return h;
+}
+
+void write_sweep_points(csv_writer& w, double value, const state_series& pts)
+{
+    std::vector<double> row(static_cast<std::size_t>(pts.dim()) + 1);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        row[0] = value;
+        for (int k = 0; k < pts.dim(); ++k) row[static_cast<std::size_t>(k) + 1] = pts.x(i, k);
+        w.row(row);
     }
-    w.close();
 }
 
 json multipliers_json(const floquet_result& r)
@@ -106,69 +107,80 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
     const model& m = c.model;
     const auto& info = c.info();
     const sweep_values sv = parse_sweep(a.sweep, m);
-    const floquet_sweep_result res = floquet_sweep(m, {sv.parameter, sv.values, c.ic, fo}, session.options());
-    if (!session.complete(res.jobs)) return session.exit_code();
+    std::vector<std::string> lh{sv.name, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
+                                "closure", "outcome"};
+    for (const auto& n : impact_count_columns(info)) lh.push_back(n);
 
-    std::vector<std::string> labels;
+    // The values stream in job order: rows to --out DIR, or each value's result to the
+    // summary without it (with it they are in the CSV files).
+    label_tally tally;
     json per_value = json::array();
     long unstable = 0;
-    for (const auto& p : res.points) {
+    streamed_output stream(c);
+    std::optional<csv_writer> lab, mu, pts;
+    auto open = [&] {
+        if (lab) return;
+        staged_output& out = *stream.get();
+        lab.emplace(out.file("labels.csv"), lh);
+        mu.emplace(out.file("multipliers.csv"), std::vector<std::string>{sv.name, "index", "re", "im", "modulus", "trivial"});
+        pts.emplace(out.file("points.csv"), sweep_points_header(sv.name, info));
+    };
+    auto each = [&](long, const floquet_sweep_point& p) {
         const auto& r = p.result;
         const bool have = r.has_multipliers();
-        labels.push_back(r.label);
-        per_value.push_back({{"value", p.value},
-                             {"label", r.label},
-                             {"outcome", std::string(to_string(r.status))},
-                             {"period", have ? json(r.period) : json(nullptr)},
-                             {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
-                             {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
-                             {"multipliers", multipliers_json(r)},
-                             {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)}});
+        tally.add(r.label);
         if (have && r.max_nontrivial_modulus >= 1.0) ++unstable;
-    }
-    const json counts = label_counts(labels);
+        if (!c.out) {
+            per_value.push_back({{"value", p.value},
+                                 {"label", r.label},
+                                 {"outcome", std::string(to_string(r.status))},
+                                 {"period", have ? json(r.period) : json(nullptr)},
+                                 {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
+                                 {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
+                                 {"multipliers", multipliers_json(r)},
+                                 {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)}});
+            return;
+        }
+        open();
+        std::vector<std::string> row{format_double(p.value),
+                                     r.label,
+                                     format_double(nan_unless(have, r.period)),
+                                     format_double(nan_unless(have, static_cast<double>(r.impacts_per_period))),
+                                     format_double(nan_unless(have, r.trivial_error)),
+                                     format_double(nan_unless(have, r.max_nontrivial_modulus)),
+                                     format_double(nan_unless(r.section_returns > 0, r.closure)),
+                                     std::string(to_string(r.status))};
+        for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+            row.push_back(have && s < r.impacts_by_surface.size() ? std::to_string(r.impacts_by_surface[s])
+                                                                   : std::string("nan"));
+        lab->text_row(row);
+        for (std::size_t i = 0; i < r.multipliers.size(); ++i)
+            mu->row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
+                     std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
+        write_sweep_points(*pts, p.value, r.section_points);
+    };
+    const floquet_sweep_result res =
+        floquet_sweep(m, {sv.parameter, sv.values, c.ic, fo}, session.options(), each);
+    if (!session.complete(res.jobs)) return session.exit_code();
+
+    const json counts = tally.counts();
     json summary = {{"command", "floquet"},
                     {"param", sv.name},
-                    {"values", res.points.size()},
+                    {"values", sv.values.size()},
                     {"label_counts", counts},
                     {"unstable", unstable},
-                    {"points", per_value},
                     {"files", {"labels.csv", "multipliers.csv", "points.csv"}},
                     {"out", c.out ? json(c.out->string()) : json(nullptr)}};
-    std::string text = "floquet sweep of " + sv.name + " over " + std::to_string(res.points.size()) +
+    if (!c.out) summary["points"] = per_value;
+    std::string text = "floquet sweep of " + sv.name + " over " + std::to_string(sv.values.size()) +
                        " values: " + counts_text(counts) + "; " + std::to_string(unstable) +
                        " periodic orbit(s) with a multiplier outside the unit circle\n";
     if (c.out) {
-        write_run(c, "floquet", "floquet_sweep", summary, [&](staged_output& out) {
-            std::vector<std::string> lh{sv.name, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
-                                        "closure", "outcome"};
-            for (const auto& n : impact_count_columns(info)) lh.push_back(n);
-            csv_writer lab(out.file("labels.csv"), lh);
-            csv_writer mu(out.file("multipliers.csv"), {sv.name, "index", "re", "im", "modulus", "trivial"});
-            for (const auto& p : res.points) {
-                const auto& r = p.result;
-                const bool have = r.has_multipliers();
-                std::vector<std::string> row{format_double(p.value),
-                                             r.label,
-                                             format_double(nan_unless(have, r.period)),
-                                             format_double(nan_unless(have, static_cast<double>(r.impacts_per_period))),
-                                             format_double(nan_unless(have, r.trivial_error)),
-                                             format_double(nan_unless(have, r.max_nontrivial_modulus)),
-                                             format_double(nan_unless(r.section_returns > 0, r.closure)),
-                                             std::string(to_string(r.status))};
-                for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-                    row.push_back(have && s < r.impacts_by_surface.size() ? std::to_string(r.impacts_by_surface[s])
-                                                                           : std::string("nan"));
-                lab.text_row(row);
-                for (std::size_t i = 0; i < r.multipliers.size(); ++i)
-                    mu.row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
-                            std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
-            }
-            lab.close();
-            mu.close();
-            write_sweep_points(out, sv.name, info, res.points);
-            return summary["files"];
-        });
+        open();
+        lab->close();
+        mu->close();
+        pts->close();
+        stream.commit("floquet", "floquet_sweep", summary, summary["files"]);
         session.finish();
         text += "output written to " + c.out->string() + "\n";
     }
@@ -296,68 +308,79 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                           m.name() + " has " + info.section_names() + ")");
     lo.record_points = c.protocol.record_points;
     lo.section = c.protocol.section.index;
-    const lyapunov_sweep_result res = lyapunov_sweep(m, {sv.parameter, sv.values, c.ic, lo}, session.options());
-    if (!session.complete(res.jobs)) return session.exit_code();
+    std::vector<std::string> h{sv.name};
+    for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
+    for (const char* k : {"lle_standard_error", "settled", "impacts", "time", "misses", "outcome"}) h.emplace_back(k);
+    for (const auto& n : impact_count_columns(info)) h.push_back(n);
 
+    // The values stream in job order: rows to --out DIR, or each value's result to the
+    // summary without it (with it they are in the CSV files).
     json per_value = json::array();
     long positive = 0, unsettled = 0;
-    for (const auto& p : res.points) {
+    streamed_output stream(c);
+    std::optional<csv_writer> w, pts;
+    auto open = [&] {
+        if (w) return;
+        staged_output& out = *stream.get();
+        w.emplace(out.file("exponents.csv"), h);
+        pts.emplace(out.file("points.csv"), sweep_points_header(sv.name, info));
+    };
+    auto each = [&](long, const lyapunov_sweep_point& p) {
         const auto& r = p.result;
         const bool have = r.has_exponents();
         const double lle = have ? r.exponents[0] : std::nan("");
-        per_value.push_back({{"value", p.value},
-                             {"outcome", std::string(to_string(r.status))},
-                             {"lle", finite_or_null(lle)},
-                             {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
-                             {"settled", r.settled},
-                             {"exponents", exponents_json(r)},
-                             {"impacts", r.impacts},
-                             {"impacts_by_surface", by_surface(r.impacts_by_surface, info)}});
         if (have && std::isfinite(lle) && std::isfinite(r.lle_standard_error) && lle > 3.0 * r.lle_standard_error) ++positive;
         if (have && !r.settled) ++unsettled;
-    }
-    const json summary = {{"command", "lyapunov"},
-                          {"param", sv.name},
-                          {"values", res.points.size()},
-                          {"tdm", std::string(to_string(lo.tdm))},
-                          {"positive", positive},
-                          {"unsettled", unsettled},
-                          {"points", per_value},
-                          {"files", {"exponents.csv", "points.csv"}},
-                          {"out", c.out ? json(c.out->string()) : json(nullptr)}};
-    std::string text = "lyapunov sweep of " + sv.name + " over " + std::to_string(res.points.size()) + " values (" +
+        if (!c.out) {
+            per_value.push_back({{"value", p.value},
+                                 {"outcome", std::string(to_string(r.status))},
+                                 {"lle", finite_or_null(lle)},
+                                 {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+                                 {"settled", r.settled},
+                                 {"exponents", exponents_json(r)},
+                                 {"impacts", r.impacts},
+                                 {"impacts_by_surface", by_surface(r.impacts_by_surface, info)}});
+            return;
+        }
+        open();
+        const bool all = have && r.exponents.size() == m.dim();
+        std::vector<std::string> row{format_double(p.value)};
+        for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(all ? r.exponents[i] : std::nan("")));
+        row.push_back(format_double(nan_unless(have, r.lle_standard_error)));
+        row.emplace_back(r.settled ? "1" : "0");
+        row.push_back(std::to_string(r.impacts));
+        row.push_back(format_double(r.time));
+        row.push_back(std::to_string(r.misses));
+        row.emplace_back(to_string(r.status));
+        for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+            row.push_back(std::to_string(s < r.impacts_by_surface.size() ? r.impacts_by_surface[s] : 0L));
+        w->text_row(row);
+        write_sweep_points(*pts, p.value, r.section_points);
+    };
+    const lyapunov_sweep_result res =
+        lyapunov_sweep(m, {sv.parameter, sv.values, c.ic, lo}, session.options(), each);
+    if (!session.complete(res.jobs)) return session.exit_code();
+
+    json summary = {{"command", "lyapunov"},
+                    {"param", sv.name},
+                    {"values", sv.values.size()},
+                    {"tdm", std::string(to_string(lo.tdm))},
+                    {"positive", positive},
+                    {"unsettled", unsettled},
+                    {"files", {"exponents.csv", "points.csv"}},
+                    {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    if (!c.out) summary["points"] = per_value;
+    std::string text = "lyapunov sweep of " + sv.name + " over " + std::to_string(sv.values.size()) + " values (" +
                        std::string(to_string(lo.tdm)) + "): largest exponent above 3 standard errors at " +
                        std::to_string(positive) + "\n";
     if (unsettled > 0)
         text += "warning: the largest exponent drifts between the halves of the averaging at " +
                 std::to_string(unsettled) + " value(s) (column settled = 0): lengthen --transient or --impacts\n";
     if (c.out) {
-        write_run(c, "lyapunov", "lyapunov_sweep", summary, [&](staged_output& out) {
-            std::vector<std::string> h{sv.name};
-            for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
-            for (const char* k : {"lle_standard_error", "settled", "impacts", "time", "misses", "outcome"})
-                h.emplace_back(k);
-            for (const auto& n : impact_count_columns(info)) h.push_back(n);
-            csv_writer w(out.file("exponents.csv"), h);
-            for (const auto& p : res.points) {
-                const auto& r = p.result;
-                const bool have = r.has_exponents() && r.exponents.size() == m.dim();
-                std::vector<std::string> row{format_double(p.value)};
-                for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(have ? r.exponents[i] : std::nan("")));
-                row.push_back(format_double(nan_unless(r.has_exponents(), r.lle_standard_error)));
-                row.emplace_back(r.settled ? "1" : "0");
-                row.push_back(std::to_string(r.impacts));
-                row.push_back(format_double(r.time));
-                row.push_back(std::to_string(r.misses));
-                row.emplace_back(to_string(r.status));
-                for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-                    row.push_back(std::to_string(s < r.impacts_by_surface.size() ? r.impacts_by_surface[s] : 0L));
-                w.text_row(row);
-            }
-            w.close();
-            write_sweep_points(out, sv.name, info, res.points);
-            return summary["files"];
-        });
+        open();
+        w->close();
+        pts->close();
+        stream.commit("lyapunov", "lyapunov_sweep", summary, summary["files"]);
         session.finish();
         text += "output written to " + c.out->string() + "\n";
     }

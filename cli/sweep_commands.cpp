@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include "commands.hpp"
 #include "job_runner.hpp"
@@ -96,64 +98,76 @@ int run_sweep(const sweep_args& a)
             throw input_error("--grazing: model " + m.name() + " has no parameter that moves a surface without entering "
                               "the vector field; name one with --grazing P");
     }
-    const sweep_result res = sweep(m, o, session.options());
+    const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
+    // Without --grazing the columns of the model's usual grazing parameter stay, empty (nan).
+    const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : first_gap_parameter(m);
+    std::vector<std::string> ph{"branch", pname};
+    append(ph, state_columns(info));
+    std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "settled", "outcome"};
+    append(lh, grazing_columns(m, gp));
+    append(lh, impact_count_columns(info));
+
+    // The points stream in job order: rows to --out DIR, or labels to the summary without it.
+    json labels = json::array(), labels_down = json::array();
+    label_tally tally;
+    std::size_t npoints = 0;
+    long unsettled = 0;
+    streamed_output stream(c);
+    std::optional<csv_writer> pts, lab;
+    auto open = [&] {
+        if (pts) return;
+        staged_output& out = *stream.get();
+        pts.emplace(out.file("points.csv"), ph);
+        lab.emplace(out.file("labels.csv"), lh);
+    };
+    std::vector<double> row(ph.size());
+    auto each = [&](long, const sweep_point& p) {
+        tally.add(p.label.label);
+        npoints += p.points.size();
+        if (!p.label.settled) ++unsettled;
+        if (!c.out) {
+            (p.branch == 0 ? labels : labels_down).push_back({p.value, p.label.label});
+            return;
+        }
+        open();
+        row[0] = p.branch;
+        row[1] = p.value;
+        for (std::size_t i = 0; i < p.points.size(); ++i) {
+            for (int k = 0; k < p.points.dim(); ++k) row[static_cast<std::size_t>(k) + 2] = p.points.x(i, k);
+            pts->row(row);
+        }
+        std::vector<std::string> cells{format_double(p.branch), format_double(p.value), p.label.label,
+                                       std::to_string(p.label.period), std::to_string(p.label.impacts_per_period),
+                                       format_double(p.label.closure), p.label.settled ? "1" : "0",
+                                       std::string(to_string(p.status))};
+        if (gp >= 0)
+            for (std::size_t s = 0; s < info.surfaces.size(); ++s)
+                cells.push_back(format_double(s < p.grazing.size() ? p.grazing[s] : std::nan("")));
+        append_counts(cells, p.label.impacts_by_surface, info.surfaces.size());
+        lab->text_row(cells);
+    };
+    const sweep_result res = sweep(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
 
-    const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
-    json labels = json::array(), labels_down = json::array();
-    std::vector<std::string> all_labels;
-    std::size_t npoints = 0;
-    for (const auto& p : res.points) {
-        (p.branch == 0 ? labels : labels_down).push_back({p.value, p.label.label});
-        all_labels.push_back(p.label.label);
-        npoints += p.points.size();
-    }
-    const json counts = label_counts(all_labels);
-    const long unsettled =
-        std::count_if(res.points.begin(), res.points.end(), [](const sweep_point& p) { return !p.label.settled; });
+    const json counts = tally.counts();
     json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
                     {"ic_mode", a.ic_mode},       {"direction", a.direction}, {"section_points", npoints},
-                    {"label_counts", counts},     {"labels", labels},        {"unsettled", unsettled},
-                    {"out", out_json(c)}};
-    if (!labels_down.empty()) summary[o.direction == sweep_direction::down ? "labels" : "labels_down"] = labels_down;
+                    {"label_counts", counts},     {"unsettled", unsettled},  {"out", out_json(c)}};
+    // Each point's label: in labels.csv with --out (the summary stays the same size whatever
+    // the number of points), in the summary without it.
+    if (!c.out) {
+        summary["labels"] = labels;
+        if (!labels_down.empty()) summary[o.direction == sweep_direction::down ? "labels" : "labels_down"] = labels_down;
+    }
     if (o.grazing_parameter >= 0)
         summary["grazing_param"] = info.parameters[static_cast<std::size_t>(o.grazing_parameter)].name;
     std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" + a.ic_mode +
                        " starts): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
-        // Without --grazing the columns of the model's usual grazing parameter stay, empty (nan).
-        const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : first_gap_parameter(m);
-        write_run(c, "sweep", summary, [&](staged_output& out) {
-            std::vector<std::string> ph{"branch", pname};
-            append(ph, state_columns(info));
-            csv_writer pts(out.file("points.csv"), ph);
-            std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "settled", "outcome"};
-            append(lh, grazing_columns(m, gp));
-            append(lh, impact_count_columns(info));
-            csv_writer lab(out.file("labels.csv"), lh);
-            std::vector<double> row(ph.size());
-            for (const auto& p : res.points) {
-                row[0] = p.branch;
-                row[1] = p.value;
-                for (std::size_t i = 0; i < p.points.size(); ++i) {
-                    for (int k = 0; k < p.points.dim(); ++k) row[static_cast<std::size_t>(k) + 2] = p.points.x(i, k);
-                    pts.row(row);
-                }
-                std::vector<std::string> cells{format_double(p.branch), format_double(p.value), p.label.label,
-                                               std::to_string(p.label.period),
-                                               std::to_string(p.label.impacts_per_period),
-                                               format_double(p.label.closure), p.label.settled ? "1" : "0",
-                                               std::string(to_string(p.status))};
-                if (gp >= 0)
-                    for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-                        cells.push_back(format_double(s < p.grazing.size() ? p.grazing[s] : std::nan("")));
-                append_counts(cells, p.label.impacts_by_surface, info.surfaces.size());
-                lab.text_row(cells);
-            }
-            pts.close();
-            lab.close();
-            return json{"points.csv", "labels.csv"};
-        });
+        open();
+        pts->close();
+        lab->close();
+        stream.commit("sweep", "sweep", summary, {"points.csv", "labels.csv"});
         session.finish();
         text += "output written to " + out_json_text(c) + "\n";
     }
@@ -186,25 +200,46 @@ int run_map(const map_args& a)
     check_tolerance(a.tol, "--tol");
     o.period_tolerance = a.tol;
     o.grazing = a.grazing;
-    const map_result res = map2d(m, o, session.options());
+    const std::size_t nx = ax.values.size(), ny = ay.values.size();
+    std::vector<std::string> lh{ax.name, ay.name, "label", "period", "impacts", "settled", "outcome"};
+    append(lh, impact_count_columns(info));
+
+    // The cells stream in job order: rows to --out DIR, or labels to the summary without it.
+    json rows = json::array(), row = json::array();
+    label_tally tally;
+    long unsettled = 0;
+    streamed_output stream(c);
+    std::optional<csv_writer> lab;
+    auto open = [&] {
+        if (!lab) lab.emplace(stream.get()->file("labels.csv"), lh);
+    };
+    auto each = [&](long job, const map_cell& cell) {
+        tally.add(cell.label.label);
+        if (!cell.label.settled) ++unsettled;
+        if (!c.out) {
+            row.push_back(cell.label.label);
+            if (row.size() == nx) rows.push_back(std::exchange(row, json::array()));
+            return;
+        }
+        open();
+        const auto j = static_cast<std::size_t>(job);
+        std::vector<std::string> cells{format_double(ax.values[j % nx]), format_double(ay.values[j / nx]),
+                                       cell.label.label, std::to_string(cell.label.period),
+                                       std::to_string(cell.label.impacts_per_period), cell.label.settled ? "1" : "0",
+                                       std::string(to_string(cell.status))};
+        append_counts(cells, cell.label.impacts_by_surface, info.surfaces.size());
+        lab->text_row(cells);
+    };
+    const map_result res = map2d(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
 
-    const std::size_t nx = ax.values.size(), ny = ay.values.size();
-    json rows = json::array();
-    std::vector<std::string> all_labels;
-    for (std::size_t iy = 0; iy < ny; ++iy) {
-        json row = json::array();
-        for (std::size_t ix = 0; ix < nx; ++ix) row.push_back(res.cells[iy * nx + ix].label.label);
-        rows.push_back(std::move(row));
-    }
-    for (const auto& cell : res.cells) all_labels.push_back(cell.label.label);
-    const json counts = label_counts(all_labels);
-    const long unsettled =
-        std::count_if(res.cells.begin(), res.cells.end(), [](const map_cell& cell) { return !cell.label.settled; });
-    json summary = {{"command", "map"},         {"x", ax.name},          {"y", ay.name},
-                    {"shape", {ny, nx}},        {"x_values", ax.values}, {"y_values", ay.values},
-                    {"label_counts", counts},   {"labels", rows},        {"unsettled", unsettled},
-                    {"out", out_json(c)}};
+    const json counts = tally.counts();
+    json summary = {{"command", "map"},       {"x", ax.name},          {"y", ay.name},
+                    {"shape", {ny, nx}},      {"x_values", ax.values}, {"y_values", ay.values},
+                    {"label_counts", counts}, {"unsettled", unsettled}, {"out", out_json(c)}};
+    // Each cell's label: in labels.csv with --out (the summary stays the same size whatever
+    // the number of cells), in the summary without it.
+    if (!c.out) summary["labels"] = rows;
     int gp = -1;
     std::string other;
     json grazing = json::array();
@@ -224,36 +259,23 @@ int run_map(const map_args& a)
     std::string text = "map " + ax.name + " x " + ay.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
                        "): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
-        write_run(c, "map", summary, [&](staged_output& out) {
-            std::vector<std::string> lh{ax.name, ay.name, "label", "period", "impacts", "settled", "outcome"};
-            append(lh, impact_count_columns(info));
-            csv_writer lab(out.file("labels.csv"), lh);
-            for (std::size_t job = 0; job < res.cells.size(); ++job) {
-                const auto& cell = res.cells[job];
-                std::vector<std::string> cells{format_double(ax.values[job % nx]), format_double(ay.values[job / nx]),
-                                               cell.label.label, std::to_string(cell.label.period),
-                                               std::to_string(cell.label.impacts_per_period),
-                                               cell.label.settled ? "1" : "0", std::string(to_string(cell.status))};
-                append_counts(cells, cell.label.impacts_by_surface, info.surfaces.size());
-                lab.text_row(cells);
+        open();
+        lab->close();
+        json files = {"labels.csv"};
+        if (gp >= 0) {
+            std::vector<std::string> gh{other};
+            append(gh, grazing_columns(m, gp));
+            csv_writer g(stream.get()->file("grazing.csv"), gh);
+            for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
+                std::vector<double> grow{res.grazing_other[k]};
+                grow.insert(grow.end(), res.grazing_values[k].begin(), res.grazing_values[k].end());
+                grow.resize(gh.size(), std::nan(""));
+                g.row(grow);
             }
-            lab.close();
-            json files = {"labels.csv"};
-            if (gp >= 0) {
-                std::vector<std::string> gh{other};
-                append(gh, grazing_columns(m, gp));
-                csv_writer g(out.file("grazing.csv"), gh);
-                for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
-                    std::vector<double> row{res.grazing_other[k]};
-                    row.insert(row.end(), res.grazing_values[k].begin(), res.grazing_values[k].end());
-                    row.resize(gh.size(), std::nan(""));
-                    g.row(row);
-                }
-                g.close();
-                files.push_back("grazing.csv");
-            }
-            return files;
-        });
+            g.close();
+            files.push_back("grazing.csv");
+        }
+        stream.commit("map", "map", summary, files);
         session.finish();
         text += "output written to " + out_json_text(c) + "\n";
     }
@@ -288,10 +310,27 @@ int run_basins(const basins_args& a)
     o.period_tolerance = a.tol;
     check_tolerance(a.match_tol, "--match-tol");
     o.match.tolerance = a.match_tol;
-    const basins_result res = basins(m, o, session.options());
+    const std::size_t nx = ax.values.size(), ny = ay.values.size();
+
+    // The cells stream in job order to cells.csv; the summary counts.
+    long excluded = 0, unsettled = 0;
+    streamed_output stream(c);
+    std::optional<csv_writer> cells;
+    auto open = [&] {
+        if (!cells) cells.emplace(stream.get()->file("cells.csv"), std::vector<std::string>{ax.name, ay.name, "attractor", "label", "settled"});
+    };
+    auto each = [&](long job, const basin_cell& b) {
+        if (!b.admissible) ++excluded;
+        if (!b.label.settled) ++unsettled;
+        if (!c.out) return;
+        open();
+        const auto j = static_cast<std::size_t>(job);
+        cells->text_row({format_double(ax.values[j % nx]), format_double(ay.values[j / nx]), std::to_string(b.attractor),
+                         b.label.label, b.label.settled ? "1" : "0"});
+    };
+    const basins_result res = basins(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
 
-    const std::size_t nx = ax.values.size(), ny = ay.values.size();
     json table = json::array(), labels = json::array();
     for (std::size_t i = 0; i < res.attractors.size(); ++i) {
         const auto& e = res.attractors[i];
@@ -300,9 +339,6 @@ int run_basins(const basins_args& a)
         table.push_back({{"id", i}, {"label", e.signature.label}, {"cells", e.members}, {"section_points", pts}});
         labels.push_back(e.signature.label);
     }
-    const long excluded = std::count_if(res.cells.begin(), res.cells.end(), [](const basin_cell& b) { return !b.admissible; });
-    const long unsettled =
-        std::count_if(res.cells.begin(), res.cells.end(), [](const basin_cell& b) { return !b.label.settled; });
     const json summary = {{"command", "basins"},
                           {"x", ax.name},
                           {"y", ay.name},
@@ -319,15 +355,9 @@ int run_basins(const basins_args& a)
     if (excluded) text += "  (" + std::to_string(excluded) + " cells start beyond a surface and are excluded)\n";
     text += unsettled_text(unsettled);
     if (c.out) {
-        write_run(c, "basins", summary, [&](staged_output& out) {
-            csv_writer cells(out.file("cells.csv"), {ax.name, ay.name, "attractor", "label", "settled"});
-            for (std::size_t job = 0; job < res.cells.size(); ++job)
-                cells.text_row({format_double(ax.values[job % nx]), format_double(ay.values[job / nx]),
-                                std::to_string(res.cells[job].attractor), res.cells[job].label.label,
-                                res.cells[job].label.settled ? "1" : "0"});
-            cells.close();
-            return json{"cells.csv"};
-        });
+        open();
+        cells->close();
+        stream.commit("basins", "basins", summary, {"cells.csv"});
         session.finish();
         text += "output written to " + out_json_text(c) + "\n";
     }
@@ -383,9 +413,6 @@ int run_response(const response_args& a)
     o.grazing = job_grazing_options(c.protocol.flow.integration, a.transient_time);
     o.grazing.method = c.protocol.method;
     o.grazing.parameter = first_gap_parameter(m);
-    const response_result res = response(m, o, session.options());
-    if (!session.complete(res.jobs)) return session.exit_code();
-
     const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
     const std::string& vname = info.state[static_cast<std::size_t>(o.variable)].name;
     const auto gcols = o.grazing.parameter >= 0 ? grazing_columns(m, o.grazing.parameter) : surface_columns(info, "margin");
@@ -395,13 +422,55 @@ int run_response(const response_args& a)
         for (const auto& [p, v] : curve)
             if (std::find(curve_params.begin(), curve_params.end(), p) == curve_params.end()) curve_params.push_back(p);
     std::sort(curve_params.begin(), curve_params.end());
-    const std::size_t n = o.values.size(), ncurves = std::max<std::size_t>(1, o.curves.size());
+    const std::size_t ncurves = std::max<std::size_t>(1, o.curves.size());
     auto curve_value = [&](std::size_t k, int p) {
         if (k < o.curves.size())
             for (const auto& [q, v] : o.curves[k])
                 if (q == p) return v;
         return m.parameter(p);
     };
+
+    // The points stream in job order (curve by curve): rows to --out DIR; each curve's
+    // arrays go to the summary only without it (with it they are in response.csv).
+    struct curve_tally {
+        json amplitude = json::array(), frequency = json::array();
+        std::vector<json> graze;
+        long unconverged = 0;
+        double peak = -1.0;
+    };
+    std::vector<curve_tally> tallies(ncurves);
+    for (auto& t : tallies) t.graze.assign(gcols.size(), json::array());
+    std::vector<std::string> h{"curve"};
+    for (const int p : curve_params) h.push_back(info.parameters[static_cast<std::size_t>(p)].name);
+    append(h, {pname, "amplitude", vname + "_max", vname + "_min"});
+    append(h, gcols);
+    append(h, {"frequency", "converged"});
+    streamed_output stream(c);
+    std::optional<csv_writer> w;
+    auto open = [&] {
+        if (!w) w.emplace(stream.get()->file("response.csv"), h);
+    };
+    auto each = [&](long, const response_point& r) {
+        auto& t = tallies[static_cast<std::size_t>(r.curve)];
+        t.unconverged += r.converged ? 0 : 1;
+        if (std::isfinite(r.amplitude)) t.peak = std::max(t.peak, r.amplitude);
+        if (!c.out) {
+            t.amplitude.push_back(finite_or_null(r.amplitude));
+            t.frequency.push_back(finite_or_null(r.frequency));
+            for (std::size_t s = 0; s < gcols.size(); ++s)
+                t.graze[s].push_back(finite_or_null(s < r.grazing.size() ? r.grazing[s] : std::nan("")));
+            return;
+        }
+        open();
+        std::vector<double> row{static_cast<double>(r.curve)};
+        for (const int p : curve_params) row.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
+        row.insert(row.end(), {r.value, r.amplitude, r.maximum, r.minimum});
+        for (std::size_t s = 0; s < gcols.size(); ++s) row.push_back(s < r.grazing.size() ? r.grazing[s] : std::nan(""));
+        row.insert(row.end(), {r.frequency, r.converged ? 1.0 : 0.0});
+        w->row(row);
+    };
+    const response_result res = response(m, o, session.options(), each);
+    if (!session.complete(res.jobs)) return session.exit_code();
 
     json curves = json::array();
     std::string text;
@@ -413,26 +482,17 @@ int run_response(const response_args& a)
                 set[info.parameters[static_cast<std::size_t>(p)].name] = v;
                 described.push_back(info.parameters[static_cast<std::size_t>(p)].name + " = " + format_double(v));
             }
-        json amp = json::array(), freq = json::array();
-        std::vector<json> graze(gcols.size(), json::array());
-        long unconverged = 0;
-        double peak = -1.0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto& r = res.points[k * n + i];
-            amp.push_back(finite_or_null(r.amplitude));
-            freq.push_back(finite_or_null(r.frequency));
-            for (std::size_t s = 0; s < gcols.size(); ++s)
-                graze[s].push_back(finite_or_null(s < r.grazing.size() ? r.grazing[s] : std::nan("")));
-            unconverged += r.converged ? 0 : 1;
-            if (std::isfinite(r.amplitude)) peak = std::max(peak, r.amplitude);
+        auto& t = tallies[k];
+        json cj = {{"parameters", set}, {"values", o.values}, {"not_converged", t.unconverged}};
+        if (!c.out) {
+            cj["amplitude"] = std::move(t.amplitude);
+            cj["frequency"] = std::move(t.frequency);
+            for (std::size_t s = 0; s < gcols.size(); ++s) cj[gcols[s]] = std::move(t.graze[s]);
         }
-        json cj = {{"parameters", set}, {"values", o.values}, {"amplitude", amp}, {"frequency", freq},
-                   {"not_converged", unconverged}};
-        for (std::size_t s = 0; s < gcols.size(); ++s) cj[gcols[s]] = graze[s];
         curves.push_back(std::move(cj));
         text += (described.empty() ? std::string("response") : join(described)) + ": peak amplitude of " + vname + " " +
-                format_double(peak) +
-                (unconverged ? " (" + std::to_string(unconverged) + " points not converged)" : std::string()) + "\n";
+                format_double(t.peak) +
+                (t.unconverged ? " (" + std::to_string(t.unconverged) + " points not converged)" : std::string()) + "\n";
     }
     const json summary = {{"command", "response"},
                           {"param", pname},
@@ -443,24 +503,9 @@ int run_response(const response_args& a)
                           {"curves", curves},
                           {"out", out_json(c)}};
     if (c.out) {
-        write_run(c, "response", summary, [&](staged_output& out) {
-            std::vector<std::string> h{"curve"};
-            for (const int p : curve_params) h.push_back(info.parameters[static_cast<std::size_t>(p)].name);
-            append(h, {pname, "amplitude", vname + "_max", vname + "_min"});
-            append(h, gcols);
-            append(h, {"frequency", "converged"});
-            csv_writer w(out.file("response.csv"), h);
-            for (const auto& r : res.points) {
-                std::vector<double> row{static_cast<double>(r.curve)};
-                for (const int p : curve_params) row.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
-                row.insert(row.end(), {r.value, r.amplitude, r.maximum, r.minimum});
-                for (std::size_t s = 0; s < gcols.size(); ++s) row.push_back(s < r.grazing.size() ? r.grazing[s] : std::nan(""));
-                row.insert(row.end(), {r.frequency, r.converged ? 1.0 : 0.0});
-                w.row(row);
-            }
-            w.close();
-            return json{"response.csv"};
-        });
+        open();
+        w->close();
+        stream.commit("response", "response", summary, {"response.csv"});
         session.finish();
         text += "output written to " + out_json_text(c) + "\n";
     }

@@ -11,6 +11,8 @@ packages=(
   python3 python3-numpy python3-scipy python3-matplotlib python3-pytest pybind11-dev python3-dev
   # pip install --no-build-isolation . (docs/python.md) builds with these, not PyPI's
   python3-venv python3-pip python3-setuptools python3-wheel
+  # many-job runs across processes: mpirun -n N vimpact map ... (docs/distributed.md)
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

@@ -113,7 +113,10 @@ def main(d):
                 g = res["grazing"]
                 print(f"  grazing line from {g[0]} to {g[-1]}")
                 # P0 exactly below the line?
-                xs, ys, cells = res["x_values"], res["y_values"], res["labels"]
+                # Each cell's label is in labels.csv (row iy * nx + ix), not in run.json.
+                xs, ys = res["x_values"], res["y_values"]
+                flat = [r["label"] for r in table(os.path.join(d, name, "labels.csv"))]
+                cells = [flat[k * len(xs):(k + 1) * len(xs)] for k in range(len(ys))]
                 bad = 0
                 for ix, (xv, gv) in enumerate(g):
                     for iy, yv in enumerate(ys):
@@ -131,7 +134,12 @@ def main(d):
         if os.path.exists(p):
             res = json.load(open(p))["result"]
             print(f"### {name}:")
-            for c in res["curves"]:
+            # Each point's amplitude and frequency are in response.csv, curve by curve.
+            rows = table(os.path.join(d, name, "response.csv"))
+            for i, c in enumerate(res["curves"]):
+                mine = [r for r in rows if int(float(r["curve"])) == i]
+                c["amplitude"] = [float(r["amplitude"]) if r["amplitude"] != "nan" else None for r in mine]
+                c["frequency"] = [float(r["frequency"]) for r in mine]
                 amp = [a for a in c["amplitude"] if a is not None]
                 k = c["amplitude"].index(max(amp))
                 # The paper's model's time unit makes the wake's own angular frequency 1: the

@@ -3,12 +3,18 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <tuple>
 #include <cmath>
+#include <deque>
 #include <mutex>
 #include <set>
+#include <string>
 #include <thread>
 
 #include "vimpact/jobs/job_loop.hpp"
+#include "vimpact/jobs/job_ranks.hpp"
 
 namespace {
 
@@ -28,7 +34,7 @@ std::vector<std::pair<long, double>> collect(const job_schedule& s, job_loop_opt
                                              const std::unordered_map<long, double>& done = {})
 {
     std::vector<std::pair<long, double>> out;
-    run_jobs<double>(s, o, done, work, [&](long j, double&& v) { out.emplace_back(j, v); });
+    run_jobs<double>(s, o, vimpact::finished_in(done), work, [&](long j, double&& v) { out.emplace_back(j, v); });
     return out;
 }
 
@@ -153,6 +159,162 @@ TEST(JobLoop, RejectsInvalidShards)
     EXPECT_THROW(collect(job_schedule{5, 0}, o), vimpact::input_error);
     o.shard = {0, 0};
     EXPECT_THROW(collect(job_schedule{5, 0}, o), vimpact::input_error);
+}
+
+// ---- ranks -----------------------------------------------------------------------------
+// The job loop across ranks, the ranks being threads of this process that exchange the same
+// messages as MPI ranks do (jobs/job_ranks.hpp): the protocol is tested with or without MPI.
+
+struct mail_hub {
+    std::mutex mutex;
+    std::vector<std::deque<vimpact::rank_message>> boxes;
+};
+
+class local_ranks final : public vimpact::job_ranks {
+public:
+    local_ranks(mail_hub& hub, int rank) : m_hub(hub), m_rank(rank) {}
+    [[nodiscard]] int rank() const override { return m_rank; }
+    [[nodiscard]] int size() const override { return static_cast<int>(m_hub.boxes.size()); }
+    void send(int to, int tag, std::string bytes) override
+    {
+        const std::lock_guard lock(m_hub.mutex);
+        m_hub.boxes[static_cast<std::size_t>(to)].push_back({m_rank, tag, std::move(bytes)});
+    }
+    std::optional<vimpact::rank_message> receive() override
+    {
+        const std::lock_guard lock(m_hub.mutex);
+        auto& box = m_hub.boxes[static_cast<std::size_t>(m_rank)];
+        if (box.empty()) return std::nullopt;
+        auto m = std::move(box.front());
+        box.pop_front();
+        return m;
+    }
+    void flush() override {}
+
+private:
+    mail_hub& m_hub;
+    int m_rank;
+};
+
+// The wire form of a double record: "job value" with every bit of the value.
+vimpact::job_loop_io<double> wire()
+{
+    vimpact::job_loop_io<double> io;
+    io.encode = [](long j, const double& v) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%ld %a", j, v);
+        return std::string(buf);
+    };
+    io.decode = [](std::string_view line) {
+        const std::string s(line);
+        const auto sp = s.find(' ');
+        return std::pair<long, double>(std::stol(s.substr(0, sp)), std::strtod(s.c_str() + sp + 1, nullptr));
+    };
+    return io;
+}
+
+struct ranks_run {
+    std::vector<std::pair<long, double>> delivered;  // by rank 0
+    std::vector<vimpact::job_loop_summary> summaries;
+    std::vector<std::string> errors;                 // per rank, empty when it returned
+};
+
+template <class Run>
+ranks_run run_ranks(int n, const job_schedule& s, job_loop_options o, Run run)
+{
+    mail_hub hub;
+    hub.boxes.resize(static_cast<std::size_t>(n));
+    ranks_run out;
+    out.summaries.resize(static_cast<std::size_t>(n));
+    out.errors.resize(static_cast<std::size_t>(n));
+    std::vector<std::jthread> threads;
+    for (int r = 0; r < n; ++r)
+        threads.emplace_back([&, r] {
+            job_loop_options mine = o;
+            mine.ranks = std::make_shared<local_ranks>(hub, r);
+            try {
+                out.summaries[static_cast<std::size_t>(r)] = run_jobs<double>(
+                    s, mine, wire(), run, [&](long j, double&& v) { out.delivered.emplace_back(j, v); });
+            } catch (const std::exception& e) {
+                out.errors[static_cast<std::size_t>(r)] = e.what();
+            }
+        });
+    threads.clear();  // joins
+    return out;
+}
+
+TEST(JobLoopRanks, EveryJobOnceInOrderAndBitForBitWhateverTheRanksAndThreads)
+{
+    for (const job_schedule s : {job_schedule{300, 0}, job_schedule{60, 2}}) {
+        job_loop_options o;
+        o.threads = 1;
+        const auto one = collect(s, o);
+        for (const auto& [ranks, threads, window] : {std::tuple{2, 1, 0L}, std::tuple{3, 2, 0L}, std::tuple{4, 1, 3L}}) {
+            o.threads = threads;
+            o.window = window;
+            const auto r = run_ranks(ranks, s, o, work);
+            EXPECT_EQ(r.delivered, one) << ranks << " ranks x " << threads << " threads, chains " << s.chains;
+            for (const auto& e : r.errors) EXPECT_EQ(e, "");
+            EXPECT_TRUE(r.summaries[0].coordinator);
+            EXPECT_EQ(r.summaries[0].computed, s.jobs);
+            long remote = 0;
+            for (int k = 1; k < ranks; ++k) {
+                EXPECT_FALSE(r.summaries[static_cast<std::size_t>(k)].coordinator);
+                remote += r.summaries[static_cast<std::size_t>(k)].computed;
+            }
+            if (!s.chained()) {
+                EXPECT_GT(remote, 0) << "the other ranks computed nothing";
+            }
+        }
+    }
+}
+
+TEST(JobLoopRanks, MoreRanksThanJobs)
+{
+    job_loop_options o;
+    o.threads = 1;
+    const auto r = run_ranks(5, job_schedule{2, 0}, o, work);
+    EXPECT_EQ(r.delivered, collect(job_schedule{2, 0}, o));
+    for (const auto& e : r.errors) EXPECT_EQ(e, "");
+}
+
+TEST(JobLoopRanks, ResumedJobsAreNotComputedAgain)
+{
+    const job_schedule s{40, 1};
+    job_loop_options o;
+    o.threads = 2;
+    const auto whole = collect(s, o);
+    std::unordered_map<long, double> done;
+    for (long j = 0; j < 15; ++j) done.emplace(j, whole[static_cast<std::size_t>(j)].second);
+    mail_hub hub;
+    hub.boxes.resize(2);
+    std::vector<std::pair<long, double>> got;
+    std::jthread other([&] {
+        job_loop_options mine = o;
+        mine.ranks = std::make_shared<local_ranks>(hub, 1);
+        (void)run_jobs<double>(s, mine, wire(), work, [](long, double&&) {});
+    });
+    job_loop_options mine = o;
+    mine.ranks = std::make_shared<local_ranks>(hub, 0);
+    auto io = wire();
+    const auto f = vimpact::finished_in(done);
+    io.finished = f.finished;
+    io.load = f.load;
+    const auto summary = run_jobs<double>(s, mine, io, work, [&](long j, double&& v) { got.emplace_back(j, v); });
+    EXPECT_EQ(summary.resumed, 15);
+    ASSERT_EQ(got.size(), 25u);
+    for (std::size_t k = 0; k < got.size(); ++k) EXPECT_EQ(got[k], whole[k + 15]);
+}
+
+TEST(JobLoopRanks, AJobsFailureOnAnyRankReachesRankZeroAndEveryRankEnds)
+{
+    job_loop_options o;
+    o.threads = 1;
+    const auto r = run_ranks(3, job_schedule{100, 0}, o, [](long j, const double* p) {
+        if (j == 37) throw vimpact::input_error("job 37 failed");
+        return work(j, p);
+    });
+    EXPECT_NE(r.errors[0].find("job 37 failed"), std::string::npos) << r.errors[0];
 }
 
 }  // namespace

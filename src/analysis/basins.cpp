@@ -59,7 +59,7 @@ attractor_signature signature_of(const model& m, const simulation& run, const pe
     return make_signature(label.label, label.period, coords);
 }
 
-basins_result basins(const model& m, const basins_options& o, const job_options& j)
+basins_result basins(const model& m, const basins_options& o, const job_options& j, const job_stream<basin_cell>& each)
 {
     validate(o.protocol);
     validate(m, o.protocol.section);
@@ -106,13 +106,14 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
         return c;
     };
     basins_result res;
-    auto records = detail::run_journaled<basin_cell>(spec, {nx * ny, 0}, j, run, encode, decode, res.jobs);
-    for (auto& [job, c] : records) res.cells.push_back(std::move(c));
-    if (res.jobs.complete()) {
-        attractor_catalogue catalogue(o.match);
-        for (auto& c : res.cells) c.attractor = c.admissible ? catalogue.identify(c.signature) : -1;
-        res.attractors = catalogue.entries();
-    }
+    // Attractors are numbered in order of first appearance: identified as the cells stream.
+    attractor_catalogue catalogue(o.match);
+    res.jobs = detail::run_journaled<basin_cell>(spec, {nx * ny, 0}, j, run, encode, decode, [&](long job, basin_cell&& c) {
+        c.attractor = c.admissible ? catalogue.identify(c.signature) : -1;
+        if (each) each(job, c);
+        else res.cells.push_back(std::move(c));
+    });
+    if (res.jobs.complete()) res.attractors = catalogue.entries();
     return res;
 }
 

@@ -47,7 +47,7 @@ bool moves_a_surface(const model& m, int parameter)
 
 }  // namespace
 
-map_result map2d(const model& m, const map_options& o, const job_options& j)
+map_result map2d(const model& m, const map_options& o, const job_options& j, const job_stream<map_cell>& each)
 {
     validate(o.protocol);
     validate(m, o.protocol.section);
@@ -115,16 +115,16 @@ map_result map2d(const model& m, const map_options& o, const job_options& j)
         return rec;
     };
     map_result res;
-    auto records = detail::run_journaled<map_record>(spec, {nx * ny, 0}, j, run, encode, decode, res.jobs);
     res.grazing_axis = grazing_axis;
-    for (auto& [job, r] : records) {
+    res.jobs = detail::run_journaled<map_record>(spec, {nx * ny, 0}, j, run, encode, decode, [&](long job, map_record&& r) {
         if (computes_grazing(job % nx, job / nx)) {
             res.grazing_other.push_back(grazing_axis == 1 ? o.x.values[static_cast<std::size_t>(job % nx)]
                                                           : o.y.values[static_cast<std::size_t>(job / nx)]);
             res.grazing_values.push_back(r.grazing);
         }
-        res.cells.push_back(std::move(r.cell));
-    }
+        if (each) each(job, r.cell);
+        else res.cells.push_back(std::move(r.cell));
+    });
     return res;
 }
 

@@ -51,7 +51,8 @@ model curve_model(const model& m, const std::vector<std::pair<int, double>>& cur
 
 }  // namespace
 
-response_result response(const model& m, const response_options& o, const job_options& j)
+response_result response(const model& m, const response_options& o, const job_options& j,
+                         const job_stream<response_point>& each)
 {
     const int P = static_cast<int>(m.parameters().size());
     if (o.parameter < 0 || o.parameter >= P) throw input_error("response parameter index out of range");
@@ -106,8 +107,11 @@ response_result response(const model& m, const response_options& o, const job_op
         return p;
     };
     response_result res;
-    auto records = detail::run_journaled<response_point>(spec, {n * nc, 0}, j, run, encode, decode, res.jobs);
-    for (auto& [job, p] : records) res.points.push_back(std::move(p));
+    res.jobs = detail::run_journaled<response_point>(spec, {n * nc, 0}, j, run, encode, decode,
+                                                     [&](long job, response_point&& p) {
+                                                         if (each) each(job, p);
+                                                         else res.points.push_back(std::move(p));
+                                                     });
     return res;
 }
 

@@ -143,7 +143,8 @@ Eigen::VectorXd check_values(const model& m, int parameter, const std::vector<do
 
 }  // namespace
 
-floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& o, const job_options& j)
+floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& o, const job_options& j,
+                                   const job_stream<floquet_sweep_point>& each)
 {
     validate(m, o.floquet);
     const Eigen::VectorXd ic = check_values(m, o.parameter, o.values, o.initial_state);
@@ -160,14 +161,18 @@ floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& 
         return p;
     };
     floquet_sweep_result res;
-    auto records = detail::run_journaled<floquet_sweep_point>(
+    res.jobs = detail::run_journaled<floquet_sweep_point>(
         spec, {static_cast<long>(o.values.size()), 0}, j, run, [](const floquet_sweep_point& p) { return encode(p); },
-        [&](const json& r) { return decode_floquet(r, o.floquet.jump); }, res.jobs);
-    for (auto& [job, p] : records) res.points.push_back(std::move(p));
+        [&](const json& r) { return decode_floquet(r, o.floquet.jump); },
+        [&](long job, floquet_sweep_point&& p) {
+            if (each) each(job, p);
+            else res.points.push_back(std::move(p));
+        });
     return res;
 }
 
-lyapunov_sweep_result lyapunov_sweep(const model& m, const lyapunov_sweep_options& o, const job_options& j)
+lyapunov_sweep_result lyapunov_sweep(const model& m, const lyapunov_sweep_options& o, const job_options& j,
+                                     const job_stream<lyapunov_sweep_point>& each)
 {
     validate(m, o.lyapunov);
     const Eigen::VectorXd ic = check_values(m, o.parameter, o.values, o.initial_state);
@@ -185,10 +190,13 @@ lyapunov_sweep_result lyapunov_sweep(const model& m, const lyapunov_sweep_option
         return p;
     };
     lyapunov_sweep_result res;
-    auto records = detail::run_journaled<lyapunov_sweep_point>(
+    res.jobs = detail::run_journaled<lyapunov_sweep_point>(
         spec, {static_cast<long>(o.values.size()), 0}, j, run, [](const lyapunov_sweep_point& p) { return encode(p); },
-        [&](const json& r) { return decode_lyapunov(r, o.lyapunov.tdm); }, res.jobs);
-    for (auto& [job, p] : records) res.points.push_back(std::move(p));
+        [&](const json& r) { return decode_lyapunov(r, o.lyapunov.tdm); },
+        [&](long job, lyapunov_sweep_point&& p) {
+            if (each) each(job, p);
+            else res.points.push_back(std::move(p));
+        });
     return res;
 }
 

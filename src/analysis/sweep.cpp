@@ -104,7 +104,7 @@ Eigen::VectorXd continue_from(const model& next, const Eigen::VectorXd& x_in)
     return x;
 }
 
-sweep_result sweep(const model& m, const sweep_options& o, const job_options& j)
+sweep_result sweep(const model& m, const sweep_options& o, const job_options& j, const job_stream<sweep_point>& each)
 {
     validate(o.protocol);
     validate(m, o.protocol.section);
@@ -179,10 +179,11 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j)
         return p;
     };
     sweep_result res;
-    auto records = detail::run_journaled<sweep_point>(spec, plan.schedule(), j, run, encode, decode, res.jobs);
-    if (res.jobs.complete()) res.points = detail::in_job_order(std::move(records));
-    else
-        for (auto& [job, p] : records) res.points.push_back(std::move(p));
+    res.jobs = detail::run_journaled<sweep_point>(spec, plan.schedule(), j, run, encode, decode,
+                                                  [&](long job, sweep_point&& p) {
+                                                      if (each) each(job, p);
+                                                      else res.points.push_back(std::move(p));
+                                                  });
     return res;
 }
 

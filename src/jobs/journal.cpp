@@ -1,11 +1,13 @@
 #include "journal.hpp"
 
 #include <fcntl.h>
+#include <algorithm>
 #include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
-
+#include <cstring>
+#include <fstream>
 #include <system_error>
 
 namespace fs = std::filesystem;
@@ -29,34 +31,10 @@ namespace detail {
 
 namespace {
 
-// Complete lines of a journal file. A torn last line (killed while writing) is dropped and,
-// with `repair`, cut from the file so appends start on a fresh line. A complete line that is
-// not a record of this run is damage nobody should resume over: an input_error.
-std::vector<json> read_journal_file(const fs::path& file, long jobs, bool repair)
-{
-    std::vector<json> out;
-    std::ifstream in(file, std::ios::binary);
-    const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::size_t pos = 0, good_end = 0;
-    long line = 0;
-    while (pos < content.size()) {
-        const auto nl = content.find('\n', pos);
-        if (nl == std::string::npos) break;  // torn last line
-        ++line;
-        auto r = json::parse(content.begin() + static_cast<std::ptrdiff_t>(pos),
-                             content.begin() + static_cast<std::ptrdiff_t>(nl), nullptr, false);
-        const bool valid = !r.is_discarded() && r.is_object() && r.contains("job") && r["job"].is_number_integer() &&
-                           r["job"].get<long>() >= 0 && r["job"].get<long>() < jobs && r.contains("record");
-        if (!valid)
-            throw input_error("the journal file " + file.string() + " is damaged at line " + std::to_string(line) +
-                              "; remove the journal " + file.parent_path().string() + " and run again");
-        out.push_back(std::move(r));
-        pos = nl + 1;
-        good_end = pos;
-    }
-    if (repair && good_end < content.size()) fs::resize_file(file, good_end);
-    return out;
-}
+constexpr int offset_bits = 48;
+constexpr std::uint64_t offset_mask = (std::uint64_t{1} << offset_bits) - 1;
+constexpr std::uint64_t file_mask = (std::uint64_t{1} << 15) - 1;
+constexpr std::uint64_t appended_bit = std::uint64_t{1} << 63;  // by this process, since it opened
 
 void write_atomically(const fs::path& p, const std::string& text)
 {
@@ -74,7 +52,27 @@ std::string shard_file_name(const shard_spec& s)
     return "shard-" + std::to_string(s.index) + "-of-" + std::to_string(s.count) + ".jsonl";
 }
 
+// The line of a journal file that starts at `offset`.
+std::string read_line(int fd, std::uint64_t offset, const fs::path& file)
+{
+    std::string line;
+    char buf[4096];
+    for (;;) {
+        const ssize_t n = ::pread(fd, buf, sizeof buf, static_cast<off_t>(offset + line.size()));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw std::runtime_error("cannot read " + file.string() + ": a journal line ends early");
+        const auto* nl = static_cast<const char*>(std::memchr(buf, '\n', static_cast<std::size_t>(n)));
+        if (nl) {
+            line.append(buf, static_cast<std::size_t>(nl - buf));
+            return line;
+        }
+        line.append(buf, static_cast<std::size_t>(n));
+    }
+}
+
 }  // namespace
+
+std::string journal_line(long job, const json& record) { return json{{"job", job}, {"record", record}}.dump(); }
 
 journal::journal(const fs::path& dir, const json& spec, const job_options& o, long jobs) : m_dir(dir), m_jobs(jobs)
 {
@@ -110,18 +108,126 @@ journal::journal(const fs::path& dir, const json& spec, const job_options& o, lo
         if (!o.resume && o.shard.count == 1)
             throw input_error(dir.string() + " holds an unfinished run of this analysis: resume it, or remove it");
         if (!fs::exists(dir / "lock", ec)) std::ofstream(dir / "lock", std::ios::app);  // a journal of an older version
-        for (const auto& e : fs::directory_iterator(dir)) {
-            if (e.path().extension() != ".jsonl") continue;
-            for (auto& r : read_journal_file(e.path(), jobs, false)) {
-                const long j = r["job"].get<long>();
-                m_finished.emplace(j, std::move(r["record"]));
-            }
-        }
     }
-    const fs::path file = dir / shard_file_name(o.shard);
-    if (fs::exists(file)) (void)read_journal_file(file, jobs, true);  // cut a torn last line
-    m_out.open(file, std::ios::app);
-    if (!m_out) throw std::runtime_error("cannot write " + file.string());
+    m_own = dir / shard_file_name(o.shard);
+    index_all(true);
+    m_fd = ::open(m_own.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (m_fd < 0) throw std::runtime_error("cannot write " + m_own.string() + ": " + std::strerror(errno));
+    m_own_size = static_cast<std::uint64_t>(::lseek(m_fd, 0, SEEK_END));
+}
+
+journal::~journal()
+{
+    try {
+        flush();
+    } catch (...) {  // a destructor must not throw: the lines are lost, as in a crash
+    }
+    if (m_fd >= 0) ::close(m_fd);
+    for (const int fd : m_read_fds)
+        if (fd >= 0) ::close(fd);
+}
+
+void journal::note(long job, std::size_t file, std::uint64_t offset, bool appended)
+{
+    if (m_where.empty()) m_where.assign(static_cast<std::size_t>(m_jobs), 0);
+    auto& w = m_where[static_cast<std::size_t>(job)];
+    if (w != 0) return;  // a job journaled twice (two runs of one shard): the first line serves
+    if (file + 1 > file_mask) throw input_error("the journal " + m_dir.string() + " has too many files");
+    w = (static_cast<std::uint64_t>(file + 1) << offset_bits) | offset | (appended ? appended_bit : 0);
+    ++m_count;
+}
+
+void journal::index_all(bool repair_own)
+{
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(m_dir))
+        if (e.path().extension() == ".jsonl") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) index_file(f, repair_own && f == m_own);
+}
+
+// Indexes the complete lines of a journal file. A torn last line (killed while writing) is
+// skipped and, with `repair`, cut from the file so appends start on a fresh line. A complete
+// line that is not a record of this run is damage nobody should resume over: an input_error.
+void journal::index_file(const fs::path& file, bool repair)
+{
+    std::size_t number = 0;
+    while (number < m_files.size() && m_files[number] != file) ++number;
+    if (number == m_files.size()) {
+        m_files.push_back(file);
+        m_read_fds.push_back(-1);
+    }
+    std::ifstream in(file, std::ios::binary);
+    std::string text;
+    std::uint64_t pos = 0, good_end = 0;
+    long line = 0;
+    while (std::getline(in, text)) {
+        if (in.eof()) break;  // no newline: a torn last line
+        ++line;
+        const auto r = json::parse(text, nullptr, false);
+        const bool valid = !r.is_discarded() && r.is_object() && r.contains("job") && r["job"].is_number_integer() &&
+                           r["job"].get<long>() >= 0 && r["job"].get<long>() < m_jobs && r.contains("record");
+        if (!valid)
+            throw input_error("the journal file " + file.string() + " is damaged at line " + std::to_string(line) +
+                              "; remove the journal " + file.parent_path().string() + " and run again");
+        if (pos > offset_mask) throw input_error("the journal file " + file.string() + " is too large");
+        note(r["job"].get<long>(), number, pos, false);
+        pos += text.size() + 1;
+        good_end = pos;
+    }
+    std::error_code ec;
+    if (repair && fs::exists(file, ec) && good_end < fs::file_size(file, ec)) fs::resize_file(file, good_end);
+}
+
+bool journal::has(long job) const { return !m_where.empty() && m_where[static_cast<std::size_t>(job)] != 0; }
+
+bool journal::had(long job) const
+{
+    return !m_where.empty() && m_where[static_cast<std::size_t>(job)] != 0 &&
+           (m_where[static_cast<std::size_t>(job)] & appended_bit) == 0;
+}
+
+json journal::load(long job) const
+{
+    const std::uint64_t w = m_where.at(static_cast<std::size_t>(job));
+    if (w == 0) throw std::logic_error("journal: job " + std::to_string(job) + " has no line");
+    const std::size_t file = static_cast<std::size_t>((w >> offset_bits) & file_mask) - 1;
+    if (!m_unwritten.empty()) flush();
+    int& fd = m_read_fds[file];
+    if (fd < 0) fd = ::open(m_files[file].c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw std::runtime_error("cannot read " + m_files[file].string() + ": " + std::strerror(errno));
+    const auto r = json::parse(read_line(fd, w & offset_mask, m_files[file]), nullptr, false);
+    if (r.is_discarded() || !r.is_object() || !r.contains("record"))
+        throw input_error("the journal file " + m_files[file].string() + " is damaged at job " + std::to_string(job) +
+                          "; remove the journal " + m_dir.string() + " and run again");
+    return r["record"];
+}
+
+void journal::flush() const
+{
+    std::size_t done = 0;
+    while (done < m_unwritten.size()) {
+        const ssize_t n = ::write(m_fd, m_unwritten.data() + done, m_unwritten.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw std::runtime_error("cannot write the journal in " + m_dir.string() + ": " + std::strerror(errno));
+        done += static_cast<std::size_t>(n);
+    }
+    m_unwritten.clear();
+}
+
+void journal::append(long job, const std::string& line)
+{
+    const std::size_t size = line.size() + 1;
+    m_unwritten += line;
+    m_unwritten += '\n';
+    std::size_t number = 0;
+    while (number < m_files.size() && m_files[number] != m_own) ++number;
+    if (number == m_files.size()) {
+        m_files.push_back(m_own);
+        m_read_fds.push_back(-1);
+    }
+    note(job, number, m_own_size, true);
+    m_own_size += size;
 }
 
 std::shared_ptr<void> journal::lock_completion() const
@@ -143,21 +249,10 @@ std::shared_ptr<void> journal::lock_completion() const
     return handle;
 }
 
-void journal::append(long job, const json& record)
+void journal::reread()
 {
-    m_out << json{{"job", job}, {"record", record}}.dump() << '\n';
-    m_out.flush();
-    if (!m_out) throw std::runtime_error("cannot write the journal in " + m_dir.string());
-}
-
-std::unordered_map<long, json> journal::reread() const
-{
-    std::unordered_map<long, json> out;
-    for (const auto& e : fs::directory_iterator(m_dir)) {
-        if (e.path().extension() != ".jsonl") continue;
-        for (auto& r : read_journal_file(e.path(), m_jobs, false)) out.emplace(r["job"].get<long>(), std::move(r["record"]));
-    }
-    return out;
+    flush();
+    index_all(false);
 }
 
 }  // namespace detail

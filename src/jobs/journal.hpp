@@ -1,13 +1,13 @@
 #pragma once
 // The journal of a many-job run (jobs/job_options.hpp states the contract) and the one
 // function every many-job analysis runs its jobs through: run_journaled.
+#include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -19,35 +19,55 @@ namespace vimpact::detail {
 
 using json = nlohmann::json;
 
+// A job's line in a journal, and on the wire between ranks: {"job":J,"record":{...}}.
+std::string journal_line(long job, const json& record);
+
 class journal {
 public:
     // Opens (or creates) the journal for `spec`; throws input_error for a journal of another
-    // run, or of this run when `resume` is false and this is not a shard of it.
+    // run, or of this run when `resume` is false and this is not a shard of it. Indexes the
+    // jobs finished so far (of any shard): where each one's line is, not its record.
     journal(const std::filesystem::path& dir, const json& spec, const job_options& o, long jobs);
+    ~journal();
+    journal(const journal&) = delete;
+    journal& operator=(const journal&) = delete;
 
-    // Every finished record of any shard (job -> record), read at opening.
-    [[nodiscard]] std::unordered_map<long, json>& finished() { return m_finished; }
-    // Appends one finished job, flushed.
-    void append(long job, const json& record);
+    [[nodiscard]] bool has(long job) const;
+    // Finished before this process opened the journal (or found by reread).
+    [[nodiscard]] bool had(long job) const;
+    // The record of a finished job, read back from its file.
+    [[nodiscard]] json load(long job) const;
+    // Jobs with a line (finished before, or appended since).
+    [[nodiscard]] long count() const { return m_count; }
+    // Appends one finished job's line; flush() writes the lines appended since the last one
+    // to the file (one write for the results that arrived together).
+    void append(long job, const std::string& line);
+    void flush() const;
     // Waits for the journal's completion lock (an flock on DIR/lock, released by the kernel when
     // its holder ends, so a killed holder cannot block the others) and returns its handle, or
     // null when the journal was removed meanwhile: another shard completed the run and wrote it.
     [[nodiscard]] std::shared_ptr<void> lock_completion() const;
-    // Rereads every shard file: the jobs other processes finished meanwhile.
-    [[nodiscard]] std::unordered_map<long, json> reread() const;
+    // Indexes again every shard file: the jobs other processes finished meanwhile.
+    void reread();
     [[nodiscard]] const std::filesystem::path& dir() const { return m_dir; }
 
 private:
+    void index_all(bool repair_own);
+    void index_file(const std::filesystem::path& file, bool repair);
+    void note(long job, std::size_t file, std::uint64_t offset, bool appended);
+
     std::filesystem::path m_dir;
     long m_jobs;
-    std::unordered_map<long, json> m_finished;
-    std::ofstream m_out;
+    std::filesystem::path m_own;                // this shard's file
+    std::vector<std::filesystem::path> m_files; // indexed files (their number in m_where)
+    std::vector<std::uint64_t> m_where;         // per job: appended << 63 | (file + 1) << 48 | offset; 0: none
+    long m_count = 0;
+    int m_fd = -1;                              // m_own, appending
+    std::uint64_t m_own_size = 0;
+    mutable std::vector<int> m_read_fds;        // per indexed file, opened when first read
+    mutable std::string m_unwritten;            // appended lines not yet written
 };
 
-// Runs the jobs of `schedule` (this shard) through the job loop and, when o.journal is set,
-// the journal; returns the records of the whole run known to this call (resumed, computed, and
-// those of other shards), by job, with the report. run(job, const Record* predecessor) computes
-// a job; encode/decode translate a record to and from its journal line.
 // A journal record decoded, or an input_error naming the job when the line is not a record
 // of this analysis (an edited journal): damage to report, not an internal error.
 template <class Record, class Decode>
@@ -61,68 +81,108 @@ Record decode_record(Decode& decode, long job, const json& r, const std::filesys
     }
 }
 
-template <class Record, class Run, class Encode, class Decode>
-std::map<long, Record> run_journaled(const json& spec, const job_schedule& schedule, const job_options& o, Run&& run,
-                                     Encode&& encode, Decode&& decode, job_report& report)
+// Runs the jobs of `schedule` (this shard) through the job loop, the journal when o.journal
+// is set, and the ranks when o.ranks is set, and hands `each` every job's record in job order
+// (jobs/job_options.hpp, Streaming). run(job, const Record* predecessor) computes a job;
+// encode/decode translate a record to and from its journal form. Returns the report.
+template <class Record, class Run, class Encode, class Decode, class Each>
+job_report run_journaled(const json& spec, const job_schedule& schedule, const job_options& o, Run&& run,
+                         Encode&& encode, Decode&& decode, Each&& each)
 {
     validate(o.shard);
     (void)resolve_threads(o.threads);
     if (!o.journal && o.shard.count > 1)
         throw input_error("a shard of a run needs a journal (the shards meet in it)");
     if (!o.journal && o.resume) throw input_error("resuming needs the journal of the interrupted run");
-    std::optional<journal> j;
-    std::unordered_map<long, Record> finished;
-    std::map<long, Record> records;
-    if (o.journal) {
-        j.emplace(*o.journal, spec, o, schedule.jobs);
-        for (auto& [job, r] : j->finished()) {
-            finished.emplace(job, decode_record<Record>(decode, job, r, *o.journal));
-            records.emplace(job, finished.at(job));
-        }
-        j->finished().clear();
-    }
+    job_report report;
+    report.jobs = schedule.jobs;
     job_loop_options lo;
     lo.threads = o.threads;
     lo.shard = o.shard;
     lo.stop = o.stop;
     lo.progress = o.progress;
-    const job_loop_summary s = run_jobs<Record>(schedule, lo, finished, run, [&](long job, Record&& r) {
-        if (j) j->append(job, encode(r));
-        records.insert_or_assign(job, std::move(r));
+    lo.ranks = o.ranks;
+    lo.timed = o.timed;
+    // Records travel between ranks as journal lines: the coordinator appends them as they
+    // come, and one codec serves the journal, a resume and the wire.
+    job_loop_io<Record> io;
+    io.encode = [&](long job, const Record& r) { return journal_line(job, encode(r)); };
+    io.decode = [&](std::string_view line) {
+        const json j = json::parse(line);
+        return std::pair<long, Record>(j.at("job").get<long>(), decode(j.at("record")));
+    };
+    auto fill = [&](const job_loop_summary& s) {
+        report.owned = s.owned;
+        report.resumed = s.resumed;
+        report.computed = s.computed;
+        report.stopped = s.stopped;
+        report.threads = s.threads;
+        report.ranks = s.ranks;
+        report.coordinator = s.coordinator;
+    };
+    if (o.ranks && o.ranks->rank() != 0) {
+        fill(run_jobs<Record>(schedule, lo, io, run, [](long, Record&&) {}));
+        return report;
+    }
+
+    std::optional<journal> jr;
+    try {
+        if (o.journal) jr.emplace(*o.journal, spec, o, schedule.jobs);
+    } catch (...) {
+        if (o.ranks) abort_ranks(*o.ranks, std::current_exception());
+        throw;
+    }
+    auto from_journal = [&](long job) { return decode_record<Record>(decode, job, jr->load(job), *o.journal); };
+    if (jr) {
+        // Those finished before this call: the jobs it computes are journaled as they arrive.
+        io.finished = [&](long job) { return jr->had(job); };
+        io.load = from_journal;
+        io.arrived = [&](long job, const Record& r, const std::string* line) {
+            jr->append(job, line ? *line : journal_line(job, encode(r)));
+        };
+        io.flush = [&] { jr->flush(); };
+    }
+    // The stream: every job in order, the jobs this call did not compute read from the
+    // journal in their place; a job that is nowhere (a stop left a gap) ends it.
+    const bool streaming = o.shard.count == 1;
+    long next_out = 0;
+    bool gap = false;
+    auto stream_to = [&](long end) {
+        for (; next_out < end && !gap; ++next_out) {
+            if (!jr || !jr->has(next_out)) {
+                gap = true;
+                return;
+            }
+            each(next_out, from_journal(next_out));
+        }
+    };
+    const job_loop_summary s = run_jobs<Record>(schedule, lo, io, run, [&](long job, Record&& r) {
+        if (!streaming) return;
+        stream_to(job);
+        if (gap) return;
+        each(job, std::move(r));
+        next_out = job + 1;
     });
+    fill(s);
+    report.done = jr && !streaming ? jr->count() : s.resumed + s.computed;
+    if (!s.stopped && streaming) stream_to(schedule.jobs);
     // Shards finishing at the same time: one at a time, under the journal's lock, each counts
     // what the others wrote meanwhile; the first to find the run complete keeps the lock until
     // its caller has written the outputs and removed the journal, and the others then find the
     // journal gone. So the result is written exactly once, and a writer killed midway leaves
     // the journal (and the lock free) to the next.
-    if (j && !s.stopped && static_cast<long>(records.size()) < schedule.jobs) {
-        report.completion_lock = j->lock_completion();
+    if (jr && !s.stopped && !streaming) {
+        report.completion_lock = jr->lock_completion();
         if (!report.completion_lock) {
             report.written_elsewhere = true;
         } else {
-            for (auto& [job, r] : j->reread())
-                if (!records.count(job)) records.emplace(job, decode_record<Record>(decode, job, r, *o.journal));
-            if (static_cast<long>(records.size()) < schedule.jobs) report.completion_lock.reset();
+            jr->reread();
+            report.done = jr->count();
+            if (report.done < schedule.jobs) report.completion_lock.reset();
+            else stream_to(schedule.jobs);
         }
     }
-    report.jobs = schedule.jobs;
-    report.owned = s.owned;
-    report.resumed = s.resumed;
-    report.computed = s.computed;
-    report.done = static_cast<long>(records.size());
-    report.stopped = s.stopped;
-    report.threads = s.threads;
-    return records;
-}
-
-// The records of a complete run in job order (the run must be complete).
-template <class Record>
-std::vector<Record> in_job_order(std::map<long, Record>&& records)
-{
-    std::vector<Record> out;
-    out.reserve(records.size());
-    for (auto& [job, r] : records) out.push_back(std::move(r));
-    return out;
+    return report;
 }
 
 }  // namespace vimpact::detail

@@ -72,8 +72,12 @@ def test_a_swept_parameter_is_replayed_over_its_range(vimpact, tmp_path):
     assert run(vimpact, [*CASES["sweep"], "--no-plot", "--out", out]).returncode == 0
     p = run(vimpact, ["sweep", "--config", os.path.join(out, "config.toml"), "--json"])
     assert p.returncode == 0, p.stderr
-    labels = json.loads(p.stdout)["labels"]
-    assert labels == json.load(open(os.path.join(out, "run.json")))["result"]["labels"]
+    j = json.loads(p.stdout)
+    labels = j["labels"]
+    with open(os.path.join(out, "labels.csv")) as f:
+        rows = [line.split(",")[1:3] for line in f.read().splitlines()[1:]]
+    both = labels + j.get("labels_down", [])
+    assert sorted((v, lab) for v, lab in both) == sorted((float(v), lab) for v, lab in rows)
     assert sorted({v for v, _ in labels}) == [14.0, 15.0, 16.0]
 
 

@@ -203,10 +203,14 @@ def test_map_json_rows_and_picture(vimpact, tmp_path):
     assert p.returncode == 0, p.stderr
     j = json.loads(p.stdout)
     assert j["shape"] == [6, 10]
-    assert len(j["labels"]) == 6 and all(len(r) == 10 for r in j["labels"])
+    # With --out each cell's label is in labels.csv (run.json and the summary count them).
+    assert "labels" not in j and sum(j["label_counts"].values()) == 60
+    _, cells = read_rows(out / "labels.csv")
+    labels = [[c["label"] for c in cells[10 * k:10 * k + 10]] for k in range(6)]
+    assert labels == run_json(vimpact, *MAP, "--grazing")["labels"]  # without --out, in the summary
     assert len(j["grazing"]) == 10
     # Barriers far below the grazing line cannot be hit: P0 there, impacting labels above.
-    for (ur, g), col in zip(j["grazing"], zip(*j["labels"])):
+    for (ur, g), col in zip(j["grazing"], zip(*labels)):
         for sigma, lab in zip(j["y_values"], col):
             if sigma < g - 1e-3:
                 assert lab == "P0", (ur, sigma, g, lab)
@@ -243,6 +247,9 @@ def test_response_curves(vimpact, tmp_path):
     assert len(j["curves"]) == 2
     assert j["variable"] == "y"
     assert [c["parameters"] for c in j["curves"]] == [{"A": 12, "eps": 0.3}, {"A": 10, "eps": 0.25}]
+    # With --out the points are in response.csv; without it, in the summary.
+    assert all("amplitude" not in c for c in j["curves"])
+    j = run_json(vimpact, "response", "--param", "Ur", "--range", "4:8:3", "--curves", "A=12,eps=0.3;A=10,eps=0.25")
     for c in j["curves"]:
         assert len(c["sigma_graze"]) == 3 and len(c["frequency"]) == 3
         assert len(c["amplitude"]) == 3

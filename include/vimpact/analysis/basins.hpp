@@ -38,7 +38,10 @@ struct basins_result {
     job_report jobs;
 };
 
-basins_result basins(const model& m, const basins_options& o, const job_options& j = {});
+// With `each`, the cells (their attractor identified) go to it in job order as the run goes
+// (jobs/job_options.hpp, Streaming) and `cells` stays empty.
+basins_result basins(const model& m, const basins_options& o, const job_options& j = {},
+                     const job_stream<basin_cell>& each = {});
 
 // The attractor signature of a run: label, cycle or bounding box of its section points, in
 // coordinates where phases are (cos, sin) pairs scaled by period / 2 pi (analysis/attractor.hpp).

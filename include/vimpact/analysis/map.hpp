@@ -32,7 +32,7 @@ struct map_cell {
 };
 
 struct map_result {
-    std::vector<map_cell> cells;  // job order: cell (ix, iy) is job ix + nx iy
+    std::vector<map_cell> cells;  // job order: cell (ix, iy) is job ix + nx iy (a complete run)
     // The grazing line: for each value of the other axis, the grazing value of the axis
     // parameter per surface (NaN where none).
     int grazing_axis = -1;        // 0: x is the grazing parameter, 1: y
@@ -41,6 +41,9 @@ struct map_result {
     job_report jobs;
 };
 
-map_result map2d(const model& m, const map_options& o, const job_options& j = {});
+// With `each`, the cells go to it in job order as the run goes (jobs/job_options.hpp,
+// Streaming) and `cells` stays empty.
+map_result map2d(const model& m, const map_options& o, const job_options& j = {},
+                 const job_stream<map_cell>& each = {});
 
 }  // namespace vimpact

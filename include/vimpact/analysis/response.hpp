@@ -44,6 +44,9 @@ struct response_result {
     job_report jobs;
 };
 
-response_result response(const model& m, const response_options& o, const job_options& j = {});
+// With `each`, the points go to it in job order as the run goes (jobs/job_options.hpp,
+// Streaming) and `points` stays empty.
+response_result response(const model& m, const response_options& o, const job_options& j = {},
+                         const job_stream<response_point>& each = {});
 
 }  // namespace vimpact

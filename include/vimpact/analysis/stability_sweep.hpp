@@ -28,7 +28,10 @@ struct floquet_sweep_result {
     job_report jobs;
 };
 
-floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& o, const job_options& j = {});
+// With `each`, the points go to it in job order as the run goes (jobs/job_options.hpp,
+// Streaming) and `points` stays empty.
+floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& o, const job_options& j = {},
+                                   const job_stream<floquet_sweep_point>& each = {});
 
 struct lyapunov_sweep_options {
     int parameter = 0;
@@ -47,6 +50,8 @@ struct lyapunov_sweep_result {
     job_report jobs;
 };
 
-lyapunov_sweep_result lyapunov_sweep(const model& m, const lyapunov_sweep_options& o, const job_options& j = {});
+// With `each`, as floquet_sweep.
+lyapunov_sweep_result lyapunov_sweep(const model& m, const lyapunov_sweep_options& o, const job_options& j = {},
+                                     const job_stream<lyapunov_sweep_point>& each = {});
 
 }  // namespace vimpact

@@ -59,7 +59,10 @@ struct sweep_result {
 };
 
 // Throws input_error for bad options or an inadmissible start.
-sweep_result sweep(const model& m, const sweep_options& o, const job_options& j = {});
+// With `each`, the points go to it in job order as the run goes (jobs/job_options.hpp,
+// Streaming) and `points` stays empty.
+sweep_result sweep(const model& m, const sweep_options& o, const job_options& j = {},
+                   const job_stream<sweep_point>& each = {});
 
 // n values from a to b inclusive, evenly spaced (n = 1: a). Computed as a + i (b - a)/(n - 1)
 // so every value depends only on (a, b, n, i), never on accumulated rounding; the last is b.

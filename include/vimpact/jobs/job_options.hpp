@@ -3,7 +3,8 @@
 // besides its own options, and what it reports about its jobs.
 //
 // Journal: with `journal` set, every finished job is appended to a journal directory as one
-// JSON line, flushed as it is written, so a run killed at any moment keeps every finished job.
+// JSON line as soon as its result reaches the process that keeps the journal (in any order),
+// so a run killed at any moment keeps every finished job.
 // The directory holds spec.json (what is being computed: the analysis, the model and every
 // option that changes a result) and one file per shard, shard-I-of-N.jsonl. A run finds the
 // jobs already in the journal (of any shard) and computes only the others; with `resume`
@@ -11,6 +12,17 @@
 // mistake), while shards of one run meet in it. When every job of the run is done, the
 // result is complete; the caller writes its outputs from it and then removes the journal
 // (remove_journal), so that a crash while writing loses nothing.
+//
+// Streaming: an analysis called with a job_stream hands it every job's result in job order,
+// the run's finished jobs read back from the journal in their place, and keeps none itself:
+// memory does not grow with the number of jobs (the journal's index of finished jobs, 8 bytes
+// a job, exists only when a run is resumed or completed by a shard). A run that is not a
+// shard streams while it runs; a shard streams when it completes the run. Only a complete
+// run has streamed every job; after a stop the stream ends early.
+//
+// Ranks: with `ranks` (MPI, jobs/job_ranks.hpp) every rank makes the same call; rank 0 keeps
+// the journal, streams and reports, the others compute what rank 0 hands them and return a
+// report with coordinator = false.
 #include <atomic>
 #include <filesystem>
 #include <functional>
@@ -18,6 +30,7 @@
 #include <optional>
 
 #include "vimpact/jobs/job_loop.hpp"
+#include "vimpact/jobs/job_ranks.hpp"
 
 namespace vimpact {
 
@@ -28,7 +41,13 @@ struct job_options {
     bool resume = false;
     const std::atomic<bool>* stop = nullptr;  // set: no new job starts, the run returns what finished
     std::function<void(long done, long total)> progress;  // called in job order as jobs finish
+    std::shared_ptr<job_ranks> ranks;  // several processes (MPI); null: this one alone
+    std::function<void(long job, double seconds)> timed;  // each job's CPU time (from its thread)
 };
+
+// Receives each job's result in job order (see Streaming above).
+template <class Record>
+using job_stream = std::function<void(long job, const Record&)>;
 
 struct job_report {
     long jobs = 0;      // of the whole run
@@ -40,7 +59,10 @@ struct job_report {
     // A shard that found the journal removed at its end: another shard completed the run and
     // wrote its outputs (done counts only what this call knew).
     bool written_elsewhere = false;
-    int threads = 0;
+    int threads = 0;   // computing threads of this process
+    int ranks = 1;     // processes that computed (MPI ranks)
+    // False on the ranks other than 0 of an MPI run: they computed jobs and report nothing else.
+    bool coordinator = true;
     // Held by the shard that completes a journaled run while its caller writes the outputs and
     // removes the journal; other shards wait for it. Released with the report.
     std::shared_ptr<void> completion_lock;
