@@ -114,7 +114,7 @@ int run_sweep(const sweep_args& a)
     json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
                     {"ic_mode", a.ic_mode},       {"direction", a.direction}, {"section_points", npoints},
                     {"label_counts", counts},     {"labels", labels},        {"unsettled", unsettled},
-                    {"out", out_json(c)}};
+                    {"batch", res.jobs.batch},    {"out", out_json(c)}};
     if (!labels_down.empty()) summary[o.direction == sweep_direction::down ? "labels" : "labels_down"] = labels_down;
     if (o.grazing_parameter >= 0)
         summary["grazing_param"] = info.parameters[static_cast<std::size_t>(o.grazing_parameter)].name;
@@ -204,7 +204,7 @@ int run_map(const map_args& a)
     json summary = {{"command", "map"},         {"x", ax.name},          {"y", ay.name},
                     {"shape", {ny, nx}},        {"x_values", ax.values}, {"y_values", ay.values},
                     {"label_counts", counts},   {"labels", rows},        {"unsettled", unsettled},
-                    {"out", out_json(c)}};
+                    {"batch", res.jobs.batch},  {"out", out_json(c)}};
     int gp = -1;
     std::string other;
     json grazing = json::array();
@@ -310,6 +310,7 @@ int run_basins(const basins_args& a)
                           {"attractors", {{"count", res.attractors.size()}, {"labels", labels}, {"table", table}}},
                           {"inadmissible_cells", excluded},
                           {"unsettled", unsettled},
+                          {"batch", res.jobs.batch},
                           {"out", out_json(c)}};
     std::string text = std::to_string(res.attractors.size()) + " attractor(s) on the " + std::to_string(nx) + " x " +
                        std::to_string(ny) + " grid of initial " + ax.name + ", " + ay.name + ":\n";

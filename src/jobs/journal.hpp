@@ -83,6 +83,7 @@ std::map<long, Record> run_journaled(const json& spec, const job_schedule& sched
     }
     job_loop_options lo;
     lo.threads = o.threads;
+    lo.batch = report.batch;
     lo.shard = o.shard;
     lo.stop = o.stop;
     lo.progress = o.progress;

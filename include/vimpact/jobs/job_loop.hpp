@@ -27,6 +27,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -55,6 +56,9 @@ struct job_schedule {
 
 struct job_loop_options {
     int threads = 0;   // 0: every hardware thread
+    // Jobs a worker takes at once (independent jobs only), for a Run with a `many` member
+    // (job_runners): several jobs integrated together in SIMD lanes. 1: one at a time.
+    long batch = 1;
     shard_spec shard{};
     long window = 0;   // finished results allowed to wait for in-order delivery (0: 8 per thread)
     const std::atomic<bool>* stop = nullptr;
@@ -89,7 +93,27 @@ inline int resolve_threads(int requested)
     return hw == 0 ? 1 : static_cast<int>(hw);
 }
 
-// Run(job, const Record* predecessor_or_null) -> Record;  Sink(job, Record&&).
+// A Run that can also take several independent jobs at once:
+//   single(job, const Record* predecessor_or_null) -> Record;
+//   many(std::span<const long> jobs) -> std::vector<Record> (in the order of `jobs`).
+template <class Single, class Many>
+struct job_runners {
+    Single single;
+    Many many;
+};
+template <class Single, class Many>
+job_runners(Single, Many) -> job_runners<Single, Many>;
+
+namespace detail {
+template <class Record, class Run>
+Record run_one(Run& run, long job, const Record* pred)
+{
+    if constexpr (requires { run.single; }) return run.single(job, pred);
+    else return run(job, pred);
+}
+}  // namespace detail
+
+// Run(job, const Record* predecessor_or_null) -> Record, or job_runners;  Sink(job, Record&&).
 // `finished` holds the results of jobs done before (resume); they are not delivered again.
 template <class Record, class Run, class Sink>
 job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& opt,
@@ -108,7 +132,9 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     const int threads = std::max(1, std::min<int>(resolve_threads(opt.threads),
                                                   static_cast<int>(std::max<std::size_t>(todo.size(), 1))));
     summary.threads = threads;
-    const long window = opt.window > 0 ? opt.window : 8L * threads;
+    constexpr bool can_batch = requires(std::decay_t<Run>& r, std::span<const long> js) { r.many(js); };
+    const long batch = can_batch && !schedule.chained() ? std::max(1L, opt.batch) : 1L;
+    const long window = std::max(opt.window > 0 ? opt.window : 8L * threads, 2L * batch * threads);
     const long total = static_cast<long>(todo.size());
 
     std::mutex mutex;
@@ -134,6 +160,31 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
                 return stop_requested() || next_take >= total || next_take < delivered + window;
             });
             if (stop_requested() || next_take >= total) break;
+            if constexpr (can_batch) {
+                const long take = std::min({batch, total - next_take, delivered + window - next_take});
+                if (take > 1) {
+                    const long first = next_take;
+                    next_take += take;
+                    std::vector<long> jobs(todo.begin() + first, todo.begin() + first + take);
+                    lock.unlock();
+                    std::vector<Record> results;
+                    try {
+                        results = run.many(std::span<const long>(jobs));
+                    } catch (...) {
+                        lock.lock();
+                        if (!failure) failure = std::current_exception();
+                        abort = true;
+                        changed.notify_all();
+                        break;
+                    }
+                    lock.lock();
+                    if (opt.stop && opt.stop->load()) break;
+                    for (long k = 0; k < take; ++k)
+                        ready.emplace(first + k, std::move(results[static_cast<std::size_t>(k)]));
+                    changed.notify_all();
+                    continue;
+                }
+            }
             const long pos = next_take++;
             const long job = todo[static_cast<std::size_t>(pos)];
             const long pred = schedule.predecessor(job);
@@ -156,7 +207,8 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
             lock.unlock();
             std::optional<Record> result;
             try {
-                result.emplace(run(job, pred_record ? &*pred_record : static_cast<const Record*>(nullptr)));
+                result.emplace(detail::run_one<Record>(
+                    run, job, pred_record ? &*pred_record : static_cast<const Record*>(nullptr)));
             } catch (...) {
                 lock.lock();
                 if (!failure) failure = std::current_exception();
