@@ -10,16 +10,19 @@
 //                   instead of the protocol (discard 500 impacts, record 200 maxima)
 //   --points FILE   write the recorded section points as CSV: t,y,v,x,w (%.17g)
 //   --repeat N      run N times, report the median wall time
-// Prints one JSON line: name, wall_s (median), wall_all, steps, rejected, rhs_calls, impacts, points.
+// Prints one JSON line: name, wall_s (median), wall_all, cpu_s (median of the process CPU time of
+// each run: what a loaded machine does not inflate), steps, rejected, rhs_calls, impacts, points.
 #pragma once
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace baseline {
@@ -95,20 +98,46 @@ inline std::optional<problem> parse(int argc, char** argv)
     return p;
 }
 
+// A program's --method M among `allowed` (the first is the default), then the common options;
+// nullopt (and a message) when either is wrong.
+inline std::optional<std::pair<std::string, problem>> parse_with_method(int argc, char** argv,
+                                                                       const std::vector<std::string>& allowed)
+{
+    std::string method = allowed.front();
+    std::vector<char*> rest;
+    for (int i = 0; i < argc; ++i) {
+        if (i > 0 && i + 1 < argc && std::strcmp(argv[i], "--method") == 0) method = argv[++i];
+        else rest.push_back(argv[i]);
+    }
+    if (std::find(allowed.begin(), allowed.end(), method) == allowed.end()) {
+        std::string names;
+        for (const auto& a : allowed) names += (names.empty() ? "" : "|") + a;
+        std::fprintf(stderr, "%s: --method %s\n", argv[0], names.c_str());
+        return std::nullopt;
+    }
+    const auto p = parse(static_cast<int>(rest.size()), rest.data());
+    if (!p) return std::nullopt;
+    return std::make_pair(method, *p);
+}
+
 // Runs `run` p.repeat times and prints the JSON line; writes the last run's points.
 template <class Run>
 int report(const problem& p, const char* name, Run&& run)
 {
-    std::vector<double> walls;
+    std::vector<double> walls, cpus;
     run_result res;
     for (int k = 0; k < p.repeat; ++k) {
+        const std::clock_t c0 = std::clock();
         res = run();
+        cpus.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
         walls.push_back(res.wall_s);
     }
-    std::vector<double> s = walls;
-    std::sort(s.begin(), s.end());
-    const std::size_t n = s.size();
-    const double median = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+    auto median_of = [](std::vector<double> s) {
+        std::sort(s.begin(), s.end());
+        const std::size_t n = s.size();
+        return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+    };
+    const double median = median_of(walls);
     if (!p.points_file.empty()) {
         std::FILE* f = std::fopen(p.points_file.c_str(), "w");
         if (!f) {
@@ -120,9 +149,9 @@ int report(const problem& p, const char* name, Run&& run)
             std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g\n", q.t, q.X[0], q.X[1], q.X[2], q.X[3]);
         std::fclose(f);
     }
-    std::printf("{\"name\": \"%s\", \"wall_s\": %.9g, \"steps\": %ld, \"rejected\": %ld, \"rhs_calls\": %ld, "
-                "\"impacts\": %ld, \"points\": %zu, \"wall_all\": [",
-                name, median, res.steps, res.rejected, res.rhs_calls, res.impacts, res.points.size());
+    std::printf("{\"name\": \"%s\", \"wall_s\": %.9g, \"cpu_s\": %.9g, \"steps\": %ld, \"rejected\": %ld, "
+                "\"rhs_calls\": %ld, \"impacts\": %ld, \"points\": %zu, \"wall_all\": [",
+                name, median, median_of(cpus), res.steps, res.rejected, res.rhs_calls, res.impacts, res.points.size());
     for (std::size_t i = 0; i < walls.size(); ++i) std::printf("%s%.9g", i ? ", " : "", walls[i]);
     std::printf("]}\n");
     return 0;

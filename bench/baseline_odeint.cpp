@@ -155,18 +155,9 @@ run_result run_rkf78(const problem& p)
 
 int main(int argc, char** argv)
 {
-    std::string method = "dopri5";
-    std::vector<char*> rest;
-    for (int i = 0; i < argc; ++i) {
-        if (i > 0 && i + 1 < argc && std::strcmp(argv[i], "--method") == 0) method = argv[++i];
-        else rest.push_back(argv[i]);
-    }
-    if (method != "dopri5" && method != "rkf78") {
-        std::fprintf(stderr, "%s: --method dopri5|rkf78\n", argv[0]);
-        return 2;
-    }
-    const auto p = parse(static_cast<int>(rest.size()), rest.data());
-    if (!p) return 2;
-    if (method == "rkf78") return report(*p, "odeint-rkf78", [&] { return run_rkf78(*p); });
-    return report(*p, "odeint-dopri5", [&] { return run_dopri5(*p); });
+    const auto a = parse_with_method(argc, argv, {"dopri5", "rkf78"});
+    if (!a) return 2;
+    const auto& [method, p] = *a;
+    if (method == "rkf78") return report(p, "odeint-rkf78", [&] { return run_rkf78(p); });
+    return report(p, "odeint-dopri5", [&] { return run_dopri5(p); });
 }

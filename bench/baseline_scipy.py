@@ -99,6 +99,7 @@ def run_protocol(method, tol=TOL, horizon=0.0):
     points = []
 
     wall0 = time.perf_counter()
+    cpu0 = time.process_time()
     while horizon > 0.0 or len(points) < N_POINTS:
         recording = horizon > 0.0 or impacts >= N_DISCARD_IMPACTS
         last = horizon <= 0.0 and recording and (N_POINTS - len(points) == 1)
@@ -129,7 +130,7 @@ def run_protocol(method, tol=TOL, horizon=0.0):
         impacts += 1
     wall1 = time.perf_counter()
 
-    return {"wall_s": wall1 - wall0, "steps": steps, "nfev": nfev,
+    return {"wall_s": wall1 - wall0, "cpu_s": time.process_time() - cpu0, "steps": steps, "nfev": nfev,
             "impacts": impacts, "points": points}
 
 
@@ -150,11 +151,12 @@ def main():
         ap.error("--repeat must be >= 1")
     set_ur(args.ur)
 
-    walls = []
+    walls, cpus = [], []
     res = None
     for _ in range(args.repeat):
         res = run_protocol(args.method, args.tol, args.horizon)
         walls.append(res["wall_s"])
+        cpus.append(res["cpu_s"])
 
     if args.points:
         with open(args.points, "w") as f:
@@ -162,7 +164,7 @@ def main():
             for p in res["points"]:
                 f.write(",".join("%.17g" % c for c in p) + "\n")
 
-    out = {"name": "scipy-" + args.method, "method": args.method, "wall_s": statistics.median(walls), "steps": res["steps"],
+    out = {"name": "scipy-" + args.method, "method": args.method, "wall_s": statistics.median(walls), "cpu_s": statistics.median(cpus), "steps": res["steps"],
            "rejected": None, "rhs_calls": res["nfev"], "nfev": res["nfev"],
            "impacts": res["impacts"], "points": len(res["points"])}
     out["wall_all"] = walls

@@ -180,17 +180,8 @@ run_result run(const problem& p, const std::string& method)
 
 int main(int argc, char** argv)
 {
-    std::string method = "cvode-adams";
-    std::vector<char*> rest;
-    for (int i = 0; i < argc; ++i) {
-        if (i > 0 && i + 1 < argc && std::strcmp(argv[i], "--method") == 0) method = argv[++i];
-        else rest.push_back(argv[i]);
-    }
-    if (method != "cvode-adams" && method != "arkode-erk") {
-        std::fprintf(stderr, "%s: --method cvode-adams|arkode-erk\n", argv[0]);
-        return 2;
-    }
-    const auto p = parse(static_cast<int>(rest.size()), rest.data());
-    if (!p) return 2;
-    return report(*p, method.c_str(), [&] { return run(*p, method); });
+    const auto a = parse_with_method(argc, argv, {"cvode-adams", "arkode-erk"});
+    if (!a) return 2;
+    const auto& [method, p] = *a;
+    return report(p, method.c_str(), [&] { return run(p, method); });
 }

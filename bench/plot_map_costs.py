@@ -13,7 +13,8 @@ import numpy as np
 
 def main(path, png):
     d = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
-    ur, sigma, sec, steps = d["Ur"], d["sigma"], d["seconds"], d["steps"].astype(float)
+    # The thread's CPU time: what the job costs, whatever else the machine was doing.
+    ur, sigma, sec, steps = d["Ur"], d["sigma"], d["cpu_seconds"], d["steps"].astype(float)
     nx, ny = int(d["ix"].max()) + 1, int(d["iy"].max()) + 1
     a = float(np.dot(steps, sec) / np.dot(steps, steps))
     q = np.quantile(sec, [0.5, 0.9, 0.99, 1.0])
@@ -33,7 +34,7 @@ def main(path, png):
     grid[d["iy"], d["ix"]] = sec * 1e3
     im = ax[0].imshow(grid, origin="lower", aspect="auto", norm=LogNorm(),
                       extent=[ur.min(), ur.max(), sigma.min(), sigma.max()], cmap="viridis")
-    fig.colorbar(im, ax=ax[0], label="time per job [ms]")
+    fig.colorbar(im, ax=ax[0], label="CPU time per job [ms]")
     ax[0].set_xlabel("Ur")
     ax[0].set_ylabel("sigma [D]")
     ax[0].set_title("cost per job over the map")
@@ -41,14 +42,14 @@ def main(path, png):
         sel = sigma == s
         ax[1].semilogy(ur[sel], sec[sel] * 1e3, lw=0.8, label=f"sigma = {s:.3f}")
     ax[1].set_xlabel("Ur")
-    ax[1].set_ylabel("time per job [ms]")
+    ax[1].set_ylabel("CPU time per job [ms]")
     ax[1].set_title("cost per job against Ur")
     ax[1].legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
     ax[2].loglog(steps, sec * 1e3, ".", ms=1.5, alpha=0.4)
     xs = np.array([steps.min(), steps.max()])
     ax[2].loglog(xs, a * xs * 1e3, "r-", label=f"{a * 1e9:.0f} ns per step")
     ax[2].set_xlabel("accepted steps of the job")
-    ax[2].set_ylabel("time per job [ms]")
+    ax[2].set_ylabel("CPU time per job [ms]")
     ax[2].set_title("cost against work")
     ax[2].legend()
     fig.savefig(png, dpi=100)

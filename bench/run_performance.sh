@@ -3,9 +3,10 @@
 #   1. like for like at the paper's protocol point (Ur = 16, rtol = atol = 1e-10): vimpact's
 #      DOP853 and DOPRI5 beside Boost.Odeint's DOPRI5 and RKF78, the plain DOPRI5 loop,
 #      SUNDIALS' CVODE (Adams) and ARKODE (ERK), medians of 7 runs each, side by side;
-#   2. the SIMD lanes: a 64 x 64 map (Ur 12..25 x sigma -0.2..0, the full protocol) on one
-#      core, --batch 1 against the default batch, in this build (the native instruction set)
-#      and, with AVX2_BUILD_DIR set, in a build for AVX2 (-march=haswell);
+#   2. the SIMD lanes: the engine on a 16 x 16 grid built for this machine's instruction set
+#      and for AVX2 (bench/lanes_bench.cpp), and a 64 x 64 map (Ur 12..25 x sigma -0.2..0, the
+#      full protocol) on one core, --batch 1 against the default batch (with AVX2_BUILD_DIR
+#      set, also a whole build for AVX2, -march=haswell);
 #   3. the work-precision diagram (bench/work_precision.py, with scipy unless --no-scipy);
 #   4. the step-size controller's table (build/controller_bench);
 #   5. with --map-costs: the per-job cost of a 200 x 200 map (bench/map_job_costs.cpp; about
@@ -33,7 +34,7 @@ for a in "$@"; do
   esac
 done
 mkdir -p "$out"
-targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench map_job_costs"
+targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench map_job_costs lanes_bench lanes_bench_avx2"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build" -j2 --target $targets > /dev/null
 [ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true
@@ -46,17 +47,21 @@ echo "== 2. SIMD lanes: a $n x $n map on one core"; load
 lanes_run() {  # build label
   local b=$1 label=$2
   for batch in 1 0; do
-    local t0 t1
-    t0=$(date +%s.%N)
-    "$b"/vimpact map --x Ur:12:25:$n --y sigma:-0.2:0:$n --threads 1 --batch $batch --no-plot --out "$out/lanes-map" > /dev/null
-    t1=$(date +%s.%N)
+    # user CPU time of the one-threaded map: its cost, which the load of a shared machine does not inflate
+    /usr/bin/time -f "%e %U" -o "$out/lanes-time" "$b"/vimpact map --x Ur:12:25:$n --y sigma:-0.2:0:$n --threads 1 \
+      --batch $batch --no-plot --out "$out/lanes-map" > /dev/null
+    read -r wall cpu < "$out/lanes-time"
     used=$(/usr/bin/python3 -c "import json; print(json.load(open('$out/lanes-map/run.json'))['result']['batch'])")
-    echo "$label,$batch,$used,$((n * n)),$(echo "$t1 - $t0" | bc)" >> "$out/lanes.csv"
+    echo "$label,$batch,$used,$((n * n)),$wall,$cpu" >> "$out/lanes.csv"
     cp "$out/lanes-map/labels.csv" "$out/lanes-labels-$label-$batch.csv"
   done
   cmp "$out/lanes-labels-$label-1.csv" "$out/lanes-labels-$label-0.csv" && echo "$label: labels identical with --batch 1 and lanes"
 }
-echo "build,batch_asked,batch_used,jobs,wall_s" > "$out/lanes.csv"
+echo "-- the engine alone, per instruction set (bench/lanes_bench.cpp, a 16 x 16 grid)"
+"$build"/lanes_bench 16 | tee "$out/lanes_isa.jsonl"
+if grep -q avx2 /proc/cpuinfo; then "$build"/lanes_bench_avx2 16 | tee -a "$out/lanes_isa.jsonl"; fi
+echo "-- vimpact map, --batch 1 against the default"
+echo "build,batch_asked,batch_used,jobs,wall_s,cpu_s" > "$out/lanes.csv"
 lanes_run "$build" native
 if [ -n "${AVX2_BUILD_DIR:-}" ]; then
   cmake -S . -B "$AVX2_BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DVIMPACT_NATIVE=OFF -DCMAKE_CXX_FLAGS=-march=haswell \
@@ -67,14 +72,15 @@ fi
 /usr/bin/python3 - "$out/lanes.csv" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-print("| build | batch | jobs | wall [s] | jobs/s | speed-up |")
-print("|---|---|---|---|---|---|")
+print("| build | batch | jobs | CPU time [s] | wall [s] | jobs per CPU second | speed-up (CPU time) |")
+print("|---|---|---|---|---|---|---|")
 for b in dict.fromkeys(r["build"] for r in rows):
-    one = next(float(r["wall_s"]) for r in rows if r["build"] == b and r["batch_asked"] == "1")
+    one = next(float(r["cpu_s"]) for r in rows if r["build"] == b and r["batch_asked"] == "1")
     for r in rows:
         if r["build"] == b:
-            w = float(r["wall_s"])
-            print(f"| {b} | {r['batch_used']} | {r['jobs']} | {w:.1f} | {int(r['jobs']) / w:.1f} | {one / w:.2f} |")
+            c = float(r["cpu_s"])
+            print(f"| {b} | {r['batch_used']} | {r['jobs']} | {c:.1f} | {float(r['wall_s']):.1f} | "
+                  f"{int(r['jobs']) / c:.1f} | {one / c:.2f} |")
 PY
 load
 

@@ -3,22 +3,16 @@
 // output of the standalone baselines (bench/baseline_common.hpp) and --method dop853|dopri5.
 // The protocol: 500 impacts discarded, 200 maxima kept; with --horizon H, every maximum up to
 // t = H from t = 0.
-#include <cstring>
-
 #include "baseline_common.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/model/model.hpp"
 
 int main(int argc, char** argv)
 {
-    std::string method = "dop853";
-    std::vector<char*> rest;
-    for (int i = 0; i < argc; ++i) {
-        if (i > 0 && i + 1 < argc && std::strcmp(argv[i], "--method") == 0) method = argv[++i];
-        else rest.push_back(argv[i]);
-    }
-    const auto p = baseline::parse(static_cast<int>(rest.size()), rest.data());
-    if (!p || (method != "dop853" && method != "dopri5")) return 2;
+    const auto a = baseline::parse_with_method(argc, argv, {"dop853", "dopri5"});
+    if (!a) return 2;
+    const auto& [method, pr] = *a;
+    const baseline::problem* p = &pr;
     vimpact::model m = vimpact::model::builtin("wake_impact");
     m = m.with_parameter(m.info().parameter_index("Ur"), p->ur);
     vimpact::protocol_options po;

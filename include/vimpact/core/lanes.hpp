@@ -18,6 +18,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <immintrin.h>
+
 #include <xsimd/xsimd.hpp>
 
 #include <Eigen/Core>
@@ -104,7 +106,25 @@ struct lane_bits_ops<lanes> {
 inline lanes sqrt(const lanes& a) { return {xsimd::sqrt(a.v)}; }
 inline lanes abs(const lanes& a) { return {xsimd::abs(a.v)}; }
 inline lanes fabs(const lanes& a) { return {xsimd::abs(a.v)}; }
-inline lanes fma(const lanes& a, const lanes& b, const lanes& c) { return {xsimd::fma(a.v, b.v, c.v)}; }
+// Fused in one rounding, as std::fma: xsimd 8 has no fused kernel for AVX-512 (it multiplies,
+// then adds), so the instruction is named here.
+inline lanes fma(const lanes& a, const lanes& b, const lanes& c)
+{
+#if defined(__AVX512F__)
+    static_assert(lane_width == 8);
+    return {lane_batch(_mm512_fmadd_pd(a.v, b.v, c.v))};
+#elif defined(__AVX__) && defined(__FMA__)
+    static_assert(lane_width == 4);
+    return {lane_batch(_mm256_fmadd_pd(a.v, b.v, c.v))};
+#else
+    alignas(64) std::array<double, lane_width> x, y, z;
+    a.v.store_aligned(x.data());
+    b.v.store_aligned(y.data());
+    c.v.store_aligned(z.data());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::fma(x[i], y[i], z[i]);
+    return {lane_batch::load_aligned(x.data())};
+#endif
+}
 
 // ---- everything else lane by lane, with the scalar function ----------------------------------
 namespace detail {

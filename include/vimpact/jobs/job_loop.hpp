@@ -153,6 +153,22 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
         while (!pred()) changed.wait_for(lock, std::chrono::milliseconds(50));
     };
 
+    // Runs f() without the lock; false when it threw (the failure is kept, the loop aborts).
+    auto unlocked = [&](std::unique_lock<std::mutex>& lock, auto&& f) {
+        lock.unlock();
+        try {
+            f();
+        } catch (...) {
+            lock.lock();
+            if (!failure) failure = std::current_exception();
+            abort = true;
+            changed.notify_all();
+            return false;
+        }
+        lock.lock();
+        return true;
+    };
+
     auto worker = [&] {
         std::unique_lock lock(mutex);
         for (;;) {
@@ -166,18 +182,8 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
                     const long first = next_take;
                     next_take += take;
                     std::vector<long> jobs(todo.begin() + first, todo.begin() + first + take);
-                    lock.unlock();
                     std::vector<Record> results;
-                    try {
-                        results = run.many(std::span<const long>(jobs));
-                    } catch (...) {
-                        lock.lock();
-                        if (!failure) failure = std::current_exception();
-                        abort = true;
-                        changed.notify_all();
-                        break;
-                    }
-                    lock.lock();
+                    if (!unlocked(lock, [&] { results = run.many(std::span<const long>(jobs)); })) break;
                     if (opt.stop && opt.stop->load()) break;
                     for (long k = 0; k < take; ++k)
                         ready.emplace(first + k, std::move(results[static_cast<std::size_t>(k)]));
@@ -204,19 +210,12 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
                     successors.erase(s);
                 }
             }
-            lock.unlock();
             std::optional<Record> result;
-            try {
-                result.emplace(detail::run_one<Record>(
-                    run, job, pred_record ? &*pred_record : static_cast<const Record*>(nullptr)));
-            } catch (...) {
-                lock.lock();
-                if (!failure) failure = std::current_exception();
-                abort = true;
-                changed.notify_all();
+            if (!unlocked(lock, [&] {
+                    result.emplace(detail::run_one<Record>(
+                        run, job, pred_record ? &*pred_record : static_cast<const Record*>(nullptr)));
+                }))
                 break;
-            }
-            lock.lock();
             // A job that was running when the stop flag was set may have been cut short (its
             // flows poll the same flag and end early): it is not a result, and a journal must
             // not keep it, so a resume computes it again.
