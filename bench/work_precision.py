@@ -12,7 +12,7 @@ difference printed as the reference's own uncertainty):
   state error  max over the section points of the max-norm of (y, v, x, w) - reference,
   time error   max over the section points of |t - t_reference|.
 
-Usage: /usr/bin/python3 bench/work_precision.py BUILD_DIR OUT_DIR [--no-scipy] [--repeat N]
+Usage: /usr/bin/python3 bench/work_precision.py BUILD_DIR OUT_DIR [--no-scipy] [--repeat N] [--plot-only]
 Writes OUT_DIR/work_precision.csv (one row per program, problem and tolerance: wall time,
 steps, rejected, rhs calls, errors) and OUT_DIR/work_precision.png (the figure of
 docs/performance.md); prints the reference check and the load average.
@@ -72,8 +72,17 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--no-scipy", action="store_true")
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--plot-only", action="store_true", help="redraw OUT/work_precision.png from its CSV")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
+    if a.plot_only:
+        rows = []
+        for r in csv.DictReader(open(os.path.join(a.out, "work_precision.csv"))):
+            for k in ("tol", "wall_s", "state_error", "time_error"):
+                r[k] = float(r[k])
+            rows.append(r)
+        plot(rows, os.path.join(a.out, "work_precision.png"))
+        return 0
     print(f"load average before: {open('/proc/loadavg').read().strip()}")
     refs = {}
     for name, args in PROBLEMS.items():
@@ -129,9 +138,9 @@ def plot(rows, path):
             ax.set_ylabel(f"{what} (max over points)")
             ax.grid(True, which="both", alpha=0.3)
     h, lab = axes[0][0].get_legend_handles_labels()
-    fig.legend(h, lab, loc="outside lower center", ncol=5)
+    fig.legend(h, lab, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=5)
     fig.suptitle("Work-precision, rtol = atol = 1e-6 ... 1e-12 (reference: DOP853 at 1e-14)")
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
 
 
 if __name__ == "__main__":
