@@ -4,7 +4,8 @@ scipy.integrate.solve_ivp (RK45 or DOP853, rtol = atol = 1e-10, event location).
 
 Standalone; run with /usr/bin/python3 (needs numpy + scipy):
 
-    /usr/bin/python3 bench/baseline_scipy.py [--method RK45|DOP853] [--points FILE] [--repeat N]
+    /usr/bin/python3 bench/baseline_scipy.py [--method RK45|DOP853] [--ur U] [--tol T] [--horizon H]
+                                             [--points FILE] [--repeat N]
 
 Model (state X = (y, v, x, w)):
     dy/dt = v
@@ -15,7 +16,7 @@ Model (state X = (y, v, x, w)):
 Impact: y decreasing through sigma -> (y, v, x, w) := (sigma, -r v, x, w).
 Section: maxima of y (v crosses 0 downward).
 Protocol: discard the first 500 impacts, then record the next 200 section
-points and stop.
+points and stop; with --horizon H, record every section point with t <= H instead.
 
 Prints one JSON line: wall_s, steps (accepted steps), nfev (= rhs_calls),
 rhs_calls, impacts, points; with --repeat N also wall_all.
@@ -38,12 +39,17 @@ eps = 0.3
 A = 12.0
 r = 0.8
 sigma = -0.150298
-Ur = 16.0
 
-delta = 1.0 / (St * Ur)
-alpha = 2.0 * xi * delta + gamma / mu
-M = 0.05 / mu
-delta2 = delta * delta
+
+def set_ur(ur):
+    global delta, alpha, M, delta2
+    delta = 1.0 / (St * ur)
+    alpha = 2.0 * xi * delta + gamma / mu
+    M = 0.05 / mu
+    delta2 = delta * delta
+
+
+set_ur(16.0)
 
 # ---- protocol --------------------------------------------------------------
 N_DISCARD_IMPACTS = 500
@@ -84,7 +90,7 @@ section_last.terminal = True
 section_last.direction = -1
 
 
-def run_protocol(method):
+def run_protocol(method, tol=TOL, horizon=0.0):
     t = 0.0
     X = [0.0, 0.0, 0.0, 0.1]
     impacts = 0
@@ -93,11 +99,13 @@ def run_protocol(method):
     points = []
 
     wall0 = time.perf_counter()
-    while len(points) < N_POINTS:
-        recording = impacts >= N_DISCARD_IMPACTS
-        last = recording and (N_POINTS - len(points) == 1)
-        sol = solve_ivp(rhs, (t, t + SEGMENT_SPAN), X, method=method,
-                        rtol=TOL, atol=TOL,
+    cpu0 = time.process_time()
+    while horizon > 0.0 or len(points) < N_POINTS:
+        recording = horizon > 0.0 or impacts >= N_DISCARD_IMPACTS
+        last = horizon <= 0.0 and recording and (N_POINTS - len(points) == 1)
+        t_end = horizon if horizon > 0.0 else t + SEGMENT_SPAN
+        sol = solve_ivp(rhs, (t, t_end), X, method=method,
+                        rtol=tol, atol=tol,
                         events=[impact, section_last if last else section])
         if sol.status < 0:
             raise RuntimeError(sol.message)
@@ -107,11 +115,13 @@ def run_protocol(method):
         if recording:
             for ts, Xs in zip(sol.t_events[1], sol.y_events[1]):
                 points.append((float(ts), *map(float, Xs)))
-                if len(points) >= N_POINTS:
+                if horizon <= 0.0 and len(points) >= N_POINTS:
                     break
-            if len(points) >= N_POINTS:
+            if horizon <= 0.0 and len(points) >= N_POINTS:
                 break
 
+        if horizon > 0.0 and sol.status == 0:
+            break
         if sol.status != 1 or len(sol.t_events[0]) == 0:
             raise RuntimeError("segment ended without an impact")
         t = float(sol.t_events[0][-1])
@@ -120,7 +130,7 @@ def run_protocol(method):
         impacts += 1
     wall1 = time.perf_counter()
 
-    return {"wall_s": wall1 - wall0, "steps": steps, "nfev": nfev,
+    return {"wall_s": wall1 - wall0, "cpu_s": time.process_time() - cpu0, "steps": steps, "nfev": nfev,
             "impacts": impacts, "points": points}
 
 
@@ -130,17 +140,23 @@ def main():
                     help="write the recorded section points as CSV")
     ap.add_argument("--method", choices=("RK45", "DOP853"), default="RK45",
                     help="solve_ivp's method: RK45 (DOPRI5) or DOP853, the orders of vimpact's two")
+    ap.add_argument("--ur", type=float, default=16.0, help="reduced velocity")
+    ap.add_argument("--tol", type=float, default=TOL, help="rtol = atol")
+    ap.add_argument("--horizon", type=float, default=0.0,
+                    help="record every section point up to this time instead of the protocol")
     ap.add_argument("--repeat", type=int, default=1, metavar="N",
                     help="run the protocol N times, report the median wall time")
     args = ap.parse_args()
     if args.repeat < 1:
         ap.error("--repeat must be >= 1")
+    set_ur(args.ur)
 
-    walls = []
+    walls, cpus = [], []
     res = None
     for _ in range(args.repeat):
-        res = run_protocol(args.method)
+        res = run_protocol(args.method, args.tol, args.horizon)
         walls.append(res["wall_s"])
+        cpus.append(res["cpu_s"])
 
     if args.points:
         with open(args.points, "w") as f:
@@ -148,11 +164,10 @@ def main():
             for p in res["points"]:
                 f.write(",".join("%.17g" % c for c in p) + "\n")
 
-    out = {"method": args.method, "wall_s": statistics.median(walls), "steps": res["steps"],
-           "rhs_calls": res["nfev"], "nfev": res["nfev"],
+    out = {"name": "scipy-" + args.method, "method": args.method, "wall_s": statistics.median(walls), "cpu_s": statistics.median(cpus), "steps": res["steps"],
+           "rejected": None, "rhs_calls": res["nfev"], "nfev": res["nfev"],
            "impacts": res["impacts"], "points": len(res["points"])}
-    if args.repeat > 1:
-        out["wall_all"] = walls
+    out["wall_all"] = walls
     json.dump(out, sys.stdout)
     sys.stdout.write("\n")
 

@@ -17,6 +17,9 @@ namespace vimpact::cli {
 void add_job_options(CLI::App& app, job_args& a)
 {
     app.add_option("--threads", a.threads, "Worker threads (default 0: every core); results do not depend on it");
+    app.add_option("--batch", a.batch,
+                   "Jobs integrated together in SIMD lanes (default 0: the SIMD width of the build; 1: one at a time; "
+                   "model files always one at a time); results do not depend on it");
     app.add_option("--shard", a.shard,
                    "Run only shard I/N of the jobs (with --out; the last shard to finish writes the result)");
     app.add_flag("--resume", a.resume, "Continue an interrupted run of the same command in --out");
@@ -62,6 +65,9 @@ job_session::job_session(const job_args& a, const std::optional<fs::path>& out) 
 {
     if (a.threads < 0) throw input_error("--threads must be >= 0 (got " + std::to_string(a.threads) + ")");
     m_options.threads = a.threads;
+    if (a.batch < 0 || a.batch > 1024)
+        throw input_error("--batch = " + std::to_string(a.batch) + " is outside its valid range [0, 1024] (0: the SIMD width)");
+    m_options.batch = a.batch;
     if (!a.shard.empty()) m_options.shard = parse_shard(a.shard);
     if (!out && m_options.shard.count > 1) throw input_error("--shard needs --out (the shards meet in its journal)");
     if (!out && a.resume) throw input_error("--resume needs --out (the directory of the interrupted run)");

@@ -20,6 +20,7 @@ namespace vimpact::cli {
 
 struct job_args {
     int threads = 0;
+    int batch = 0;
     std::string shard;
     bool resume = false;
 };

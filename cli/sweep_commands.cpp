@@ -152,7 +152,8 @@ int run_sweep(const sweep_args& a)
     const json counts = tally.counts();
     json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
                     {"ic_mode", a.ic_mode},       {"direction", a.direction}, {"section_points", npoints},
-                    {"label_counts", counts},     {"unsettled", unsettled},  {"out", out_json(c)}};
+                    {"label_counts", counts},     {"unsettled", unsettled},  {"batch", res.jobs.batch},
+                    {"out", out_json(c)}};
     // Each point's label: in labels.csv with --out (the summary stays the same size whatever
     // the number of points), in the summary without it.
     if (!c.out) {
@@ -236,7 +237,8 @@ int run_map(const map_args& a)
     const json counts = tally.counts();
     json summary = {{"command", "map"},       {"x", ax.name},          {"y", ay.name},
                     {"shape", {ny, nx}},      {"x_values", ax.values}, {"y_values", ay.values},
-                    {"label_counts", counts}, {"unsettled", unsettled}, {"out", out_json(c)}};
+                    {"label_counts", counts}, {"unsettled", unsettled}, {"batch", res.jobs.batch},
+                    {"out", out_json(c)}};
     // Each cell's label: in labels.csv with --out (the summary stays the same size whatever
     // the number of cells), in the summary without it.
     if (!c.out) summary["labels"] = rows;
@@ -346,6 +348,7 @@ int run_basins(const basins_args& a)
                           {"attractors", {{"count", res.attractors.size()}, {"labels", labels}, {"table", table}}},
                           {"inadmissible_cells", excluded},
                           {"unsettled", unsettled},
+                          {"batch", res.jobs.batch},
                           {"out", out_json(c)}};
     std::string text = std::to_string(res.attractors.size()) + " attractor(s) on the " + std::to_string(nx) + " x " +
                        std::to_string(ny) + " grid of initial " + ax.name + ", " + ay.name + ":\n";

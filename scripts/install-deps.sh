@@ -8,6 +8,10 @@ packages=(
   build-essential cmake git pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-dev libnanoflann-dev libginac-dev
+  # SIMD lanes of the job commands (include/vimpact/core/lanes.hpp)
+  libxsimd-dev
+  # bench/ only: the SUNDIALS peer baseline (built when found)
+  libsundials-dev
   python3 python3-numpy python3-scipy python3-matplotlib python3-pytest pybind11-dev python3-dev
   # pip install --no-build-isolation . (docs/python.md) builds with these, not PyPI's
   python3-venv python3-pip python3-setuptools python3-wheel

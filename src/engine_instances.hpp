@@ -13,11 +13,29 @@
 #include "vimpact/model/builtin/wake_impact.hpp"
 #include "vimpact/model/native_model.hpp"
 #include "vimpact/model/table_model.hpp"
+#include "vimpact/hybrid/flow_lanes.hpp"
+
+#include <type_traits>
+#include <vector>
 
 namespace vimpact::detail {
 
 template <class EM>
 simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_options& o);
+
+// An engine model whose protocol runs can share SIMD lanes (hybrid/flow_lanes.hpp).
+template <class EM>
+struct lanes_engine_t : std::false_type {};
+template <class D>
+struct lanes_engine_t<native_model<D>> : std::bool_constant<lanes_capable<D>> {};
+template <class EM>
+inline constexpr bool lanes_engine = lanes_engine_t<EM>::value;
+
+// The protocol for every model of `models` (all of the engine model EM, differing in their
+// parameters) from its initial state, in SIMD lanes.
+template <class EM>
+std::vector<simulation> run_simulate_lanes(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
+                                           const protocol_options& o);
 
 template <class EM>
 grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazing_options& o);

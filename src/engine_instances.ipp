@@ -31,6 +31,29 @@ simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_
 }
 
 template <class EM>
+std::vector<simulation> run_simulate_lanes(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
+                                           const protocol_options& o)
+{
+    using D = typename EM::definition_type;
+    std::vector<simulation> out(models.size());
+    const auto n = static_cast<long>(models.size());
+    auto run = [&]<template <int, class = double> class M>() {
+        run_in_lanes<D, M>(
+            n,
+            [&](long j) {
+                const auto k = static_cast<std::size_t>(j);
+                return std::make_unique<engine::protocol_run<M, EM>>(EM(models[k].parameters()), fixed<EM::dim>(x0s[k]), o);
+            },
+            [&](long j) { return std::span<const double>(models[static_cast<std::size_t>(j)].parameters()); },
+            [&](long j, simulation&& s) { out[static_cast<std::size_t>(j)] = std::move(s); });
+        return 0;
+    };
+    if (o.method == integration_method::dopri5) run.template operator()<dopri5>();
+    else run.template operator()<dop853>();
+    return out;
+}
+
+template <class EM>
 grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazing_options& o)
 {
     return with_method(o.method, [&]<template <int> class M>() { return engine::run_grazing<M>(em, fixed<EM::dim>(x0), o); });
@@ -75,6 +98,11 @@ lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyap
 }
 
 }  // namespace vimpact::detail
+
+// For an engine model that runs in SIMD lanes (lanes_engine<EM>), besides the above.
+#define VIMPACT_INSTANTIATE_LANES(EM)                                                                            \
+    template std::vector<vimpact::simulation> vimpact::detail::run_simulate_lanes<EM>(                           \
+        const std::vector<vimpact::model>&, const std::vector<Eigen::VectorXd>&, const vimpact::protocol_options&);
 
 #define VIMPACT_INSTANTIATE_ENGINE(EM)                                                                           \
     template vimpact::simulation vimpact::detail::run_simulate<EM>(const EM&, const Eigen::VectorXd&,            \

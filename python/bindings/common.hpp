@@ -414,6 +414,7 @@ inline job_options job_options_of(options& o)
 {
     job_options j;
     j.threads = o.get<int>("threads", 0);
+    j.batch = o.get<int>("batch", 0);
     if (o.has("shard")) {
         const auto s = o.need<std::pair<long, long>>("shard");
         j.shard = {s.first, s.second};
@@ -437,6 +438,7 @@ inline py::dict report_dict(const job_report& r)
     d["written_elsewhere"] = r.written_elsewhere;
     d["complete"] = r.complete();
     d["threads"] = r.threads;
+    d["batch"] = r.batch;
     return d;
 }
 

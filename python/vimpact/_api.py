@@ -333,7 +333,7 @@ def _labels(d, shape, model):
 @_with_defaults
 def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol=_D["period_tol"], grazing=False,
           transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
-          method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"],
+          method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0,
           journal=None, resume=False, shard=None, progress=None, keep_journal=False):
     """Bifurcation diagram: the protocol and the period label at every value of one parameter.
 
@@ -367,6 +367,9 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
         the surfaces (from ``ic``, surface-free): of this parameter, or with True of the first
         one found (``sigma`` for the paper's model, ``d`` for the two stops).
     <protocol>
+    batch : int, default 0
+        Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
+        (a model file always runs one at a time). Results never depend on it.
     <jobs>
 
     Returns
@@ -393,6 +396,7 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
                   values=np.asarray(values, dtype=float), ic=_ic(ic), ic_mode=ic_mode, direction=direction, tol=tol,
                   grazing=gparam)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._sweep(model._handle, o), o)
     if d is None:
         return report
@@ -419,7 +423,7 @@ def _axis(axis, what):
 @_with_defaults
 def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=_D["transient"],
         record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
-        quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None, resume=False,
+        quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0, journal=None, resume=False,
         shard=None, progress=None, keep_journal=False):
     """Periodicity map: the period label over a grid of two parameters.
 
@@ -439,6 +443,9 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
         that moves the surfaces without entering the vector field (``y`` if it does, else
         ``x``), against the other axis.
     <protocol>
+    batch : int, default 0
+        Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
+        (a model file always runs one at a time). Results never depend on it.
     <jobs>
 
     Returns
@@ -454,6 +461,7 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
     o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, x=xname, x_values=xs,
                   y=yname, y_values=ys, ic=_ic(ic), tol=tol, grazing=bool(grazing))
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._map(model._handle, o), o)
     if d is None:
         return report
@@ -471,7 +479,7 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
 def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_tol"],
            box_fraction=_D["box_fraction"], transient=_D["transient"], record=_D["record"], section=None,
            rtol=_D["rtol"], atol=_D["atol"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
-           threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+           threads=_D["threads"], batch=0, journal=None, resume=False, shard=None, progress=None, keep_journal=False):
     """Basins of attraction: the attractor reached from every initial state of a grid.
 
     The grid spans two state variables; the others are taken from ``ic``. Every admissible
@@ -496,6 +504,9 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     box_fraction : float, default $box_fraction
         Aperiodic attractors: bounding boxes agree within this fraction of their extent.
     <protocol>
+    batch : int, default 0
+        Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
+        (a model file always runs one at a time). Results never depend on it.
     <jobs>
 
     Returns
@@ -510,6 +521,7 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, x=xname, x_values=xs,
                   y=yname, y_values=ys, ic=_ic(ic), tol=tol, match_tol=match_tol, box_fraction=box_fraction)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._basins(model._handle, o), o)
     if d is None:
         return report

@@ -86,6 +86,7 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
     go.cancel = j.stop;
     protocol_options po = o.protocol;
     po.flow.cancel = j.stop;
+    const int res_batch = resolve_batch(m, j.batch);
 
     const long nx = static_cast<long>(o.x.values.size()), ny = static_cast<long>(o.y.values.size());
     const json spec = {{"analysis", "map"},
@@ -99,24 +100,34 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
     auto computes_grazing = [&](long ix, long iy) {
         return (grazing_axis == 1 && iy == 0) || (grazing_axis == 0 && ix == 0);
     };
-    auto run = [&](long job, const map_record*) {
-        const long ix = job % nx, iy = job / nx;
-        const model mxy = m.with_parameter(o.x.parameter, o.x.values[static_cast<std::size_t>(ix)])
-                              .with_parameter(o.y.parameter, o.y.values[static_cast<std::size_t>(iy)]);
-        const auto r = run_and_classify(mxy, ic, po, o.period_tolerance);
-        map_record rec;
-        rec.cell.label = r.label;
-        rec.cell.status = r.run.status;
-        rec.cell.steps = r.run.stats.steps;
-        if (computes_grazing(ix, iy)) {
-            const auto g = grazing(mxy, ic, go);
-            for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);
+    // The jobs of a batch run their protocols together (SIMD lanes where the model allows).
+    auto many = [&](std::span<const long> jobs) {
+        std::vector<model> models;
+        for (const long job : jobs)
+            models.push_back(m.with_parameter(o.x.parameter, o.x.values[static_cast<std::size_t>(job % nx)])
+                                 .with_parameter(o.y.parameter, o.y.values[static_cast<std::size_t>(job / nx)]));
+        const auto runs = run_and_classify_many(models, std::vector<Eigen::VectorXd>(jobs.size(), ic), po,
+                                                o.period_tolerance, res_batch);
+        std::vector<map_record> out(jobs.size());
+        for (std::size_t k = 0; k < jobs.size(); ++k) {
+            map_record& rec = out[k];
+            rec.cell.label = runs[k].label;
+            rec.cell.status = runs[k].run.status;
+            rec.cell.steps = runs[k].run.stats.steps;
+            if (computes_grazing(jobs[k] % nx, jobs[k] / nx)) {
+                const auto g = grazing(models[k], ic, go);
+                for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);
+            }
         }
-        return rec;
+        return out;
     };
+    auto single = [&](long job, const map_record*) { return many(std::span<const long>(&job, 1)).front(); };
     map_result res;
     res.grazing_axis = grazing_axis;
-    res.jobs = detail::run_journaled<map_record>(spec, {nx * ny, 0}, j, run, encode, decode, [&](long job, map_record&& r) {
+    job_options jb = j;
+    jb.batch = res_batch;
+    res.jobs = detail::run_journaled<map_record>(spec, {nx * ny, 0}, jb, job_runners{single, many}, encode, decode,
+                                                 [&](long job, map_record&& r) {
         if (computes_grazing(job % nx, job / nx)) {
             res.grazing_other.push_back(grazing_axis == 1 ? o.x.values[static_cast<std::size_t>(job % nx)]
                                                           : o.y.values[static_cast<std::size_t>(job / nx)]);

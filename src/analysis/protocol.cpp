@@ -1,6 +1,8 @@
 #include "vimpact/analysis/protocol.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "dispatch.hpp"
 #include "vimpact/core/format.hpp"
@@ -85,6 +87,42 @@ void validate(const protocol_options& o)
         throw input_error("max_samples must be >= 1 (got " + std::to_string(o.max_samples) + ")");
     if (!(o.flow.t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(o.flow.t_max) + ")");
     validate(o.flow.integration);
+}
+
+bool runs_in_lanes(const model& m)
+{
+    if constexpr (!wide_lanes) return false;
+    return detail::with_engine(m, [](const auto& em) { return detail::lanes_engine<std::decay_t<decltype(em)>>; });
+}
+
+int resolve_batch(const model& m, int requested)
+{
+    if (requested < 0 || requested > 1024)
+        throw input_error("batch = " + std::to_string(requested) + " is outside its valid range [0, 1024] (0: the SIMD width)");
+    if (!runs_in_lanes(m)) return 1;
+    return requested == 0 ? lane_width : requested;
+}
+
+std::vector<simulation> simulate_many(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
+                                      const protocol_options& o, int batch)
+{
+    if (models.size() != x0s.size()) throw std::invalid_argument("simulate_many: one initial state per model");
+    std::vector<simulation> out;
+    if (models.empty()) return out;
+    const bool lanes = batch > 1 && models.size() > 1 && runs_in_lanes(models[0]) &&
+                       std::all_of(models.begin(), models.end(), [&](const model& m) { return m.code() == models[0].code(); });
+    if (!lanes) {
+        for (std::size_t j = 0; j < models.size(); ++j) out.push_back(simulate(models[j], x0s[j], o));
+        return out;
+    }
+    validate(o);
+    validate(models[0], o.section);
+    for (const auto& x0 : x0s) check_state_size(models[0], x0.size(), "the initial state");
+    return detail::with_engine(models[0], [&](const auto& em) -> std::vector<simulation> {
+        using EM = std::decay_t<decltype(em)>;
+        if constexpr (detail::lanes_engine<EM>) return detail::run_simulate_lanes<EM>(models, x0s, o);
+        else return {};
+    });
 }
 
 simulation simulate(const model& m, const Eigen::VectorXd& x0, const protocol_options& o)

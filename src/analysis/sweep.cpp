@@ -151,35 +151,57 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     protocol_options po = o.protocol;
     po.flow.cancel = j.stop;
     go.cancel = j.stop;
-    auto run = [&](long job, const sweep_point* prev) {
-        const auto [branch, i] = plan.at(job);
-        sweep_point p;
-        p.branch = branch;
-        p.value = o.values[static_cast<std::size_t>(i)];
-        const model mv = m.with_parameter(o.parameter, p.value);
-        const Eigen::VectorXd x0 = prev ? continue_from(mv, prev->final_state) : ic;
-        p.grazing.assign(static_cast<std::size_t>(m.surface_count()), std::numeric_limits<double>::quiet_NaN());
-        if (violated_surface(mv, x0) >= 0) {
-            p.status = outcome::inadmissible;
-            p.label.label = std::string(to_string(p.status));
-            p.points = state_series(m.dim());
-            p.final_state = x0;
-            return p;
+    const int batch = o.follow ? 1 : resolve_batch(m, j.batch);
+    // Independent points of a batch run their protocols together (SIMD lanes where the model
+    // allows); a followed branch goes one point after the other.
+    auto many_from = [&](std::span<const long> jobs, const sweep_point* prev) {
+        std::vector<sweep_point> out(jobs.size());
+        std::vector<model> models;
+        std::vector<Eigen::VectorXd> x0s;
+        std::vector<std::size_t> admissible;
+        for (std::size_t k = 0; k < jobs.size(); ++k) {
+            const auto [branch, i] = plan.at(jobs[k]);
+            sweep_point& p = out[k];
+            p.branch = branch;
+            p.value = o.values[static_cast<std::size_t>(i)];
+            model mv = m.with_parameter(o.parameter, p.value);
+            Eigen::VectorXd x0 = prev ? continue_from(mv, prev->final_state) : ic;
+            p.grazing.assign(static_cast<std::size_t>(m.surface_count()), std::numeric_limits<double>::quiet_NaN());
+            if (violated_surface(mv, x0) >= 0) {
+                p.status = outcome::inadmissible;
+                p.label.label = std::string(to_string(p.status));
+                p.points = state_series(m.dim());
+                p.final_state = x0;
+                continue;
+            }
+            admissible.push_back(k);
+            models.push_back(std::move(mv));
+            x0s.push_back(std::move(x0));
         }
-        auto r = run_and_classify(mv, x0, po, o.period_tolerance);
-        p.label = std::move(r.label);
-        p.status = r.run.status;
-        p.points = std::move(r.run.points);
-        p.final_state = r.run.final_state;
-        p.stats = r.run.stats;
-        if (o.grazing_parameter >= 0) {
-            const auto g = grazing(mv, ic, go);
-            for (std::size_t s = 0; s < g.surfaces.size(); ++s) p.grazing[s] = g.surfaces[s].parameter_value;
+        auto runs = run_and_classify_many(models, x0s, po, o.period_tolerance, batch);
+        for (std::size_t a = 0; a < admissible.size(); ++a) {
+            sweep_point& p = out[admissible[a]];
+            auto& r = runs[a];
+            p.label = std::move(r.label);
+            p.status = r.run.status;
+            p.points = std::move(r.run.points);
+            p.final_state = r.run.final_state;
+            p.stats = r.run.stats;
+            if (o.grazing_parameter >= 0) {
+                const auto g = grazing(models[a], ic, go);
+                for (std::size_t s = 0; s < g.surfaces.size(); ++s) p.grazing[s] = g.surfaces[s].parameter_value;
+            }
         }
-        return p;
+        return out;
     };
+    auto single = [&](long job, const sweep_point* prev) {
+        return std::move(many_from(std::span<const long>(&job, 1), prev).front());
+    };
+    auto many = [&](std::span<const long> jobs) { return many_from(jobs, nullptr); };
     sweep_result res;
-    res.jobs = detail::run_journaled<sweep_point>(spec, plan.schedule(), j, run, encode, decode,
+    job_options jb = j;
+    jb.batch = batch;
+    res.jobs = detail::run_journaled<sweep_point>(spec, plan.schedule(), jb, job_runners{single, many}, encode, decode,
                                                   [&](long job, sweep_point&& p) {
                                                       if (each) each(job, p);
                                                       else res.points.push_back(std::move(p));

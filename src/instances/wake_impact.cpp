@@ -2,3 +2,4 @@
 #include "engine_instances.ipp"
 
 VIMPACT_INSTANTIATE_ENGINE(vimpact::native_model<vimpact::wake_impact>)
+VIMPACT_INSTANTIATE_LANES(vimpact::native_model<vimpact::wake_impact>)

@@ -98,6 +98,9 @@ job_report run_journaled(const json& spec, const job_schedule& schedule, const j
     report.jobs = schedule.jobs;
     job_loop_options lo;
     lo.threads = o.threads;
+    // The analysis passes its batch resolved for the model (jobs per SIMD batch; >= 1 used).
+    lo.batch = std::max(1, o.batch);
+    report.batch = static_cast<int>(lo.batch);
     lo.shard = o.shard;
     lo.stop = o.stop;
     lo.progress = o.progress;

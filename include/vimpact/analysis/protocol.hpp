@@ -96,4 +96,18 @@ struct simulation {
 // inadmissible initial state; numerical trouble is reported in result.status.
 simulation simulate(const model& m, const Eigen::VectorXd& x0, const protocol_options& o);
 
+// The protocol for several jobs: models[j] (one model with other parameter values) from
+// x0s[j]. With batch > 1 and a model that runs in SIMD lanes (runs_in_lanes) the jobs share
+// the lanes; each result is the one simulate() gives, bit for bit. Otherwise one at a time.
+std::vector<simulation> simulate_many(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
+                                      const protocol_options& o, int batch);
+
+// Whether the protocol runs of `m` can share SIMD lanes: a built-in model on a machine (and
+// build) with SIMD registers of 4 doubles or more. Model files run one job at a time.
+bool runs_in_lanes(const model& m);
+
+// The jobs per batch of the job commands: `requested` (0: the SIMD width, lane_width), 1 when
+// the model cannot run in lanes. Throws input_error outside [0, 1024].
+int resolve_batch(const model& m, int requested);
+
 }  // namespace vimpact

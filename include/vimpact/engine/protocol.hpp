@@ -114,26 +114,55 @@ inline flow_options protocol_flow(const protocol_options& opt, crossing directio
     return fo;
 }
 
+// One protocol run: its flow, observer and result, set up from (0, x0). run_protocol runs it
+// alone; the SIMD lanes of hybrid/flow_lanes.hpp step several at once. Not movable (the
+// observer holds the result).
+template <template <int> class Method, engine_model Model>
+struct protocol_run {
+    static constexpr int N = Model::dim;
+    simulation res;
+    hybrid_flow<Model, Method> flow;
+    protocol_observer<N> obs;
+
+    protocol_run(const Model& model, const vec<N>& x0, const protocol_options& opt)
+        : res(empty_result()), flow(model, protocol_flow(opt, section_direction(model, opt))), obs(opt, res)
+    {
+        flow.start(0.0, x0);
+        obs.set_start(0.0);
+    }
+    protocol_run(const protocol_run&) = delete;
+    protocol_run& operator=(const protocol_run&) = delete;
+
+    simulation finish(outcome status)
+    {
+        res.status = status;
+        if (obs.sample_limit() && res.status == outcome::ok) res.status = outcome::sample_limit;
+        res.final_state = to_dynamic(flow.x());
+        res.stats = flow.stats();
+        return std::move(res);
+    }
+
+private:
+    static simulation empty_result()
+    {
+        simulation r;
+        r.points = state_series(N);
+        r.impacts = impact_series(N);
+        r.series = state_series(N);
+        return r;
+    }
+    static crossing section_direction(const Model& model, const protocol_options& opt)
+    {
+        return opt.section.type == section_choice::kind::crossing ? model.section_direction(opt.section.index)
+                                                                  : crossing::down;
+    }
+};
+
 template <template <int> class Method, engine_model Model>
 simulation run_protocol(const Model& model, const vec<Model::dim>& x0, const protocol_options& opt)
 {
-    constexpr int N = Model::dim;
-    simulation res;
-    res.points = state_series(N);
-    res.impacts = impact_series(N);
-    res.series = state_series(N);
-    const crossing dir = opt.section.type == section_choice::kind::crossing
-                             ? model.section_direction(opt.section.index)
-                             : crossing::down;
-    hybrid_flow<Model, Method> flow(model, protocol_flow(opt, dir));
-    flow.start(0.0, x0);
-    protocol_observer<N> obs(opt, res);
-    obs.set_start(0.0);
-    res.status = flow.run(obs);
-    if (obs.sample_limit() && res.status == outcome::ok) res.status = outcome::sample_limit;
-    res.final_state = to_dynamic(flow.x());
-    res.stats = flow.stats();
-    return res;
+    protocol_run<Method, Model> r(model, x0, opt);
+    return r.finish(r.flow.run(r.obs));
 }
 
 }  // namespace vimpact::engine

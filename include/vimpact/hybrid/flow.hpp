@@ -161,21 +161,65 @@ public:
     template <class Observer>
     outcome run(Observer& obs)
     {
-        m_stop = false;
-        m_finished.reset();
+        begin_run();
         for (;;) {
-            if (m_integ.counters().steps >= m_opt.max_steps) return outcome::step_limit;
-            if (m_t >= m_opt.t_max) return outcome::time_limit;
-            if (m_stats.impacts >= m_opt.max_impacts) return outcome::impact_limit;
-            if (m_opt.cancel && m_opt.cancel->load(std::memory_order_relaxed)) return outcome::interrupted;
+            if (const auto o = limit_reached()) return *o;
             const step_status st = (m_mode == flow_mode::free) ? step_free(obs) : step_sticking(obs);
-            if (st == step_status::step_underflow) return outcome::step_underflow;
-            if (st == step_status::non_finite) return outcome::non_finite;
-            if (m_finished) return *m_finished;
-            if (!m_stop && obs.on_step_end(m_t) == flow_control::stop) m_stop = true;
-            if (m_stop) return outcome::ok;
+            if (const auto o = step_taken(st, obs)) return *o;
         }
     }
+
+    // run() in pieces, for a driver that takes the free steps of several flows at once in SIMD
+    // lanes (hybrid/flow_lanes.hpp): begin_run(), then per step limit_reached(), the step
+    // (free_step_taken() after the integrator took it outside, or step() in any mode), and
+    // step_taken(); a value from either ends the run with that outcome.
+    void begin_run()
+    {
+        m_stop = false;
+        m_finished.reset();
+    }
+    [[nodiscard]] std::optional<outcome> limit_reached() const
+    {
+        if (m_integ.counters().steps >= m_opt.max_steps) return outcome::step_limit;
+        if (m_t >= m_opt.t_max) return outcome::time_limit;
+        if (m_stats.impacts >= m_opt.max_impacts) return outcome::impact_limit;
+        if (m_opt.cancel && m_opt.cancel->load(std::memory_order_relaxed)) return outcome::interrupted;
+        return std::nullopt;
+    }
+    template <class Observer>
+    step_status step(Observer& obs)
+    {
+        return (m_mode == flow_mode::free) ? step_free(obs) : step_sticking(obs);
+    }
+    // The free step the integrator has just accepted (integrator().accept_external).
+    template <class Observer>
+    step_status free_step_taken(Observer& obs)
+    {
+        auto rhs = free_rhs();
+        return after_free_step(obs, rhs);
+    }
+    // A free step the integrator has just accepted that the driver found quiet: no surface
+    // and no watched event can have been crossed in it, decided from the same end samples and
+    // by the same rule as after_free_step (hybrid/flow_lanes.hpp), which would only have moved
+    // on. Its end samples are not kept (the next step samples its start again: the same numbers).
+    void quiet_free_step()
+    {
+        m_t = m_integ.t();
+        m_x = m_integ.x();
+        m_ends_valid = false;
+    }
+    template <class Observer>
+    std::optional<outcome> step_taken(step_status st, Observer& obs)
+    {
+        if (st == step_status::step_underflow) return outcome::step_underflow;
+        if (st == step_status::non_finite) return outcome::non_finite;
+        if (m_finished) return *m_finished;
+        if (!m_stop && obs.on_step_end(m_t) == flow_control::stop) m_stop = true;
+        if (m_stop) return outcome::ok;
+        return std::nullopt;
+    }
+    [[nodiscard]] integrator_type& integrator() { return m_integ; }
+    [[nodiscard]] const integrator_type& integrator() const { return m_integ; }
 
     [[nodiscard]] double t() const { return m_t; }
     [[nodiscard]] const state& x() const { return m_x; }
@@ -382,6 +426,12 @@ private:
         auto rhs = free_rhs();
         const step_status st = m_integ.advance(rhs, m_opt.t_max);
         if (st != step_status::ok) return st;
+        return after_free_step(obs, rhs);
+    }
+
+    template <class Observer, class Rhs>
+    step_status after_free_step(Observer& obs, Rhs& rhs)
+    {
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
         const state& x0 = m_integ.x_prev();

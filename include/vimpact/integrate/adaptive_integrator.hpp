@@ -8,6 +8,7 @@
 
 #include "vimpact/core/state.hpp"
 #include "vimpact/integrate/runge_kutta.hpp"
+#include "vimpact/integrate/step_control.hpp"
 
 namespace vimpact {
 
@@ -19,9 +20,10 @@ struct integrator_options {
     double safety = 0.9;
     double factor_min = 0.2;
     double factor_max = 10.0;
-    // Proportional-integral step control (Gustafsson; Hairer's DOPRI5 uses 0.04): damps the
-    // accept/reject oscillation of a purely proportional controller (measured on the paper's
-    // model with DOP853 at 1e-10: 8 % fewer trial steps than beta = 0). 0: proportional.
+    // Proportional-integral step control (integrate/step_control.hpp; Hairer's DOPRI5 uses
+    // 0.04): damps the accept/reject oscillation of a purely proportional controller (measured
+    // on the paper's model with DOP853 at 1e-10: 8 % fewer trial steps than beta = 0).
+    // 0: proportional.
     double pi_beta = 0.04;
 };
 
@@ -64,63 +66,59 @@ public:
         else
             m_h = initial_step(rhs);
         m_dense_ready = false;
-        m_log_err_old = log_err_floor;
+        m_stage_source = {};
+        m_log_err_old = log2_err_floor;
+        ++m_starts;
     }
+    // How often start() was called: a driver that keeps a copy of the state learns of restarts.
+    [[nodiscard]] long starts() const { return m_starts; }
 
     // One accepted step, ending no later than t_stop (> t()).
     template <class F>
     step_status advance(F&& rhs, double t_stop)
     {
+        m_stage_source = {};
         bool rejected_before = false;
         for (;;) {
-            double h = std::min(m_h, m_opt.h_max);
-            bool clipped = false;
-            if (m_t + h >= t_stop) {
-                h = t_stop - m_t;
-                clipped = true;
-            }
-            const double h_floor = 16.0 * std::numeric_limits<double>::epsilon() *
-                                   std::max(1.0, std::abs(m_t));
-            if (!(h > h_floor) && !clipped) return step_status::step_underflow;
-
-            const double err =
-                m_method.attempt(rhs, m_x, m_f, h, m_opt.rtol, m_opt.atol, m_x_new, m_f_new);
-            m_count.rhs_calls += method_type::stages_per_step;
-            const bool finite = std::isfinite(err) && m_x_new.allFinite() && m_f_new.allFinite();
-            if (finite && err <= 1.0) {
-                // One log and one exp per step instead of two pow calls (pow alone was a
-                // quarter of all instructions of a DOPRI5 run).
-                const double k = method_type::error_exponent_order;
-                const double log_e = std::log(std::max(err, 1e-14));
-                double factor = m_opt.safety * std::exp(-(1.0 / k - 0.75 * m_opt.pi_beta) * log_e +
-                                                        m_opt.pi_beta * m_log_err_old);
-                m_log_err_old = std::max(log_e, log_err_floor);
-                factor = std::clamp(factor, m_opt.factor_min, m_opt.factor_max);
-                if (rejected_before) factor = std::min(factor, 1.0);
-                m_t_prev = m_t;
-                m_x_prev = m_x;
-                m_f_prev = m_f;
-                m_h_taken = h;
-                m_t = clipped ? t_stop : m_t + h;
-                m_x = m_x_new;
-                m_f = m_f_new;
-                // A step cut short by t_stop says nothing about the achievable size.
-                if (!clipped || factor < 1.0) m_h = h * factor;
-                ++m_count.steps;
-                m_count.h_min = std::min(m_count.h_min, h);
-                m_count.h_max = std::max(m_count.h_max, h);
-                m_dense_ready = false;
+            const auto plan = plan_trial(m_t, m_h, m_opt.h_max, t_stop);
+            if (plan.underflow) return step_status::step_underflow;
+            const double err = m_method.attempt(rhs, m_x, m_f, plan.h, m_opt.rtol, m_opt.atol, m_x_new, m_f_new);
+            const bool finite = is_finite(err) && m_x_new.allFinite() && m_f_new.allFinite();
+            const auto out = control_step(constants(), err, finite, plan.h, m_h, plan.clipped, rejected_before,
+                                          m_log_err_old);
+            if (out.accepted) {
+                accept(plan.h, plan.clipped ? t_stop : m_t + plan.h, m_x_new, m_f_new, out.h_next, out.log2_err_old);
                 return step_status::ok;
             }
-            ++m_count.rejected;
             rejected_before = true;
-            const double factor =
-                finite ? std::max(m_opt.factor_min,
-                                  m_opt.safety * std::pow(err, -1.0 / method_type::error_exponent_order))
-                       : m_opt.factor_min;
-            m_h = h * factor;
-            if (!finite && !(m_h > h_floor)) return step_status::non_finite;
+            if (reject(plan, out.h_next, finite)) return step_status::non_finite;
         }
+    }
+
+    // The same step taken outside, in a SIMD lane of several jobs (hybrid/flow_lanes.hpp):
+    // the lane planned it with plan_trial, tried it and ran control_step on it exactly as
+    // advance() does, and hands over the outcome. `stages` fills the method's stages when the
+    // step's interpolant is needed (called at most once, before the next step).
+    using stage_filler = void (*)(const void* context, method_type& method);
+    struct stage_source {
+        stage_filler fill = nullptr;
+        const void* context = nullptr;
+    };
+    void accept_external(const trial_plan<double, bool>& plan, double t_stop, const vec<N>& x_new,
+                         const vec<N>& f_new, double h_next, double log2_err_old, stage_source stages)
+    {
+        accept(plan.h, plan.clipped ? t_stop : m_t + plan.h, x_new, f_new, h_next, log2_err_old);
+        m_stage_source = stages;
+    }
+    // A rejected trial taken outside; true when the step ends in non-finite numbers.
+    bool reject_external(const trial_plan<double, bool>& plan, double h_next, bool finite)
+    {
+        return reject(plan, h_next, finite);
+    }
+    [[nodiscard]] double log2_err_old() const { return m_log_err_old; }
+    [[nodiscard]] controller_constants constants() const
+    {
+        return {m_opt.safety, m_opt.factor_min, m_opt.factor_max, m_opt.pi_beta, method_type::error_exponent_order};
     }
 
     // Interpolant of the last accepted step [t_prev(), t()].
@@ -128,6 +126,10 @@ public:
     const dense_type& dense(F&& rhs)
     {
         if (!m_dense_ready) {
+            if (m_stage_source.fill) {
+                m_stage_source.fill(m_stage_source.context, m_method);
+                m_stage_source = {};
+            }
             m_method.build_dense(rhs, m_t_prev, m_h_taken, m_x_prev, m_x, m_dense);
             m_count.rhs_calls += method_type::dense_extra_stages;
             m_dense_ready = true;
@@ -145,6 +147,31 @@ public:
     [[nodiscard]] double last_step() const { return m_h_taken; }
 
 private:
+    void accept(double h, double t_new, const vec<N>& x_new, const vec<N>& f_new, double h_next, double log2_err)
+    {
+        m_count.rhs_calls += method_type::stages_per_step;
+        m_log_err_old = log2_err;
+        m_t_prev = m_t;
+        m_x_prev = m_x;
+        m_f_prev = m_f;
+        m_h_taken = h;
+        m_t = t_new;
+        m_x = x_new;
+        m_f = f_new;
+        m_h = h_next;
+        ++m_count.steps;
+        m_count.h_min = std::min(m_count.h_min, h);
+        m_count.h_max = std::max(m_count.h_max, h);
+        m_dense_ready = false;
+    }
+    bool reject(const trial_plan<double, bool>& plan, double h_next, bool finite)
+    {
+        m_count.rhs_calls += method_type::stages_per_step;
+        ++m_count.rejected;
+        m_h = h_next;
+        return !finite && !(m_h > plan.h_floor);
+    }
+
     template <class F>
     double initial_step(F&& rhs)
     {
@@ -168,8 +195,9 @@ private:
     method_type m_method;
     dense_type m_dense;
     bool m_dense_ready = false;
-    static constexpr double log_err_floor = -9.210340371976184;  // log(1e-4), Hairer's floor
-    double m_log_err_old = log_err_floor;
+    stage_source m_stage_source;
+    long m_starts = 0;
+    double m_log_err_old = log2_err_floor;
     double m_t = 0.0, m_t_prev = 0.0, m_h = 0.0, m_h_taken = 0.0;
     vec<N> m_x, m_f, m_x_prev, m_f_prev, m_x_new, m_f_new;
 };

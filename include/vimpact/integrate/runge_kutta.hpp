@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
+#include "vimpact/core/lane_ops.hpp"
 #include "vimpact/core/state.hpp"
 #include "vimpact/integrate/dense_output.hpp"
 #include "vimpact/integrate/dop853_tableau.hpp"
@@ -26,13 +28,48 @@ namespace vimpact {
 
 enum class rk_method { dopri5, dop853 };
 
-template <int N>
-inline vec<N> error_scale(const vec<N>& x0, const vec<N>& x1, double rtol, double atol)
+// The error weights atol + rtol max(|x0|, |x1|), component by component (for double with
+// Eigen's vectorised max, for lanes with lane_max: the same numbers for finite states, and a
+// trial that is not finite is rejected whatever its error).
+template <int N, class T = double>
+inline vec_t<T, N> error_scale(const vec_t<T, N>& x0, const vec_t<T, N>& x1, double rtol, double atol)
 {
-    return (atol + rtol * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array()).matrix();
+    if constexpr (std::is_same_v<T, double>) {
+        return (atol + rtol * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array()).matrix();
+    } else {
+        using std::abs;
+        vec_t<T, N> sc;
+        for (int i = 0; i < N; ++i) sc[i] = atol + rtol * lane_max(T(abs(x0[i])), T(abs(x1[i])));
+        return sc;
+    }
 }
 
-template <int N>
+// sum_i (e_i / sc_i)^2 in one fixed order with explicit multiply-adds (two interleaved
+// accumulators, even and odd i, then their sum): the same rounding for a scalar and for a SIMD
+// lane (core/lanes.hpp), whatever the compiler would contract on its own.
+template <int N, class T>
+inline T weighted_square_sum(const vec_t<T, N>& e, const vec_t<T, N>& sc)
+{
+    using std::fma;
+    const vec_t<T, N> q = e.cwiseQuotient(sc);
+    if constexpr (N == 1) {
+        return T(q[0] * q[0]);
+    } else {
+        T even = q[0] * q[0], odd = q[1] * q[1];
+        for (int i = 2; i < N; i += 2) even = fma(q[i], q[i], even);
+        for (int i = 3; i < N; i += 2) odd = fma(q[i], q[i], odd);
+        return T(even + odd);
+    }
+}
+
+// The methods are written once for a scalar type T: double, or lanes (core/lanes.hpp), where
+// each lane is another job's step with its own step size. Eigen evaluates the stage sums
+// element by element as written (vectorised across the state for double), and the reductions
+// (error norms) are spelled out in one order, so a lane computes exactly what a scalar step
+// computes, provided the compiler does not fuse multiplications and additions differently in
+// the two: the translation units that run lanes are compiled with -ffp-contract=off
+// (CMakeLists.txt).
+template <int N, class T = double>
 class dopri5 {
 public:
     static constexpr int order = 5;
@@ -42,13 +79,14 @@ public:
     static constexpr int dense_extra_stages = 0;
     static constexpr const char* name = "dopri5";
     using dense_type = dense_segment<N, 4>;
+    using state = vec_t<T, N>;
 
     // Trial step from (x, f = F(x)); writes x_new and f_new = F(x_new); returns the error norm.
-    // flatten: without it GCC leaves Eigen's stage sums out of line for larger states
-    // (the tangent runs), and even the 4-state step is about 20 % slower.
+    // flatten: without it GCC leaves the stage sums out of line for larger states (the
+    // tangent runs), and even the 4-state step is about 20 % slower.
     template <class F>
-    VIMPACT_FLATTEN double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
-                   double atol, vec<N>& x_new, vec<N>& f_new)
+    VIMPACT_FLATTEN T attempt(F&& rhs, const state& x, const state& f, T h, double rtol, double atol,
+                              state& x_new, state& f_new)
     {
         constexpr double a21 = 1.0 / 5.0;
         constexpr double a31 = 3.0 / 40.0, a32 = 9.0 / 40.0;
@@ -62,19 +100,18 @@ public:
         constexpr double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
                          e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
         m_k[0] = f;
-        m_k[1] = rhs(vec<N>(x + h * a21 * m_k[0]));
-        m_k[2] = rhs(vec<N>(x + h * (a31 * m_k[0] + a32 * m_k[1])));
-        m_k[3] = rhs(vec<N>(x + h * (a41 * m_k[0] + a42 * m_k[1] + a43 * m_k[2])));
-        m_k[4] = rhs(vec<N>(x + h * (a51 * m_k[0] + a52 * m_k[1] + a53 * m_k[2] + a54 * m_k[3])));
-        m_k[5] = rhs(vec<N>(x + h * (a61 * m_k[0] + a62 * m_k[1] + a63 * m_k[2] + a64 * m_k[3] +
-                                     a65 * m_k[4])));
+        m_k[1] = rhs(state(x + (h * a21) * m_k[0]));
+        m_k[2] = rhs(state(x + h * (a31 * m_k[0] + a32 * m_k[1])));
+        m_k[3] = rhs(state(x + h * (a41 * m_k[0] + a42 * m_k[1] + a43 * m_k[2])));
+        m_k[4] = rhs(state(x + h * (a51 * m_k[0] + a52 * m_k[1] + a53 * m_k[2] + a54 * m_k[3])));
+        m_k[5] = rhs(state(x + h * (a61 * m_k[0] + a62 * m_k[1] + a63 * m_k[2] + a64 * m_k[3] + a65 * m_k[4])));
         x_new = x + h * (b1 * m_k[0] + b3 * m_k[2] + b4 * m_k[3] + b5 * m_k[4] + b6 * m_k[5]);
         f_new = rhs(x_new);
         m_k[6] = f_new;
-        const vec<N> err =
+        const state err =
             h * (e1 * m_k[0] + e3 * m_k[2] + e4 * m_k[3] + e5 * m_k[4] + e6 * m_k[5] + e7 * m_k[6]);
-        const vec<N> sc = error_scale<N>(x, x_new, rtol, atol);
-        return std::sqrt(err.cwiseQuotient(sc).squaredNorm() / N);
+        using std::sqrt;
+        return sqrt(weighted_square_sum<N>(err, error_scale<N, T>(x, x_new, rtol, atol)) / double(N));
     }
 
     // Interpolant of the last accepted step (no extra right-hand side calls).
@@ -98,15 +135,16 @@ public:
     }
 
     // The stages of the last step (what build_dense needs of it): a fused step computed
-    // elsewhere (integrate/fused_step.hpp) hands them over.
+    // elsewhere (integrate/fused_step.hpp) or in a SIMD lane hands them over.
     static constexpr int stage_count = 7;
-    [[nodiscard]] std::array<vec<N>, 7>& stages() { return m_k; }
+    [[nodiscard]] std::array<state, 7>& stages() { return m_k; }
+    [[nodiscard]] const std::array<state, 7>& stages() const { return m_k; }
 
 private:
-    std::array<vec<N>, 7> m_k;
+    std::array<state, 7> m_k;
 };
 
-template <int N>
+template <int N, class T = double>
 class dop853 {
 public:
     static constexpr int order = 8;
@@ -116,29 +154,33 @@ public:
     static constexpr int dense_extra_stages = 3;
     static constexpr const char* name = "dop853";
     using dense_type = dense_segment<N, 7>;
+    using state = vec_t<T, N>;
 
-    // flatten: without it GCC leaves Eigen's stage sums out of line for larger states
+    // flatten: without it GCC leaves the stage sums out of line for larger states
     // (the tangent runs), and even the 4-state step is about 20 % slower.
     template <class F>
-    VIMPACT_FLATTEN double attempt(F&& rhs, const vec<N>& x, const vec<N>& f, double h, double rtol,
-                   double atol, vec<N>& x_new, vec<N>& f_new)
+    VIMPACT_FLATTEN T attempt(F&& rhs, const state& x, const state& f, T h, double rtol, double atol,
+                              state& x_new, state& f_new)
     {
-        namespace T = dop853_tableau;
+        namespace Tab = dop853_tableau;
         m_k[0] = f;
         // Stages unrolled at compile time; zero tableau entries cost nothing.
         [&]<int... S>(std::integer_sequence<int, S...>) {
-            ((m_k[S + 1] = rhs(stage_input<S + 1, T::A[S + 1]>(x, h))), ...);
-        }(std::make_integer_sequence<int, T::stages - 1>{});
-        x_new = x + h * combine<T::stages, T::B>();
+            ((m_k[S + 1] = rhs(stage_input<S + 1, Tab::A[S + 1]>(x, h))), ...);
+        }(std::make_integer_sequence<int, Tab::stages - 1>{});
+        x_new = x + h * combine<Tab::stages, Tab::B>();
         f_new = rhs(x_new);
-        m_k[T::stages] = f_new;
-        const vec<N> e5 = combine<T::stages + 1, T::E5>();
-        const vec<N> e3 = combine<T::stages + 1, T::E3>();
-        const vec<N> sc = error_scale<N>(x, x_new, rtol, atol);
-        const double n5 = e5.cwiseQuotient(sc).squaredNorm();
-        const double n3 = e3.cwiseQuotient(sc).squaredNorm();
-        if (n5 == 0.0 && n3 == 0.0) return 0.0;
-        return std::abs(h) * n5 / std::sqrt((n5 + 0.01 * n3) * N);
+        m_k[Tab::stages] = f_new;
+        const state e5 = combine<Tab::stages + 1, Tab::E5>();
+        const state e3 = combine<Tab::stages + 1, Tab::E3>();
+        const state sc = error_scale<N, T>(x, x_new, rtol, atol);
+        const T n5 = weighted_square_sum<N>(e5, sc);
+        const T n3 = weighted_square_sum<N>(e3, sc);
+        // n5 = n3 = 0 (a field that vanishes): error 0, not 0/0.
+        using std::abs;
+        using std::sqrt;
+        const T den = sqrt((n5 + 0.01 * n3) * double(N));
+        return select(n5 == T(0.0) && n3 == T(0.0), T(0.0), T(abs(h) * n5 / den));
     }
 
     // Needs three extra stages, so it is built only for steps where an event or a sample
@@ -147,58 +189,59 @@ public:
     void build_dense(F&& rhs, double t0, double h, const vec<N>& x0, const vec<N>& x1,
                      dense_type& out)
     {
-        namespace T = dop853_tableau;
+        namespace Tab = dop853_tableau;
         [&]<int... S>(std::integer_sequence<int, S...>) {
-            ((m_k[T::stages + 1 + S] = rhs(stage_input<T::stages + 1 + S, T::A[T::stages + 1 + S]>(x0, h))), ...);
-        }(std::make_integer_sequence<int, T::stages_extended - T::stages - 1>{});
+            ((m_k[Tab::stages + 1 + S] = rhs(stage_input<Tab::stages + 1 + S, Tab::A[Tab::stages + 1 + S]>(x0, h))), ...);
+        }(std::make_integer_sequence<int, Tab::stages_extended - Tab::stages - 1>{});
         out.t0 = t0;
         out.h = h;
         out.x0 = x0;
         const vec<N> dx = x1 - x0;
         out.c[0] = dx;
         out.c[1] = h * m_k[0] - dx;
-        out.c[2] = 2.0 * dx - h * (m_k[T::stages] + m_k[0]);
-        out.c[3] = h * combine<T::stages_extended, T::D[0]>();
-        out.c[4] = h * combine<T::stages_extended, T::D[1]>();
-        out.c[5] = h * combine<T::stages_extended, T::D[2]>();
-        out.c[6] = h * combine<T::stages_extended, T::D[3]>();
+        out.c[2] = 2.0 * dx - h * (m_k[Tab::stages] + m_k[0]);
+        out.c[3] = h * combine<Tab::stages_extended, Tab::D[0]>();
+        out.c[4] = h * combine<Tab::stages_extended, Tab::D[1]>();
+        out.c[5] = h * combine<Tab::stages_extended, Tab::D[2]>();
+        out.c[6] = h * combine<Tab::stages_extended, Tab::D[3]>();
     }
 
     // The stages of the last step (what build_dense needs of it): a fused step computed
-    // elsewhere (integrate/fused_step.hpp) hands them over.
+    // elsewhere (integrate/fused_step.hpp) or in a SIMD lane hands them over.
     static constexpr int stage_count = dop853_tableau::stages_extended;
-    [[nodiscard]] std::array<vec<N>, dop853_tableau::stages_extended>& stages() { return m_k; }
+    [[nodiscard]] std::array<state, dop853_tableau::stages_extended>& stages() { return m_k; }
+    [[nodiscard]] const std::array<state, dop853_tableau::stages_extended>& stages() const { return m_k; }
 
 private:
     // sum_{j < Count} coef[j] k_j, with the coefficients known at compile time.
     // Two interleaved accumulators halve the dependency chain of the additions, which, not
     // the arithmetic, bounds the speed of a 4-dimensional stage.
     template <int Count, const auto& Coef>
-    vec<N> combine() const
+    state combine() const
     {
         return [&]<int... J>(std::integer_sequence<int, J...>) {
-            vec<N> acc[2] = {vec<N>::Zero(), vec<N>::Zero()};
+            state acc[2] = {state::Constant(T(0.0)), state::Constant(T(0.0))};
             (add_term<Coef[J]>(acc[J % 2], m_k[J]), ...);
-            return vec<N>(acc[0] + acc[1]);
+            return state(acc[0] + acc[1]);
         }(std::make_integer_sequence<int, Count>{});
     }
     // x + h sum_{j < Count} coef[j] k_j, arranged so that the newest stage k_{Count-1} enters
     // last with a single multiply-add: everything else is ready before it is, which shortens
     // the serial chain stage -> vector field -> next stage (the real bound on speed here).
-    template <int Count, const auto& Coef>
-    vec<N> stage_input(const vec<N>& x, double h) const
+    template <int Count, const auto& Coef, class H>
+    state stage_input(const state& x, H h) const
     {
-        const vec<N> base = x + h * combine<Count - 1, Coef>();
-        if constexpr (Coef[Count - 1] != 0.0) return base + (h * Coef[Count - 1]) * m_k[Count - 1];
+        const state base = x + h * combine<Count - 1, Coef>();
+        if constexpr (Coef[Count - 1] != 0.0) return state(base + H(h * Coef[Count - 1]) * m_k[Count - 1]);
         else return base;
     }
     template <double C>
-    static void add_term(vec<N>& acc, const vec<N>& k)
+    static void add_term(state& acc, const state& k)
     {
         if constexpr (C != 0.0) acc += C * k;
     }
 
-    std::array<vec<N>, dop853_tableau::stages_extended> m_k;
+    std::array<state, dop853_tableau::stages_extended> m_k;
 };
 
 }  // namespace vimpact

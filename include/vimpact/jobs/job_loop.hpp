@@ -37,6 +37,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -59,6 +60,9 @@ struct job_loop_options {
     const std::atomic<bool>* stop = nullptr;
     std::function<void(long done, long total)> progress;  // called after each delivery
     std::shared_ptr<job_ranks> ranks;                      // null: this process alone
+    // Jobs a thread takes at once (independent jobs only), for a Run with a `many` member
+    // (job_runners): several jobs integrated together in SIMD lanes. 1: one at a time.
+    long batch = 1;
     // Each job's cost: the CPU time of the thread that ran it, which a busy machine does not
     // inflate as it does the wall time (called from the computing threads).
     std::function<void(long job, double seconds)> timed;
@@ -113,7 +117,25 @@ job_loop_io<Record> finished_in(const std::unordered_map<long, Record>& done)
     return io;
 }
 
+// A Run that can also take several independent jobs at once:
+//   single(job, const Record* predecessor_or_null) -> Record;
+//   many(std::span<const long> jobs) -> std::vector<Record> (in the order of `jobs`).
+template <class Single, class Many>
+struct job_runners {
+    Single single;
+    Many many;
+};
+template <class Single, class Many>
+job_runners(Single, Many) -> job_runners<Single, Many>;
+
 namespace detail {
+
+template <class Record, class Run>
+Record run_one(Run& run, long job, const Record* pred)
+{
+    if constexpr (requires { run.single; }) return run.single(job, pred);
+    else return run(job, pred);
+}
 
 // The messages between ranks (tags of job_ranks::send).
 enum rank_tag : int {
@@ -175,8 +197,9 @@ public:
         std::optional<Record> predecessor;
     };
 
-    job_pool(int threads, Run& run, const std::atomic<bool>* stop, std::function<void(long, double)> timed = {})
-        : m_run(run), m_stop(stop), m_timed(std::move(timed))
+    job_pool(int threads, Run& run, const std::atomic<bool>* stop, std::function<void(long, double)> timed = {},
+             long batch = 1)
+        : m_run(run), m_stop(stop), m_timed(std::move(timed)), m_batch(std::max(1L, batch))
     {
         m_threads.reserve(static_cast<std::size_t>(threads));
         for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { work(); });
@@ -245,6 +268,20 @@ private:
             // The stop flag is set from a signal handler, which cannot notify: poll it.
             while (!stopping() && m_queue.empty() && !m_closing) m_changed.wait_for(lock, std::chrono::milliseconds(50));
             if (stopping() || m_queue.empty()) break;
+            if constexpr (requires(Run& r, std::span<const long> js) { r.many(js); }) {
+                // Several jobs without predecessors at once, in lanes.
+                std::vector<long> jobs;
+                while (static_cast<long>(jobs.size()) < m_batch && !m_queue.empty() && !m_queue.front().predecessor) {
+                    jobs.push_back(m_queue.front().job);
+                    m_queue.pop_front();
+                }
+                if (jobs.size() == 1) {
+                    m_queue.push_front(item{jobs.front(), std::nullopt});
+                } else if (!jobs.empty()) {
+                    run_many(lock, jobs);
+                    continue;
+                }
+            }
             item it = std::move(m_queue.front());
             m_queue.pop_front();
             ++m_busy;
@@ -254,7 +291,8 @@ private:
             const double t0 = m_timed ? thread_seconds() : 0.0;
             const auto w0 = std::chrono::steady_clock::now();
             try {
-                result.emplace(m_run(it.job, it.predecessor ? &*it.predecessor : static_cast<const Record*>(nullptr)));
+                result.emplace(
+                    run_one<Record>(m_run, it.job, it.predecessor ? &*it.predecessor : static_cast<const Record*>(nullptr)));
             } catch (...) {
                 failure = std::current_exception();
             }
@@ -274,9 +312,40 @@ private:
         m_changed.notify_all();
     }
 
+    // Jobs in lanes (called and returning with the lock held); each job's time is its share.
+    void run_many(std::unique_lock<std::mutex>& lock, const std::vector<long>& jobs)
+    {
+        const auto n = static_cast<long>(jobs.size());
+        m_busy += n;
+        lock.unlock();
+        std::vector<Record> results;
+        std::exception_ptr failure;
+        const double t0 = m_timed ? thread_seconds() : 0.0;
+        const auto w0 = std::chrono::steady_clock::now();
+        try {
+            results = m_run.many(std::span<const long>(jobs));
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        if (m_timed && !failure) {
+            const double each = (thread_seconds() - t0) / static_cast<double>(n);
+            for (const long j : jobs) m_timed(j, each);
+        }
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+        lock.lock();
+        m_busy -= n;
+        m_wall += wall;
+        m_done += n;
+        if (failure && !m_failure) m_failure = failure;
+        if (!failure && !stopping())
+            for (long k = 0; k < n; ++k) m_inbox.emplace_back(jobs[static_cast<std::size_t>(k)], std::move(results[static_cast<std::size_t>(k)]));
+        m_changed.notify_all();
+    }
+
     Run& m_run;
     const std::atomic<bool>* m_stop;
     std::function<void(long, double)> m_timed;
+    long m_batch = 1;
     mutable std::mutex m_mutex;
     std::condition_variable m_changed;
     std::deque<item> m_queue;
@@ -329,7 +398,7 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
         std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
     using pool_t = job_pool<Record, Run>;
-    pool_t pool(summary.threads, run, opt.stop, opt.timed);
+    pool_t pool(summary.threads, run, opt.stop, opt.timed, opt.batch);
     // Prefetch: ask when half the rank's capacity is held (running and queued), for enough
     // to fill it (rank_capacity: more jobs when they are short), so the threads never wait
     // for the answer. Results go with the requests, or when half a capacity of them or 0.1 s
@@ -461,12 +530,15 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     rank_threads[0] = own_threads;
     long all_threads = 0;
     for (const long t : rank_threads) all_threads += t;
-    const long window = opt.window > 0 ? opt.window : (nranks > 1 ? ranks_window_per_thread : 8L) * all_threads;
+    const long batch = schedule.chained() ? 1L : std::max(1L, opt.batch);
+    // Room for every thread's batch twice over.
+    const long window = std::max(opt.window > 0 ? opt.window : (nranks > 1 ? ranks_window_per_thread : 8L) * all_threads,
+                                 2L * batch * all_threads);
     // With shards a window of jobs spans fewer of this shard's: widen it by the shard count.
     job_dispenser dispenser(schedule, todo, todo_count, window * opt.shard.count, all_threads);
 
     using pool_t = detail::job_pool<Record, Run>;
-    pool_t pool(own_threads, run, opt.stop, opt.timed);
+    pool_t pool(own_threads, run, opt.stop, opt.timed, batch);
     std::map<long, Record> ready;                  // arrived, waiting for in-order delivery
     std::unordered_map<long, Record> successors;   // chained results still needed as predecessors
     std::vector<long> wants(static_cast<std::size_t>(nranks), 0);

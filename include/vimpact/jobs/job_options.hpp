@@ -36,6 +36,10 @@ namespace vimpact {
 
 struct job_options {
     int threads = 0;  // 0: every core; results never depend on it
+    // Jobs integrated together in SIMD lanes (hybrid/flow_lanes.hpp): 0 the SIMD width of the
+    // build (8 with AVX-512, 4 with AVX2), 1 one at a time. Results never depend on it; a model
+    // that cannot run in lanes (a model file) runs one at a time whatever is asked.
+    int batch = 0;
     shard_spec shard{};
     std::optional<std::filesystem::path> journal;
     bool resume = false;
@@ -63,6 +67,7 @@ struct job_report {
     int ranks = 1;     // processes that computed (MPI ranks)
     // False on the ranks other than 0 of an MPI run: they computed jobs and report nothing else.
     bool coordinator = true;
+    int batch = 1;  // jobs per SIMD batch this run used (job_options::batch resolved for the model)
     // Held by the shard that completes a journaled run while its caller writes the outputs and
     // removes the journal; other shards wait for it. Released with the report.
     std::shared_ptr<void> completion_lock;

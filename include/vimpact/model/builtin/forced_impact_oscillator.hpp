@@ -13,12 +13,16 @@
 #include <span>
 #include <string_view>
 
+#include "vimpact/core/lane_ops.hpp"
 #include "vimpact/core/state.hpp"
 #include "vimpact/model/spec.hpp"
 
 namespace vimpact {
 
-class forced_impact_oscillator {
+// P: the type of the parameters, double; lanes (core/lanes.hpp) for the vector field of several
+// jobs at once, each lane with its own parameters.
+template <class P>
+class basic_forced_impact_oscillator {
 public:
     static constexpr std::string_view name = "forced_impact_oscillator";
     static constexpr std::string_view description =
@@ -44,7 +48,10 @@ public:
     }};
     static constexpr std::array<double, 3> initial_state{0.0, 0.0, 0.0};
 
-    explicit forced_impact_oscillator(std::span<const double> p)
+    // The vector field in SIMD lanes (hybrid/flow_lanes.hpp).
+    using lanes_definition = basic_forced_impact_oscillator<lanes>;
+
+    explicit basic_forced_impact_oscillator(std::span<const P> p)
         : m_zeta(p[0]), m_omega(p[1]), m_F(p[2]), m_sigma(p[3]), m_r(p[4])
     {
     }
@@ -90,7 +97,9 @@ public:
     [[nodiscard]] double divergence(const vec<3>&) const { return -2.0 * m_zeta; }
 
 private:
-    double m_zeta, m_omega, m_F, m_sigma, m_r;
+    P m_zeta, m_omega, m_F, m_sigma, m_r;
 };
+
+using forced_impact_oscillator = basic_forced_impact_oscillator<double>;
 
 }  // namespace vimpact

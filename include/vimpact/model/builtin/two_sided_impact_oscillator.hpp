@@ -13,12 +13,16 @@
 #include <span>
 #include <string_view>
 
+#include "vimpact/core/lane_ops.hpp"
 #include "vimpact/core/state.hpp"
 #include "vimpact/model/spec.hpp"
 
 namespace vimpact {
 
-class two_sided_impact_oscillator {
+// P: the type of the parameters, double; lanes (core/lanes.hpp) for the vector field of several
+// jobs at once, each lane with its own parameters.
+template <class P>
+class basic_two_sided_impact_oscillator {
 public:
     static constexpr std::string_view name = "two_sided_impact_oscillator";
     static constexpr std::string_view description =
@@ -45,7 +49,10 @@ public:
     }};
     static constexpr std::array<double, 3> initial_state{0.0, 0.0, 0.0};
 
-    explicit two_sided_impact_oscillator(std::span<const double> p)
+    // The vector field in SIMD lanes (hybrid/flow_lanes.hpp).
+    using lanes_definition = basic_two_sided_impact_oscillator<lanes>;
+
+    explicit basic_two_sided_impact_oscillator(std::span<const P> p)
         : m_zeta(p[0]), m_a(p[1]), m_w(p[2]), m_d(p[3]), m_r(p[4])
     {
     }
@@ -71,7 +78,9 @@ public:
     }
 
 private:
-    double m_zeta, m_a, m_w, m_d, m_r;
+    P m_zeta, m_a, m_w, m_d, m_r;
 };
+
+using two_sided_impact_oscillator = basic_two_sided_impact_oscillator<double>;
 
 }  // namespace vimpact

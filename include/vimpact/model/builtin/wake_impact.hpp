@@ -17,12 +17,16 @@
 #include <span>
 #include <string_view>
 
+#include "vimpact/core/lane_ops.hpp"
 #include "vimpact/core/state.hpp"
 #include "vimpact/model/spec.hpp"
 
 namespace vimpact {
 
-class wake_impact {
+// P: the type of the parameters, double; lanes (core/lanes.hpp) for the vector field of several
+// jobs at once, each lane with its own parameters.
+template <class P>
+class basic_wake_impact {
 public:
     static constexpr std::string_view name = "wake_impact";
     static constexpr std::string_view description =
@@ -61,7 +65,10 @@ public:
         {"facchinetti", "Facchinetti et al.'s CL0 = 0.3 (amplitudes about 8 % smaller)", {{{"CL0", 0.3}}}},
     }};
 
-    explicit wake_impact(std::span<const double> p)
+    // The vector field in SIMD lanes (hybrid/flow_lanes.hpp).
+    using lanes_definition = basic_wake_impact<lanes>;
+
+    explicit basic_wake_impact(std::span<const P> p)
         : m_sigma(p[1]), m_r(p[2]), m_A(p[3]), m_eps(p[4]),
           m_delta(1.0 / (p[5] * p[0])), m_delta2(m_delta * m_delta),
           m_alpha(2.0 * p[6] * m_delta + p[7] / p[8]),
@@ -69,9 +76,9 @@ public:
     {
     }
 
-    [[nodiscard]] double delta() const { return m_delta; }
-    [[nodiscard]] double alpha() const { return m_alpha; }
-    [[nodiscard]] double coupling_M() const { return m_M; }
+    [[nodiscard]] P delta() const { return m_delta; }
+    [[nodiscard]] P alpha() const { return m_alpha; }
+    [[nodiscard]] P coupling_M() const { return m_M; }
 
     // The structural acceleration a(X): the force per unit mass on the cylinder.
     template <class T>
@@ -123,7 +130,12 @@ public:
         return {0.0, 0.0, 0.0, -2.0 * m_eps * (w * u[2] * v[2] + x * (u[2] * v[3] + u[3] * v[2]))};
     }
     [[nodiscard]] double divergence(const vec<4>& X) const { return -m_alpha - m_eps * (X[2] * X[2] - 1.0); }
-    [[nodiscard]] vec<4> gap_gradient(int, const vec<4>&) const { return {1.0, 0.0, 0.0, 0.0}; }
+    // Templates, so that SIMD lanes screen their steps for events too (hybrid/flow_lanes.hpp).
+    template <class T>
+    [[nodiscard]] vec_t<T, 4> gap_gradient(int, const vec_t<T, 4>&) const
+    {
+        return {T(1.0), T(0.0), T(0.0), T(0.0)};
+    }
     [[nodiscard]] mat<4> gap_hessian(int, const vec<4>&) const { return mat<4>::Zero(); }
     [[nodiscard]] mat<4> reset_jacobian(int, const vec<4>&) const
     {
@@ -137,12 +149,18 @@ public:
     {
         return vec<4>::Zero();
     }
-    [[nodiscard]] vec<4> section_gradient(int, const vec<4>&) const { return {0.0, 1.0, 0.0, 0.0}; }
+    template <class T>
+    [[nodiscard]] vec_t<T, 4> section_gradient(int, const vec_t<T, 4>&) const
+    {
+        return {T(0.0), T(1.0), T(0.0), T(0.0)};
+    }
     [[nodiscard]] vec<4> release_gradient(int, const vec<4>&) const { return {-m_delta2, -m_alpha, m_M, 0.0}; }
 
 private:
-    double m_sigma, m_r, m_A, m_eps;
-    double m_delta, m_delta2, m_alpha, m_M;
+    P m_sigma, m_r, m_A, m_eps;
+    P m_delta, m_delta2, m_alpha, m_M;
 };
+
+using wake_impact = basic_wake_impact<double>;
 
 }  // namespace vimpact

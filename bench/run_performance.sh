@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Every number of docs/performance.md and of the README's performance table, in one command:
+#   1. like for like at the paper's protocol point (Ur = 16, rtol = atol = 1e-10): vimpact's
+#      DOP853 and DOPRI5 beside Boost.Odeint's DOPRI5 and RKF78, the plain DOPRI5 loop,
+#      SUNDIALS' CVODE (Adams) and ARKODE (ERK), medians of 7 runs each, side by side;
+#   2. the SIMD lanes: the engine on a 16 x 16 grid built for this machine's instruction set
+#      and for AVX2 (bench/lanes_bench.cpp), and a 64 x 64 map (Ur 12..25 x sigma -0.2..0, the
+#      full protocol) on one core, --batch 1 against the default batch (with AVX2_BUILD_DIR
+#      set, also a whole build for AVX2, -march=haswell);
+#   3. the work-precision diagram (bench/work_precision.py, with scipy unless --no-scipy);
+#   4. the step-size controller's table (build/controller_bench);
+#   5. with --map-costs: the per-job cost of a 200 x 200 map (bench/map_job_costs.cpp; about
+#      10 minutes on 2 quiet cores) and its figure.
+# Each part prints the load average before it runs. Outputs go to OUT (default
+# bench/output): lanes.csv, like_for_like.md, work_precision.{csv,png}, controller.md,
+# map_costs.csv, map_costs.png.
+# Usage: bash bench/run_performance.sh [--no-scipy] [--map-costs] [--quick]
+#   BUILD_DIR (default build), AVX2_BUILD_DIR (optional), OUT (default bench/output)
+#   --quick: the lanes on a 32 x 32 map and 3 runs per like-for-like point.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${BUILD_DIR:-build}
+out=${OUT:-bench/output}
+scipy=1
+costs=0
+n=64
+reps=7
+for a in "$@"; do
+  case "$a" in
+    --no-scipy) scipy=0 ;;
+    --map-costs) costs=1 ;;
+    --quick) n=32; reps=3 ;;
+    *) echo "unknown option $a" >&2; exit 2 ;;
+  esac
+done
+mkdir -p "$out"
+targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench map_job_costs lanes_bench lanes_bench_avx2"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build "$build" -j2 --target $targets > /dev/null
+[ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true
+load() { echo "load average: $(cut -d' ' -f1-3 /proc/loadavg)"; }
+
+echo "== 1. like for like: the protocol point, Ur = 16, rtol = atol = 1e-10"; load
+/usr/bin/python3 bench/like_for_like.py "$build" "$reps" | tee "$out/like_for_like.md"
+
+echo "== 2. SIMD lanes: a $n x $n map on one core"; load
+lanes_run() {  # build label
+  local b=$1 label=$2
+  for batch in 1 0; do
+    # user CPU time of the one-threaded map: its cost, which the load of a shared machine does not inflate
+    /usr/bin/time -f "%e %U" -o "$out/lanes-time" "$b"/vimpact map --x Ur:12:25:$n --y sigma:-0.2:0:$n --threads 1 \
+      --batch $batch --no-plot --out "$out/lanes-map" > /dev/null
+    read -r wall cpu < "$out/lanes-time"
+    used=$(/usr/bin/python3 -c "import json; print(json.load(open('$out/lanes-map/run.json'))['result']['batch'])")
+    echo "$label,$batch,$used,$((n * n)),$wall,$cpu" >> "$out/lanes.csv"
+    cp "$out/lanes-map/labels.csv" "$out/lanes-labels-$label-$batch.csv"
+  done
+  cmp "$out/lanes-labels-$label-1.csv" "$out/lanes-labels-$label-0.csv" && echo "$label: labels identical with --batch 1 and lanes"
+}
+echo "-- the engine alone, per instruction set (bench/lanes_bench.cpp, a 16 x 16 grid)"
+"$build"/lanes_bench 16 | tee "$out/lanes_isa.jsonl"
+if grep -q avx2 /proc/cpuinfo; then "$build"/lanes_bench_avx2 16 | tee -a "$out/lanes_isa.jsonl"; fi
+echo "-- vimpact map, --batch 1 against the default"
+echo "build,batch_asked,batch_used,jobs,wall_s,cpu_s" > "$out/lanes.csv"
+lanes_run "$build" native
+if [ -n "${AVX2_BUILD_DIR:-}" ]; then
+  cmake -S . -B "$AVX2_BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DVIMPACT_NATIVE=OFF -DCMAKE_CXX_FLAGS=-march=haswell \
+    -DVIMPACT_BUILD_TESTS=OFF > /dev/null
+  cmake --build "$AVX2_BUILD_DIR" -j2 --target vimpact_cli > /dev/null
+  lanes_run "$AVX2_BUILD_DIR" avx2
+fi
+/usr/bin/python3 - "$out/lanes.csv" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+print("| build | batch | jobs | CPU time [s] | wall [s] | jobs per CPU second | speed-up (CPU time) |")
+print("|---|---|---|---|---|---|---|")
+for b in dict.fromkeys(r["build"] for r in rows):
+    one = next(float(r["cpu_s"]) for r in rows if r["build"] == b and r["batch_asked"] == "1")
+    for r in rows:
+        if r["build"] == b:
+            c = float(r["cpu_s"])
+            print(f"| {b} | {r['batch_used']} | {r['jobs']} | {c:.1f} | {float(r['wall_s']):.1f} | "
+                  f"{int(r['jobs']) / c:.1f} | {one / c:.2f} |")
+PY
+load
+
+echo "== 3. work-precision"; load
+wp=()
+[ "$scipy" = 1 ] || wp+=(--no-scipy)
+/usr/bin/python3 bench/work_precision.py "$build" "$out" "${wp[@]}"
+
+echo "== 4. step-size controller"; load
+"$build"/controller_bench | tee "$out/controller.md"
+
+if [ "$costs" = 1 ]; then
+  echo "== 5. per-job cost of a 200 x 200 map"; load
+  "$build"/map_job_costs 200 200 "$out/map_costs.csv" 2
+  /usr/bin/python3 bench/plot_map_costs.py "$out/map_costs.csv" "$out/map_costs.png"
+  load
+fi

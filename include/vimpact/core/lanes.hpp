@@ -1,0 +1,201 @@
+#pragma once
+// SIMD lanes: `lanes` holds one double per job of a batch (as many as the widest vector
+// register the library is compiled for holds: 8 with AVX-512, 4 with AVX2), so that the same
+// arithmetic runs for several jobs at once. Generic code is written once for a scalar type T,
+// double or lanes, with the helpers below (select, any_of, lane_max...): every lane then goes
+// through exactly the operations the scalar code does, in the same order, and gets the same
+// bits. That is why functions that are not correctly rounded in IEEE arithmetic (sin, exp,
+// pow...) are evaluated lane by lane with the standard library's scalar function, not with a
+// vectorised approximation: a model's vector field gives the same numbers in a lane as on its
+// own. +, -, *, /, sqrt, fma, min, max and abs are exact operations and run vectorised.
+//
+// A model definition opts in to lanes with `static constexpr bool simd_lanes = true;`
+// (model/definition.hpp): its templated functions must then compile for T = lanes, i.e. call
+// mathematical functions unqualified or through `using std::sin;` (argument-dependent lookup
+// finds the ones below) and not branch on the value of a T.
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include <immintrin.h>
+
+#include <xsimd/xsimd.hpp>
+
+#include <Eigen/Core>
+
+#include "vimpact/core/lane_ops.hpp"
+
+namespace vimpact {
+
+using lane_batch = xsimd::batch<double>;
+// The number of lanes: 1 means no SIMD wider than one double, and the job commands run scalar.
+inline constexpr int lane_width = static_cast<int>(lane_batch::size);
+// Lanes are worth their bookkeeping from 4 doubles a register on (AVX2 and wider).
+inline constexpr bool wide_lanes = lane_width >= 4;
+
+struct lane_mask {
+    xsimd::batch_bool<double> m;
+    friend lane_mask operator&&(lane_mask a, lane_mask b) { return {a.m && b.m}; }
+    friend lane_mask operator||(lane_mask a, lane_mask b) { return {a.m || b.m}; }
+    friend lane_mask operator!(lane_mask a) { return {!a.m}; }
+};
+
+struct lanes {
+    lane_batch v;
+    lanes() = default;
+    lanes(double d) : v(d) {}  // NOLINT: a double is the same in every lane
+    lanes(lane_batch b) : v(b) {}
+
+    static lanes load(const double* p) { return {lane_batch::load_unaligned(p)}; }
+    void store(double* p) const { v.store_unaligned(p); }
+    [[nodiscard]] double lane(int i) const
+    {
+        alignas(64) std::array<double, lane_width> a;
+        v.store_aligned(a.data());
+        return a[static_cast<std::size_t>(i)];
+    }
+
+    lanes& operator+=(const lanes& o) { v += o.v; return *this; }
+    lanes& operator-=(const lanes& o) { v -= o.v; return *this; }
+    lanes& operator*=(const lanes& o) { v *= o.v; return *this; }
+    lanes& operator/=(const lanes& o) { v /= o.v; return *this; }
+    friend lanes operator+(const lanes& a, const lanes& b) { return {a.v + b.v}; }
+    friend lanes operator-(const lanes& a, const lanes& b) { return {a.v - b.v}; }
+    friend lanes operator*(const lanes& a, const lanes& b) { return {a.v * b.v}; }
+    friend lanes operator/(const lanes& a, const lanes& b) { return {a.v / b.v}; }
+    friend lanes operator-(const lanes& a) { return {-a.v}; }
+    friend lanes operator+(const lanes& a) { return a; }
+    friend lane_mask operator<(const lanes& a, const lanes& b) { return {a.v < b.v}; }
+    friend lane_mask operator<=(const lanes& a, const lanes& b) { return {a.v <= b.v}; }
+    friend lane_mask operator>(const lanes& a, const lanes& b) { return {a.v > b.v}; }
+    friend lane_mask operator>=(const lanes& a, const lanes& b) { return {a.v >= b.v}; }
+    friend lane_mask operator==(const lanes& a, const lanes& b) { return {a.v == b.v}; }
+    friend lane_mask operator!=(const lanes& a, const lanes& b) { return {a.v != b.v}; }
+};
+
+// ---- the lanes side of the helpers of generic code (core/lane_ops.hpp) ----------------------
+inline lanes select(lane_mask m, const lanes& a, const lanes& b) { return {xsimd::select(m.m, a.v, b.v)}; }
+inline bool any_of(lane_mask m) { return xsimd::any(m.m); }
+inline bool all_of(lane_mask m) { return xsimd::all(m.m); }
+// Bit i set when lane i is true.
+inline unsigned lane_bits(lane_mask m)
+{
+    alignas(64) std::array<double, lane_width> a;
+    xsimd::select(m.m, lane_batch(1.0), lane_batch(0.0)).store_aligned(a.data());
+    unsigned bits = 0;
+    for (int i = 0; i < lane_width; ++i)
+        if (a[static_cast<std::size_t>(i)] != 0.0) bits |= 1U << static_cast<unsigned>(i);
+    return bits;
+}
+inline lanes lane_max(const lanes& a, const lanes& b) { return select(a < b, b, a); }
+inline lanes lane_min(const lanes& a, const lanes& b) { return select(b < a, b, a); }
+inline lane_mask is_finite(const lanes& l) { return {xsimd::isfinite(l.v)}; }
+
+template <>
+struct lane_bits_ops<lanes> {
+    using ints = xsimd::batch<std::int64_t>;
+    static ints bits(const lanes& x) { return xsimd::bitwise_cast<ints>(x.v); }
+    static lanes from_bits(const ints& b) { return {xsimd::bitwise_cast<lane_batch>(b)}; }
+    static lanes to_double(const ints& i) { return {xsimd::batch_cast<double>(i)}; }
+    static ints exponent_bits(const lanes& n) { return xsimd::batch_cast<std::int64_t>(n.v) + ints(1023); }
+    static lanes round(const lanes& x) { return {xsimd::nearbyint(x.v)}; }
+};
+
+// ---- exact operations, vectorised ------------------------------------------------------------
+inline lanes sqrt(const lanes& a) { return {xsimd::sqrt(a.v)}; }
+inline lanes abs(const lanes& a) { return {xsimd::abs(a.v)}; }
+inline lanes fabs(const lanes& a) { return {xsimd::abs(a.v)}; }
+// Fused in one rounding, as std::fma: xsimd 8 has no fused kernel for AVX-512 (it multiplies,
+// then adds), so the instruction is named here.
+inline lanes fma(const lanes& a, const lanes& b, const lanes& c)
+{
+#if defined(__AVX512F__)
+    static_assert(lane_width == 8);
+    return {lane_batch(_mm512_fmadd_pd(a.v, b.v, c.v))};
+#elif defined(__AVX__) && defined(__FMA__)
+    static_assert(lane_width == 4);
+    return {lane_batch(_mm256_fmadd_pd(a.v, b.v, c.v))};
+#else
+    alignas(64) std::array<double, lane_width> x, y, z;
+    a.v.store_aligned(x.data());
+    b.v.store_aligned(y.data());
+    c.v.store_aligned(z.data());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::fma(x[i], y[i], z[i]);
+    return {lane_batch::load_aligned(x.data())};
+#endif
+}
+
+// ---- everything else lane by lane, with the scalar function ----------------------------------
+namespace detail {
+template <class F>
+lanes per_lane(F&& f, const lanes& a)
+{
+    alignas(64) std::array<double, lane_width> x;
+    a.v.store_aligned(x.data());
+    for (auto& e : x) e = f(e);
+    return {lane_batch::load_aligned(x.data())};
+}
+template <class F>
+lanes per_lane(F&& f, const lanes& a, const lanes& b)
+{
+    alignas(64) std::array<double, lane_width> x, y;
+    a.v.store_aligned(x.data());
+    b.v.store_aligned(y.data());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = f(x[i], y[i]);
+    return {lane_batch::load_aligned(x.data())};
+}
+}  // namespace detail
+
+#define VIMPACT_LANES_UNARY(fn)                                                                  \
+    inline lanes fn(const lanes& a) { return detail::per_lane([](double x) { return std::fn(x); }, a); }
+VIMPACT_LANES_UNARY(sin)
+VIMPACT_LANES_UNARY(cos)
+VIMPACT_LANES_UNARY(tan)
+VIMPACT_LANES_UNARY(asin)
+VIMPACT_LANES_UNARY(acos)
+VIMPACT_LANES_UNARY(atan)
+VIMPACT_LANES_UNARY(sinh)
+VIMPACT_LANES_UNARY(cosh)
+VIMPACT_LANES_UNARY(tanh)
+VIMPACT_LANES_UNARY(exp)
+VIMPACT_LANES_UNARY(expm1)
+VIMPACT_LANES_UNARY(log)
+VIMPACT_LANES_UNARY(log1p)
+VIMPACT_LANES_UNARY(cbrt)
+#undef VIMPACT_LANES_UNARY
+inline lanes pow(const lanes& a, const lanes& b)
+{
+    return detail::per_lane([](double x, double y) { return std::pow(x, y); }, a, b);
+}
+inline lanes atan2(const lanes& a, const lanes& b)
+{
+    return detail::per_lane([](double x, double y) { return std::atan2(x, y); }, a, b);
+}
+inline lanes hypot(const lanes& a, const lanes& b)
+{
+    return detail::per_lane([](double x, double y) { return std::hypot(x, y); }, a, b);
+}
+
+}  // namespace vimpact
+
+// Eigen holds lanes in its fixed-size vectors (a model's vec_t<lanes, N>): element-wise
+// arithmetic only, no vectorisation of its own across them.
+namespace Eigen {
+template <>
+struct NumTraits<vimpact::lanes> : GenericNumTraits<double> {
+    using Real = vimpact::lanes;
+    using NonInteger = vimpact::lanes;
+    using Literal = double;
+    using Nested = vimpact::lanes;
+    enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 0, ReadCost = 1, AddCost = 1, MulCost = 1 };
+};
+template <>
+struct ScalarBinaryOpTraits<vimpact::lanes, double> {
+    using ReturnType = vimpact::lanes;
+};
+template <>
+struct ScalarBinaryOpTraits<double, vimpact::lanes> {
+    using ReturnType = vimpact::lanes;
+};
+}  // namespace Eigen

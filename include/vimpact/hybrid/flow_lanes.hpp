@@ -1,0 +1,320 @@
+#pragma once
+// Many runs of one C++ model definition integrated in lock-step across SIMD lanes: each lane
+// is another job (its own parameters, initial state, step size, events, impacts and contact
+// phases). The free steps of all lanes are tried at once: the vector field, the Runge-Kutta
+// stages, the error norm and the step-size controller run on `lanes` (core/lanes.hpp), the
+// same arithmetic the scalar integrator does, so every lane gets the bits it would get alone.
+// Whatever follows an accepted step (events, impacts, resets, the chattering rule, the
+// observer) is the scalar hybrid flow of that lane, unchanged: the lane hands the step to its
+// flow's integrator (accept_external) and the flow goes on from there. A lane in a contact
+// phase steps on its own until it is released. A lane whose job ends takes the next job, so
+// lanes stay busy when jobs differ in length.
+//
+// What a definition needs: D::lanes_definition, the same definition with its parameters held
+// as lanes and constructible from them; its vector field must compile for T = lanes
+// (core/lanes.hpp says how). The built-in models have it; model files (a function table)
+// do not, and their jobs run one at a time.
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "vimpact/core/lanes.hpp"
+#include "vimpact/hybrid/flow.hpp"
+#include "vimpact/model/native_model.hpp"
+
+namespace vimpact {
+
+template <class D>
+concept lanes_capable = model_definition<D> && requires(std::span<const lanes> p, const vec_t<lanes, definition_dim<D>>& x) {
+    { typename D::lanes_definition(p).derivatives(x) } -> std::convertible_to<vec_t<lanes, definition_dim<D>>>;
+};
+
+// A lanes definition whose gaps and sections, with their gradients, also run in lanes: the
+// driver then screens every lane's step for crossings itself, and only the lanes where one is
+// possible go through their flow's event handling.
+template <class L, int N>
+concept lanes_screenable = requires(const L& d, const vec_t<lanes, N>& x) {
+    { d.gap(0, x) } -> std::convertible_to<lanes>;
+    { d.gap_gradient(0, x) } -> std::convertible_to<vec_t<lanes, N>>;
+    { d.section(0, x) } -> std::convertible_to<lanes>;
+    { d.section_gradient(0, x) } -> std::convertible_to<vec_t<lanes, N>>;
+};
+
+namespace detail {
+
+// find_down_crossings' screening (integrate/event_location.hpp) in lanes, on the values v and
+// rates r at the step's ends (the slopes on the interpolant are the rates times the step, of
+// the same sign): true where it finds no possible crossing.
+inline lane_mask no_down_crossing(const lanes& v0, const lanes& v1, const lanes& r0, const lanes& r1)
+{
+    const lanes zero(0.0);
+    const lane_mask ends_down = v0 > zero && v1 <= zero;
+    const lane_mask interior_min = r0 < zero && r1 > zero;
+    const lane_mask interior_max = r0 > zero && r1 < zero;
+    return !ends_down && !(interior_min && v1 > zero) && !(interior_max && v1 <= zero && v0 <= zero);
+}
+
+// grad . f, and whether its sign is beyond doubt: the flow computes the same rate with
+// another order of the sum, so a rate within rounding of zero is not trusted.
+template <int N>
+lanes rate(const vec_t<lanes, N>& grad, const vec_t<lanes, N>& f, lane_mask& sure)
+{
+    lanes r(0.0), a(0.0);
+    for (int i = 0; i < N; ++i) {
+        const lanes t = grad[i] * f[i];
+        r += t;
+        a += abs(t);
+    }
+    sure = sure && abs(r) > 1e-10 * a;
+    return r;
+}
+
+// Where the step from (x0, f0) to (x1, f1) is quiet: every gap positive at both ends and
+// not crossed, every watched section not crossed in its directions, by the flow's own rule
+// (hybrid_flow::after_free_step) with rates of certain sign.
+template <int N, class L>
+lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const vec_t<lanes, N>& x0,
+                      const vec_t<lanes, N>& f0, const vec_t<lanes, N>& x1, const vec_t<lanes, N>& f1)
+{
+    const lanes zero(0.0);
+    lane_mask quiet = zero == zero;
+    if (opt.surfaces)
+        for (int i = 0; i < surfaces; ++i) {
+            const lanes v0 = def.gap(i, x0), v1 = def.gap(i, x1);
+            const lanes r0 = rate<N>(def.gap_gradient(i, x0), f0, quiet), r1 = rate<N>(def.gap_gradient(i, x1), f1, quiet);
+            quiet = quiet && v0 > zero && no_down_crossing(v0, v1, r0, r1);
+        }
+    for (const flow_event& e : opt.events) {
+        const lanes v0 = def.section(e.index, x0), v1 = def.section(e.index, x1);
+        const lanes r0 = rate<N>(def.section_gradient(e.index, x0), f0, quiet),
+                    r1 = rate<N>(def.section_gradient(e.index, x1), f1, quiet);
+        if (e.direction != crossing::up) quiet = quiet && no_down_crossing(v0, v1, r0, r1);
+        if (e.direction != crossing::down) quiet = quiet && no_down_crossing(-v0, -v1, -r0, -r1);
+    }
+    return quiet;
+}
+
+}  // namespace detail
+
+// Runs jobs 0 .. count - 1 of native_model<D> in lanes.
+//   start(job) -> std::unique_ptr<Run>: a run set up at its initial state; Run has members
+//     `flow` (hybrid_flow<native_model<D>, Method>), `obs` (its observer) and
+//     finish(outcome) -> Result;
+//   parameters(job) -> the job's parameter values (std::span<const double> or a vector);
+//   done(job, Result&&): called as jobs end, in the order they end.
+template <model_definition D, template <int, class = double> class Method, class Start, class Parameters, class Done>
+void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& done)
+{
+    constexpr int N = definition_dim<D>;
+    constexpr int W = lane_width;
+    using run_ptr = std::decay_t<decltype(start(0L))>;
+    using flow_type = std::decay_t<decltype(start(0L)->flow)>;
+    using method_type = typename flow_type::integrator_type::method_type;
+    using lane_method = Method<N, lanes>;
+    using lvec = vec_t<lanes, N>;
+
+    struct slot {
+        long job = -1;
+        run_ptr run;
+        long starts = -1;
+        bool rejected_before = false;
+    };
+    std::array<slot, W> slots;
+    alignas(64) double X[N][W] = {}, F[N][W] = {}, XN[N][W], FN[N][W];
+    alignas(64) double Tt[W] = {}, H[W] = {}, LE[W] = {}, RB[W] = {};
+    std::vector<std::array<double, W>> par;
+    std::optional<typename D::lanes_definition> def;
+    bool params_changed = true;
+    lane_method method;
+    long next = 0;
+    int active = 0;
+
+    // The stages of lane j, for its interpolant (adaptive_integrator::stage_source).
+    struct stage_context {
+        const lane_method* method;
+        int lane;
+    };
+    std::array<stage_context, W> stage_contexts;
+    for (int j = 0; j < W; ++j) stage_contexts[static_cast<std::size_t>(j)] = {&method, j};
+    auto fill_stages = [](const void* c, method_type& m) {
+        const auto* sc = static_cast<const stage_context*>(c);
+        alignas(64) double buf[W];
+        const auto& src = sc->method->stages();
+        auto& dst = m.stages();
+        for (std::size_t k = 0; k < src.size(); ++k)
+            for (int i = 0; i < N; ++i) {
+                src[k][i].store(buf);
+                dst[k][i] = buf[sc->lane];
+            }
+    };
+
+    auto load = [&](int j) {
+        const auto& in = slots[static_cast<std::size_t>(j)].run->flow.integrator();
+        Tt[j] = in.t();
+        H[j] = in.step_size();
+        LE[j] = in.log2_err_old();
+        for (int i = 0; i < N; ++i) {
+            X[i][j] = in.x()[i];
+            F[i][j] = in.f()[i];
+        }
+        RB[j] = 0.0;
+        slots[static_cast<std::size_t>(j)].starts = in.starts();
+    };
+    auto set_parameters = [&](int j, long job) {
+        const auto p = parameters(job);
+        if (par.empty()) {
+            par.resize(p.size());
+            // Lanes without a job compute with the first job's values (finite, never read).
+            for (std::size_t k = 0; k < p.size(); ++k) par[k].fill(p[k]);
+        }
+        for (std::size_t k = 0; k < p.size(); ++k) par[k][static_cast<std::size_t>(j)] = p[k];
+        params_changed = true;
+    };
+    // Ends lane j's job with outcome o and takes the next job, if any.
+    auto finish = [&](int j, outcome o) {
+        auto& s = slots[static_cast<std::size_t>(j)];
+        done(s.job, s.run->finish(o));
+        s.run.reset();
+        s.job = -1;
+        --active;
+    };
+    auto fill = [&](int j) {
+        auto& s = slots[static_cast<std::size_t>(j)];
+        while (next < count) {
+            const long job = next++;
+            s.run = start(job);
+            s.job = job;
+            s.rejected_before = false;
+            ++active;
+            s.run->flow.begin_run();
+            if (const auto o = s.run->flow.limit_reached()) {
+                finish(j, *o);
+                continue;
+            }
+            set_parameters(j, job);
+            load(j);
+            return;
+        }
+    };
+    for (int j = 0; j < W; ++j) fill(j);
+
+    while (active > 0) {
+        // Lanes in a contact phase step on their own; the others take a free step together.
+        unsigned free_lanes = 0;
+        for (int j = 0; j < W; ++j) {
+            auto& s = slots[static_cast<std::size_t>(j)];
+            if (!s.run) continue;
+            auto& flow = s.run->flow;
+            if (flow.mode() != flow_mode::free) {
+                const step_status st = flow.step(s.run->obs);
+                std::optional<outcome> o = flow.step_taken(st, s.run->obs);
+                if (!o) o = flow.limit_reached();
+                if (o) {
+                    finish(j, *o);
+                    fill(j);
+                }
+                continue;
+            }
+            if (flow.integrator().starts() != s.starts) load(j);
+            free_lanes |= 1U << static_cast<unsigned>(j);
+        }
+        if (!free_lanes) continue;
+        if (params_changed) {
+            std::vector<lanes> p(par.size());
+            for (std::size_t k = 0; k < par.size(); ++k) p[k] = lanes::load(par[k].data());
+            def.emplace(std::span<const lanes>(p));
+            params_changed = false;
+        }
+
+        const auto& first = *slots[static_cast<std::size_t>(std::countr_zero(free_lanes))].run;
+        const auto& opt = first.flow.options();
+        const integrator_options& io = opt.integration;
+        const controller_constants c = first.flow.integrator().constants();
+        const lanes t = lanes::load(Tt), h = lanes::load(H), le = lanes::load(LE);
+        const lane_mask rb = lanes::load(RB) != lanes(0.0);
+        const auto plan = plan_trial(t, h, io.h_max, opt.t_max);
+        lvec x, f, xn, fn;
+        for (int i = 0; i < N; ++i) {
+            x[i] = lanes::load(X[i]);
+            f[i] = lanes::load(F[i]);
+        }
+        const auto& field = *def;
+        const lanes err = method.attempt([&field](const lvec& y) { return lvec(field.derivatives(y)); }, x, f, plan.h,
+                                         io.rtol, io.atol, xn, fn);
+        lane_mask finite = is_finite(err);
+        for (int i = 0; i < N; ++i) finite = finite && is_finite(xn[i]) && is_finite(fn[i]);
+        const auto out = control_step(c, err, finite, plan.h, h, plan.clipped, rb, le);
+        // Every free lane's state moves on in the arrays; a lane whose flow handles events
+        // is read back from its integrator afterwards (a reset, a contact phase).
+        const lane_mask accepted_mask = out.accepted;
+        const lanes t_new = select(plan.clipped, lanes(opt.t_max), t + plan.h);
+        for (int i = 0; i < N; ++i) {
+            xn[i].store(XN[i]);
+            fn[i].store(FN[i]);
+            select(accepted_mask, xn[i], x[i]).store(X[i]);
+            select(accepted_mask, fn[i], f[i]).store(F[i]);
+        }
+        select(accepted_mask, t_new, t).store(Tt);
+        out.h_next.store(H);
+        out.log2_err_old.store(LE);
+        select(accepted_mask, lanes(0.0), lanes(1.0)).store(RB);
+        alignas(64) double PH[W], PF[W];
+        plan.h.store(PH);
+        plan.h_floor.store(PF);
+        const unsigned clipped = lane_bits(plan.clipped), underflow = lane_bits(plan.underflow),
+                       accepted = lane_bits(accepted_mask), finite_bits = lane_bits(finite);
+        unsigned quiet = 0;
+        if constexpr (lanes_screenable<typename D::lanes_definition, N>) {
+            const bool sections_only = std::all_of(opt.events.begin(), opt.events.end(), [](const flow_event& e) {
+                return e.kind == flow_event::source::section;
+            });
+            if (sections_only)
+                quiet = lane_bits(detail::quiet_steps<N>(field, opt, first.flow.model().surface_count(), x, f, xn, fn));
+        }
+
+        for (int j = 0; j < W; ++j) {
+            if (!((free_lanes >> static_cast<unsigned>(j)) & 1U)) continue;
+            auto& s = slots[static_cast<std::size_t>(j)];
+            auto& flow = s.run->flow;
+            auto& in = flow.integrator();
+            const auto bit = [j](unsigned m) { return ((m >> static_cast<unsigned>(j)) & 1U) != 0; };
+            const trial_plan<double, bool> pj{PH[j], bit(clipped), bit(underflow), PF[j]};
+            std::optional<outcome> o;
+            if (pj.underflow) {
+                o = flow.step_taken(step_status::step_underflow, s.run->obs);
+            } else if (bit(accepted)) {
+                vec<N> xj, fj;
+                for (int i = 0; i < N; ++i) {
+                    xj[i] = XN[i][j];
+                    fj[i] = FN[i][j];
+                }
+                in.accept_external(pj, opt.t_max, xj, fj, H[j], LE[j],
+                                   {fill_stages, &stage_contexts[static_cast<std::size_t>(j)]});
+                if (bit(quiet) && !s.run->obs.wants_segments()) {
+                    flow.quiet_free_step();
+                    o = flow.step_taken(step_status::ok, s.run->obs);
+                    if (!o) o = flow.limit_reached();
+                } else {
+                    const step_status st = flow.free_step_taken(s.run->obs);
+                    o = flow.step_taken(st, s.run->obs);
+                    if (!o) o = flow.limit_reached();
+                    if (!o) load(j);
+                }
+            } else {
+                if (in.reject_external(pj, H[j], bit(finite_bits)))
+                    o = flow.step_taken(step_status::non_finite, s.run->obs);
+            }
+            if (o) {
+                finish(j, *o);
+                RB[j] = 0.0;
+                fill(j);
+            }
+        }
+    }
+}
+
+}  // namespace vimpact

@@ -1,0 +1,241 @@
+// SIMD lanes (core/lanes.hpp, hybrid/flow_lanes.hpp): jobs integrated together give, job by
+// job, exactly the result of the job integrated alone (the scalar path): the same outcome,
+// counters, section points and impacts, bit for bit, also on chaotic orbits (where any
+// difference in rounding would grow to the size of the attractor) and through contact phases;
+// the step-size controller's polynomials against the standard library; the job commands with
+// --batch 1 against the default batch; a model file runs one job at a time.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "example_models.hpp"
+#include "test_support.hpp"
+#include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/map.hpp"
+#include "vimpact/analysis/period.hpp"
+#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/analysis/sweep.hpp"
+#include "vimpact/core/lanes.hpp"
+#include "vimpact/integrate/step_control.hpp"
+
+using namespace vimpact;
+
+namespace {
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void expect_same_series(const state_series& a, const state_series& b, const std::string& what)
+{
+    ASSERT_EQ(a.size(), b.size()) << what;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        ASSERT_TRUE(same_bits(a.t(k), b.t(k))) << what << " point " << k << ": t " << a.t(k) << " vs " << b.t(k);
+        for (Eigen::Index i = 0; i < a.x(k).size(); ++i)
+            ASSERT_TRUE(same_bits(a.x(k)[i], b.x(k)[i])) << what << " point " << k << " coordinate " << i;
+    }
+}
+
+// Every job of simulate_many equals simulate of that job alone, bit for bit.
+void expect_lanes_equal_scalar(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
+                               const protocol_options& po)
+{
+    const auto together = simulate_many(models, x0s, po, lane_width);
+    ASSERT_EQ(together.size(), models.size());
+    for (std::size_t j = 0; j < models.size(); ++j) {
+        const simulation alone = simulate(models[j], x0s[j], po);
+        const simulation& lane = together[j];
+        const std::string what = "job " + std::to_string(j);
+        EXPECT_EQ(alone.status, lane.status) << what;
+        EXPECT_EQ(alone.stats.steps, lane.stats.steps) << what;
+        EXPECT_EQ(alone.stats.rejected, lane.stats.rejected) << what;
+        EXPECT_EQ(alone.stats.rhs_calls, lane.stats.rhs_calls) << what;
+        EXPECT_EQ(alone.stats.impacts, lane.stats.impacts) << what;
+        EXPECT_EQ(alone.stats.sticking_phases, lane.stats.sticking_phases) << what;
+        EXPECT_TRUE(same_bits(alone.stats.t_final, lane.stats.t_final)) << what;
+        EXPECT_EQ(alone.impacting, lane.impacting) << what;
+        expect_same_series(alone.points, lane.points, what + " section points");
+        expect_same_series(alone.impacts.post, lane.impacts.post, what + " impacts");
+        for (Eigen::Index i = 0; i < alone.final_state.size(); ++i)
+            EXPECT_TRUE(same_bits(alone.final_state[i], lane.final_state[i])) << what;
+    }
+}
+
+TEST(Lanes, ControllerPolynomialsMatchTheLibraryFunctions)
+{
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> e(-40.0, 40.0), y(-60.0, 60.0);
+    for (int k = 0; k < 20000; ++k) {
+        const double x = std::exp2(e(rng));
+        EXPECT_NEAR(fast_log2(x), std::log2(x), 1e-10 * std::max(1.0, std::abs(std::log2(x))));
+        const double v = y(rng);
+        EXPECT_NEAR(fast_exp2(v) / std::exp2(v), 1.0, 1e-12);
+    }
+    EXPECT_NEAR(fast_log2(1e-14), std::log2(1e-14), 1e-9);
+    EXPECT_EQ(fast_exp2(0.0), 1.0);
+}
+
+TEST(Lanes, ControllerPolynomialsGiveTheSameBitsInEveryLane)
+{
+    alignas(64) std::array<double, lane_width> in{}, out_log{}, out_exp{};
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> e(-40.0, 40.0);
+    for (int round = 0; round < 1000; ++round) {
+        for (auto& v : in) v = std::exp2(e(rng));
+        fast_log2(lanes::load(in.data())).store(out_log.data());
+        fast_exp2(lanes::load(in.data())).store(out_exp.data());
+        for (int i = 0; i < lane_width; ++i) {
+            ASSERT_TRUE(same_bits(out_log[i], fast_log2(in[i])));
+            ASSERT_TRUE(same_bits(out_exp[i], fast_exp2(in[i])));
+        }
+    }
+}
+
+// A map's worth of the paper's model: periodic, chaotic (Ur about 22 to 25) and non-impacting
+// cells, more jobs than lanes, so lanes are refilled as their jobs end, each at its own pace.
+TEST(Lanes, PaperModelJobsEqualTheirScalarRunsBitForBit)
+{
+    if (!runs_in_lanes(model::builtin("wake_impact"))) GTEST_SKIP() << "this build has no SIMD lanes";
+    const model m = model::builtin("wake_impact");
+    const int ur = m.info().parameter_index("Ur"), sigma = m.info().parameter_index("sigma");
+    std::vector<model> models;
+    for (const double u : {12.0, 14.9, 16.0, 18.5, 22.5, 23.3, 24.1, 25.0, 13.7, 20.0, 21.2})
+        for (const double s : {-0.2, -0.150298, -0.05})
+            models.push_back(m.with_parameter(ur, u).with_parameter(sigma, s));
+    protocol_options po;
+    po.transient_impacts = 100;
+    po.record_points = 60;
+    for (const auto method : all_integration_methods) {
+        po.method = method;
+        SCOPED_TRACE(std::string(to_string(method)));
+        expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
+    }
+}
+
+// Fewer jobs than lanes, and contact phases: a soft restitution and a barrier near the rest
+// position make the barrier catch the cylinder (chatter ends in a contact phase, released when
+// the flow pulls it away): 89, 17 and 1 contact phases in these three runs.
+TEST(Lanes, ContactPhasesAndFewJobsEqualTheScalarRuns)
+{
+    if (!runs_in_lanes(model::builtin("wake_impact"))) GTEST_SKIP() << "this build has no SIMD lanes";
+    const model m = model::builtin("wake_impact");
+    const int r = m.info().parameter_index("r"), ur = m.info().parameter_index("Ur"),
+              sigma = m.info().parameter_index("sigma");
+    std::vector<model> models;
+    for (const double rv : {0.0, 0.05, 0.2})
+        models.push_back(m.with_parameter(r, rv).with_parameter(ur, 15.0).with_parameter(sigma, -0.02));
+    protocol_options po;
+    po.transient_impacts = 50;
+    po.record_points = 40;
+    expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
+    long sticking = 0;
+    for (const auto& s : simulate_many(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po, 8))
+        sticking += s.stats.sticking_phases;
+    EXPECT_GT(sticking, 0) << "the case must go through contact phases";
+}
+
+// Different initial states of one model (a basin's jobs), with a time series sampled.
+TEST(Lanes, InitialStatesAndSamplesEqualTheScalarRuns)
+{
+    if (!runs_in_lanes(model::builtin("wake_impact"))) GTEST_SKIP() << "this build has no SIMD lanes";
+    const model m = model::builtin("wake_impact");
+    std::vector<Eigen::VectorXd> x0s;
+    for (int k = 0; k < 2 * lane_width + 3; ++k) {
+        Eigen::VectorXd x = m.initial_state();
+        x[2] = -2.0 + 0.3 * k;
+        x[3] = 0.1 * (k % 5);
+        x0s.push_back(x);
+    }
+    protocol_options po;
+    po.transient_impacts = 80;
+    po.record_points = 30;
+    expect_lanes_equal_scalar(std::vector<model>(x0s.size(), m), x0s, po);
+}
+
+TEST(Lanes, ModelFilesRunOneJobAtATime)
+{
+    const model f = test::example_model("wake_impact");
+    EXPECT_FALSE(runs_in_lanes(f));
+    EXPECT_EQ(resolve_batch(f, 0), 1);
+    EXPECT_EQ(resolve_batch(model::builtin("wake_impact"), 1), 1);
+    EXPECT_THROW((void)resolve_batch(f, -1), input_error);
+    protocol_options po;
+    po.transient_impacts = 20;
+    po.record_points = 10;
+    const auto many = simulate_many({f, f}, {f.initial_state(), f.initial_state()}, po, 8);
+    const auto alone = simulate(f, f.initial_state(), po);
+    expect_same_series(alone.points, many[1].points, "model file");
+}
+
+// The job commands: the default batch (lanes) and --batch 1 give the same cells and points.
+TEST(Lanes, MapSweepAndBasinsDoNotDependOnTheBatch)
+{
+    const model m = model::builtin("wake_impact");
+    map_options mo;
+    mo.x = {m.info().parameter_index("Ur"), grid_values(14.0, 24.0, 5)};
+    mo.y = {m.info().parameter_index("sigma"), grid_values(-0.2, -0.05, 3)};
+    mo.protocol.transient_impacts = 60;
+    mo.protocol.record_points = 40;
+    job_options one, lanes_opt;
+    one.batch = 1;
+    one.threads = lanes_opt.threads = 2;
+    const auto a = map2d(m, mo, one), b = map2d(m, mo, lanes_opt);
+    EXPECT_EQ(a.jobs.batch, 1);
+    EXPECT_EQ(b.jobs.batch, runs_in_lanes(m) ? lane_width : 1);
+    ASSERT_EQ(a.cells.size(), b.cells.size());
+    for (std::size_t k = 0; k < a.cells.size(); ++k) {
+        EXPECT_EQ(a.cells[k].label.label, b.cells[k].label.label) << k;
+        EXPECT_EQ(a.cells[k].steps, b.cells[k].steps) << k;
+        EXPECT_TRUE(same_bits(a.cells[k].label.closure, b.cells[k].label.closure)) << k;
+    }
+
+    sweep_options so;
+    so.parameter = m.info().parameter_index("Ur");
+    so.values = grid_values(20.0, 25.0, 11);
+    so.protocol = mo.protocol;
+    const auto sa = sweep(m, so, one), sb = sweep(m, so, lanes_opt);
+    ASSERT_EQ(sa.points.size(), sb.points.size());
+    for (std::size_t k = 0; k < sa.points.size(); ++k) {
+        EXPECT_EQ(sa.points[k].label.label, sb.points[k].label.label) << k;
+        expect_same_series(sa.points[k].points, sb.points[k].points, "sweep point " + std::to_string(k));
+    }
+
+    basins_options bo;
+    bo.x_state = 2;
+    bo.y_state = 3;
+    bo.x_values = grid_values(-2.0, 2.0, 4);
+    bo.y_values = grid_values(-1.0, 1.0, 3);
+    bo.protocol = mo.protocol;
+    const auto ba = basins(m, bo, one), bb = basins(m, bo, lanes_opt);
+    ASSERT_EQ(ba.cells.size(), bb.cells.size());
+    for (std::size_t k = 0; k < ba.cells.size(); ++k) {
+        EXPECT_EQ(ba.cells[k].label.label, bb.cells[k].label.label) << k;
+        EXPECT_EQ(ba.cells[k].attractor, bb.cells[k].attractor) << k;
+        EXPECT_EQ(ba.cells[k].steps, bb.cells[k].steps) << k;
+    }
+}
+
+}  // namespace
+
+namespace {
+
+// The other built-ins: forcing through cos and a section through sin (lane by lane with the
+// standard library), two surfaces.
+TEST(Lanes, ForcedOscillatorsEqualTheirScalarRuns)
+{
+    for (const char* name : {"forced_impact_oscillator", "two_sided_impact_oscillator"}) {
+        const model m = model::builtin(name);
+        if (!runs_in_lanes(m)) GTEST_SKIP() << "this build has no SIMD lanes";
+        SCOPED_TRACE(name);
+        const int p = 1;  // the second parameter: the forcing frequency or amplitude
+        std::vector<model> models;
+        const double v0 = m.parameters()[static_cast<std::size_t>(p)];
+        for (int k = 0; k < lane_width + 2; ++k) models.push_back(m.with_parameter(p, v0 * (0.8 + 0.05 * k)));
+        protocol_options po;
+        po.transient_impacts = 40;
+        po.record_points = 30;
+        expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
+    }
+}
+
+}  // namespace
