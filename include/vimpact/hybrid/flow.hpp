@@ -364,6 +364,7 @@ private:
         auto rhs = free_rhs();
         const step_status st = m_integ.advance(rhs, m_opt.t_max);
         if (st != step_status::ok) return st;
+        m_free_step_max = std::max(m_free_step_max, m_integ.last_step());
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
         const state& x0 = m_integ.x_prev();
@@ -482,7 +483,12 @@ private:
     step_status step_sticking(Observer& obs)
     {
         auto rhs = contact_rhs();
-        const step_status st = m_integ.advance(rhs, m_opt.t_max);
+        // A constrained field the error control does not limit (the forced oscillator at rest
+        // on its barrier: only the phase moves) would let the step grow over several periods
+        // of the release function, whose crossings the step's samples then miss: contact steps
+        // are kept no longer than the longest free-flight step, the motion's own time scale.
+        const double t_stop = m_free_step_max > 0.0 ? std::min(m_opt.t_max, m_t + m_free_step_max) : m_opt.t_max;
+        const step_status st = m_integ.advance(rhs, t_stop);
         if (st != step_status::ok) return st;
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
@@ -538,6 +544,7 @@ private:
     double m_t = 0.0;
     state m_x = state::Zero();
     bool m_stop = false;
+    double m_free_step_max = 0.0;  // the longest free-flight step so far
     std::optional<outcome> m_finished;
 };
 
