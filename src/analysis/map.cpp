@@ -23,6 +23,7 @@ json encode(const map_record& r)
     return {{"label", detail::to_json(r.cell.label)},
             {"status", std::string(to_string(r.cell.status))},
             {"steps", r.cell.steps},
+            {"statistics", detail::to_json(r.cell.statistics)},
             {"grazing", detail::numbers(r.grazing)}};
 }
 
@@ -32,6 +33,7 @@ map_record decode(const json& j)
     r.cell.label = detail::label_from(j.at("label"));
     r.cell.status = detail::outcome_from(j.at("status"));
     r.cell.steps = j.at("steps").get<long>();
+    r.cell.statistics = detail::statistics_from(j.at("statistics"));
     r.grazing = detail::numbers_from(j.at("grazing"));
     return r;
 }
@@ -108,6 +110,7 @@ map_result map2d(const model& m, const map_options& o, const job_options& j)
         rec.cell.label = r.label;
         rec.cell.status = r.run.status;
         rec.cell.steps = r.run.stats.steps;
+        rec.cell.statistics = r.run.statistics;
         if (computes_grazing(ix, iy)) {
             const auto g = grazing(mxy, ic, go);
             for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);

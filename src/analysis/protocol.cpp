@@ -92,7 +92,9 @@ simulation simulate(const model& m, const Eigen::VectorXd& x0, const protocol_op
     validate(o);
     validate(m, o.section);
     check_state_size(m, x0.size(), "the initial state");
-    return detail::with_engine(m, [&](const auto& em) { return detail::run_simulate(em, x0, o); });
+    simulation r = detail::with_engine(m, [&](const auto& em) { return detail::run_simulate(em, x0, o); });
+    r.statistics = compute_impact_statistics(m, r);
+    return r;
 }
 
 }  // namespace vimpact
