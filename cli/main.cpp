@@ -75,6 +75,7 @@ int main(int argc, char** argv)
         add_sweep_command(app),    add_map_command(app),      add_basins_command(app),
         add_response_command(app), add_floquet_command(app),  add_lyapunov_command(app),
         add_dimension_command(app), add_models_command(app), add_units_command(app),
+        add_clearance_command(app),
     };
 
     try {

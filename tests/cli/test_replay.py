@@ -29,6 +29,11 @@ CASES = {
     "lyapunov": ["lyapunov", "--set", "Ur=22.5", "--impacts", "60", "--warmup", "8", "--r0", "1e-5", "--transient", "40"],
     "dimension": ["dimension", "--record", "400", "--transient", "40", "--set", "Ur=22.5", "--theiler", "2"],
     "model-file": ["sweep", "--model", TWO_SIDED_TOML, "--param", "w", "--range", "0.9:1.1:2", *SHORT],
+    "clearance": ["clearance", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000", "--speeds", "4:5:2", "--fractions",
+                  "0.6:1.2:2", *SHORT],
+    "simulate-si": ["simulate", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000,U=4,gap=0.001", *SHORT],
+    "sweep-si": ["sweep", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000,gap=0.001", "--param", "U", "--range",
+                 "3.5:4:2", *SHORT],
 }
 
 
