@@ -9,5 +9,6 @@ void bind_runs(pybind11::module_& m);       // _simulate, _period, _grazing
 void bind_jobs(pybind11::module_& m);       // _sweep, _map, _basins, _response (the job loop)
 void bind_stability(pybind11::module_& m);  // _floquet, _lyapunov and their sweeps
 void bind_dimension(pybind11::module_& m);  // _dimension
+void bind_units(pybind11::module_& m);      // _SIUnits: SI inputs and outputs
 
 }  // namespace vimpact::python

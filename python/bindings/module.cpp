@@ -112,4 +112,5 @@ PYBIND11_MODULE(_vimpact, m)
     vimpact::python::bind_jobs(m);
     vimpact::python::bind_stability(m);
     vimpact::python::bind_dimension(m);
+    vimpact::python::bind_units(m);
 }

@@ -13,7 +13,8 @@ a dict with a model file's keys), with ``WakeImpact``, ``ForcedImpactOscillator`
 ``TwoSidedImpactOscillator`` as shortcuts for the built-ins. Analyses: ``simulate``,
 ``period``, ``grazing`` (single runs); ``sweep``, ``map``, ``basins``, ``response`` (the
 library's threaded, deterministic, resumable job loop); stability: ``floquet``, ``lyapunov``,
-``floquet_sweep``, ``lyapunov_sweep``; ``dimension`` of a point set. Each returns a result
+``floquet_sweep``, ``lyapunov_sweep``; ``dimension`` of a point set; engineering: ``clearance``
+and ``PhysicalUnits`` (SI inputs to a model's parameters and its results back to SI). Each returns a result
 object (``vimpact.results``) with numpy arrays and run statistics; the same objects load the
 command line's output directories (``vimpact.Sweep.load(DIR)``). Plots: ``vimpact.plot``.
 Bad input raises ValueError (``vimpact.InputError``) with the library's message; long calls
@@ -26,25 +27,27 @@ tree), and everything else raises an ImportError saying why.
 """
 import importlib
 
-from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport,  # noqa: F401
-                      Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
+from .results import (Attractor, Basins, Clearance, Dimension, Floquet, FloquetSweep, Grazing,  # noqa: F401
+                      JobReport, Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
 
 _COMPILED = ("Model", "WakeImpact", "ForcedImpactOscillator", "TwoSidedImpactOscillator", "InputError", "git_hash",
-             "basins", "cylinder_units", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov",
+             "PhysicalUnits", "basins", "clearance", "cylinder_units", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov",
              "lyapunov_sweep", "map", "period", "response", "simulate", "sweep")
 
 try:
     from ._vimpact import InputError, __version__, git_hash  # noqa: F401
     from ._model import ForcedImpactOscillator, Model, TwoSidedImpactOscillator, WakeImpact  # noqa: F401
-    from ._api import (basins, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov,  # noqa: F401
-                       lyapunov_sweep, map, period, response, simulate, sweep)
+    from ._api import (basins, clearance, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid,  # noqa: F401
+                       lyapunov, lyapunov_sweep, map, period, response, simulate, sweep)
+    from ._units import PhysicalUnits  # noqa: F401
 except ImportError as _error:  # the compiled module is not built or not on the path
     _import_error = _error
     __version__ = "unknown (the compiled module vimpact._vimpact is not built)"
 else:
     _import_error = None
     Model.__module__ = __name__
-    for _f in (basins, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep,
+    PhysicalUnits.__module__ = __name__
+    for _f in (basins, clearance, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep,
                map, period, response, simulate, sweep):
         _f.__module__ = __name__  # help() and tracebacks name them vimpact.sweep, not vimpact._api.sweep
 

@@ -19,7 +19,7 @@ W = vimpact.WakeImpact()
 T = vimpact.TwoSidedImpactOscillator()
 
 KINDS = {"simulate", "period", "sweep", "map", "basins", "response", "floquet", "lyapunov", "floquet_sweep",
-         "lyapunov_sweep", "dimension"}
+         "lyapunov_sweep", "dimension", "clearance"}
 
 
 def png(path):
