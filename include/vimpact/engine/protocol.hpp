@@ -68,7 +68,9 @@ public:
     // when the run ended otherwise; a contact phase still going on counts up to that end.
     void finish(double t_final)
     {
-        if (!m_end_set) m_res.t_record_end = t_final;
+        // A run that ended before recording began (chattering in the transient) has an empty
+        // window.
+        if (!m_end_set) m_res.t_record_end = m_recording ? t_final : m_res.t_record_start;
         m_end_set = true;
         if (m_in_contact) add_contact(t_final);
     }

@@ -439,9 +439,9 @@ private:
 
     // Each gap's largest value on (0, theta_end] of the step just taken (theta_end < 1: an
     // impact on surface `impacting` there, where its gap is 0). A maximum is bracketed by the
-    // gap's rate, known at the step's ends, and located by bisection on its slope along the
-    // interpolant; a step with two interior extrema (longer than half an oscillation of the
-    // gap) reports its end value only.
+    // gap's rate, known at the step's ends, and located by the Illinois method on its slope
+    // along the interpolant (a few interpolant evaluations per maximum); a step with two
+    // interior extrema (longer than half an oscillation of the gap) reports its end value only.
     template <class Observer, class Rhs>
     void report_gap_maxima(Observer& obs, Rhs& rhs, double theta_end, int impacting)
     {
@@ -449,30 +449,40 @@ private:
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
         for (int i = 0; i < m_model.surface_count(); ++i) {
-            const end_sample& a = m_start.gaps[static_cast<std::size_t>(i)];
+            const double slope_start = m_start.gaps[static_cast<std::size_t>(i)].rate * h;  // per unit theta
             double value = m_end.gaps[static_cast<std::size_t>(i)].value;
-            double slope = m_end.gaps[static_cast<std::size_t>(i)].rate;
+            double slope_end = m_end.gaps[static_cast<std::size_t>(i)].rate * h;
+            state p, dp;
             if (theta_end < 1.0) {
-                state p, dp;
                 m_integ.dense(rhs).value_and_slope(theta_end, p, dp);
                 value = i == impacting ? 0.0 : m_model.gap(i, p);
-                slope = gap_derivative(m_model, i, p, dp);
+                slope_end = gap_derivative(m_model, i, p, dp);
             }
             double best = value, theta_best = theta_end;
-            if (a.rate > 0.0 && slope <= 0.0) {
+            if (slope_start > 0.0 && slope_end <= 0.0) {
                 const auto& d = m_integ.dense(rhs);
-                double lo = 0.0, hi = theta_end;
-                state p, dp;
-                for (int it = 0; it < 64 && hi - lo > 1e-15; ++it) {
-                    const double mid = 0.5 * (lo + hi);
-                    d.value_and_slope(mid, p, dp);
-                    (gap_derivative(m_model, i, p, dp) > 0.0 ? lo : hi) = mid;
+                double a = 0.0, b = theta_end, fa = slope_start, fb = slope_end, c = b;
+                for (int it = 0, side = 0; it < 60 && fb < 0.0 && b - a > 1e-13; ++it) {
+                    c = (a * fb - b * fa) / (fb - fa);
+                    if (!(c > a && c < b)) c = 0.5 * (a + b);
+                    d.value_and_slope(c, p, dp);
+                    const double fc = gap_derivative(m_model, i, p, dp);
+                    if (fc > 0.0) {
+                        a = c;
+                        fa = fc;
+                        if (side == 1) fb *= 0.5;
+                        side = 1;
+                    } else {
+                        b = c;
+                        fb = fc;
+                        if (side == -1) fa *= 0.5;
+                        side = -1;
+                    }
                 }
-                const double theta = 0.5 * (lo + hi);
-                const double g = m_model.gap(i, d.value_at(theta));
+                const double g = m_model.gap(i, d.value_at(c));
                 if (g > best) {
                     best = g;
-                    theta_best = theta;
+                    theta_best = c;
                 }
             }
             obs.on_gap_maximum(i, t0 + theta_best * h, best);
