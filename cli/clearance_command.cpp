@@ -50,15 +50,15 @@ int run_clearance(const clearance_args& a)
         o.parameter = parameter_index(m, a.param, "--param");
         o.values = parse_range(a.range, "--range");
     }
-    // Gaps: in metres with --si, else in the model's units.
-    const double unit = c.si ? length_scale(*c.si) : 1.0;
-    if (!a.gaps.empty())
-        for (const double g : parse_range(a.gaps, "--gaps")) {
-            if (!(g >= 0.0))
-                throw input_error("--gaps: gap " + format_double(g) + (c.si ? " m" : "") +
-                                  " is below zero (a gap is the distance from the rest state to the surface)");
-            o.gaps.push_back(g / unit);
+    // Gaps: in metres with --si, else in the model's units (the library checks them).
+    if (!a.gaps.empty()) {
+        const auto gaps = parse_range(a.gaps, "--gaps");
+        try {
+            o.gaps = c.si ? gaps_in_model_units(*c.si, gaps) : gaps;
+        } catch (const input_error& e) {
+            throw input_error(std::string("--gaps: ") + e.what());
         }
+    }
     if (!a.fractions.empty()) o.fractions = parse_range(a.fractions, "--fractions");
     o.gap_parameter = a.gap_param.empty() ? -1 : parameter_index(m, a.gap_param, "--gap-param");
     o.initial_state = c.ic;
@@ -80,9 +80,9 @@ int run_clearance(const clearance_args& a)
     const std::string gname = info.parameters[static_cast<std::size_t>(res.gap_parameter)].name;
     const std::string xname = by_speed ? "U" : pname;
     const bool si = c.si.has_value();
-    // The flow axis and the gaps as reported: U [m/s] and metres with --si.
+    // The flow axis and the gaps as reported: U [m/s] and metres with --si (the result in SI).
     const auto x_of = [&](std::size_t k) { return by_speed ? speeds[k] : o.values[k]; };
-    const auto si_gap = [&](double g) { return g * unit; };
+    const clearance_result shown = si ? in_si(res, *c.si, m, o.parameter) : res;
 
     json clearance_pairs = json::array(), aperiodic = json::array(), dimensionless = json::array();
     std::vector<std::string> labels;
@@ -90,8 +90,9 @@ int run_clearance(const clearance_args& a)
                        info.surfaces[static_cast<std::size_t>(res.surface)].name + " without impact\n";
     for (std::size_t k = 0; k < res.points.size(); ++k) {
         const auto& p = res.points[k];
-        clearance_pairs.push_back({x_of(k), finite_or_null(si_gap(p.clearance))});
-        aperiodic.push_back({x_of(k), finite_or_null(si_gap(p.aperiodic_min)), finite_or_null(si_gap(p.aperiodic_max))});
+        const auto& q = shown.points[k];
+        clearance_pairs.push_back({x_of(k), finite_or_null(q.clearance)});
+        aperiodic.push_back({x_of(k), finite_or_null(q.aperiodic_min), finite_or_null(q.aperiodic_max)});
         json row = json::object();
         if (by_speed)
             for (const auto& [name, value] : units_at(*c.si->cylinder, speeds[k])) row[name] = finite_or_null(value);
@@ -101,11 +102,11 @@ int run_clearance(const clearance_args& a)
         row["converged"] = p.converged;
         dimensionless.push_back(std::move(row));
         for (const auto& cell : p.cells) labels.push_back(cell.label.label);
-        text += "  " + xname + " = " + format_double(x_of(k)) + ": gap " + format_double(si_gap(p.clearance)) +
+        text += "  " + xname + " = " + format_double(x_of(k)) + ": gap " + format_double(q.clearance) +
                 (si ? " m" : "") + (p.converged ? "" : " (grazing NOT converged)");
-        if (std::isfinite(p.aperiodic_min))
-            text += ", aperiodic for gaps " + format_double(si_gap(p.aperiodic_min)) + " .. " +
-                    format_double(si_gap(p.aperiodic_max)) + (si ? " m" : "");
+        if (std::isfinite(q.aperiodic_min))
+            text += ", aperiodic for gaps " + format_double(q.aperiodic_min) + " .. " + format_double(q.aperiodic_max) +
+                    (si ? " m" : "");
         text += "\n";
     }
     const json counts = label_counts(labels);
@@ -149,12 +150,12 @@ int run_clearance(const clearance_args& a)
                 for (const double v : {p.grazing_value, p.clearance}) row.push_back(format_double(v));
                 row.push_back(p.converged ? "1" : "0");
                 for (const double v : {p.aperiodic_min, p.aperiodic_max}) row.push_back(format_double(v));
+                const auto& q = shown.points[k];
                 if (si)
-                    for (const double v : {p.clearance, p.aperiodic_min, p.aperiodic_max})
-                        row.push_back(format_double(si_gap(v)));
+                    for (const double v : {q.clearance, q.aperiodic_min, q.aperiodic_max}) row.push_back(format_double(v));
                 cw.text_row(row);
-                const physical_scales scale = si ? scales_at(*c.si, points[k]) : physical_scales{};
-                for (const auto& cell : p.cells) {
+                for (std::size_t i = 0; i < p.cells.size(); ++i) {
+                    const auto& cell = p.cells[i];
                     std::vector<std::string> r{format_double(p.value)};
                     if (by_speed) r.push_back(format_double(speeds[k]));
                     append(r, {format_double(cell.gap), format_double(cell.gap_parameter_value), cell.label.label,
@@ -162,8 +163,8 @@ int run_clearance(const clearance_args& a)
                                cell.label.settled ? "1" : "0", std::string(to_string(cell.status))});
                     append_statistics(r, cell.statistics);
                     if (si) {
-                        r.push_back(format_double(si_gap(cell.gap)));
-                        append_statistics(r, in_si(cell.statistics, scale));
+                        r.push_back(format_double(q.cells[i].gap));
+                        append_statistics(r, q.cells[i].statistics);
                     }
                     chart.text_row(r);
                 }

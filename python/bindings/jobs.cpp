@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "vimpact/analysis/map.hpp"
 #include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/sweep.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::python {
 namespace {
@@ -236,7 +238,14 @@ py::dict clearance_run(const model& m, const py::dict& kw)
     co.values = values_of(o.object("values"), "values");
     if (o.has("gap_param")) co.gap_parameter = parameter_index(m, o.need<std::string>("gap_param"), "gap_param");
     (void)o.object("gap_param");
-    if (o.has("gaps")) co.gaps = values_of(o.object("gaps"), "gaps");
+    // With units, gaps and results in SI (the library converts both ways).
+    std::optional<si_input> units;
+    if (o.has("units")) units = o.object("units").cast<si_input>();
+    (void)o.object("units");
+    if (o.has("gaps")) {
+        const auto gaps = values_of(o.object("gaps"), "gaps");
+        co.gaps = units ? gaps_in_model_units(*units, gaps) : gaps;
+    }
     (void)o.object("gaps");
     if (o.has("fractions")) co.fractions = values_of(o.object("fractions"), "fractions");
     (void)o.object("fractions");
@@ -246,7 +255,7 @@ py::dict clearance_run(const model& m, const py::dict& kw)
     co.grazing = job_grazing_options(co.protocol.flow.integration, o.need<double>("transient_time"));
     co.grazing.method = co.protocol.method;
     const auto analysis = [&](const job_options& c) { return clearance(m, co, c); };
-    return run_jobs(o, analysis, [&](py::dict& d, const clearance_result& r) {
+    const auto put = [&](py::dict& d, const clearance_result& r) {
         const auto& p = r.points;
         d["gap_param"] = m.info().parameters[static_cast<std::size_t>(r.gap_parameter)].name;
         d["surface"] = m.info().surfaces[static_cast<std::size_t>(r.surface)].name;
@@ -271,6 +280,13 @@ py::dict clearance_run(const model& m, const py::dict& kw)
         d["outcome"] = string_list(cells, [](const flat_cell& x) { return to_string(x.cell->status); });
         d["statistics"] =
             statistics_columns(cells, [](const flat_cell& x) -> const impact_statistics& { return x.cell->statistics; });
+    };
+    return run_jobs(o, analysis, [&](py::dict& d, const clearance_result& r) {
+        put(d, r);
+        if (!units) return;
+        py::dict si;
+        put(si, in_si(r, *units, m, co.parameter));
+        d["si"] = si;
     });
 }
 

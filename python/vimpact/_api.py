@@ -676,17 +676,10 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
         pairs = [units.parameter("U", u, model) for u in speed]
         param, values = (pairs[0][0] if pairs else "Ur"), np.array([v for _, v in pairs], dtype=float)
     values = np.asarray(values, dtype=float)
-    unit = units.length_scale if units is not None else 1.0
-    chart_gaps = None
-    if gaps is not None:
-        chart_gaps = np.asarray(gaps, dtype=float)
-        if np.any(~(chart_gaps >= 0)):
-            bad = chart_gaps[~(chart_gaps >= 0)][0]
-            raise InputError(f"gaps: gap {bad:g}{' m' if units is not None else ''} is below zero (a gap is the "
-                             f"distance from the rest state to the surface)")
-        chart_gaps = chart_gaps / unit
     o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, param=param,
-                  values=values, ic=_ic(ic), gap_param=gap_param, gaps=chart_gaps,
+                  values=values, ic=_ic(ic), gap_param=gap_param,
+                  gaps=None if gaps is None else np.asarray(gaps, dtype=float),
+                  units=None if units is None else units._handle,
                   fractions=None if fractions is None else np.asarray(fractions, dtype=float), tol=tol,
                   transient_time=transient_time)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
@@ -699,18 +692,16 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
     stats = {k: chart(point, v, n) for k, v in d["statistics"].items()}
     si = dict(clearance_si=None, aperiodic_si=None, gap_si=None, statistics_si=None, warnings=())
     if units is not None:
-        at = [model.with_(**{param: v}) for v in d["value"]]
-        cell_si = [units.statistics({k: float(v[i]) for k, v in d["statistics"].items()}, at[p])
-                   for i, p in enumerate(point)]
+        s = d["si"]
         warnings = []
-        for m_at in at:
-            warnings += [w for w in units.warnings(m_at) if w not in warnings]
-        si = dict(clearance_si=d["clearance"] * unit,
-                  aperiodic_si=np.column_stack([d["aperiodic_min"], d["aperiodic_max"]]) * unit,
-                  gap_si=chart(point, d["cell_gap"] * unit, n),
-                  statistics_si={k: chart(point, [c[k] for c in cell_si], n) for k in d["statistics"]},
-                  warnings=tuple(warnings))
-    opts = _result_options(ic, o, "values", "gaps", "fractions")
+        for v in d["value"]:
+            warnings += [w for w in units.warnings(model.with_(**{param: v})) if w not in warnings]
+        si = dict(clearance_si=s["clearance"], aperiodic_si=np.column_stack([s["aperiodic_min"], s["aperiodic_max"]]),
+                  gap_si=chart(point, s["cell_gap"], n),
+                  statistics_si={k: chart(point, v, n) for k, v in s["statistics"].items()}, warnings=tuple(warnings))
+    opts = _result_options(ic, o, "values", "gaps", "fractions", "units")
+    if units is not None:
+        opts["units"] = units.inputs
     return Clearance(param=param, x="U" if speed is not None else param, gap_param=d["gap_param"],
                      surface=d["surface"], value=d["value"], speed=speed, grazing_value=d["grazing_value"],
                      clearance=d["clearance"], converged=d["converged"],

@@ -234,6 +234,35 @@ impact_statistics in_si(const impact_statistics& s, const physical_scales& k)
     return o;
 }
 
+std::vector<double> gaps_in_model_units(const si_input& in, const std::vector<double>& metres)
+{
+    std::vector<double> out;
+    for (const double g : metres) {
+        if (!(g >= 0.0) || !std::isfinite(g))
+            throw input_error("gap " + format_double(g) +
+                              " m is below zero (a gap is the distance from the rest state to the surface)");
+        out.push_back(g / length_scale(in));
+    }
+    return out;
+}
+
+clearance_result in_si(const clearance_result& r, const si_input& in, const model& m, int parameter)
+{
+    clearance_result o = r;
+    const double L = length_scale(in);
+    for (auto& p : o.points) {
+        const physical_scales k = scales_at(in, m.with_parameter(parameter, p.value));
+        p.clearance *= L;
+        p.aperiodic_min *= L;
+        p.aperiodic_max *= L;
+        for (auto& c : p.cells) {
+            c.gap *= L;
+            c.statistics = in_si(c.statistics, k);
+        }
+    }
+    return o;
+}
+
 std::vector<named_value> si_values(const si_input& in, const model& m)
 {
     std::vector<named_value> out;

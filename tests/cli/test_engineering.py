@@ -178,3 +178,19 @@ def test_statistics_in_every_sweep_and_map_table(vimpact, tmp_path):
     single = run_json(vimpact, "simulate", "--set", "Ur=17", *SHORT)["impact_statistics"]
     for k in names:
         assert float(lab[1][k]) == pytest.approx(single[k], rel=1e-15), k
+
+
+def test_clearance_runs_through_the_job_loop(vimpact, tmp_path):
+    """Threads and shards give the same files as one thread."""
+    args = ["clearance", "--si", SI, "--speeds", "3.5:5:4", "--fractions", "0.5:1.2:2", *SHORT, "--no-plot"]
+    whole, threads, sharded = tmp_path / "whole", tmp_path / "threads", tmp_path / "sharded"
+    assert run(vimpact, *args, "--threads", "1", "--out", str(whole)).returncode == 0
+    assert run(vimpact, *args, "--threads", "2", "--out", str(threads)).returncode == 0
+    for i in range(2):
+        p = run(vimpact, *args, "--threads", "1", "--shard", f"{i}/2", "--out", str(sharded))
+        assert p.returncode == 0, p.stderr
+        assert (sharded / "chart.csv").exists() == (i == 1)
+    for d in (threads, sharded):
+        for name in ("clearance.csv", "chart.csv"):
+            assert (whole / name).read_bytes() == (d / name).read_bytes(), (d, name)
+    assert not os.path.exists(str(sharded) + ".jobs")

@@ -118,6 +118,15 @@ def test_clearance_is_the_grazing_value_at_the_matching_ur_times_d():
         c.statistics["impact_rate"][0, 0] * 2 * math.pi * 0.2 * 4.0 / 0.02, rel=1e-14)
 
 
+def test_clearance_gaps_in_metres():
+    u = vimpact.PhysicalUnits(**TUBE)
+    c = vimpact.clearance(units=u, speeds=[4.0], gaps=[0.0005, 0.002], **SHORT)
+    assert np.allclose(c.gap_si, [[0.0005, 0.002]], rtol=1e-15) and np.allclose(c.gap, [[0.025, 0.1]], rtol=1e-14)
+    assert c.label[0, 1] == "P0" and c.label[0, 0] != "P0"
+    with pytest.raises(vimpact.InputError, match="gap -0.001 m is below zero"):
+        vimpact.clearance(units=u, speeds=[4.0], gaps=[-0.001, 0.001])
+
+
 def test_clearance_of_any_model_in_its_units():
     c = vimpact.clearance(vimpact.Model("two_sided_impact_oscillator"), "w", [1.2], fractions=[1.5], **SHORT)
     assert c.gap_param == "d" and c.speed is None and c.clearance_si is None

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/model/model.hpp"
 #include "vimpact/physical/flow_units.hpp"
@@ -81,6 +82,12 @@ double length_scale(const si_input& in);
 // The statistics in SI: rate [Hz], velocities [m/s], energy per impact [J, J/m for a
 // cylinder], power [W, W/m], excursion [m]; counts, fractions and duration [s] alike.
 impact_statistics in_si(const impact_statistics& s, const physical_scales& k);
+
+// Gaps in metres as model units (gap / length), each checked >= 0: the message names the gap.
+std::vector<double> gaps_in_model_units(const si_input& in, const std::vector<double>& metres);
+// A clearance result in SI: gaps, clearances and aperiodic ranges in metres, and each chart
+// run's statistics in SI at its point's flow value (m with `parameter` at the point's value).
+clearance_result in_si(const clearance_result& r, const si_input& in, const model& m, int parameter);
 
 // The numbers of a run in SI by name (U, Re, mass_ratio for a cylinder, gap, and the scales
 // length, time, mass, velocity, energy, power), as run.json's `si` section gives them.
