@@ -100,7 +100,8 @@ std::vector<std::string> validity_warnings(const cylinder_in_flow& c, double U)
     const double ms = mass_ratio(c);
     if (ms < calibrated_mass_ratio_min || ms > calibrated_mass_ratio_max)
         out.push_back("the mass ratio m* = m / (rho pi D^2 / 4) = " + format_double(ms) +
-                      " is outside 0.54 <= m* <= 20, the range the wake model's coupling was calibrated for");
+                      " is outside 0.54 <= m* <= 20, the range taken as the wake model's calibration "
+                      "(docs/engineering.md)");
     return out;
 }
 
