@@ -3,10 +3,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <iostream>
 #include <map>
 #include <toml++/toml.h>
 
 #include "interrupts.hpp"
+#include "output.hpp"
 #include "parse.hpp"
 #include "replay.hpp"
 #include "vimpact/core/format.hpp"
@@ -44,6 +46,26 @@ void add_common_options(CLI::App& app, common_args& a)
     app.add_flag("--json", a.json, "Print one JSON object to stdout");
     app.add_flag("--no-plot", a.no_plot, "With --out: skip the picture");
     app.add_option("--format", a.format, "With --out: the picture's format, png (default), pdf or svg");
+}
+
+void add_si_option(CLI::App& app, common_args& a)
+{
+    app.add_option("--si", a.si,
+                   "The run in SI units: a cylinder in a flow D=..,m=..,fn=..,zeta=..,rho=.. [m, kg/m, Hz, -, kg/m^3] "
+                   "(CM, St, nu optional) for the wake model, or length=..,time=..[,mass=..] (one model unit in m, s, "
+                   "kg) for any model; U=.. (flow speed, m/s) and gap=.. (m, rest state to the surface) set Ur and "
+                   "the gap parameter; results also in SI (docs/engineering.md)");
+}
+
+std::vector<std::string> warn_validity(const run_config& c, const std::vector<vimpact::model>& at)
+{
+    std::vector<std::string> out;
+    if (!c.si) return out;
+    for (const auto& m : at)
+        for (const auto& w : validity_warnings(*c.si, m))
+            if (std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+    for (const auto& w : out) std::cerr << "vimpact: warning: " << w << '\n';
+    return out;
 }
 
 namespace {
@@ -268,6 +290,14 @@ run_config resolve(const common_args& a)
         values[static_cast<std::size_t>(i)] = parse_number(s.substr(eq + 1), "--set " + key);
     }
     m = m.with_parameters(values);  // checks every value against its range
+    if (!a.si.empty()) {
+        c.si = si_from_pairs(parse_pairs(a.si, "--si"));
+        for (const auto& [i, v] : si_parameters(m, *c.si))
+            if (const auto it = set_by.find(i); it != set_by.end())
+                throw input_error("--set " + it->second + " and --si both set " +
+                                  info.parameters[static_cast<std::size_t>(i)].name + "; give it once");
+        m = apply_si(m, *c.si);
+    }
 
     if (!a.ic.empty()) {
         const auto x = parse_numbers(a.ic, "--ic");
@@ -317,6 +347,7 @@ nlohmann::json run_config::to_json() const
     j["transient"] = protocol.transient_impacts;
     j["record"] = protocol.record_points;
     j["section"] = section_name();
+    if (si) j["si"] = si_json(*si, model);
     return j;
 }
 

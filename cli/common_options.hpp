@@ -15,6 +15,7 @@
 
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/model/model.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
 
@@ -34,6 +35,7 @@ struct common_args {
     bool json = false;
     bool no_plot = false;
     std::string format = "png";
+    std::string si;  // --si KEY=VALUE,...: the run in SI units (physical/si_units.hpp)
     CLI::Option* model_option = nullptr;
     CLI::Option* preset_option = nullptr;
     CLI::Option* rtol_option = nullptr;
@@ -61,6 +63,8 @@ struct run_config {
     // How the picture is drawn (sweep's --color-by): run.json's plot_options, which
     // `python3 -m vimpact.plot` passes to the drawing function, so a directory redraws alike.
     nlohmann::json plot_options = nlohmann::json::object();
+    // --si: the engineer's inputs; `model` has the parameters they set.
+    std::optional<si_input> si;
 
     [[nodiscard]] const model_info& info() const { return model.info(); }
     [[nodiscard]] std::string section_name() const { return section_choice_name(model, protocol.section); }
@@ -69,6 +73,11 @@ struct run_config {
 };
 
 void add_common_options(CLI::App& app, common_args& args);
+// --si on the commands where SI units make sense (simulate, period, grazing, sweep, map).
+void add_si_option(CLI::App& app, common_args& args);
+// The warnings of the SI inputs at the model `m` (a cylinder outside the wake model's
+// calibrated range), each printed once per call to stderr; returns them.
+std::vector<std::string> warn_validity(const run_config& c, const std::vector<vimpact::model>& at);
 
 // Checks --out first (nothing is computed for a bad target), then loads the model and applies
 // everything else. Throws input_error for anything invalid.

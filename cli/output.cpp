@@ -27,6 +27,11 @@ std::string join(const std::vector<std::string>& items, const std::string& sep)
     return s;
 }
 
+void append(std::vector<std::string>& to, const std::vector<std::string>& more)
+{
+    to.insert(to.end(), more.begin(), more.end());
+}
+
 json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 json vector_json(const Eigen::VectorXd& v)
@@ -88,6 +93,71 @@ json model_json(const vimpact::model& m)
             {"sections", sections}};
 }
 
+json statistics_json(const impact_statistics& s, const model_info& info)
+{
+    json j = json::object();
+    const auto values = impact_statistics_values(s);
+    const auto& names = impact_statistics_names();
+    for (std::size_t i = 0; i < names.size(); ++i) j[names[i]] = finite_or_null(values[i]);
+    j["impacts_recorded"] = s.impacts;
+    json by = json::object();
+    for (std::size_t i = 0; i < info.surfaces.size(); ++i)
+        by[info.surfaces[i].name] = finite_or_null(i < s.excursion_by_surface.size() ? s.excursion_by_surface[i] : std::nan(""));
+    j["excursion_by_surface"] = by;
+    return j;
+}
+
+std::vector<std::string> statistics_columns()
+{
+    const auto& names = impact_statistics_names();
+    return {names.begin(), names.end()};
+}
+
+void append_statistics(std::vector<std::string>& cells, const impact_statistics& s)
+{
+    for (const double v : impact_statistics_values(s)) cells.push_back(format_double(v));
+}
+
+json si_json(const si_input& in, const vimpact::model& m)
+{
+    json inputs = json::object(), parameters = json::object(), values = json::object();
+    for (const auto& [name, v] : si_inputs(in)) inputs[name] = v;
+    for (const auto& [i, v] : si_parameters(m, in)) parameters[m.info().parameters[static_cast<std::size_t>(i)].name] = v;
+    for (const auto& [name, v] : si_values(in, m)) values[name] = finite_or_null(v);
+    return {{"inputs", inputs}, {"parameters", parameters}, {"values", values}, {"warnings", validity_warnings(in, m)}};
+}
+
+std::string statistics_text(const impact_statistics& s, bool si, bool per_metre)
+{
+    const auto num = [](double v) { return std::isfinite(v) ? format_double(v) : std::string("-"); };
+    const std::string per = per_metre ? "/m" : "";
+    std::string t = "impacts " + std::to_string(s.impacts) + " in " + num(s.duration) + (si ? " s" : "") + ", rate " +
+                    num(s.rate) + (si ? " Hz" : " per unit t");
+    if (s.impacts > 0)
+        t += ", velocity mean " + num(s.velocity_mean) + " max " + num(s.velocity_max) + (si ? " m/s" : "") +
+             ", energy per impact " + num(s.energy_per_impact) + (si ? " J" + per : "") + ", power " + num(s.power) +
+             (si ? " W" + per : "");
+    t += ", contact " + num(s.contact_fraction) + ", excursion " + num(s.excursion) + (si ? " m" : "");
+    return t + "\n";
+}
+
+std::string add_si_results(json& summary, const run_config& c, const vimpact::model& m, const impact_statistics& s)
+{
+    if (!c.si) return {};
+    const json si = si_json(*c.si, m);
+    summary["si"] = {{"values", si["values"]}, {"warnings", si["warnings"]}};
+    const impact_statistics k = in_si(s, scales_at(*c.si, m));
+    summary["impact_statistics_si"] = statistics_json(k, m.info());
+    return "in SI: " + statistics_text(k, true, c.si->cylinder.has_value());
+}
+
+std::vector<std::string> si_statistics_columns()
+{
+    std::vector<std::string> out;
+    for (const char* name : impact_statistics_names()) out.push_back(std::string(name) + "_si");
+    return out;
+}
+
 json label_counts(const std::vector<std::string>& labels)
 {
     std::map<std::string, long> counts;
@@ -145,13 +215,19 @@ void write_impacts(const std::filesystem::path& p, const impact_series& s, const
     std::vector<std::string> header{"t"};
     for (const auto& c : columns) header.push_back(c.name);
     header.emplace_back("surface");
+    for (const char* name : {"normal_velocity", "rebound_velocity", "energy"}) header.emplace_back(name);
     csv_writer w(p, header);
+    const auto velocities = impact_velocities(m, s);
     std::vector<std::string> cells(header.size());
     for (std::size_t i = 0; i < s.size(); ++i) {
         cells[0] = format_double(s.pre.t(i));
         for (std::size_t k = 0; k < columns.size(); ++k)
             cells[k + 1] = format_double((columns[k].after ? s.post : s.pre).x(i, columns[k].variable));
-        cells.back() = m.info().surfaces.at(static_cast<std::size_t>(s.surface[i])).name;
+        const std::size_t after = columns.size() + 1;
+        cells[after] = m.info().surfaces.at(static_cast<std::size_t>(s.surface[i])).name;
+        cells[after + 1] = format_double(velocities[i].normal);
+        cells[after + 2] = format_double(velocities[i].rebound);
+        cells[after + 3] = format_double(velocities[i].energy);
         w.text_row(cells);
     }
     w.close();

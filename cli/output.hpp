@@ -14,6 +14,7 @@
 
 #include "common_options.hpp"
 #include "interrupts.hpp"
+#include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/io/staged_output.hpp"
@@ -34,6 +35,26 @@ json stats_json(const run_stats& s, const model_info& info);
 // pictures' axis labels).
 json model_json(const vimpact::model& m);
 
+// A run's impact statistics by the library's names (impact_statistics_names), null where not
+// finite, and the excursion of each surface (excursion_by_surface).
+json statistics_json(const impact_statistics& s, const model_info& info);
+// The statistics as CSV columns (the same names) and one run's cells.
+std::vector<std::string> statistics_columns();
+void append_statistics(std::vector<std::string>& cells, const impact_statistics& s);
+
+// The SI inputs of a run and what they give at the model `m`: `inputs` (by key, defaults
+// filled in), `parameters` (the model's dimensionless values they set), `values` (U, Re,
+// mass_ratio, gap and the scales: si_values) and `warnings`.
+json si_json(const si_input& in, const vimpact::model& m);
+// One line on the impact statistics for the text output, in the model's units, or in SI
+// (`si`: per metre of a cylinder's length when `per_metre`).
+std::string statistics_text(const impact_statistics& s, bool si = false, bool per_metre = false);
+// With --si: summary["si"] (si_json's values and warnings) and summary["impact_statistics_si"]
+// of a run of `m`; returns the text line in SI (empty without --si).
+std::string add_si_results(json& summary, const run_config& c, const vimpact::model& m, const impact_statistics& s);
+// The SI columns of sweep and map tables: the statistics' names with the suffix _si.
+std::vector<std::string> si_statistics_columns();
+
 // Label -> count, and its text "P1 3, P2 4".
 json label_counts(const std::vector<std::string>& labels);
 std::string counts_text(const json& counts);
@@ -45,7 +66,8 @@ json record_header(const std::string& command, const run_config& c);
 void write_json(const std::filesystem::path& p, const json& j);
 // t and one column per state variable.
 void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info);
-// t, the impact columns of the model (io/state_columns.hpp), and the surface's name.
+// t, the impact columns of the model (io/state_columns.hpp), the surface's name, and each
+// impact's normal_velocity, rebound_velocity and energy (analysis/impact_statistics.hpp).
 void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m);
 
 // Runs `python3 -m vimpact.plot KIND DIR FORMAT` (png, pdf, svg). A failure is reported, not fatal: the numbers are
@@ -116,5 +138,6 @@ std::vector<std::string> impact_count_columns(const model_info& info);
 void print(const run_config& c, const json& summary, const std::string& text);
 
 std::string join(const std::vector<std::string>& items, const std::string& sep = ", ");
+void append(std::vector<std::string>& to, const std::vector<std::string>& more);
 
 }  // namespace vimpact::cli

@@ -81,4 +81,16 @@ shard_spec parse_shard(const std::string& text)
     return {static_cast<long>(i), static_cast<long>(n)};
 }
 
+std::vector<std::pair<std::string, double>> parse_pairs(const std::string& text, const std::string& what)
+{
+    std::vector<std::pair<std::string, double>> out;
+    for (const auto& item : split(text, ',')) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0) throw input_error(what + " expects KEY=VALUE,... (got '" + item + "')");
+        const std::string key = item.substr(0, eq);
+        out.emplace_back(key, parse_number(item.substr(eq + 1), what + " " + key));
+    }
+    return out;
+}
+
 }  // namespace vimpact::cli

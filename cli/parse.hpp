@@ -2,6 +2,7 @@
 // Text to values for the options: numbers, lists, ranges, shards. Every function throws
 // input_error naming the option (`what`) and the text it could not read.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vimpact/jobs/job_loop.hpp"
@@ -24,5 +25,8 @@ struct named_range {
 named_range parse_named_range(const std::string& text, const std::string& what);
 
 shard_spec parse_shard(const std::string& text);  // "I/N", 0 <= I < N
+
+// "KEY=VALUE,KEY=VALUE": the pairs in order (the keys are the caller's to check).
+std::vector<std::pair<std::string, double>> parse_pairs(const std::string& text, const std::string& what);
 
 }  // namespace vimpact::cli

@@ -10,6 +10,7 @@
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
 namespace {
@@ -43,10 +44,11 @@ int run_simulate(const simulate_args& a)
     check_admissible(c);
     protocol_options po = c.protocol;
     if (c.out) po.sample_dt = a.sample_dt;
+    warn_validity(c, {c.model});
     const simulation r = simulate(c.model, c.ic, po);
 
     const auto& info = c.info();
-    const json summary = {{"command", "simulate"},
+    json summary = {{"command", "simulate"},
                           {"outcome", std::string(to_string(r.status))},
                           {"impacts", r.stats.impacts},
                           {"impacts_by_surface", by_surface(r.stats.impacts_by_surface, info)},
@@ -54,10 +56,13 @@ int run_simulate(const simulate_args& a)
                           {"impacting", r.impacting},
                           {"section_points", r.points.size()},
                           {"t_record_start", r.t_record_start},
+                          {"t_record_end", r.t_record_end},
                           {"t_final", r.stats.t_final},
+                          {"impact_statistics", statistics_json(r.statistics, info)},
                           {"final_state", vector_json(r.final_state)},
                           {"stats", stats_json(r.stats, info)},
                           {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    const std::string si_text = add_si_results(summary, c, c.model, r.statistics);
     if (c.out) {
         throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
@@ -74,7 +79,7 @@ int run_simulate(const simulate_args& a)
                              format_double(r.t_record_start) + " to t = " + format_double(r.stats.t_final) + "\n" +
                              "steps " + std::to_string(r.stats.steps) + " (rejected " +
                              std::to_string(r.stats.rejected) + "), rhs calls " + std::to_string(r.stats.rhs_calls) +
-                             "\n" + written_to(c);
+                             "\n" + statistics_text(r.statistics) + si_text + written_to(c);
     print(c, summary, text);
     return 0;
 }
@@ -84,6 +89,7 @@ int run_period(const period_args& a)
     const run_config c = resolve(a.common);
     check_positive(a.tol, "--tol");
     check_admissible(c);
+    warn_validity(c, {c.model});
     const classified_run r = run_and_classify(c.model, c.ic, c.protocol, a.tol);
     const period_label& lab = r.label;
     const auto& info = c.info();
@@ -94,7 +100,7 @@ int run_period(const period_args& a)
         first.push_back(r.run.points.x(static_cast<std::size_t>(i), 0));
         cycle.push_back(vector_json(r.run.points.x(static_cast<std::size_t>(i))));
     }
-    const json summary = {{"command", "period"},
+    json summary = {{"command", "period"},
                           {"label", lab.label},
                           {"period", lab.period >= 0 ? json(lab.period) : json(nullptr)},
                           {"impacts", lab.impacts_per_period},
@@ -106,8 +112,10 @@ int run_period(const period_args& a)
                           {"section_" + info.state.front().name, first},
                           {"cycle", cycle},
                           {"points", r.run.points.size()},
+                          {"impact_statistics", statistics_json(r.run.statistics, info)},
                           {"stats", stats_json(r.run.stats, info)},
                           {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    const std::string si_text = add_si_results(summary, c, c.model, r.run.statistics);
     if (c.out) {
         throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
@@ -122,7 +130,7 @@ int run_period(const period_args& a)
     if (lab.period > 0)
         text += " (" + std::to_string(lab.impacts_per_period) + " impact(s) per period, closure " +
                 format_double(lab.closure) + ")";
-    text += "\n" + unsettled_text(lab.settled ? 0 : 1) + written_to(c);
+    text += "\n" + statistics_text(r.run.statistics) + si_text + unsettled_text(lab.settled ? 0 : 1) + written_to(c);
     print(c, summary, text);
     return 0;
 }
@@ -141,7 +149,11 @@ int run_grazing(const grazing_args& a)
     go.method = c.protocol.method;
     // The parameter whose grazing value each surface reports: --param, or each surface's own.
     go.parameter = a.param.empty() ? each_surface_gap_parameter : parameter_index(m, a.param, "--param");
+    warn_validity(c, {m});
     const grazing_result g = grazing(m, c.ic, go);
+    // With --si, the grazing value of the gap parameter as a gap in metres: the smallest gap
+    // to the surface without impact.
+    const int si_gap = c.si && first_gap_parameter(m) >= 0 ? si_parameter(*c.si, m, "gap") : -1;
 
     json surfaces = json::array();
     std::string text;
@@ -161,6 +173,11 @@ int run_grazing(const grazing_args& a)
         text += info.surfaces[i].name + ": ";
         if (p >= 0) text += pname + "_graze = " + format_double(s.parameter_value) + ", ";
         text += "margin " + format_double(s.margin);
+        if (si_gap >= 0 && p == si_gap && std::isfinite(s.parameter_value)) {
+            const double gap = gap_of(*c.si, m.with_parameter(p, s.parameter_value));
+            surfaces.back()["gap_si"] = finite_or_null(gap);
+            text += ", smallest gap without impact " + format_double(gap) + " m";
+        }
         if (!s.converged) text += " (NOT converged: last change " + format_double(s.change) + ")";
         text += "\n";
     }
@@ -170,6 +187,7 @@ int run_grazing(const grazing_args& a)
                     {"outcome", std::string(to_string(g.status))},
                     {"stats", stats_json(g.stats, info)},
                     {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    if (c.si) summary["si"] = si_json(*c.si, m);
     if (g.surfaces.front().parameter >= 0)
         summary[info.parameters[static_cast<std::size_t>(g.surfaces.front().parameter)].name + "_graze"] =
             finite_or_null(g.surfaces.front().parameter_value);
@@ -194,6 +212,7 @@ cli_command add_simulate_command(CLI::App& app)
     auto* s = app.add_subcommand("simulate",
                                  "Run the protocol: discard a transient of impacts, record section points and the time series");
     add_common_options(*s, a->common);
+    add_si_option(*s, a->common);
     s->add_option("--dt", a->sample_dt, "Time-series sampling interval with --out (default 0.05)");
     return {s, [a] { return run_simulate(*a); }};
 }
@@ -203,6 +222,7 @@ cli_command add_period_command(CLI::App& app)
     auto a = std::make_shared<period_args>();
     auto* p = app.add_subcommand("period", "Classify the attractor: P0, P1, P2, ..., aperiodic");
     add_common_options(*p, a->common);
+    add_si_option(*p, a->common);
     p->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
     return {p, [a] { return run_period(*a); }};
 }
@@ -213,6 +233,7 @@ cli_command add_grazing_command(CLI::App& app)
     auto* g = app.add_subcommand("grazing",
                                  "Grazing: where the surface-free attracting orbit just touches each impact surface");
     add_common_options(*g, a->common);
+    add_si_option(*g, a->common);
     g->add_option("--tol", a->tol, "Agreement of successive block minima (default 1e-11)");
     g->add_option("--transient-time", a->transient_time, "Time discarded before minima count (default 1000)");
     g->add_option("--param", a->param,

@@ -22,6 +22,7 @@
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace fs = std::filesystem;
 
@@ -48,14 +49,44 @@ std::vector<std::string> grazing_columns(const model& m, int parameter)
     return surface_columns(m.info(), m.info().parameters[static_cast<std::size_t>(parameter)].name + "_graze");
 }
 
-void append(std::vector<std::string>& to, const std::vector<std::string>& more) { to.insert(to.end(), more.begin(), more.end()); }
-
 void append_counts(std::vector<std::string>& row, const std::vector<long>& counts, std::size_t surfaces)
 {
     for (std::size_t i = 0; i < surfaces; ++i) row.push_back(std::to_string(i < counts.size() ? counts[i] : 0L));
 }
 
 std::string out_json_text(const run_config& c) { return c.out ? c.out->string() : std::string(); }
+
+// An axis named by an SI quantity (U, gap) with --si: its model parameter and values; the SI
+// values are kept for the tables. A model parameter's name passes through.
+struct axis_values {
+    int parameter = -1;
+    std::vector<double> values;     // of the model parameter
+    std::vector<double> si_values;  // as given, when the axis is an SI quantity
+    std::string si_name;            // U or gap, else empty
+};
+
+axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+                         const std::string& what)
+{
+    axis_values a;
+    if (c.si && (name == "U" || name == "gap")) {
+        a.parameter = si_parameter(*c.si, c.model, name);
+        a.si_name = name;
+        a.si_values = given;
+        for (const double v : given) a.values.push_back(si_parameter_value(*c.si, c.model, name, v));
+        return a;
+    }
+    a.parameter = parameter_index(c.model, name, what);
+    a.values = given;
+    return a;
+}
+
+// With --si: the SI columns of a run of `m` (the statistics in SI).
+void append_si_statistics(std::vector<std::string>& cells, const run_config& c, const model& m,
+                          const impact_statistics& s)
+{
+    append_statistics(cells, in_si(s, scales_at(*c.si, m)));
+}
 json out_json(const run_config& c) { return c.out ? json(c.out->string()) : json(nullptr); }
 
 // ---------------------------------------------------------------- sweep
@@ -80,8 +111,10 @@ int run_sweep(const sweep_args& a)
     const model& m = c.model;
     const auto& info = c.info();
     sweep_options o;
-    o.parameter = parameter_index(m, a.param, "--param");
-    o.values = parse_range(a.range, "--range");
+    const axis_values axis = resolve_axis(c, a.param, parse_range(a.range, "--range"), "--param");
+    o.parameter = axis.parameter;
+    o.values = axis.values;
+    warn_validity(c, {m.with_parameter(o.parameter, o.values.front()), m.with_parameter(o.parameter, o.values.back())});
     o.initial_state = c.ic;
     if (a.ic_mode != "fixed" && a.ic_mode != "follow")
         throw input_error("--ic-mode '" + a.ic_mode + "' is not one of fixed, follow");
@@ -106,6 +139,9 @@ int run_sweep(const sweep_args& a)
     std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "settled", "outcome"};
     append(lh, grazing_columns(m, gp));
     append(lh, impact_count_columns(info));
+    append(lh, statistics_columns());
+    if (!axis.si_name.empty()) lh.push_back(axis.si_name);
+    if (c.si) append(lh, si_statistics_columns());
 
     // The points stream in job order: rows to --out DIR, or labels to the summary without it.
     json labels = json::array(), labels_down = json::array();
@@ -144,6 +180,13 @@ int run_sweep(const sweep_args& a)
             for (std::size_t s = 0; s < info.surfaces.size(); ++s)
                 cells.push_back(format_double(s < p.grazing.size() ? p.grazing[s] : std::nan("")));
         append_counts(cells, p.label.impacts_by_surface, info.surfaces.size());
+        append_statistics(cells, p.statistics);
+        if (!axis.si_name.empty()) {
+            const auto k =
+                static_cast<std::size_t>(std::find(o.values.begin(), o.values.end(), p.value) - o.values.begin());
+            cells.push_back(format_double(axis.si_values.at(k)));
+        }
+        if (c.si) append_si_statistics(cells, c, m.with_parameter(o.parameter, p.value), p.statistics);
         lab->text_row(cells);
     };
     const sweep_result res = sweep(m, o, session.options(), each);
@@ -153,7 +196,7 @@ int run_sweep(const sweep_args& a)
     json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
                     {"ic_mode", a.ic_mode},       {"direction", a.direction}, {"section_points", npoints},
                     {"label_counts", counts},     {"unsettled", unsettled},  {"batch", res.jobs.batch},
-                    {"out", out_json(c)}};
+                    {"statistics_columns", statistics_columns()}, {"out", out_json(c)}};
     // Each point's label: in labels.csv with --out (the summary stays the same size whatever
     // the number of points), in the summary without it.
     if (!c.out) {
@@ -162,6 +205,8 @@ int run_sweep(const sweep_args& a)
     }
     if (o.grazing_parameter >= 0)
         summary["grazing_param"] = info.parameters[static_cast<std::size_t>(o.grazing_parameter)].name;
+    if (!axis.si_name.empty()) summary["si_param"] = axis.si_name;
+    if (c.si) summary["si"] = si_json(*c.si, m);
     std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" + a.ic_mode +
                        " starts): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
@@ -193,17 +238,29 @@ int run_map(const map_args& a)
     const model& m = c.model;
     const auto& info = c.info();
     const named_range ax = parse_named_range(a.x, "--x"), ay = parse_named_range(a.y, "--y");
+    const axis_values sx = resolve_axis(c, ax.name, ax.values, "--x"), sy = resolve_axis(c, ay.name, ay.values, "--y");
     map_options o;
-    o.x = {parameter_index(m, ax.name, "--x"), ax.values};
-    o.y = {parameter_index(m, ay.name, "--y"), ay.values};
+    o.x = {sx.parameter, sx.values};
+    o.y = {sy.parameter, sy.values};
+    const auto at = [&](std::size_t ix, std::size_t iy) {
+        return m.with_parameter(o.x.parameter, o.x.values[ix]).with_parameter(o.y.parameter, o.y.values[iy]);
+    };
+    if (c.si) warn_validity(c, {at(0, 0), at(o.x.values.size() - 1, o.y.values.size() - 1)});
     o.initial_state = c.ic;
     o.protocol = c.protocol;
+    // The axes by the model's parameters (an SI axis adds its own columns).
+    const named_range mx{info.parameters[static_cast<std::size_t>(o.x.parameter)].name, o.x.values};
+    const named_range my{info.parameters[static_cast<std::size_t>(o.y.parameter)].name, o.y.values};
     check_tolerance(a.tol, "--tol");
     o.period_tolerance = a.tol;
     o.grazing = a.grazing;
-    const std::size_t nx = ax.values.size(), ny = ay.values.size();
-    std::vector<std::string> lh{ax.name, ay.name, "label", "period", "impacts", "settled", "outcome"};
+    const std::size_t nx = mx.values.size(), ny = my.values.size();
+    std::vector<std::string> lh{mx.name, my.name, "label", "period", "impacts", "settled", "outcome"};
     append(lh, impact_count_columns(info));
+    append(lh, statistics_columns());
+    for (const auto* axis : {&sx, &sy})
+        if (!axis->si_name.empty()) lh.push_back(axis->si_name);
+    if (c.si) append(lh, si_statistics_columns());
 
     // The cells stream in job order: rows to --out DIR, or labels to the summary without it.
     json rows = json::array(), row = json::array();
@@ -224,30 +281,35 @@ int run_map(const map_args& a)
         }
         open();
         const auto j = static_cast<std::size_t>(job);
-        std::vector<std::string> cells{format_double(ax.values[j % nx]), format_double(ay.values[j / nx]),
+        std::vector<std::string> cells{format_double(mx.values[j % nx]), format_double(my.values[j / nx]),
                                        cell.label.label, std::to_string(cell.label.period),
                                        std::to_string(cell.label.impacts_per_period), cell.label.settled ? "1" : "0",
                                        std::string(to_string(cell.status))};
         append_counts(cells, cell.label.impacts_by_surface, info.surfaces.size());
+        append_statistics(cells, cell.statistics);
+        if (!sx.si_name.empty()) cells.push_back(format_double(sx.si_values[j % nx]));
+        if (!sy.si_name.empty()) cells.push_back(format_double(sy.si_values[j / nx]));
+        if (c.si) append_si_statistics(cells, c, at(j % nx, j / nx), cell.statistics);
         lab->text_row(cells);
     };
     const map_result res = map2d(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
 
     const json counts = tally.counts();
-    json summary = {{"command", "map"},       {"x", ax.name},          {"y", ay.name},
-                    {"shape", {ny, nx}},      {"x_values", ax.values}, {"y_values", ay.values},
+    json summary = {{"command", "map"},       {"x", mx.name},          {"y", my.name},
+                    {"shape", {ny, nx}},      {"x_values", mx.values}, {"y_values", my.values},
                     {"label_counts", counts}, {"unsettled", unsettled}, {"batch", res.jobs.batch},
-                    {"out", out_json(c)}};
+                    {"statistics_columns", statistics_columns()}, {"out", out_json(c)}};
     // Each cell's label: in labels.csv with --out (the summary stays the same size whatever
     // the number of cells), in the summary without it.
     if (!c.out) summary["labels"] = rows;
+    if (c.si) summary["si"] = si_json(*c.si, m);
     int gp = -1;
     std::string other;
     json grazing = json::array();
     if (res.grazing_axis >= 0) {
         gp = res.grazing_axis == 0 ? o.x.parameter : o.y.parameter;
-        other = res.grazing_axis == 0 ? ay.name : ax.name;
+        other = res.grazing_axis == 0 ? my.name : mx.name;
         for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
             json e = json::array({res.grazing_other[k]});
             for (const double g : res.grazing_values[k]) e.push_back(finite_or_null(g));
@@ -258,7 +320,7 @@ int run_map(const map_args& a)
         summary["grazing_surfaces"] = json::array();
         for (const auto& s : info.surfaces) summary["grazing_surfaces"].push_back(s.name);
     }
-    std::string text = "map " + ax.name + " x " + ay.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
+    std::string text = "map " + mx.name + " x " + my.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
                        "): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
         open();
@@ -523,8 +585,11 @@ cli_command add_sweep_command(CLI::App& app)
     auto a = std::make_shared<sweep_args>();
     auto* s = app.add_subcommand("sweep", "Bifurcation diagram: section points and labels over a range of one parameter");
     add_common_options(*s, a->common);
+    add_si_option(*s, a->common);
     add_job_options(*s, a->jobs);
-    s->add_option("--param", a->param, "Parameter to vary (`vimpact models` lists a model's parameters)")->required();
+    s->add_option("--param", a->param,
+                  "Parameter to vary (`vimpact models` lists a model's parameters; with --si also U [m/s] or gap [m])")
+        ->required();
     s->add_option("--range", a->range, "Values a:b:n (from a to b, n points)")->required();
     s->add_option("--ic-mode", a->ic_mode,
                   "fixed (every point from --ic, the paper's way) or follow (from the previous point's final state)");
@@ -546,8 +611,9 @@ cli_command add_map_command(CLI::App& app)
     auto a = std::make_shared<map_args>();
     auto* s = app.add_subcommand("map", "Periodicity map: the label (P0, PN, aperiodic, failure) over a grid of two parameters");
     add_common_options(*s, a->common);
+    add_si_option(*s, a->common);
     add_job_options(*s, a->jobs);
-    s->add_option("--x", a->x, "Horizontal axis P:a:b:n")->required();
+    s->add_option("--x", a->x, "Horizontal axis P:a:b:n (with --si P may be U [m/s] or gap [m])")->required();
     s->add_option("--y", a->y, "Vertical axis Q:c:d:m")->required();
     s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8; the paper's Fig. 4 used 1e-5)");
     s->add_flag("--grazing", a->grazing,

@@ -1,8 +1,8 @@
 // The units command: an engineer's cylinder in SI units to the wake model's dimensionless
 // parameters at each flow speed, with the scales that turn the model's outputs back into
 // metres, seconds and hertz (include/vimpact/physical/flow_units.hpp has the formulas).
+#include <algorithm>
 #include <iostream>
-#include <map>
 #include <memory>
 
 #include "commands.hpp"
@@ -10,7 +10,7 @@
 #include "parse.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
-#include "vimpact/physical/flow_units.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
 namespace {
@@ -21,32 +21,12 @@ struct units_args {
     bool json = false;
 };
 
-constexpr const char* si_keys = "D, m, fn, zeta, rho (required), CM, St (optional)";
-
 cylinder_in_flow parse_si(const std::string& text)
 {
-    std::map<std::string, double> values;
-    for (const auto& item : split(text, ',')) {
-        const auto eq = item.find('=');
-        if (eq == std::string::npos || eq == 0) throw input_error("--si expects KEY=VALUE,... (got '" + item + "')");
-        const std::string key = item.substr(0, eq);
-        if (std::string(" D m fn zeta rho CM St ").find(" " + key + " ") == std::string::npos)
-            throw input_error("--si: unknown key '" + key + "' (keys: " + si_keys + ")");
-        if (!values.emplace(key, parse_number(item.substr(eq + 1), "--si " + key)).second)
-            throw input_error("--si: " + key + " is given twice");
-    }
-    for (const char* key : {"D", "m", "fn", "zeta", "rho"})
-        if (!values.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys + ")");
-    cylinder_in_flow c;
-    c.diameter = values.at("D");
-    c.mass = values.at("m");
-    c.natural_frequency = values.at("fn");
-    c.damping_ratio = values.at("zeta");
-    c.fluid_density = values.at("rho");
-    if (values.count("CM")) c.added_mass_coefficient = values.at("CM");
-    if (values.count("St")) c.strouhal = values.at("St");
-    validate(c);
-    return c;
+    const si_input in = si_from_pairs(parse_pairs(text, "--si"));
+    if (!in.cylinder) throw input_error("units needs a cylinder in --si (D, m, fn, zeta, rho)");
+    if (in.speed || in.gap) throw input_error("units takes the flow speeds from --speeds; leave U and gap out of --si");
+    return *in.cylinder;
 }
 
 int run_units(const units_args& a)
@@ -65,6 +45,11 @@ int run_units(const units_args& a)
                 format_double(d.xi) + "  | " + format_double(s.time) + "  " + format_double(s.velocity) + "  " +
                 format_double(s.frequency) + "\n";
     }
+    std::vector<std::string> warnings;
+    for (const double U : {speeds.front(), speeds.back()})
+        for (const auto& w : validity_warnings(c, U))
+            if (std::find(warnings.begin(), warnings.end(), w) == warnings.end()) warnings.push_back(w);
+    for (const auto& w : warnings) std::cerr << "vimpact: warning: " << w << '\n';
     const wake_dimensionless first = dimensionless(c, speeds.front());
     text += "model parameters: --set mu=" + format_double(first.mu) + " --set xi=" + format_double(first.xi) +
             " --set St=" + format_double(first.St) + ", Ur from " + format_double(first.Ur) + " to " +
@@ -78,8 +63,10 @@ int run_units(const units_args& a)
                             {"zeta", c.damping_ratio},
                             {"rho", c.fluid_density},
                             {"CM", c.added_mass_coefficient},
-                            {"St", c.strouhal}}},
-                          {"dimensionless", rows}};
+                            {"St", c.strouhal},
+                            {"nu", c.kinematic_viscosity}}},
+                          {"dimensionless", rows},
+                          {"warnings", warnings}};
     if (a.json) std::cout << summary.dump() << '\n';
     else std::cout << text;
     return 0;
@@ -96,7 +83,8 @@ cli_command add_units_command(CLI::App& app)
     s->add_option("--si", a->si,
                   "D=diameter [m],m=structural mass per length [kg/m],fn=natural frequency in still fluid [Hz],"
                   "zeta=structural damping ratio (free decay in still fluid),rho=fluid density [kg/m^3]; optional "
-                  "CM=added-mass coefficient (1), St=Strouhal number (0.2)")
+                  "CM=added-mass coefficient (1), St=Strouhal number (0.2), nu=kinematic viscosity [m^2/s] (1e-6, "
+                  "water) for the Reynolds number")
         ->required();
     s->add_option("--speeds", a->speeds, "Flow speeds a:b:n [m/s]")->required();
     s->add_flag("--json", a->json, "Print one JSON object to stdout");

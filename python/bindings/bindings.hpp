@@ -10,5 +10,6 @@ void bind_jobs(pybind11::module_& m);       // _sweep, _map, _basins, _response 
 void bind_stability(pybind11::module_& m);  // _floquet, _lyapunov and their sweeps
 void bind_dimension(pybind11::module_& m);  // _dimension
 void bind_continuation(pybind11::module_& m);  // _continuation
+void bind_units(pybind11::module_& m);      // _SIUnits: SI inputs and outputs
 
 }  // namespace vimpact::python

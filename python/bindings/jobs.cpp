@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,9 +16,11 @@
 #include "bindings.hpp"
 #include "common.hpp"
 #include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/map.hpp"
 #include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/sweep.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::python {
 namespace {
@@ -97,6 +100,7 @@ py::dict sweep_run(const model& m, const py::dict& kw)
         d["grazing"] = per_surface(graze, S);
         d["final_state"] = rows_array(finals, m.dim());
         d["steps"] = column<std::int64_t>(p, [](const auto& x) { return x.stats.steps; });
+        d["statistics"] = statistics_columns(p, [](const sweep_point& x) -> const impact_statistics& { return x.statistics; });
         py::array_t<double> points({static_cast<py::ssize_t>(npoints), static_cast<py::ssize_t>(m.dim())});
         py::array_t<std::int64_t> point_run(static_cast<py::ssize_t>(npoints));
         {
@@ -137,6 +141,7 @@ py::dict map_run(const model& m, const py::dict& kw)
         put_labels(d, c, [](const map_cell& x) -> const period_label& { return x.label; }, m.surface_count());
         d["outcome"] = string_list(c, [](const auto& x) { return to_string(x.status); });
         d["steps"] = column<std::int64_t>(c, [](const auto& x) { return x.steps; });
+        d["statistics"] = statistics_columns(c, [](const map_cell& x) -> const impact_statistics& { return x.statistics; });
         d["grazing_axis"] = r.grazing_axis;
         d["grazing_other"] = vector_array(r.grazing_other);
         d["grazing"] = per_surface(r.grazing_values, m.surface_count());
@@ -223,6 +228,68 @@ py::dict response_run(const model& m, const py::dict& kw)
     });
 }
 
+// ---------------------------------------------------------------- clearance
+
+py::dict clearance_run(const model& m, const py::dict& kw)
+{
+    options o(kw);
+    clearance_options co;
+    co.parameter = parameter_index(m, o.need<std::string>("param"), "param");
+    co.values = values_of(o.object("values"), "values");
+    if (o.has("gap_param")) co.gap_parameter = parameter_index(m, o.need<std::string>("gap_param"), "gap_param");
+    (void)o.object("gap_param");
+    // With units, gaps and results in SI (the library converts both ways).
+    std::optional<si_input> units;
+    if (o.has("units")) units = o.object("units").cast<si_input>();
+    (void)o.object("units");
+    if (o.has("gaps")) {
+        const auto gaps = values_of(o.object("gaps"), "gaps");
+        co.gaps = units ? gaps_in_model_units(*units, gaps) : gaps;
+    }
+    (void)o.object("gaps");
+    if (o.has("fractions")) co.fractions = values_of(o.object("fractions"), "fractions");
+    (void)o.object("fractions");
+    co.initial_state = state_of(m, o.object("ic"), "ic");
+    co.protocol = protocol_of(m, o);
+    co.period_tolerance = o.need<double>("tol");
+    co.grazing = job_grazing_options(co.protocol.flow.integration, o.need<double>("transient_time"));
+    co.grazing.method = co.protocol.method;
+    const auto analysis = [&](const job_options& c) { return clearance(m, co, c); };
+    const auto put = [&](py::dict& d, const clearance_result& r) {
+        const auto& p = r.points;
+        d["gap_param"] = m.info().parameters[static_cast<std::size_t>(r.gap_parameter)].name;
+        d["surface"] = m.info().surfaces[static_cast<std::size_t>(r.surface)].name;
+        d["value"] = column<double>(p, [](const auto& x) { return x.value; });
+        d["grazing_value"] = column<double>(p, [](const auto& x) { return x.grazing_value; });
+        d["clearance"] = column<double>(p, [](const auto& x) { return x.clearance; });
+        d["converged"] = column<bool>(p, [](const auto& x) { return x.converged; });
+        d["aperiodic_min"] = column<double>(p, [](const auto& x) { return x.aperiodic_min; });
+        d["aperiodic_max"] = column<double>(p, [](const auto& x) { return x.aperiodic_max; });
+        // The chart's cells, value after value, with the index of their value.
+        struct flat_cell {
+            long point;
+            const clearance_cell* cell;
+        };
+        std::vector<flat_cell> cells;
+        for (std::size_t k = 0; k < p.size(); ++k)
+            for (const auto& c : p[k].cells) cells.push_back({static_cast<long>(k), &c});
+        d["cell_point"] = column<std::int64_t>(cells, [](const flat_cell& x) { return x.point; });
+        d["cell_gap"] = column<double>(cells, [](const flat_cell& x) { return x.cell->gap; });
+        d["cell_gap_value"] = column<double>(cells, [](const flat_cell& x) { return x.cell->gap_parameter_value; });
+        put_labels(d, cells, [](const flat_cell& x) -> const period_label& { return x.cell->label; }, m.surface_count());
+        d["outcome"] = string_list(cells, [](const flat_cell& x) { return to_string(x.cell->status); });
+        d["statistics"] =
+            statistics_columns(cells, [](const flat_cell& x) -> const impact_statistics& { return x.cell->statistics; });
+    };
+    return run_jobs(o, analysis, [&](py::dict& d, const clearance_result& r) {
+        put(d, r);
+        if (!units) return;
+        py::dict si;
+        put(si, in_si(r, *units, m, co.parameter));
+        d["si"] = si;
+    });
+}
+
 }  // namespace
 
 void bind_jobs(py::module_& m)
@@ -232,6 +299,7 @@ void bind_jobs(py::module_& m)
     m.def("_map", &map_run, "model"_a, "options"_a, "Internal: see vimpact.map.");
     m.def("_basins", &basins_run, "model"_a, "options"_a, "Internal: see vimpact.basins.");
     m.def("_response", &response_run, "model"_a, "options"_a, "Internal: see vimpact.response.");
+    m.def("_clearance", &clearance_run, "model"_a, "options"_a, "Internal: see vimpact.clearance.");
 }
 
 }  // namespace vimpact::python

@@ -15,8 +15,9 @@
 namespace vimpact::python {
 namespace {
 
-py::dict simulation_dict(const simulation& r)
+py::dict simulation_dict(const model& m, const simulation& r)
 {
+    const auto velocities = impact_velocities(m, r.impacts);
     py::dict d;
     d["outcome"] = std::string(to_string(r.status));
     d["impacting"] = r.impacting;
@@ -27,6 +28,11 @@ py::dict simulation_dict(const simulation& r)
     put_impacts(d, "impact", r.impacts);
     put_series(d, "series", r.series);
     d["stats"] = stats_dict(r.stats);
+    d["t_record_end"] = r.t_record_end;
+    d["statistics"] = statistics_dict(r.statistics);
+    d["impact_normal_velocity"] = column<double>(velocities, [](const auto& v) { return v.normal; });
+    d["impact_rebound_velocity"] = column<double>(velocities, [](const auto& v) { return v.rebound; });
+    d["impact_energy"] = column<double>(velocities, [](const auto& v) { return v.energy; });
     return d;
 }
 
@@ -53,7 +59,7 @@ py::dict simulate(const model& m, const py::object& ic, const py::dict& kw)
         c.flow.cancel = &cancel;
         return simulate(m, x0, c);
     });
-    return simulation_dict(r);
+    return simulation_dict(m, r);
 }
 
 py::dict period(const model& m, const py::object& ic, const py::dict& kw)
@@ -69,7 +75,7 @@ py::dict period(const model& m, const py::object& ic, const py::dict& kw)
         return run_and_classify(m, x0, c, tol);
     });
     py::dict d = label_dict(r.label);
-    d["simulation"] = simulation_dict(r.run);
+    d["simulation"] = simulation_dict(m, r.run);
     return d;
 }
 

@@ -14,7 +14,9 @@ a dict with a model file's keys), with ``WakeImpact``, ``ForcedImpactOscillator`
 ``period``, ``grazing`` (single runs); ``sweep``, ``map``, ``basins``, ``response`` (the
 library's threaded, deterministic, resumable job loop); stability: ``floquet``, ``lyapunov``,
 ``floquet_sweep``, ``lyapunov_sweep``; ``continuation`` of periodic orbits (stable and unstable,
-with their bifurcations and two-parameter curves); ``dimension`` of a point set. Each returns a result
+with their bifurcations and two-parameter curves); ``dimension`` of a point set; engineering:
+``clearance`` and ``PhysicalUnits`` (SI inputs to a model's parameters and its results back to
+SI). Each returns a result
 object (``vimpact.results``) with numpy arrays and run statistics; the same objects load the
 command line's output directories (``vimpact.Sweep.load(DIR)``). Plots: ``vimpact.plot``.
 Bad input raises ValueError (``vimpact.InputError``) with the library's message; long calls
@@ -27,26 +29,30 @@ tree), and everything else raises an ImportError saying why.
 """
 import importlib
 
-from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport,  # noqa: F401
-                      Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
+from .results import (Attractor, Basins, Clearance, Dimension, Floquet, FloquetSweep, Grazing,  # noqa: F401
+                      JobReport, Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
 from .results_continuation import Bifurcation, Branch, Continuation, Curve  # noqa: F401
 
 _COMPILED = ("Model", "WakeImpact", "ForcedImpactOscillator", "TwoSidedImpactOscillator", "InputError", "git_hash",
-             "basins", "continuation", "cylinder_units", "dimension", "floquet", "floquet_sweep", "grazing", "grid", "lyapunov",
+             "PhysicalUnits", "basins", "clearance", "continuation", "cylinder_units", "dimension", "floquet",
+             "floquet_sweep", "grazing", "grid", "lyapunov",
              "lyapunov_sweep", "map", "period", "response", "simulate", "sweep")
 
 try:
     from ._vimpact import InputError, __version__, git_hash  # noqa: F401
     from ._model import ForcedImpactOscillator, Model, TwoSidedImpactOscillator, WakeImpact  # noqa: F401
-    from ._api import (basins, continuation, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov,  # noqa: F401
-                       lyapunov_sweep, map, period, response, simulate, sweep)
+    from ._api import (basins, clearance, continuation, cylinder_units, dimension, floquet, floquet_sweep,  # noqa: F401
+                       grazing, grid, lyapunov, lyapunov_sweep, map, period, response, simulate, sweep)
+    from ._units import PhysicalUnits  # noqa: F401
 except ImportError as _error:  # the compiled module is not built or not on the path
     _import_error = _error
     __version__ = "unknown (the compiled module vimpact._vimpact is not built)"
 else:
     _import_error = None
     Model.__module__ = __name__
-    for _f in (basins, continuation, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid, lyapunov, lyapunov_sweep,
+    PhysicalUnits.__module__ = __name__
+    for _f in (basins, clearance, continuation, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid,
+               lyapunov, lyapunov_sweep,
                map, period, response, simulate, sweep):
         _f.__module__ = __name__  # help() and tracebacks name them vimpact.sweep, not vimpact._api.sweep
 

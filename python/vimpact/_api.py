@@ -18,8 +18,9 @@ import numpy as np
 from . import _vimpact
 from ._model import Model
 from ._vimpact import InputError
+from ._units import PhysicalUnits
 from .results_continuation import Continuation
-from .results import (Attractor, Basins, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
+from .results import (Attractor, Basins, Clearance, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
                       LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, model_quantities)
 
 _D = _vimpact.defaults
@@ -150,7 +151,9 @@ def _simulation(d, model, options):
                       section=d["section"], impact_t=d["impact_t"], impact_surface=d["impact_surface"],
                       impact_pre=d["impact_pre"], impact_post=d["impact_post"], series_t=d["series_t"],
                       series=d["series"], stats=RunStats.from_dict(d["stats"], model.surfaces),
-                      **_context(model, options))
+                      t_record_end=d["t_record_end"], statistics=dict(d["statistics"]),
+                      impact_velocity=d["impact_normal_velocity"], impact_rebound=d["impact_rebound_velocity"],
+                      impact_energy=d["impact_energy"], **_context(model, options))
 
 
 def _options(ic, **kw):
@@ -404,7 +407,8 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
     opts = _result_options(ic, o, "values")
     return Sweep(param=param, values=np.array(o["values"]), ic_mode=ic_mode, direction=direction, tol=tol,
                  branch=d["branch"], value=d["value"], **_labels(d, (runs,), model), grazing_param=gparam,
-                 grazing=d["grazing"], final_state=d["final_state"], steps=d["steps"], points=d["points"],
+                 grazing=d["grazing"], final_state=d["final_state"], steps=d["steps"],
+                 statistics=dict(d["statistics"]), points=d["points"],
                  point_run=d["point_run"],
                  stats=_job_stats(d, report, steps=d["steps_total"], rhs_calls=d["rhs_calls_total"]),
                  jobs=report, **_context(model, opts))
@@ -469,7 +473,8 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
     axis = d["grazing_axis"]
     opts = _result_options(ic, o, "x_values", "y_values")
     return Map(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, **_labels(d, shape, model),
-               steps=d["steps"].reshape(shape), grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
+               steps=d["steps"].reshape(shape), statistics={k: v.reshape(shape) for k, v in d["statistics"].items()},
+               grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
                grazing_other=None if axis < 0 else d["grazing_other"], grazing=None if axis < 0 else d["grazing"],
                stats=_job_stats(d, report), jobs=report,
                **_context(model, opts))
@@ -613,6 +618,112 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
                     converged=d["converged"].reshape(shape), outcome=_strings(d["outcome"], shape),
                     steps=d["steps"].reshape(shape),
                     stats=_job_stats(d, report), jobs=report, **ctx)
+
+
+@_with_defaults
+def clearance(model=None, param=None, values=None, ic=None, *, units=None, speeds=None, gaps=None, fractions=None,
+              gap_param=None, tol=_D["period_tol"], transient_time=_D["grazing_transient_time"],
+              transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
+              method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"],
+              journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+    """Clearance design: the smallest gap to a surface without impact over a range of flow
+    speeds (or of any parameter), the gaps where the response is aperiodic, and a design chart.
+
+    At each value one job of the library's job loop runs the grazing analysis (surface-free,
+    ``grazing``) for the gap parameter's surface: the clearance is the gap from the rest state
+    to the surface at grazing (``-sigma_graze`` for the wake model; a surface farther away is
+    never hit by the surface-free orbit). Then the protocol runs at each gap of the chart and
+    labels the regime (P0 no impact, PN, aperiodic) with the impact statistics.
+
+    Parameters
+    ----------
+    model : Model, optional
+        Default the wake model; ``units`` with a cylinder sets its mu, xi, St.
+    param : str, optional
+        The flow parameter (any model), with ``values`` (model units); or give ``speeds``.
+    values : array_like, shape (n,), optional
+    ic : array_like, shape (dim,), optional
+        The runs' initial state; default ``model.default_ic``.
+    units : PhysicalUnits, optional
+        SI inputs (a cylinder, or the model's units): gaps and results in SI.
+    speeds : array_like, optional
+        Flow speeds [m/s] (needs a cylinder in ``units``): the values of ``Ur``.
+    gaps : array_like, optional
+        The chart's gaps [m with ``units``, else model units]; default: ``fractions`` of each
+        value's clearance.
+    fractions : array_like, optional
+        Default 0.1, 0.2, ..., 1.3.
+    gap_param : str, optional
+        The parameter that moves the surface (default the model's first: ``sigma``).
+    tol : float, default $period_tol
+    transient_time : float, default $grazing_transient_time
+        Grazing runs: time discarded before minima count.
+    <protocol>
+    <jobs>
+
+    Returns
+    -------
+    Clearance
+        ``clearance`` (n,) and ``clearance_si`` [m], ``aperiodic`` (n, 2), the chart ``gap``,
+        ``label``, ``statistics`` (n, k) and their SI forms; a JobReport for an incomplete shard.
+
+    Examples
+    --------
+    >>> u = vimpact.PhysicalUnits(D=0.02, m=0.6, fn=12, zeta=0.002, rho=1000)
+    >>> c = vimpact.clearance(units=u, speeds=vimpact.grid(3, 6, 7))
+    >>> c.clearance_si          # metres, one per speed
+    """
+    model = _model(model) if model is not None else Model("wake_impact")
+    if units is not None and not isinstance(units, PhysicalUnits):
+        raise TypeError(f"units must be a vimpact.PhysicalUnits (got {type(units).__name__})")
+    if units is not None:
+        if "U" in units.inputs or "gap" in units.inputs:
+            raise InputError("clearance takes the speeds from speeds= and scans the gaps: leave U and gap out of units")
+        model = units.model(model)
+    if (speeds is None) == (param is None or values is None):
+        raise InputError("clearance needs either speeds= (m/s, with a cylinder in units=) or param= with values=")
+    speed = None
+    if speeds is not None:
+        if units is None or not units.cylinder:
+            raise InputError("speeds= needs a cylinder in units= (D, m, fn, zeta, rho)")
+        speed = np.asarray(speeds, dtype=float)
+        pairs = [units.parameter("U", u, model) for u in speed]
+        param, values = (pairs[0][0] if pairs else "Ur"), np.array([v for _, v in pairs], dtype=float)
+    values = np.asarray(values, dtype=float)
+    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, param=param,
+                  values=values, ic=_ic(ic), gap_param=gap_param,
+                  gaps=None if gaps is None else np.asarray(gaps, dtype=float),
+                  units=None if units is None else units._handle,
+                  fractions=None if fractions is None else np.asarray(fractions, dtype=float), tol=tol,
+                  transient_time=transient_time)
+    o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
+    d, report = _run_jobs(lambda: _vimpact._clearance(model._handle, o), o)
+    if d is None:
+        return report
+    n = len(d["value"])
+    point = d["cell_point"]
+    chart = Clearance.chart
+    stats = {k: chart(point, v, n) for k, v in d["statistics"].items()}
+    si = dict(clearance_si=None, aperiodic_si=None, gap_si=None, statistics_si=None, warnings=())
+    if units is not None:
+        s = d["si"]
+        warnings = []
+        for v in d["value"]:
+            warnings += [w for w in units.warnings(model.with_(**{param: v})) if w not in warnings]
+        si = dict(clearance_si=s["clearance"], aperiodic_si=np.column_stack([s["aperiodic_min"], s["aperiodic_max"]]),
+                  gap_si=chart(point, s["cell_gap"], n),
+                  statistics_si={k: chart(point, v, n) for k, v in s["statistics"].items()}, warnings=tuple(warnings))
+    opts = _result_options(ic, o, "values", "gaps", "fractions", "units")
+    if units is not None:
+        opts["units"] = units.inputs
+    return Clearance(param=param, x="U" if speed is not None else param, gap_param=d["gap_param"],
+                     surface=d["surface"], value=d["value"], speed=speed, grazing_value=d["grazing_value"],
+                     clearance=d["clearance"], converged=d["converged"],
+                     aperiodic=np.column_stack([d["aperiodic_min"], d["aperiodic_max"]]),
+                     gap=chart(point, d["cell_gap"], n), label=chart(point, _strings(d["label"]), n),
+                     period=chart(point, d["period"], n), impacts=chart(point, d["impacts"], n),
+                     outcome=chart(point, _strings(d["outcome"]), n), statistics=stats, **si,
+                     stats=_job_stats(d, report), jobs=report, **_context(model, opts))
 
 
 def cylinder_units(D, m, fn, zeta, rho, U, CM=1.0, St=0.2):

@@ -14,7 +14,7 @@ Period or Simulation), ``bifurcation`` (Sweep), ``map`` (Map), ``basins`` (Basin
 ``response`` (Response), ``timeseries_overlay`` (several Simulations), ``floquet``,
 ``lyapunov``, ``floquet_sweep``, ``lyapunov_sweep``, ``continuation`` (Continuation: branches,
 bifurcations and two-parameter curves; several together), ``curves`` (the two-parameter plane
-over a Map). The state variable drawn is the result's
+over a Map), ``design_chart`` (Clearance). The state variable drawn is the result's
 ``plot_variable`` (the model's first state variable).
 
 Command line: ``vimpact COMMAND ... --out DIR`` runs ``python3 -m vimpact.plot KIND DIR``,
@@ -34,9 +34,10 @@ import numpy as np
 from .plot_common import (coincident_limits, finish_figure, label_axis, legend_outside, new_figure, plot_index,
                           section_name, state_name, suptitle, surface_levels, title)
 from .plot_continuation import continuation, curves  # noqa: F401
+from .plot_clearance import design_chart  # noqa: F401
 from .plot_stability import floquet, floquet_sweep, lyapunov, lyapunov_sweep  # noqa: F401
 from .plot_sweeps import basins, bifurcation, periodicity_map, response, timeseries_overlay  # noqa: F401
-from .results import (Basins, Floquet, FloquetSweep, Lyapunov, LyapunovSweep, Map, Period, Response,  # noqa: F401
+from .results import (Basins, Clearance, Floquet, FloquetSweep, Lyapunov, LyapunovSweep, Map, Period, Response,  # noqa: F401
                       Simulation, Sweep, read_csv, read_record)
 from .results_continuation import Continuation  # noqa: F401
 
@@ -48,7 +49,8 @@ def _simulation(result):
 
 
 def phase(result, path=None, window=200.0):
-    """Time series of the plot variable with impacts and section points, and a phase portrait.
+    """Time series of the plot variable with impacts and section points, a phase portrait, and
+    the histogram of the recorded impacts' normal velocities with the run's impact statistics.
 
     The portrait shows the plot variable against the next state variable (its velocity in
     the usual order: y and ydot for the paper's model). A surface whose impacts all lie at one
@@ -59,7 +61,8 @@ def phase(result, path=None, window=200.0):
     result : Simulation (or Period: its simulation)
         Uses ``series_t``, ``series`` (from ``sample_dt > 0``; without them only the section
         points and impacts are drawn), ``section_t``, ``section``, ``impact_t``,
-        ``impact_pre``, ``impact_surface``, ``outcome``, ``state_names``, ``plot_variable``.
+        ``impact_pre``, ``impact_surface``, ``outcome``, ``state_names``, ``plot_variable``,
+        and for the histogram ``impact_velocity`` and ``statistics`` (where present).
     path : str, optional
         Write the picture there (PNG at 120 dpi).
     window : float, default 200
@@ -74,8 +77,8 @@ def phase(result, path=None, window=200.0):
     k = plot_index(r)
     dim = len(r.state_names)
     j = k + 1 if k + 1 < dim else (0 if k else min(1, dim - 1))
-    fig, (ax1, ax2) = new_figure(path, None, figsize=(12, 4.5), nrows=1, ncols=2,
-                                 gridspec_kw={"width_ratios": [1.6, 1]})
+    fig, (ax1, ax2, ax3) = new_figure(path, None, figsize=(16, 4.5), nrows=1, ncols=3,
+                                      gridspec_kw={"width_ratios": [1.6, 1, 0.9]})
     ts_t, ts = np.asarray(r.series_t), np.asarray(r.series)
     sec_t, sec = np.asarray(r.section_t), np.asarray(r.section)
     imp_t, imp = np.asarray(r.impact_t), np.asarray(r.impact_pre)
@@ -109,8 +112,36 @@ def phase(result, path=None, window=200.0):
     label_axis(ax2, "x", r, name)
     label_axis(ax2, "y", r, state_name(r, j))
     ax2.set_title("phase portrait", fontsize=10)
+    impact_histogram(ax3, r)
     suptitle(fig, title(r))
     return finish_figure(fig, path, dpi=120)
+
+
+def impact_histogram(ax, result):
+    """The histogram of a run's impact velocities (the normal velocity -dg/dt before each
+    reset, ``impact_velocity``), titled with its impact statistics: rate, mean and largest
+    velocity, energy per impact, dissipated power (model units; docs/model.md)."""
+    v = np.asarray(getattr(result, "impact_velocity", None) if getattr(result, "impact_velocity", None) is not None
+                   else [], dtype=float)
+    v = v[np.isfinite(v)]
+    st = getattr(result, "statistics", None) or {}
+    if len(v) and v.max() > 0:
+        # From zero, so that the bars say how hard next to how often (and velocities equal to
+        # rounding, a periodic orbit's, make one bar, not an axis of rounding errors).
+        ax.hist(v, bins=np.linspace(0.0, 1.05 * v.max(), 31), color="C3", alpha=0.8)
+        ax.set_xlim(0.0, 1.1 * v.max())
+    else:
+        ax.text(0.5, 0.5, "no impacts in the recorded window", ha="center", va="center", transform=ax.transAxes)
+    ax.set_xlabel("impact velocity -dg/dt before the reset")
+    ax.set_ylabel("impacts")
+
+    def g(key):
+        x = st.get(key)
+        return "-" if x is None or not np.isfinite(x) else f"{x:.4g}"
+
+    ax.set_title(f"{len(v)} impacts, rate {g('impact_rate')} per unit t\n"
+                 f"velocity mean {g('impact_velocity_mean')}, max {g('impact_velocity_max')}\n"
+                 f"energy/impact {g('energy_per_impact')}, power {g('power')}", fontsize=8)
 
 
 def sections(result, path=None, ax=None):
@@ -181,6 +212,7 @@ def _kinds():
         "floquet_sweep": _draw(FloquetSweep.load, floquet_sweep),
         "lyapunov_sweep": _draw(LyapunovSweep.load, lyapunov_sweep),
         "continuation": _draw(Continuation.load, continuation),
+        "clearance": _draw(Clearance.load, design_chart),
     }
 
 

@@ -199,6 +199,30 @@ def _grazing_columns(table, surfaces, runs):
 
 # ---------------------------------------------------------------- run statistics and job reports
 
+def _statistics(d):
+    """A run's impact statistics from run.json (null -> NaN; excursion_by_surface a list)."""
+    out = {}
+    for k, v in (d or {}).items():
+        if k == "excursion_by_surface":
+            out[k] = [_num(x) for x in (v.values() if isinstance(v, dict) else v)]
+        elif k == "impacts_recorded":
+            out[k] = int(v)
+        else:
+            out[k] = _num(v)
+    return out
+
+
+def _statistics_columns(table, names, shape=None):
+    """The impact statistics columns of a labels table (those of ``names`` present), as float64
+    arrays of ``shape``."""
+    out = {}
+    for k in names or ():
+        if k in table:
+            a = np.array([_num(None if v in ("", "nan") else v) for v in table[k]], dtype=float)
+            out[k] = a.reshape(shape) if shape is not None else a
+    return out
+
+
 @dataclass(frozen=True)
 class RunStats:
     """Counters of one run, whatever its outcome."""
@@ -362,6 +386,17 @@ class Simulation(_Context):
     series : ndarray, float64, shape (m, dim)
         The recorded window sampled every ``sample_dt`` (empty when ``sample_dt = 0``).
     stats : RunStats
+    t_record_end : float
+        End of the recorded window (its last point), the end of the statistics' window.
+    statistics : dict
+        The impact statistics of the recorded window (docs/model.md, "Impact statistics"):
+        ``impacts_recorded``, ``duration``, ``impact_rate``, ``impact_velocity_min``,
+        ``impact_velocity_mean``, ``impact_velocity_rms``, ``impact_velocity_max``,
+        ``energy_per_impact``, ``power``, ``contact_fraction``, ``excursion`` (NaN where
+        undefined, e.g. velocities without impacts) and ``excursion_by_surface`` (a list).
+    impact_velocity, impact_rebound, impact_energy : ndarray, float64, shape (k,)
+        Per recorded impact: the normal velocity -dg/dt before the reset, the rebound
+        velocity dg/dt after it, and the energy dissipated (v^2 - u^2)/2 per unit mass.
     """
     outcome: str = "ok"
     impacting: Optional[bool] = None
@@ -377,6 +412,11 @@ class Simulation(_Context):
     series_t: np.ndarray = None
     series: np.ndarray = None
     stats: RunStats = field(default_factory=RunStats)
+    t_record_end: Optional[float] = None
+    statistics: dict = field(default_factory=dict)
+    impact_velocity: np.ndarray = None
+    impact_rebound: np.ndarray = None
+    impact_energy: np.ndarray = None
 
     def __repr__(self):
         return (f"Simulation(outcome={self.outcome!r}, {len(self.section_t)} section points, "
@@ -403,13 +443,20 @@ class Simulation(_Context):
         imp = read_mixed(path) if os.path.exists(path) else {"t": np.empty(0)}
         surface = _surface_column(imp, list(ctx["surfaces"]))
         fs = res.get("final_state")
+        n = len(imp["t"])
+
+        def per_impact(name):
+            return np.asarray(imp[name], dtype=float) if name in imp else np.full(n, np.nan)
+
         return cls(outcome=res.get("outcome", "ok"), impacting=res.get("impacting"), transient_impacts=None,
                    t_record_start=res.get("t_record_start"),
                    final_state=None if fs is None else np.array(fs, dtype=float),
                    section_t=sec_t, section=sec, impact_t=imp["t"], impact_surface=surface,
                    impact_pre=_impact_states(imp, names, "before"), impact_post=_impact_states(imp, names, "after"),
                    series_t=ser_t, series=ser, stats=RunStats.from_dict(res.get("stats", {}), ctx["surfaces"]),
-                   **ctx)
+                   t_record_end=res.get("t_record_end"), statistics=_statistics(res.get("impact_statistics")),
+                   impact_velocity=per_impact("normal_velocity"), impact_rebound=per_impact("rebound_velocity"),
+                   impact_energy=per_impact("energy"), **ctx)
 
 
 @dataclass(repr=False)
@@ -582,6 +629,9 @@ class Sweep(_Context, _Labels, _PointRuns):
         Where each run ended (the start of the next one in follow mode). None when loaded.
     steps : ndarray, int64, shape (runs,)
         Accepted steps of each run. None when loaded.
+    statistics : dict
+        The impact statistics of each run (see ``Simulation.statistics``): name -> ndarray,
+        float64, shape (runs,).
     points : ndarray, float64, shape (points, dim)
         All recorded section points, run after run.
     point_run : ndarray, int64, shape (points,)
@@ -608,6 +658,7 @@ class Sweep(_Context, _Labels, _PointRuns):
     grazing: np.ndarray = None
     final_state: Optional[np.ndarray] = None
     steps: Optional[np.ndarray] = None
+    statistics: dict = field(default_factory=dict)
     points: np.ndarray = None
     point_run: np.ndarray = None
     stats: dict = field(default_factory=dict)
@@ -654,6 +705,7 @@ class Sweep(_Context, _Labels, _PointRuns):
                    closure=np.array(lab["closure"], dtype=float) if "closure" in lab else None,
                    settled=_settled(lab), outcome=_str_array(lab["outcome"]), grazing_param=res.get("grazing_param"),
                    grazing=_grazing_columns(lab, surfaces, runs), final_state=None, steps=None,
+                   statistics=_statistics_columns(lab, res.get("statistics_columns")),
                    points=_states(pts, names, len(pv)), point_run=point_run, **ctx)
 
 
@@ -688,6 +740,9 @@ class Map(_Context, _Labels):
     outcome : ndarray, str, shape (ny, nx)
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
+    statistics : dict
+        The impact statistics of each cell (see ``Simulation.statistics``): name -> ndarray,
+        float64, shape (ny, nx).
     grazing_param : str or None
         With ``grazing=True``: the axis parameter that moves the surfaces.
     grazing_other : ndarray, float64, shape (k,)
@@ -711,6 +766,7 @@ class Map(_Context, _Labels):
     settled: Optional[np.ndarray] = None
     outcome: np.ndarray = None
     steps: Optional[np.ndarray] = None
+    statistics: dict = field(default_factory=dict)
     grazing_param: Optional[str] = None
     grazing_other: Optional[np.ndarray] = None
     grazing: Optional[np.ndarray] = None
@@ -746,6 +802,7 @@ class Map(_Context, _Labels):
                    period=np.array(lab["period"], dtype=np.int64).reshape(shape),
                    impacts=np.array(lab["impacts"], dtype=np.int64).reshape(shape),
                    settled=_settled(lab, shape), outcome=_str_array(lab["outcome"], shape), grazing_param=gparam,
+                   statistics=_statistics_columns(lab, res.get("statistics_columns"), shape),
                    grazing_other=gother,
                    grazing=graze, **ctx)
 
@@ -1353,3 +1410,139 @@ class Dimension:
         return (f"Dimension({self.dimension:.4g} +- {self.slope_error:.2g}, {self.estimator} over {self.points} "
                 f"points in {self.embedding} coordinates, fit r = {self.fit_range[0]:.3g} .. {self.fit_range[1]:.3g}"
                 f"{'' if self.found else ', tolerance NOT met'})")
+
+
+# ---------------------------------------------------------------- clearance design
+
+@dataclass(repr=False)
+class Clearance(_Context, _Labels):
+    """Clearance design over a flow parameter (``vimpact.clearance``, the command ``clearance``):
+    the smallest gap to the surface without impact at each value (the grazing line), the gaps
+    where the response is aperiodic, and the design chart (a period label and the impact
+    statistics at each gap).
+
+    Gaps are distances from the rest state to the surface (``-sigma`` for the wake model). The
+    arrays ``*_si`` are in SI (metres, m/s, Hz, J/m, W/m for a cylinder) when the run had
+    physical units, else None.
+
+    Attributes
+    ----------
+    param : str
+        The flow parameter (``Ur``).
+    x : str
+        The chart's horizontal quantity: ``U`` with speeds, else ``param``.
+    gap_param, surface : str
+        The parameter that moves the surface (``sigma``) and the surface.
+    value : ndarray, float64, shape (n,)
+        The flow parameter's values.
+    speed : ndarray, float64, shape (n,), or None
+        The flow speeds [m/s].
+    grazing_value : ndarray, float64, shape (n,)
+        ``gap_param`` at grazing.
+    clearance, clearance_si : ndarray, float64, shape (n,)
+        The smallest gap without impact (model units, metres).
+    converged : ndarray, bool, shape (n,)
+        The grazing run converged.
+    aperiodic, aperiodic_si : ndarray, float64, shape (n, 2)
+        The smallest and largest chart gap with an aperiodic response (NaN where none).
+    gap, gap_si : ndarray, float64, shape (n, k)
+        The chart's gaps at each value (NaN-padded where a value has fewer).
+    label : ndarray, str, shape (n, k)
+        The regime at each chart gap: ``P0`` (no impact), ``PN``, ``aperiodic``, or a failed
+        run's outcome ("" where padded).
+    period, impacts : ndarray, int64, shape (n, k)
+    outcome : ndarray, str, shape (n, k)
+    statistics, statistics_si : dict
+        The impact statistics at each chart gap, name -> ndarray float64 (n, k).
+    jobs : JobReport
+    """
+    param: str = ""
+    x: str = ""
+    gap_param: str = ""
+    surface: str = ""
+    value: np.ndarray = None
+    speed: Optional[np.ndarray] = None
+    grazing_value: np.ndarray = None
+    clearance: np.ndarray = None
+    clearance_si: Optional[np.ndarray] = None
+    converged: np.ndarray = None
+    aperiodic: np.ndarray = None
+    aperiodic_si: Optional[np.ndarray] = None
+    gap: np.ndarray = None
+    gap_si: Optional[np.ndarray] = None
+    label: np.ndarray = None
+    period: np.ndarray = None
+    impacts: np.ndarray = None
+    outcome: np.ndarray = None
+    statistics: dict = field(default_factory=dict)
+    statistics_si: Optional[dict] = None
+    warnings: tuple = ()
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
+
+    @property
+    def x_values(self):
+        """The chart's horizontal values: the speeds, else the parameter's values."""
+        return self.speed if self.speed is not None else self.value
+
+    @property
+    def label_counts(self):
+        """How many chart cells carry each label (padding left out)."""
+        return label_counts([lab for lab in np.asarray(self.label).ravel() if lab])
+
+    def __repr__(self):
+        unit = " m" if self.clearance_si is not None else ""
+        c = self.clearance_si if self.clearance_si is not None else self.clearance
+        pairs = ", ".join(f"{x:g}: {g:.4g}{unit}" for x, g in zip(self.x_values, c))
+        return f"Clearance({self.x} -> gap without impact: {pairs}; chart {self._counts_text()})"
+
+    @staticmethod
+    def chart(point, values, n):
+        """Per-cell values (cell order: value after value) as an (n, k) array, padded."""
+        point = np.asarray(point, dtype=np.int64)
+        k = int(np.bincount(point, minlength=n).max()) if len(point) else 0
+        values = np.asarray(values)
+        pad = "" if values.dtype.kind in "US" else (-1 if values.dtype.kind in "iu" else np.nan)
+        out = np.full((n, k), pad, dtype=values.dtype if values.dtype.kind not in "US" else object)
+        col = np.zeros(n, dtype=np.int64)
+        for p, v in zip(point, values):
+            out[p, col[p]] = v
+            col[p] += 1
+        return out.astype(str) if values.dtype.kind in "US" else out
+
+    @classmethod
+    def load(cls, directory):
+        """The result of ``vimpact clearance --out DIR``."""
+        ctx, res = _loaded(directory)
+        param, gname = res["param"], res["gap_param"]
+        by_speed = res.get("x") == "U"
+        si = res.get("units") == "si"
+        cl = read_table(os.path.join(directory, "clearance.csv"))
+        ch = read_table(os.path.join(directory, "chart.csv"))
+
+        def num(table, key):
+            return np.array([_num(None if v in ("", "nan") else v) for v in table[key]], dtype=float)
+
+        value = num(cl, param)
+        n = len(value)
+        # Cells are written value after value; their value index from the parameter column.
+        cell_value = num(ch, param)
+        point = np.searchsorted(value, cell_value) if n and np.all(np.diff(value) > 0) else \
+            np.array([int(np.argmin(np.abs(value - v))) for v in cell_value], dtype=np.int64)
+        names = res.get("statistics_columns") or ()
+        stats = {k: cls.chart(point, v, n) for k, v in _statistics_columns(ch, names).items()}
+        stats_si = {k: cls.chart(point, num(ch, k + "_si"), n) for k in names if k + "_si" in ch} if si else None
+        return cls(param=param, x=res.get("x", param), gap_param=gname, surface=res.get("surface", ""), value=value,
+                   speed=num(cl, "U") if by_speed else None, grazing_value=num(cl, gname + "_graze"),
+                   clearance=num(cl, "clearance"), clearance_si=num(cl, "clearance_si") if si else None,
+                   converged=num(cl, "converged") > 0.5,
+                   aperiodic=np.column_stack([num(cl, "aperiodic_min"), num(cl, "aperiodic_max")]),
+                   aperiodic_si=np.column_stack([num(cl, "aperiodic_min_si"), num(cl, "aperiodic_max_si")])
+                   if si else None,
+                   gap=cls.chart(point, num(ch, "gap"), n),
+                   gap_si=cls.chart(point, num(ch, "gap_si"), n) if si else None,
+                   label=cls.chart(point, _str_array(ch["label"]), n),
+                   period=cls.chart(point, np.array(ch["period"], dtype=float).astype(np.int64), n),
+                   impacts=cls.chart(point, np.array(ch["impacts"], dtype=float).astype(np.int64), n),
+                   outcome=cls.chart(point, _str_array(ch["outcome"]), n), statistics=stats, statistics_si=stats_si,
+                   warnings=tuple(res.get("warnings") or ()), **ctx)

@@ -94,20 +94,37 @@ int first_gap_parameter(const model& m)
     return -1;
 }
 
+int surface_moved_by(const model& m, int parameter)
+{
+    for (int i = 0; i < m.surface_count(); ++i) {
+        const auto g = gap_parameters(m, i);
+        if (std::find(g.begin(), g.end(), parameter) != g.end()) return i;
+    }
+    return -1;
+}
+
+double rest_gap(const model& m, int surface) { return gap_at(m, surface, m.initial_state()); }
+
 double grazing_parameter_value(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star)
+{
+    return parameter_for_gap(m, surface, parameter, x_star, 0.0);
+}
+
+double parameter_for_gap(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star, double target)
 {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     if (x_star.size() != m.dim() || !x_star.allFinite()) return nan;
-    // Newton's method in P on g(x*, P) = 0 with central-difference slopes: exact in one or
-    // two steps for a gap affine in P, and the slope error only slows the last digits.
+    const auto offset = [target](const model& mm, int i, const Eigen::VectorXd& x) { return gap_at(mm, i, x) - target; };
+    // Newton's method in P on g(x*, P) = target with central-difference slopes: exact in one
+    // or two steps for a gap affine in P, and the slope error only slows the last digits.
     double P = m.parameter(parameter);
-    double g = gap_at(m, surface, x_star);
+    double g = offset(m, surface, x_star);
     for (int it = 0; it < 40 && g != 0.0; ++it) {
         const double h = 1e-6 * std::max(1.0, std::abs(P));
         double slope = nan;
         try {
-            slope = (gap_at(m.with_parameter(parameter, P + h), surface, x_star) -
-                     gap_at(m.with_parameter(parameter, P - h), surface, x_star)) /
+            slope = (offset(m.with_parameter(parameter, P + h), surface, x_star) -
+                     offset(m.with_parameter(parameter, P - h), surface, x_star)) /
                     (2.0 * h);
         } catch (const input_error&) {
             return nan;
@@ -116,7 +133,7 @@ double grazing_parameter_value(const model& m, int surface, int parameter, const
         const double next = P - g / slope;
         double g_next = nan;
         try {
-            g_next = gap_at(m.with_parameter(parameter, next), surface, x_star);
+            g_next = offset(m.with_parameter(parameter, next), surface, x_star);
         } catch (const input_error&) {
             return nan;
         }

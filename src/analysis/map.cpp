@@ -23,6 +23,7 @@ json encode(const map_record& r)
     return {{"label", detail::to_json(r.cell.label)},
             {"status", std::string(to_string(r.cell.status))},
             {"steps", r.cell.steps},
+            {"statistics", detail::to_json(r.cell.statistics)},
             {"grazing", detail::numbers(r.grazing)}};
 }
 
@@ -32,6 +33,7 @@ map_record decode(const json& j)
     r.cell.label = detail::label_from(j.at("label"));
     r.cell.status = detail::outcome_from(j.at("status"));
     r.cell.steps = j.at("steps").get<long>();
+    r.cell.statistics = detail::statistics_from(j.at("statistics"));
     r.grazing = detail::numbers_from(j.at("grazing"));
     return r;
 }
@@ -114,6 +116,7 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
             rec.cell.label = runs[k].label;
             rec.cell.status = runs[k].run.status;
             rec.cell.steps = runs[k].run.stats.steps;
+            rec.cell.statistics = runs[k].run.statistics;
             if (computes_grazing(jobs[k] % nx, jobs[k] / nx)) {
                 const auto g = grazing(models[k], ic, go);
                 for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);

@@ -118,11 +118,13 @@ std::vector<simulation> simulate_many(const std::vector<model>& models, const st
     validate(o);
     validate(models[0], o.section);
     for (const auto& x0 : x0s) check_state_size(models[0], x0.size(), "the initial state");
-    return detail::with_engine(models[0], [&](const auto& em) -> std::vector<simulation> {
+    out = detail::with_engine(models[0], [&](const auto& em) -> std::vector<simulation> {
         using EM = std::decay_t<decltype(em)>;
         if constexpr (detail::lanes_engine<EM>) return detail::run_simulate_lanes<EM>(models, x0s, o);
         else return {};
     });
+    for (std::size_t j = 0; j < out.size(); ++j) out[j].statistics = compute_impact_statistics(models[j], out[j]);
+    return out;
 }
 
 simulation simulate(const model& m, const Eigen::VectorXd& x0, const protocol_options& o)
@@ -130,7 +132,9 @@ simulation simulate(const model& m, const Eigen::VectorXd& x0, const protocol_op
     validate(o);
     validate(m, o.section);
     check_state_size(m, x0.size(), "the initial state");
-    return detail::with_engine(m, [&](const auto& em) { return detail::run_simulate(em, x0, o); });
+    simulation r = detail::with_engine(m, [&](const auto& em) { return detail::run_simulate(em, x0, o); });
+    r.statistics = compute_impact_statistics(m, r);
+    return r;
 }
 
 }  // namespace vimpact

@@ -44,7 +44,8 @@ json encode(const sweep_point& p)
             {"points", detail::to_json(p.points)},
             {"final_state", detail::vector_json(p.final_state)},
             {"grazing", detail::numbers(p.grazing)},
-            {"stats", detail::to_json(p.stats)}};
+            {"stats", detail::to_json(p.stats)},
+            {"statistics", detail::to_json(p.statistics)}};
 }
 
 sweep_point decode(const json& j)
@@ -58,6 +59,7 @@ sweep_point decode(const json& j)
     p.final_state = detail::vector_from(j.at("final_state"));
     p.grazing = detail::numbers_from(j.at("grazing"));
     p.stats = detail::stats_from(j.at("stats"));
+    p.statistics = detail::statistics_from(j.at("statistics"));
     return p;
 }
 
@@ -187,6 +189,7 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
             p.points = std::move(r.run.points);
             p.final_state = r.run.final_state;
             p.stats = r.run.stats;
+            p.statistics = r.run.statistics;
             if (o.grazing_parameter >= 0) {
                 const auto g = grazing(models[a], ic, go);
                 for (std::size_t s = 0; s < g.surfaces.size(); ++s) p.grazing[s] = g.surfaces[s].parameter_value;

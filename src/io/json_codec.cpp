@@ -153,6 +153,21 @@ run_stats stats_from(const json& j)
     return s;
 }
 
+json to_json(const impact_statistics& s)
+{
+    json values = json::array();
+    for (const double v : impact_statistics_values(s)) values.push_back(number(v));
+    return {{"values", values}, {"excursion_by_surface", numbers(s.excursion_by_surface)}};
+}
+
+impact_statistics statistics_from(const json& j)
+{
+    (void)j.at("values").at(impact_statistics_names().size() - 1);  // a short record: json::out_of_range
+    impact_statistics s = impact_statistics_from_values(numbers_from(j.at("values")));
+    s.excursion_by_surface = numbers_from(j.at("excursion_by_surface"));
+    return s;
+}
+
 json to_json(const period_label& l)
 {
     return {{"label", l.label}, {"period", l.period}, {"impacts", l.impacts_per_period},

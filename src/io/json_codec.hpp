@@ -34,6 +34,8 @@ json to_json(const lyapunov_options& o);
 
 json to_json(const run_stats& s);
 run_stats stats_from(const json& j);
+json to_json(const impact_statistics& s);
+impact_statistics statistics_from(const json& j);
 json to_json(const period_label& l);
 period_label label_from(const json& j);
 json to_json(const state_series& s);

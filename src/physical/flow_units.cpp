@@ -32,6 +32,7 @@ void validate(const cylinder_in_flow& c)
     if (!(c.damping_ratio >= 0.0) || !std::isfinite(c.damping_ratio))
         throw input_error("zeta (structural damping ratio) must be a finite number >= 0 (got " +
                           format_double(c.damping_ratio) + ")");
+    require_positive(c.kinematic_viscosity, "nu", "kinematic viscosity, m^2/s");
     if (!(c.added_mass_coefficient >= 0.0) || !std::isfinite(c.added_mass_coefficient))
         throw input_error("CM (added-mass coefficient) must be a finite number >= 0 (got " +
                           format_double(c.added_mass_coefficient) + ")");
@@ -72,7 +73,36 @@ std::vector<named_value> units_at(const cylinder_in_flow& c, double U)
             {"time_scale", s.time},
             {"length_scale", s.length},
             {"velocity_scale", s.velocity},
-            {"frequency_scale", s.frequency}};
+            {"frequency_scale", s.frequency},
+            {"Re", reynolds_number(c, U)},
+            {"mass_ratio", mass_ratio(c)}};
+}
+
+double reynolds_number(const cylinder_in_flow& c, double U)
+{
+    validate(c);
+    return U * c.diameter / c.kinematic_viscosity;
+}
+
+double mass_ratio(const cylinder_in_flow& c)
+{
+    validate(c);
+    return c.mass / (c.fluid_density * std::numbers::pi * c.diameter * c.diameter / 4.0);
+}
+
+std::vector<std::string> validity_warnings(const cylinder_in_flow& c, double U)
+{
+    std::vector<std::string> out;
+    const double Re = reynolds_number(c, U);
+    if (Re < calibrated_reynolds_min || Re > calibrated_reynolds_max)
+        out.push_back("Re = U D / nu = " + format_double(Re) + " at U = " + format_double(U) +
+                      " m/s is outside 300 < Re < 1.5e5, where the wake model's St = 0.2 and CL0 hold");
+    const double ms = mass_ratio(c);
+    if (ms < calibrated_mass_ratio_min || ms > calibrated_mass_ratio_max)
+        out.push_back("the mass ratio m* = m / (rho pi D^2 / 4) = " + format_double(ms) +
+                      " is outside 0.54 <= m* <= 20, the range taken as the wake model's calibration "
+                      "(docs/engineering.md)");
+    return out;
 }
 
 double flow_speed(const cylinder_in_flow& c, double Ur)

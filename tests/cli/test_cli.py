@@ -121,12 +121,12 @@ def test_out_directory_has_csv_record_and_png(vimpact, tmp_path):
     assert p.returncode == 0, p.stderr
     assert str(out) in p.stdout
     for name, header in (("timeseries.csv", "t,y,ydot,x,xdot"), ("sections.csv", "t,y,ydot,x,xdot"),
-                         ("impacts.csv", "t,y,ydot_before,ydot_after,x,xdot,surface")):
+                         ("impacts.csv", "t,y,ydot_before,ydot_after,x,xdot,surface,normal_velocity,rebound_velocity,energy")):
         lines = (out / name).read_text().splitlines()
         assert lines[0] == header
         assert len(lines) > 1
     impact = (out / "impacts.csv").read_text().splitlines()[1].split(",")
-    assert impact[-1] == "barrier"
+    assert impact[-4] == "barrier"
     assert float(impact[1]) == -0.150298  # y at the barrier
     assert abs(float(impact[3]) + 0.8 * float(impact[2])) < 1e-15  # ydot after = -r ydot before
     record = json.loads((out / "run.json").read_text())

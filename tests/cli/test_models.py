@@ -176,8 +176,9 @@ def test_two_stop_results_name_both_surfaces(vimpact, tmp_path):
     out = tmp_path / "s"
     p = run(vimpact, "simulate", "--model", TWO, "--transient", "20", "--record", "10", "--no-plot", "--out", str(out))
     assert p.returncode == 0, p.stderr
-    assert (out / "impacts.csv").read_text().splitlines()[0] == "t,x,v_before,v_after,phi,surface"
-    assert {line.rsplit(",", 1)[1] for line in (out / "impacts.csv").read_text().splitlines()[1:]} == {"left", "right"}
+    assert (out / "impacts.csv").read_text().splitlines()[0] == \
+        "t,x,v_before,v_after,phi,surface,normal_velocity,rebound_velocity,energy"
+    assert {line.split(",")[5] for line in (out / "impacts.csv").read_text().splitlines()[1:]} == {"left", "right"}
     assert (out / "sections.csv").read_text().splitlines()[0] == "t,x,v,phi"
     record = json.loads((out / "run.json").read_text())
     assert record["state_names"] == ["x", "v", "phi"] and record["plot_variable"] == "x"
@@ -191,8 +192,9 @@ def test_sweep_and_map_files_of_two_surfaces(vimpact, tmp_path):
     assert p.returncode == 0, p.stderr
     lines = (out / "labels.csv").read_text().splitlines()
     header = lines[0].split(",")
-    assert header == ["branch", "w", "label", "period", "impacts", "closure", "settled", "outcome", "d_graze_right",
-                      "d_graze_left", "impacts_right", "impacts_left"]
+    assert header[:12] == ["branch", "w", "label", "period", "impacts", "closure", "settled", "outcome",
+                           "d_graze_right", "d_graze_left", "impacts_right", "impacts_left"]
+    assert header[12:15] == ["impacts_recorded", "duration", "impact_rate"]
     for line in lines[1:]:
         row = dict(zip(header, line.split(",")))
         assert int(row["impacts_right"]) + int(row["impacts_left"]) == int(row["impacts"])

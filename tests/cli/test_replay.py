@@ -32,6 +32,11 @@ CASES = {
     "continue-curves": ["continue", "--param", "Ur", "--range", "14.3:15.1", "--param2", "sigma", "--range2",
                         "-0.16:-0.14", "--map", "2,2", "--max-step", "0.05", *SHORT],
     "model-file": ["sweep", "--model", TWO_SIDED_TOML, "--param", "w", "--range", "0.9:1.1:2", *SHORT],
+    "clearance": ["clearance", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000", "--speeds", "4:5:2", "--fractions",
+                  "0.6:1.2:2", *SHORT],
+    "simulate-si": ["simulate", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000,U=4,gap=0.001", *SHORT],
+    "sweep-si": ["sweep", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000,gap=0.001", "--param", "U", "--range",
+                 "3.5:4:2", *SHORT],
 }
 
 

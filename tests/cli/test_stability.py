@@ -131,7 +131,8 @@ def test_out_directory_has_csv_record_and_png(vimpact, tmp_path, command, files)
     if command[0] == "lyapunov":
         assert (out / "convergence.csv").read_text().splitlines()[0] == "t,lambda1,lambda2,lambda3,lambda4"
     if command[0] == "floquet":
-        assert (out / "impacts.csv").read_text().splitlines()[0] == "t,y,ydot_before,ydot_after,x,xdot,surface"
+        assert (out / "impacts.csv").read_text().splitlines()[0] == \
+            "t,y,ydot_before,ydot_after,x,xdot,surface,normal_velocity,rebound_velocity,energy"
         orbit = (out / "orbit.csv").read_text().splitlines()
         assert orbit[0] == "t,y,ydot,x,xdot"
         t_last = float(orbit[-1].split(",")[0])

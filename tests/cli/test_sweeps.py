@@ -15,6 +15,10 @@ from test_cli import run, run_json
 MAP = ["map", "--x", "Ur:16:25:10", "--y", "sigma:-0.16:-0.02:6", "--transient", "100", "--record", "40",
        "--tol", "1e-5"]
 
+# The impact statistics' columns of every labels table (docs/model.md).
+STATISTICS = ["impacts_recorded", "duration", "impact_rate", "impact_velocity_min", "impact_velocity_mean",
+              "impact_velocity_rms", "impact_velocity_max", "energy_per_impact", "power", "contact_fraction", "excursion"]
+
 
 def read(path):
     with open(path) as f:
@@ -40,7 +44,7 @@ def test_sweep_files_carry_impacts_by_surface_and_grazing(vimpact, tmp_path):
     assert p.returncode == 0, p.stderr
     header, rows = read_rows(out / "labels.csv")
     assert header == ["branch", "Ur", "label", "period", "impacts", "closure", "settled", "outcome", "sigma_graze",
-                      "impacts_barrier"]
+                      "impacts_barrier", *STATISTICS]
     assert [r["label"] for r in rows] == ["P2", "P3"]
     for r in rows:
         assert int(r["impacts_barrier"]) == int(r["impacts"]) == 1
@@ -222,7 +226,7 @@ def test_map_json_rows_and_picture(vimpact, tmp_path):
     check_png(out / "plot.png")
     assert (out / "grazing.csv").read_text().splitlines()[0] == "Ur,sigma_graze"
     header, rows = read_rows(out / "labels.csv")
-    assert header == ["Ur", "sigma", "label", "period", "impacts", "settled", "outcome", "impacts_barrier"]
+    assert header == ["Ur", "sigma", "label", "period", "impacts", "settled", "outcome", "impacts_barrier", *STATISTICS]
     assert all(r["impacts"] == r["impacts_barrier"] for r in rows)
 
 

@@ -19,7 +19,7 @@ W = vimpact.WakeImpact()
 T = vimpact.TwoSidedImpactOscillator()
 
 KINDS = {"simulate", "period", "sweep", "map", "basins", "response", "floquet", "lyapunov", "floquet_sweep",
-         "lyapunov_sweep", "dimension", "continuation"}
+         "lyapunov_sweep", "dimension", "continuation", "clearance"}
 
 
 def png(path):

@@ -80,6 +80,11 @@ std::vector<int> gap_parameters(const model& m, int surface);
 // The first parameter that moves any surface without entering the vector field, -1 if none:
 // the default grazing parameter of a sweep's grazing line.
 int first_gap_parameter(const model& m);
+// The first surface that `parameter` moves (gap_parameters), -1 if none.
+int surface_moved_by(const model& m, int parameter);
+// The gap of surface i at the model's initial state, its rest state (for the paper's barrier
+// y - sigma at y = 0: -sigma): the distance to the surface that SI gaps and clearances measure.
+double rest_gap(const model& m, int surface);
 
 // Whether changing the parameter changes the vector field (probed at a few states around the
 // model's initial state; a parameter that only moves surfaces does not).
@@ -88,6 +93,8 @@ bool parameter_enters_field(const model& m, int parameter);
 // P_graze of surface i at the state x*: the value of `parameter` with g_i(x*, P) = 0 (NaN if
 // the surface does not depend on it or the root leaves the parameter's range).
 double grazing_parameter_value(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star);
+// The value of `parameter` with g_i(x, P) = gap (the same root finder; NaN as above).
+double parameter_for_gap(const model& m, int surface, int parameter, const Eigen::VectorXd& x, double gap);
 
 // The tolerances of a grazing run inside a job (a sweep's grazing line, a response point): the
 // caller's, never looser than 1e-12, since the grazing value is wanted to about 1e-9.

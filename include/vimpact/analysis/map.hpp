@@ -29,6 +29,7 @@ struct map_cell {
     period_label label;
     outcome status = outcome::ok;
     long steps = 0;
+    impact_statistics statistics;  // of the recorded window
 };
 
 struct map_result {

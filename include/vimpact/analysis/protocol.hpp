@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/core/names.hpp"
 #include "vimpact/core/outcome.hpp"
 #include "vimpact/core/state_series.hpp"
@@ -85,11 +86,19 @@ struct simulation {
     bool impacting = true;       // false: no impact for quiet_time (label P0)
     long transient_impacts = 0;  // impacts discarded
     double t_record_start = 0.0;
+    // The end of the recorded window: the last recorded point's time, or where the run ended
+    // otherwise (stats.t_final, the end of the integration step, may lie a little later).
+    double t_record_end = 0.0;
     state_series points;         // the recorded section points
     impact_series impacts;       // the impacts of the recorded window
     state_series series;         // time series of the recorded window (sample_dt > 0)
     Eigen::VectorXd final_state;
     run_stats stats;
+    // The recorded window, for its impact statistics: time in contact phases, and each
+    // surface's largest gap (NaN for a surface whose gap was never sampled).
+    double contact_time = 0.0;
+    std::vector<double> max_gap;
+    impact_statistics statistics;  // of the recorded window (analysis/impact_statistics.hpp)
 };
 
 // Runs the protocol on `m` from (0, x0). Throws input_error for invalid options or an

@@ -51,6 +51,7 @@ struct sweep_point {
     Eigen::VectorXd final_state;
     std::vector<double> grazing;    // per surface (grazing_parameter >= 0), NaN where none
     run_stats stats;
+    impact_statistics statistics;   // of the recorded window
 };
 
 struct sweep_result {

@@ -2,6 +2,9 @@
 // The protocol (analysis/protocol.hpp) on an engine model: the template every front end's
 // simulate() call ends in, instantiated by the library for each model kind.
 #include "vimpact/analysis/protocol.hpp"
+#include <algorithm>
+#include <limits>
+
 #include "vimpact/hybrid/flow.hpp"
 
 namespace vimpact::engine {
@@ -43,7 +46,33 @@ public:
     {
         if (!m_recording) return flow_control::proceed;
         m_res.points.push_back(t, x);
-        return finished() ? flow_control::stop : flow_control::proceed;
+        return finished_at(t) ? flow_control::stop : flow_control::proceed;
+    }
+
+    void on_stick(int, double t, const vec<N>&)
+    {
+        m_in_contact = true;
+        m_contact_since = t;
+    }
+    void on_release(int, double t, const vec<N>&)
+    {
+        add_contact(t);
+        m_in_contact = false;
+    }
+    void on_gap_maximum(int surface, double t, double gap)
+    {
+        auto& best = m_res.max_gap[static_cast<std::size_t>(surface)];
+        if (m_recording && t >= m_res.t_record_start && !(gap <= best)) best = gap;
+    }
+    // At the run's end (t_final): the recorded window ends at its last point, or at t_final
+    // when the run ended otherwise; a contact phase still going on counts up to that end.
+    void finish(double t_final)
+    {
+        // A run that ended before recording began (chattering in the transient) has an empty
+        // window.
+        if (!m_end_set) m_res.t_record_end = m_recording ? t_final : m_res.t_record_start;
+        m_end_set = true;
+        if (m_in_contact) add_contact(t_final);
     }
 
     flow_control on_impact(int surface, double t, const vec<N>& pre, const vec<N>& post)
@@ -66,7 +95,7 @@ public:
         if (m_opt.section.type == section_choice::kind::impacts &&
             (m_opt.section.index < 0 || m_opt.section.index == surface))
             m_res.points.push_back(t, post);
-        return finished() ? flow_control::stop : flow_control::proceed;
+        return finished_at(t) ? flow_control::stop : flow_control::proceed;
     }
 
     template <class D>
@@ -87,16 +116,34 @@ private:
     {
         m_recording = true;
         m_res.t_record_start = t;
+        m_res.contact_time = 0.0;
+        std::fill(m_res.max_gap.begin(), m_res.max_gap.end(), std::numeric_limits<double>::quiet_NaN());
         m_sample_index = 0;
         m_next_sample = t;
     }
     [[nodiscard]] bool finished() const { return static_cast<long>(m_res.points.size()) >= m_opt.record_points; }
+    [[nodiscard]] bool finished_at(double t)
+    {
+        if (!finished()) return false;
+        m_res.t_record_end = t;
+        m_end_set = true;
+        return true;
+    }
+    // The contact phase from m_contact_since to t, the part inside the recorded window.
+    void add_contact(double t)
+    {
+        if (m_end_set) t = std::min(t, m_res.t_record_end);
+        if (m_recording) m_res.contact_time += std::max(0.0, t - std::max(m_contact_since, m_res.t_record_start));
+    }
 
     const protocol_options& m_opt;
     simulation& m_res;
     bool m_recording = false;
     bool m_done = false;
     bool m_sample_limit = false;
+    bool m_in_contact = false;
+    bool m_end_set = false;
+    double m_contact_since = 0.0;
     long m_impacts = 0;
     double m_last_impact = 0.0;
     double m_next_sample = 0.0;
@@ -108,6 +155,7 @@ inline flow_options protocol_flow(const protocol_options& opt, crossing directio
 {
     flow_options fo = opt.flow;
     fo.surfaces = true;
+    fo.gap_maxima = true;  // the excursion of the impact statistics
     fo.events.clear();
     if (opt.section.type == section_choice::kind::crossing)
         fo.events.push_back(flow_event::section(opt.section.index, direction));
@@ -125,16 +173,18 @@ struct protocol_run {
     protocol_observer<N> obs;
 
     protocol_run(const Model& model, const vec<N>& x0, const protocol_options& opt)
-        : res(empty_result()), flow(model, protocol_flow(opt, section_direction(model, opt))), obs(opt, res)
+        : res(empty_result(model)), flow(model, protocol_flow(opt, section_direction(model, opt))), obs(opt, res)
     {
         flow.start(0.0, x0);
         obs.set_start(0.0);
+        if (flow.mode() == flow_mode::sticking) obs.on_stick(flow.contact_surface(), 0.0, flow.x());
     }
     protocol_run(const protocol_run&) = delete;
     protocol_run& operator=(const protocol_run&) = delete;
 
     simulation finish(outcome status)
     {
+        obs.finish(flow.t());
         res.status = status;
         if (obs.sample_limit() && res.status == outcome::ok) res.status = outcome::sample_limit;
         res.final_state = to_dynamic(flow.x());
@@ -143,12 +193,13 @@ struct protocol_run {
     }
 
 private:
-    static simulation empty_result()
+    static simulation empty_result(const Model& model)
     {
         simulation r;
         r.points = state_series(N);
         r.impacts = impact_series(N);
         r.series = state_series(N);
+        r.max_gap.assign(static_cast<std::size_t>(model.surface_count()), std::numeric_limits<double>::quiet_NaN());
         return r;
     }
     static crossing section_direction(const Model& model, const protocol_options& opt)

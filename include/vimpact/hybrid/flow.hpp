@@ -90,6 +90,11 @@ struct flow_options {
     // Polled after every step; when set, the run ends with outcome::interrupted. Lets a
     // caller (a Python session's Ctrl-C, a job loop being stopped) cut a long run short.
     const std::atomic<bool>* cancel = nullptr;
+    // Report each surface's largest gap on every step to the observer (on_gap_maximum): the
+    // interior maximum where the gap's rate turns from positive to non-positive inside the
+    // step (located on the interpolant), else the gap at the step's end. The protocol keeps
+    // the largest over its record (the excursion of the impact statistics).
+    bool gap_maxima = false;
 };
 
 // Default (no-op) observer; derive and shadow what you need.
@@ -106,6 +111,9 @@ struct flow_observer {
     void on_release(int /*surface*/, double, const X&) {}
     template <class D>
     void on_segment(const D&, double, double, flow_mode) {}
+    // With flow_options::gap_maxima: the largest value of gap `surface` on the step just
+    // taken and when it was reached.
+    void on_gap_maximum(int /*surface*/, double /*t*/, double /*gap*/) {}
     flow_control on_step_end(double) { return flow_control::proceed; }
 };
 
@@ -204,6 +212,7 @@ public:
     // on. Its end samples are not kept (the next step samples its start again: the same numbers).
     void quiet_free_step()
     {
+        m_free_step_max = std::max(m_free_step_max, m_integ.last_step());
         m_t = m_integ.t();
         m_x = m_integ.x();
         m_ends_valid = false;
@@ -416,7 +425,10 @@ private:
             const flow_event& ev = m_opt.events[static_cast<std::size_t>(fe.event)];
             state p = m_integ.dense(rhs).value_at(fe.theta);
             polish([&](const state& y) { return event_value(ev, y); }, event_gradient(ev, p), p);
-            if (obs.on_section(fe.event, fe.direction, t0 + fe.theta * h, p) == flow_control::stop) m_stop = true;
+            if (obs.on_section(fe.event, fe.direction, t0 + fe.theta * h, p) == flow_control::stop) {
+                m_stop = true;
+                m_stop_theta = fe.theta;
+            }
         }
     }
 
@@ -432,6 +444,7 @@ private:
     template <class Observer, class Rhs>
     step_status after_free_step(Observer& obs, Rhs& rhs)
     {
+        m_free_step_max = std::max(m_free_step_max, m_integ.last_step());
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
         const state& x0 = m_integ.x_prev();
@@ -464,7 +477,12 @@ private:
             }
         }
 
+        const bool stopped_before = m_stop;
+        m_stop_theta = 2.0;
         report_events(obs, rhs, theta_impact);
+        // The gaps up to the impact, or up to the crossing at which the observer stopped.
+        if (m_opt.gap_maxima && m_opt.surfaces && !stopped_before)
+            report_gap_maxima(obs, rhs, std::min(theta_impact, m_stop_theta), m_stop_theta < theta_impact ? -1 : surface);
 
         if (theta_impact > 1.0) {
             if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::free);
@@ -487,6 +505,58 @@ private:
         m_x = post;
         after_impact(obs, surface);
         return step_status::ok;
+    }
+
+    // Each gap's largest value on (0, theta_end] of the step just taken (theta_end < 1: an
+    // impact on surface `impacting` there, where its gap is 0). A maximum is bracketed by the
+    // gap's rate, known at the step's ends, and located by the Illinois method on its slope
+    // along the interpolant (a few interpolant evaluations per maximum); a step with two
+    // interior extrema (longer than half an oscillation of the gap) reports its end value only.
+    template <class Observer, class Rhs>
+    void report_gap_maxima(Observer& obs, Rhs& rhs, double theta_end, int impacting)
+    {
+        theta_end = std::min(theta_end, 1.0);
+        const double h = m_integ.last_step();
+        const double t0 = m_integ.t_prev();
+        for (int i = 0; i < m_model.surface_count(); ++i) {
+            const double slope_start = m_start.gaps[static_cast<std::size_t>(i)].rate * h;  // per unit theta
+            double value = m_end.gaps[static_cast<std::size_t>(i)].value;
+            double slope_end = m_end.gaps[static_cast<std::size_t>(i)].rate * h;
+            state p, dp;
+            if (theta_end < 1.0) {
+                m_integ.dense(rhs).value_and_slope(theta_end, p, dp);
+                value = i == impacting ? 0.0 : m_model.gap(i, p);
+                slope_end = gap_derivative(m_model, i, p, dp);
+            }
+            double best = value, theta_best = theta_end;
+            if (slope_start > 0.0 && slope_end <= 0.0) {
+                const auto& d = m_integ.dense(rhs);
+                double a = 0.0, b = theta_end, fa = slope_start, fb = slope_end, c = b;
+                for (int it = 0, side = 0; it < 60 && fb < 0.0 && b - a > 1e-13; ++it) {
+                    c = (a * fb - b * fa) / (fb - fa);
+                    if (!(c > a && c < b)) c = 0.5 * (a + b);
+                    d.value_and_slope(c, p, dp);
+                    const double fc = gap_derivative(m_model, i, p, dp);
+                    if (fc > 0.0) {
+                        a = c;
+                        fa = fc;
+                        if (side == 1) fb *= 0.5;
+                        side = 1;
+                    } else {
+                        b = c;
+                        fb = fc;
+                        if (side == -1) fa *= 0.5;
+                        side = -1;
+                    }
+                }
+                const double g = m_model.gap(i, d.value_at(c));
+                if (g > best) {
+                    best = g;
+                    theta_best = c;
+                }
+            }
+            obs.on_gap_maximum(i, t0 + theta_best * h, best);
+        }
     }
 
     // The rebound rule at (m_t, m_x), just after an impact on surface i.
@@ -551,7 +621,12 @@ private:
     step_status step_sticking(Observer& obs)
     {
         auto rhs = contact_rhs();
-        const step_status st = m_integ.advance(rhs, m_opt.t_max);
+        // A constrained field the error control does not limit (the forced oscillator at rest
+        // on its barrier: only the phase moves) would let the step grow over several periods
+        // of the release function, whose crossings the step's samples then miss: contact steps
+        // are kept no longer than the longest free-flight step, the motion's own time scale.
+        const double t_stop = m_free_step_max > 0.0 ? std::min(m_opt.t_max, m_t + m_free_step_max) : m_opt.t_max;
+        const step_status st = m_integ.advance(rhs, t_stop);
         if (st != step_status::ok) return st;
         const double h = m_integ.last_step();
         const double t0 = m_integ.t_prev();
@@ -570,6 +645,13 @@ private:
 
         sample_step_ends(false);
         report_events(obs, rhs, theta_release);
+        if (m_opt.gap_maxima && !m_stop) {
+            // In contact the contact surface's gap is 0; the others' at the step's end.
+            const double theta_end = std::min(theta_release, 1.0);
+            const state x_end = theta_end >= 1.0 ? x1 : m_integ.dense(rhs).value_at(theta_end);
+            for (int s = 0; s < m_model.surface_count(); ++s)
+                obs.on_gap_maximum(s, t0 + theta_end * h, s == i ? 0.0 : m_model.gap(s, x_end));
+        }
 
         if (theta_release > 1.0) {
             if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::sticking);
@@ -607,6 +689,8 @@ private:
     double m_t = 0.0;
     state m_x = state::Zero();
     bool m_stop = false;
+    double m_stop_theta = 2.0;  // where in the current step the observer stopped the run
+    double m_free_step_max = 0.0;  // the longest free-flight step so far
     std::optional<outcome> m_finished;
 };
 

@@ -294,7 +294,8 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
                 }
                 in.accept_external(pj, opt.t_max, xj, fj, H[j], LE[j],
                                    {fill_stages, &stage_contexts[static_cast<std::size_t>(j)]});
-                if (bit(quiet) && !s.run->obs.wants_segments()) {
+                // A quiet step still has its gap maxima to report (flow_options::gap_maxima).
+                if (bit(quiet) && !s.run->obs.wants_segments() && !opt.gap_maxima) {
                     flow.quiet_free_step();
                     o = flow.step_taken(step_status::ok, s.run->obs);
                     if (!o) o = flow.limit_reached();

@@ -15,7 +15,9 @@
 //                                             frequency: r_s = 2 (m_s + m_f) (2 pi f_n) xi,
 //                                             i.e. what a free-decay test in still fluid gives
 // St (0.2) and C_M (1) are the values Facchinetti et al. use for the subcritical range
-// 300 < Re < 1.5e5.
+// 300 < Re < 1.5e5. The Reynolds number Re = U D / nu needs the fluid's kinematic viscosity
+// nu (default 1.0e-6 m^2/s, water at 20 C); the mass ratio is m* = m_s / (rho pi D^2 / 4).
+#include <string>
 #include <vector>
 
 namespace vimpact {
@@ -28,6 +30,7 @@ struct cylinder_in_flow {
     double fluid_density = 0.0;      // rho [kg/m^3]
     double added_mass_coefficient = 1.0;  // C_M
     double strouhal = 0.2;                // St
+    double kinematic_viscosity = 1.0e-6;  // nu [m^2/s], for the Reynolds number only
 };
 
 // Throws input_error naming the field and its valid range.
@@ -51,7 +54,7 @@ struct flow_scales {
 flow_scales scales(const cylinder_in_flow& c, double flow_speed);
 
 // One flow speed's numbers by name (U, Ur, mu, xi, St, time_scale, length_scale,
-// velocity_scale, frequency_scale), as `vimpact units --json` and vimpact.cylinder_units give
+// velocity_scale, frequency_scale, Re, mass_ratio), as `vimpact units --json` and vimpact.cylinder_units give
 // them: the names are defined here once.
 struct named_value {
     const char* name;
@@ -61,5 +64,15 @@ std::vector<named_value> units_at(const cylinder_in_flow& c, double flow_speed);
 
 // The flow speed [m/s] at which the cylinder has reduced velocity Ur.
 double flow_speed(const cylinder_in_flow& c, double Ur);
+
+// Re = U D / nu and m* = m_s / (rho pi D^2 / 4).
+double reynolds_number(const cylinder_in_flow& c, double flow_speed);
+double mass_ratio(const cylinder_in_flow& c);
+
+// The range the wake model's constants were calibrated for (docs/engineering.md, "Limits of
+// validity"), and one line per limit the cylinder at flow speed U leaves (empty: inside).
+inline constexpr double calibrated_reynolds_min = 300.0, calibrated_reynolds_max = 1.5e5;
+inline constexpr double calibrated_mass_ratio_min = 0.54, calibrated_mass_ratio_max = 20.0;
+std::vector<std::string> validity_warnings(const cylinder_in_flow& c, double flow_speed);
 
 }  // namespace vimpact

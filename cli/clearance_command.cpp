@@ -1,0 +1,211 @@
+// The clearance command: along a range of flow speeds (or of any parameter), the smallest gap
+// to the neighbouring surface with no impact (the grazing line), the gap range where the
+// response is aperiodic, and a design chart of the response over gaps (analysis/clearance.hpp),
+// in SI units with --si. One library call through a job_session, like sweep and map.
+#include <cmath>
+#include <memory>
+
+#include "commands.hpp"
+#include "job_runner.hpp"
+#include "output.hpp"
+#include "parse.hpp"
+#include "vimpact/analysis/clearance.hpp"
+#include "vimpact/core/format.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/io/csv_writer.hpp"
+#include "vimpact/physical/si_units.hpp"
+
+namespace vimpact::cli {
+namespace {
+
+struct clearance_args {
+    common_args common;
+    job_args jobs;
+    std::string speeds, param, range, gaps, fractions, gap_param;
+    double tol = default_period_tolerance;
+    double transient_time = grazing_options{}.transient_time;
+};
+
+int run_clearance(const clearance_args& a)
+{
+    const run_config c = resolve(a.common);
+    job_session session(a.jobs, c.out);
+    const model& m = c.model;
+    const auto& info = c.info();
+    if (c.si && (c.si->speed || c.si->gap))
+        throw input_error("clearance takes the speeds from --speeds and scans the gaps: leave U and gap out of --si");
+    if (a.speeds.empty() == (a.param.empty() || a.range.empty()))
+        throw input_error("clearance needs either --speeds a:b:n (m/s, with --si) or --param P with --range a:b:n");
+    const bool by_speed = !a.speeds.empty();
+    if (by_speed && !(c.si && c.si->cylinder))
+        throw input_error("--speeds needs a cylinder in --si (D=..,m=..,fn=..,zeta=..,rho=..)");
+
+    clearance_options o;
+    std::vector<double> speeds;
+    if (by_speed) {
+        speeds = parse_range(a.speeds, "--speeds");
+        o.parameter = si_parameter(*c.si, m, "U");
+        for (const double U : speeds) o.values.push_back(si_parameter_value(*c.si, m, "U", U));
+    } else {
+        o.parameter = parameter_index(m, a.param, "--param");
+        o.values = parse_range(a.range, "--range");
+    }
+    // Gaps: in metres with --si, else in the model's units (the library checks them).
+    if (!a.gaps.empty()) {
+        const auto gaps = parse_range(a.gaps, "--gaps");
+        try {
+            o.gaps = c.si ? gaps_in_model_units(*c.si, gaps) : gaps;
+        } catch (const input_error& e) {
+            throw input_error(std::string("--gaps: ") + e.what());
+        }
+    }
+    if (!a.fractions.empty()) o.fractions = parse_range(a.fractions, "--fractions");
+    o.gap_parameter = a.gap_param.empty() ? -1 : parameter_index(m, a.gap_param, "--gap-param");
+    o.initial_state = c.ic;
+    o.protocol = c.protocol;
+    if (!(a.tol > 0.0) || !std::isfinite(a.tol)) throw input_error("--tol must be > 0 (got " + format_double(a.tol) + ")");
+    o.period_tolerance = a.tol;
+    if (!(a.transient_time >= 0.0) || !std::isfinite(a.transient_time))
+        throw input_error("--transient-time must be >= 0 (got " + format_double(a.transient_time) + ")");
+    o.grazing = job_grazing_options(c.protocol.flow.integration, a.transient_time);
+    o.grazing.method = c.protocol.method;
+    std::vector<vimpact::model> points;
+    for (const double v : o.values) points.push_back(m.with_parameter(o.parameter, v));
+    const json warnings = warn_validity(c, points);
+
+    const clearance_result res = clearance(m, o, session.options());
+    if (!session.complete(res.jobs)) return session.exit_code();
+
+    const std::string pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
+    const std::string gname = info.parameters[static_cast<std::size_t>(res.gap_parameter)].name;
+    const std::string xname = by_speed ? "U" : pname;
+    const bool si = c.si.has_value();
+    // The flow axis and the gaps as reported: U [m/s] and metres with --si (the result in SI).
+    const auto x_of = [&](std::size_t k) { return by_speed ? speeds[k] : o.values[k]; };
+    const clearance_result shown = si ? in_si(res, *c.si, m, o.parameter) : res;
+
+    json clearance_pairs = json::array(), aperiodic = json::array(), dimensionless = json::array();
+    std::vector<std::string> labels;
+    std::string text = "clearance over " + xname + (si ? "" : " (model units)") + ": the smallest gap to " +
+                       info.surfaces[static_cast<std::size_t>(res.surface)].name + " without impact\n";
+    for (std::size_t k = 0; k < res.points.size(); ++k) {
+        const auto& p = res.points[k];
+        const auto& q = shown.points[k];
+        clearance_pairs.push_back({x_of(k), finite_or_null(q.clearance)});
+        aperiodic.push_back({x_of(k), finite_or_null(q.aperiodic_min), finite_or_null(q.aperiodic_max)});
+        json row = json::object();
+        if (by_speed)
+            for (const auto& [name, value] : units_at(*c.si->cylinder, speeds[k])) row[name] = finite_or_null(value);
+        row[pname] = p.value;
+        row[gname + "_graze"] = finite_or_null(p.grazing_value);
+        row["clearance"] = finite_or_null(p.clearance);  // model units
+        row["converged"] = p.converged;
+        dimensionless.push_back(std::move(row));
+        for (const auto& cell : p.cells) labels.push_back(cell.label.label);
+        text += "  " + xname + " = " + format_double(x_of(k)) + ": gap " + format_double(q.clearance) +
+                (si ? " m" : "") + (p.converged ? "" : " (grazing NOT converged)");
+        if (std::isfinite(q.aperiodic_min))
+            text += ", aperiodic for gaps " + format_double(q.aperiodic_min) + " .. " + format_double(q.aperiodic_max) +
+                    (si ? " m" : "");
+        text += "\n";
+    }
+    const json counts = label_counts(labels);
+    text += "chart: " + counts_text(counts) + "\n";
+    json summary = {{"command", "clearance"},
+                    {"param", pname},
+                    {"x", xname},
+                    {"gap_param", gname},
+                    {"surface", info.surfaces[static_cast<std::size_t>(res.surface)].name},
+                    {"units", si ? "si" : "model"},
+                    {"clearance", clearance_pairs},
+                    {"aperiodic", aperiodic},
+                    {"dimensionless", dimensionless},
+                    {"label_counts", counts},
+                    {"statistics_columns", statistics_columns()},
+                    {"warnings", warnings},
+                    {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    if (si) summary["si"] = si_json(*c.si, m);
+    if (c.out) {
+        write_run(c, "clearance", summary, [&](staged_output& out) {
+            std::vector<std::string> ch{pname};
+            if (by_speed) ch.push_back("U");
+            for (const auto& col : {gname + "_graze", std::string("clearance"), std::string("converged"),
+                                    std::string("aperiodic_min"), std::string("aperiodic_max")})
+                ch.push_back(col);
+            if (si) append(ch, {"clearance_si", "aperiodic_min_si", "aperiodic_max_si"});
+            csv_writer cw(out.file("clearance.csv"), ch);
+            std::vector<std::string> hh{pname};
+            if (by_speed) hh.push_back("U");
+            append(hh, {"gap", gname, "label", "period", "impacts", "settled", "outcome"});
+            append(hh, statistics_columns());
+            if (si) {
+                hh.push_back("gap_si");
+                append(hh, si_statistics_columns());
+            }
+            csv_writer chart(out.file("chart.csv"), hh);
+            for (std::size_t k = 0; k < res.points.size(); ++k) {
+                const auto& p = res.points[k];
+                std::vector<std::string> row{format_double(p.value)};
+                if (by_speed) row.push_back(format_double(speeds[k]));
+                for (const double v : {p.grazing_value, p.clearance}) row.push_back(format_double(v));
+                row.push_back(p.converged ? "1" : "0");
+                for (const double v : {p.aperiodic_min, p.aperiodic_max}) row.push_back(format_double(v));
+                const auto& q = shown.points[k];
+                if (si)
+                    for (const double v : {q.clearance, q.aperiodic_min, q.aperiodic_max}) row.push_back(format_double(v));
+                cw.text_row(row);
+                for (std::size_t i = 0; i < p.cells.size(); ++i) {
+                    const auto& cell = p.cells[i];
+                    std::vector<std::string> r{format_double(p.value)};
+                    if (by_speed) r.push_back(format_double(speeds[k]));
+                    append(r, {format_double(cell.gap), format_double(cell.gap_parameter_value), cell.label.label,
+                               std::to_string(cell.label.period), std::to_string(cell.label.impacts_per_period),
+                               cell.label.settled ? "1" : "0", std::string(to_string(cell.status))});
+                    append_statistics(r, cell.statistics);
+                    if (si) {
+                        r.push_back(format_double(q.cells[i].gap));
+                        append_statistics(r, q.cells[i].statistics);
+                    }
+                    chart.text_row(r);
+                }
+            }
+            cw.close();
+            chart.close();
+            return json{"clearance.csv", "chart.csv"};
+        });
+        session.finish();
+        text += "output written to " + c.out->string() + "\n";
+    }
+    print(c, summary, text);
+    return 0;
+}
+
+}  // namespace
+
+cli_command add_clearance_command(CLI::App& app)
+{
+    auto a = std::make_shared<clearance_args>();
+    auto* s = app.add_subcommand(
+        "clearance",
+        "Clearance design: over a range of flow speeds, the smallest gap to the neighbouring surface without impact "
+        "(the grazing line), the gaps where the response is aperiodic, and a design chart of regimes, impact rate "
+        "and dissipated power over gaps");
+    add_common_options(*s, a->common);
+    add_si_option(*s, a->common);
+    add_job_options(*s, a->jobs);
+    s->add_option("--speeds", a->speeds, "Flow speeds a:b:n [m/s] (needs a cylinder in --si)");
+    s->add_option("--param", a->param, "Instead of --speeds: the flow parameter of any model (e.g. Ur)");
+    s->add_option("--range", a->range, "Its values a:b:n (with --param)");
+    s->add_option("--gaps", a->gaps,
+                  "The chart's gaps a:b:n, from the rest state to the surface [m with --si, else model units] "
+                  "(default: fractions of each speed's clearance)");
+    s->add_option("--fractions", a->fractions,
+                  "The chart's gaps as fractions of each speed's clearance, a:b:n (default 0.1:1.3:13)");
+    s->add_option("--gap-param", a->gap_param,
+                  "The parameter that moves the surface (default: the model's first, sigma for the wake model)");
+    s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
+    s->add_option("--transient-time", a->transient_time, "Grazing runs: time discarded before minima count (1000)");
+    return {s, [a] { return run_clearance(*a); }};
+}
+
+}  // namespace vimpact::cli

@@ -1,0 +1,72 @@
+#pragma once
+// Clearance design: along a range of one parameter (the paper's Ur, a flow speed), the
+// smallest gap to a surface with no impact, and the response over a chart of gaps.
+//
+// Gaps are measured from the rest state (the model's initial state) to the surface moved by
+// the gap parameter G (the paper's sigma: gap = -sigma; rest_gap). At each value P of the
+// flow parameter, one job of the job loop:
+//  - the grazing run at P (surface-free, grazing.hpp) gives G's grazing value for that surface;
+//    the clearance is the gap there: a surface farther away is never touched by the attracting
+//    surface-free orbit (for the paper's barrier: -sigma_graze);
+//  - the protocol runs at each gap of the chart from the same initial state and gives the
+//    period label (regime: P0 no impact, PN periodic, aperiodic) and the impact statistics.
+// The chart's gaps are given (model units), or fractions of each value's clearance (then a
+// value whose clearance is not positive and finite has no chart cells). The aperiodic range
+// of a value: its smallest and largest chart gap labelled aperiodic (NaN when none).
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/analysis/period.hpp"
+#include "vimpact/jobs/job_options.hpp"
+
+namespace vimpact {
+
+// 0.1, 0.2, ..., 1.3: the chart's gaps as fractions of the clearance, when none are given.
+std::vector<double> default_clearance_fractions();
+
+struct clearance_options {
+    int parameter = -1;  // the flow parameter
+    std::vector<double> values;
+    int gap_parameter = -1;          // -1: the first that moves a surface (first_gap_parameter)
+    std::vector<double> gaps;        // the chart's gaps (model units); empty: fractions
+    std::vector<double> fractions = default_clearance_fractions();
+    Eigen::VectorXd initial_state;   // empty: the model's
+    protocol_options protocol{};
+    double period_tolerance = default_period_tolerance;
+    grazing_options grazing = job_grazing_options(integrator_options{});
+};
+
+struct clearance_cell {
+    static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    double gap = nan;                  // model units
+    double gap_parameter_value = nan;  // G at this gap
+    period_label label;
+    outcome status = outcome::ok;
+    impact_statistics statistics;
+};
+
+struct clearance_point {
+    static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    double value = nan;            // of the flow parameter
+    double grazing_value = nan;    // G at grazing
+    double clearance = nan;        // the gap at grazing (model units)
+    bool converged = false;        // the grazing run converged
+    std::vector<clearance_cell> cells;
+    double aperiodic_min = nan, aperiodic_max = nan;
+};
+
+struct clearance_result {
+    int gap_parameter = -1;
+    int surface = -1;
+    std::vector<clearance_point> points;  // job order: the values in order
+    job_report jobs;
+};
+
+// Throws input_error for bad options: no parameter that moves a surface, a flow parameter
+// that moves one, negative gaps or fractions.
+clearance_result clearance(const model& m, const clearance_options& o, const job_options& j = {});
+
+}  // namespace vimpact

@@ -1,0 +1,166 @@
+#include "vimpact/analysis/clearance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "io/json_codec.hpp"
+#include "jobs/journal.hpp"
+#include "vimpact/analysis/sweep.hpp"
+#include "vimpact/core/format.hpp"
+
+namespace vimpact {
+
+namespace {
+
+using detail::json;
+
+json encode(const clearance_point& p)
+{
+    json cells = json::array();
+    for (const auto& c : p.cells)
+        cells.push_back({{"gap", detail::number(c.gap)},
+                         {"value", detail::number(c.gap_parameter_value)},
+                         {"label", detail::to_json(c.label)},
+                         {"status", std::string(to_string(c.status))},
+                         {"statistics", detail::to_json(c.statistics)}});
+    return {{"value", detail::number(p.value)},
+            {"grazing_value", detail::number(p.grazing_value)},
+            {"clearance", detail::number(p.clearance)},
+            {"converged", p.converged},
+            {"cells", cells},
+            {"aperiodic", detail::numbers({p.aperiodic_min, p.aperiodic_max})}};
+}
+
+clearance_point decode(const json& j)
+{
+    clearance_point p;
+    p.value = detail::number_from(j.at("value"));
+    p.grazing_value = detail::number_from(j.at("grazing_value"));
+    p.clearance = detail::number_from(j.at("clearance"));
+    p.converged = j.at("converged").get<bool>();
+    for (const auto& c : j.at("cells")) {
+        clearance_cell cell;
+        cell.gap = detail::number_from(c.at("gap"));
+        cell.gap_parameter_value = detail::number_from(c.at("value"));
+        cell.label = detail::label_from(c.at("label"));
+        cell.status = detail::outcome_from(c.at("status"));
+        cell.statistics = detail::statistics_from(c.at("statistics"));
+        p.cells.push_back(std::move(cell));
+    }
+    const auto a = detail::numbers_from(j.at("aperiodic"));
+    p.aperiodic_min = a.at(0);
+    p.aperiodic_max = a.at(1);
+    return p;
+}
+
+// m with G at value, or nullopt when the value is outside G's range.
+std::optional<model> with_value(const model& m, int parameter, double value)
+{
+    if (!std::isfinite(value)) return std::nullopt;
+    try {
+        return m.with_parameter(parameter, value);
+    } catch (const input_error&) {
+        return std::nullopt;
+    }
+}
+
+}  // namespace
+
+std::vector<double> default_clearance_fractions() { return grid_values(0.1, 1.3, 13); }
+
+clearance_result clearance(const model& m, const clearance_options& o, const job_options& j)
+{
+    validate(o.protocol);
+    validate(m, o.protocol.section);
+    check_period_tolerance(o.period_tolerance);
+    const int P = static_cast<int>(m.parameters().size());
+    if (o.parameter < 0 || o.parameter >= P) throw input_error("clearance: flow parameter index out of range");
+    if (o.values.empty()) throw input_error("clearance needs at least one value of the flow parameter");
+    const int G = o.gap_parameter >= 0 ? o.gap_parameter : first_gap_parameter(m);
+    if (G < 0)
+        throw input_error("clearance: model " + m.name() +
+                          " has no parameter that moves a surface without entering the vector field");
+    if (G >= P) throw input_error("clearance: gap parameter index out of range");
+    const int surface = surface_moved_by(m, G);
+    const auto& names = m.info().parameters;
+    if (surface < 0)
+        throw input_error("clearance: parameter " + names[static_cast<std::size_t>(G)].name + " moves no surface");
+    if (G == o.parameter)
+        throw input_error("clearance: the flow parameter " + names[static_cast<std::size_t>(G)].name +
+                          " is the gap parameter");
+    for (const double g : o.gaps)
+        if (!(g >= 0.0) || !std::isfinite(g))
+            throw input_error("gap " + format_double(g) + " is below zero: a chart's gaps must be >= 0");
+    for (const double f : o.fractions)
+        if (!(f > 0.0) || !std::isfinite(f))
+            throw input_error("fraction " + format_double(f) + " of the clearance must be > 0");
+    if (o.gaps.empty() && o.fractions.empty()) throw input_error("clearance needs gaps or fractions for its chart");
+    const Eigen::VectorXd ic = o.initial_state.size() ? o.initial_state : m.initial_state();
+    check_state_size(m, ic.size(), "the initial state");
+    for (const double v : o.values) (void)m.with_parameter(o.parameter, v);  // validates each value
+    grazing_options go = o.grazing;
+    go.parameter = G;
+    validate(m, go);
+
+    const json spec = {{"analysis", "clearance"},
+                       {"model", detail::to_json(m)},
+                       {"parameter", o.parameter},
+                       {"values", detail::numbers(o.values)},
+                       {"gap_parameter", G},
+                       {"gaps", detail::numbers(o.gaps)},
+                       {"fractions", detail::numbers(o.fractions)},
+                       {"initial_state", detail::vector_json(ic)},
+                       {"protocol", detail::to_json(o.protocol)},
+                       {"period_tolerance", detail::number(o.period_tolerance)},
+                       {"grazing", detail::to_json(go)}};
+    protocol_options po = o.protocol;
+    po.flow.cancel = j.stop;
+    go.cancel = j.stop;
+    auto run = [&](long job, const clearance_point*) {
+        clearance_point p;
+        p.value = o.values[static_cast<std::size_t>(job)];
+        const model mv = m.with_parameter(o.parameter, p.value);
+        const grazing_result g = grazing(mv, ic, go);
+        const surface_grazing& sg = g.surfaces[static_cast<std::size_t>(surface)];
+        p.converged = sg.converged && g.status == outcome::ok;
+        p.grazing_value = sg.parameter_value;
+        if (const auto at_grazing = with_value(mv, G, p.grazing_value)) p.clearance = rest_gap(*at_grazing, surface);
+        std::vector<double> gaps = o.gaps;
+        if (gaps.empty() && std::isfinite(p.clearance) && p.clearance > 0.0)
+            for (const double f : o.fractions) gaps.push_back(f * p.clearance);
+        const Eigen::VectorXd rest = mv.initial_state();
+        for (const double gap : gaps) {
+            clearance_cell cell;
+            cell.gap = gap;
+            cell.gap_parameter_value = parameter_for_gap(mv, surface, G, rest, gap);
+            const auto mg = with_value(mv, G, cell.gap_parameter_value);
+            if (!mg || violated_surface(*mg, ic) >= 0) {
+                cell.status = outcome::inadmissible;
+                cell.label.label = std::string(to_string(cell.status));
+            } else {
+                const auto r = run_and_classify(*mg, ic, po, o.period_tolerance);
+                cell.label = r.label;
+                cell.status = r.run.status;
+                cell.statistics = r.run.statistics;
+                if (cell.label.label == "aperiodic") {
+                    if (!(gap >= p.aperiodic_min)) p.aperiodic_min = gap;
+                    if (!(gap <= p.aperiodic_max)) p.aperiodic_max = gap;
+                }
+            }
+            p.cells.push_back(std::move(cell));
+        }
+        return p;
+    };
+    clearance_result res;
+    res.gap_parameter = G;
+    res.surface = surface;
+    const long n = static_cast<long>(o.values.size());
+    auto records = detail::run_journaled<clearance_point>(spec, {n, 0}, j, run, encode, decode, res.jobs);
+    if (res.jobs.complete()) res.points = detail::in_job_order(std::move(records));
+    else
+        for (auto& [job, p] : records) res.points.push_back(std::move(p));
+    return res;
+}
+
+}  // namespace vimpact

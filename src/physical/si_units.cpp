@@ -1,0 +1,292 @@
+#include "vimpact/physical/si_units.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+
+#include "vimpact/analysis/grazing.hpp"
+#include "vimpact/core/format.hpp"
+#include "vimpact/core/input_error.hpp"
+
+namespace vimpact {
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+const std::vector<std::string>& cylinder_keys()
+{
+    static const std::vector<std::string> keys{"D", "m", "fn", "zeta", "rho", "CM", "St", "nu"};
+    return keys;
+}
+const std::vector<std::string>& scale_keys()
+{
+    static const std::vector<std::string> keys{"length", "time", "mass"};
+    return keys;
+}
+bool among(const std::vector<std::string>& keys, const std::string& k)
+{
+    return std::find(keys.begin(), keys.end(), k) != keys.end();
+}
+
+int named_parameter(const model& m, const char* name, const char* why)
+{
+    const int i = m.info().parameter_index(name);
+    if (i < 0)
+        throw input_error(std::string(why) + " sets the wake model's parameter " + name + ", which model " + m.name() +
+                          " does not have (its parameters: " + m.info().parameter_names() + ")");
+    return i;
+}
+
+// The first gap parameter and the first surface it moves.
+std::pair<int, int> gap_parameter_and_surface(const model& m)
+{
+    const int p = first_gap_parameter(m);
+    return {p, p < 0 ? -1 : surface_moved_by(m, p)};
+}
+
+}  // namespace
+
+double length_scale(const si_input& in)
+{
+    if (in.cylinder) return in.cylinder->diameter;
+    if (in.scales) return in.scales->length;
+    return nan;
+}
+
+std::string si_keys()
+{
+    return "D, m, fn, zeta, rho for a cylinder in a flow (CM, St, nu optional), or length, time for any model (mass "
+           "optional); U (flow speed, m/s, with a cylinder) and gap (m)";
+}
+
+si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs)
+{
+    std::map<std::string, double> v;
+    for (const auto& [k, x] : pairs) {
+        if (!among(cylinder_keys(), k) && !among(scale_keys(), k) && k != "U" && k != "gap")
+            throw input_error("--si: unknown key '" + k + "' (keys: " + si_keys() + ")");
+        if (!v.emplace(k, x).second) throw input_error("--si: " + k + " is given twice");
+    }
+    const bool cyl = std::any_of(cylinder_keys().begin(), cylinder_keys().end(), [&](const auto& k) { return v.count(k); });
+    const bool sc = std::any_of(scale_keys().begin(), scale_keys().end(), [&](const auto& k) { return v.count(k); });
+    if (cyl && sc)
+        throw input_error("--si: give either a cylinder (D, m, fn, zeta, rho) or the model's units (length, time), not "
+                          "both");
+    if (!cyl && !sc) throw input_error("--si needs a cylinder (D, m, fn, zeta, rho) or the model's units (length, time)");
+    si_input in;
+    if (cyl) {
+        for (const char* key : {"D", "m", "fn", "zeta", "rho"})
+            if (!v.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys() + ")");
+        cylinder_in_flow c;
+        c.diameter = v.at("D");
+        c.mass = v.at("m");
+        c.natural_frequency = v.at("fn");
+        c.damping_ratio = v.at("zeta");
+        c.fluid_density = v.at("rho");
+        if (v.count("CM")) c.added_mass_coefficient = v.at("CM");
+        if (v.count("St")) c.strouhal = v.at("St");
+        if (v.count("nu")) c.kinematic_viscosity = v.at("nu");
+        validate(c);
+        in.cylinder = c;
+    } else {
+        for (const char* key : {"length", "time"})
+            if (!v.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys() + ")");
+        physical_scales s{.length = v.at("length"), .time = v.at("time"), .mass = v.count("mass") ? v.at("mass") : 1.0};
+        for (const auto& [name, x] : {std::pair{"length", s.length}, {"time", s.time}, {"mass", s.mass}})
+            if (!(x > 0.0) || !std::isfinite(x))
+                throw input_error(std::string(name) + " (one model unit in SI) must be a finite number > 0 (got " +
+                                  format_double(x) + ")");
+        in.scales = s;
+    }
+    if (v.count("U")) {
+        if (!in.cylinder) throw input_error("--si: U (flow speed) needs a cylinder (D, m, fn, zeta, rho)");
+        const double U = v.at("U");
+        if (!(U > 0.0) || !std::isfinite(U))
+            throw input_error("U (flow speed, m/s) must be a finite number > 0 (got " + format_double(U) + ")");
+        in.speed = U;
+    }
+    if (v.count("gap")) {
+        const double g = v.at("gap");
+        if (!(g >= 0.0) || !std::isfinite(g))
+            throw input_error("gap (distance to the neighbouring surface, m) must be a finite number >= 0 (got " +
+                              format_double(g) + ")");
+        in.gap = g;
+    }
+    return in;
+}
+
+std::vector<named_value> si_inputs(const si_input& in)
+{
+    std::vector<named_value> out;
+    if (in.cylinder) {
+        const cylinder_in_flow& c = *in.cylinder;
+        out = {{"D", c.diameter},    {"m", c.mass},   {"fn", c.natural_frequency}, {"zeta", c.damping_ratio},
+               {"rho", c.fluid_density}, {"CM", c.added_mass_coefficient}, {"St", c.strouhal},
+               {"nu", c.kinematic_viscosity}};
+    }
+    if (in.scales) out = {{"length", in.scales->length}, {"time", in.scales->time}, {"mass", in.scales->mass}};
+    if (in.speed) out.push_back({"U", *in.speed});
+    if (in.gap) out.push_back({"gap", *in.gap});
+    return out;
+}
+
+int si_parameter(const si_input& in, const model& m, std::string_view quantity)
+{
+    if (quantity == "U") {
+        if (!in.cylinder) throw input_error("U (flow speed) needs a cylinder in --si (D, m, fn, zeta, rho)");
+        return named_parameter(m, "Ur", "the flow speed U");
+    }
+    if (quantity == "gap") {
+        const int p = gap_parameter_and_surface(m).first;
+        if (p < 0)
+            throw input_error("gap: model " + m.name() +
+                              " has no parameter that moves a surface without entering the vector field");
+        return p;
+    }
+    return -1;
+}
+
+double si_parameter_value(const si_input& in, const model& m, std::string_view quantity, double value)
+{
+    if (quantity == "U") {
+        if (!(value > 0.0) || !std::isfinite(value))
+            throw input_error("U (flow speed, m/s) must be a finite number > 0 (got " + format_double(value) + ")");
+        (void)si_parameter(in, m, quantity);
+        return dimensionless(*in.cylinder, value).Ur;
+    }
+    if (quantity == "gap") {
+        if (!(value >= 0.0) || !std::isfinite(value))
+            throw input_error("gap (distance to the neighbouring surface, m) must be a finite number >= 0 (got " +
+                              format_double(value) + ")");
+        const auto [p, surface] = gap_parameter_and_surface(m);
+        if (p < 0) (void)si_parameter(in, m, quantity);  // the message
+        const double P = parameter_for_gap(m, surface, p, m.initial_state(), value / length_scale(in));
+        if (!std::isfinite(P))
+            throw input_error("gap = " + format_double(value) + " m has no value of " +
+                              m.info().parameters[static_cast<std::size_t>(p)].name + " in its range");
+        return P;
+    }
+    throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
+}
+
+std::vector<std::pair<int, double>> si_parameters(const model& m, const si_input& in)
+{
+    std::vector<std::pair<int, double>> out;
+    if (in.cylinder) {
+        const cylinder_in_flow& c = *in.cylinder;
+        // mu, xi and St do not depend on the speed: any speed gives them.
+        const wake_dimensionless d = dimensionless(c, in.speed.value_or(1.0));
+        out.emplace_back(named_parameter(m, "mu", "the cylinder (D, m, rho, CM)"), d.mu);
+        out.emplace_back(named_parameter(m, "xi", "the damping ratio zeta"), d.xi);
+        out.emplace_back(named_parameter(m, "St", "the Strouhal number St"), d.St);
+        if (in.speed) out.emplace_back(si_parameter(in, m, "U"), d.Ur);
+    }
+    if (in.gap) out.emplace_back(si_parameter(in, m, "gap"), si_parameter_value(in, m, "gap", *in.gap));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+model apply_si(const model& m, const si_input& in)
+{
+    std::vector<double> values = m.parameters();
+    for (const auto& [i, v] : si_parameters(m, in)) values[static_cast<std::size_t>(i)] = v;
+    return m.with_parameters(values);
+}
+
+double flow_speed_of(const si_input& in, const model& m)
+{
+    if (!in.cylinder) return nan;
+    return flow_speed(*in.cylinder, m.parameter(named_parameter(m, "Ur", "the flow speed U")));
+}
+
+double gap_of(const si_input& in, const model& m)
+{
+    const int surface = gap_parameter_and_surface(m).second;
+    return surface < 0 ? nan : rest_gap(m, surface) * length_scale(in);
+}
+
+physical_scales scales_at(const si_input& in, const model& m)
+{
+    if (in.scales) return *in.scales;
+    const cylinder_in_flow& c = *in.cylinder;
+    const double U = flow_speed_of(in, m);
+    const flow_scales f = scales(c, U);
+    const double mu = dimensionless(c, U).mu;
+    return {.length = f.length, .time = f.time, .mass = mu * c.fluid_density * c.diameter * c.diameter};
+}
+
+impact_statistics in_si(const impact_statistics& s, const physical_scales& k)
+{
+    impact_statistics o = s;
+    o.duration = s.duration * k.time;
+    o.rate = s.rate / k.time;
+    o.velocity_min = s.velocity_min * k.velocity();
+    o.velocity_mean = s.velocity_mean * k.velocity();
+    o.velocity_rms = s.velocity_rms * k.velocity();
+    o.velocity_max = s.velocity_max * k.velocity();
+    o.energy_per_impact = s.energy_per_impact * k.energy();
+    o.power = s.power * k.power();
+    o.excursion = s.excursion * k.length;
+    for (auto& g : o.excursion_by_surface) g *= k.length;
+    return o;
+}
+
+std::vector<double> gaps_in_model_units(const si_input& in, const std::vector<double>& metres)
+{
+    std::vector<double> out;
+    for (const double g : metres) {
+        if (!(g >= 0.0) || !std::isfinite(g))
+            throw input_error("gap " + format_double(g) +
+                              " m is below zero (a gap is the distance from the rest state to the surface)");
+        out.push_back(g / length_scale(in));
+    }
+    return out;
+}
+
+clearance_result in_si(const clearance_result& r, const si_input& in, const model& m, int parameter)
+{
+    clearance_result o = r;
+    const double L = length_scale(in);
+    for (auto& p : o.points) {
+        const physical_scales k = scales_at(in, m.with_parameter(parameter, p.value));
+        p.clearance *= L;
+        p.aperiodic_min *= L;
+        p.aperiodic_max *= L;
+        for (auto& c : p.cells) {
+            c.gap *= L;
+            c.statistics = in_si(c.statistics, k);
+        }
+    }
+    return o;
+}
+
+std::vector<named_value> si_values(const si_input& in, const model& m)
+{
+    std::vector<named_value> out;
+    if (in.cylinder) {
+        const double U = flow_speed_of(in, m);
+        out.push_back({"U", U});
+        out.push_back({"Re", reynolds_number(*in.cylinder, U)});
+        out.push_back({"mass_ratio", mass_ratio(*in.cylinder)});
+    }
+    out.push_back({"gap", gap_of(in, m)});
+    const physical_scales k = scales_at(in, m);
+    out.push_back({"length_scale", k.length});
+    out.push_back({"time_scale", k.time});
+    out.push_back({"mass_scale", k.mass});
+    out.push_back({"velocity_scale", k.velocity()});
+    out.push_back({"energy_scale", k.energy()});
+    out.push_back({"power_scale", k.power()});
+    return out;
+}
+
+std::vector<std::string> validity_warnings(const si_input& in, const model& m)
+{
+    if (!in.cylinder) return {};
+    return validity_warnings(*in.cylinder, flow_speed_of(in, m));
+}
+
+}  // namespace vimpact

@@ -1,0 +1,196 @@
+"""The engineering front end on the command line: `clearance` (the issue's contract, the
+clearance against `grazing` at the matching Ur times D), `--si` on the run commands (inputs
+converted and echoed in run.json, statistics in SI against the scales computed by hand),
+impact statistics in every run's JSON and tables, the calibration warning, and bad physical
+input refused with exit 2, naming the input, with nothing written."""
+import csv
+import json
+import math
+import os
+
+import pytest
+
+from test_cli import run, run_json
+
+SI = "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000"
+SHORT = ["--transient", "100", "--record", "40"]
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_the_clearance_contract(vimpact):
+    j = run_json(vimpact, "clearance", "--si", SI, "--speeds", "3:6:7")
+    speeds = [3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0]
+    assert [u for u, _ in j["clearance"]] == speeds
+    assert all(g is not None and 0 < g < 0.02 for _, g in j["clearance"])  # metres, below a diameter
+    assert len(j["dimensionless"]) == 7
+    for u, row in zip(speeds, j["dimensionless"]):
+        assert {"U", "Ur", "mu", "xi"} <= set(row)
+        assert row["U"] == u and math.isclose(row["Ur"], u / (12 * 0.02), rel_tol=1e-15)
+        assert math.isclose(row["mu"], (0.6 + math.pi / 4 * 1000 * 0.02 ** 2) / (1000 * 0.02 ** 2), rel_tol=1e-15)
+        assert row["xi"] == 0.002
+    # The chart: a regime at every gap, and an aperiodic range per speed (null where none).
+    assert sum(j["label_counts"].values()) == 7 * 13
+    assert len(j["aperiodic"]) == 7
+
+
+@pytest.mark.parametrize("u", [3.5, 5.0])
+def test_the_clearance_is_the_grazing_value_at_the_matching_ur_times_d(vimpact, u):
+    j = run_json(vimpact, "clearance", "--si", SI, "--speeds", f"{u}:{u}:1", "--fractions", "1.2:1.2:1", *SHORT)
+    (speed, gap), = j["clearance"]
+    row, = j["dimensionless"]
+    g = run_json(vimpact, "grazing", "--set", f"Ur={u / 0.24!r}", "--set", f"mu={row['mu']!r}", "--set", "xi=0.002")
+    assert speed == u
+    assert gap == -g["sigma_graze"] * 0.02
+    assert row["sigma_graze"] == g["sigma_graze"]
+    # The same with --si on grazing: the smallest gap in metres.
+    gs = run_json(vimpact, "grazing", "--si", f"{SI},U={u!r}")
+    assert gs["surfaces"][0]["gap_si"] == gap
+
+
+def test_clearance_writes_its_files_and_replays(vimpact, tmp_path):
+    out, again = str(tmp_path / "c"), str(tmp_path / "again")
+    args = ["clearance", "--si", SI, "--speeds", "4:5:2", "--fractions", "0.5:1.1:3", *SHORT]
+    p = run(vimpact, *args, "--no-plot", "--out", out)
+    assert p.returncode == 0, p.stderr
+    record = json.load(open(os.path.join(out, "run.json")))
+    assert set(record["files"]) == {"clearance.csv", "chart.csv", "run.json", "config.toml"}
+    si = record["config"]["si"]
+    assert si["inputs"]["D"] == 0.02 and si["inputs"]["nu"] == 1e-6
+    assert set(si["parameters"]) == {"mu", "xi", "St"}
+    chart = rows(os.path.join(out, "chart.csv"))
+    assert len(chart) == 2 * 3
+    for r in chart:
+        assert math.isclose(float(r["gap_si"]), float(r["gap"]) * 0.02, rel_tol=1e-15)
+        assert math.isclose(float(r["sigma"]), -float(r["gap"]), rel_tol=1e-12)
+    cl = rows(os.path.join(out, "clearance.csv"))
+    assert [float(r["U"]) for r in cl] == [4.0, 5.0]
+    p = run(vimpact, "clearance", "--config", os.path.join(out, "config.toml"), "--no-plot", "--out", again, cwd="/")
+    assert p.returncode == 0, p.stderr
+    for name in ("clearance.csv", "chart.csv", "config.toml"):
+        assert open(os.path.join(out, name), "rb").read() == open(os.path.join(again, name), "rb").read(), name
+
+
+def test_simulate_in_si_echoes_the_conversion_and_converts_the_statistics(vimpact, tmp_path):
+    out = str(tmp_path / "s")
+    p = run(vimpact, "simulate", "--si", f"{SI},U=4,gap=0.001", "--json", "--no-plot", "--out", out, *SHORT)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    cfg = json.load(open(os.path.join(out, "run.json")))["config"]
+    assert cfg["parameters"]["sigma"] == pytest.approx(-0.05, abs=1e-15)
+    assert cfg["parameters"]["Ur"] == pytest.approx(4 / 0.24, rel=1e-15)
+    assert cfg["si"]["parameters"]["sigma"] == cfg["parameters"]["sigma"]
+    assert cfg["si"]["values"]["U"] == pytest.approx(4.0, rel=1e-15)
+    # By hand: one model unit of time 1/Omega_f, Omega_f = 2 pi St U / D = 80 pi /s; velocity
+    # D Omega_f; energy per metre (m + m_f) (D Omega_f)^2.
+    omega = 2 * math.pi * 0.2 * 4 / 0.02
+    mass = 0.6 + math.pi / 4 * 1000 * 0.02 ** 2
+    s, k = j["impact_statistics"], j["impact_statistics_si"]
+    assert s["impacts_recorded"] > 0
+    assert k["impact_rate"] == pytest.approx(s["impact_rate"] * omega, rel=1e-14)
+    assert k["impact_velocity_max"] == pytest.approx(s["impact_velocity_max"] * 0.02 * omega, rel=1e-14)
+    assert k["energy_per_impact"] == pytest.approx(s["energy_per_impact"] * mass * (0.02 * omega) ** 2, rel=1e-14)
+    assert k["power"] == pytest.approx(s["power"] * mass * (0.02 * omega) ** 2 * omega, rel=1e-14)
+    assert k["excursion"] == pytest.approx(s["excursion"] * 0.02, rel=1e-15)
+    assert k["duration"] == pytest.approx(s["duration"] / omega, rel=1e-14)
+    assert "in SI: impacts" in run(vimpact, "simulate", "--si", f"{SI},U=4,gap=0.001", *SHORT).stdout
+
+
+def test_impacts_csv_has_each_impacts_velocity_and_energy(vimpact, tmp_path):
+    out = str(tmp_path / "s")
+    p = run(vimpact, "simulate", "--no-plot", "--out", out, *SHORT)
+    assert p.returncode == 0, p.stderr
+    imp = rows(os.path.join(out, "impacts.csv"))
+    assert imp
+    for r in imp:  # the paper's barrier: v = -ydot, u = r v, e = (1 - r^2) v^2 / 2
+        v = -float(r["ydot_before"])
+        assert float(r["normal_velocity"]) == pytest.approx(v, rel=1e-15)
+        assert float(r["rebound_velocity"]) == pytest.approx(0.8 * v, rel=1e-14)
+        assert float(r["energy"]) == pytest.approx(0.18 * v * v, rel=1e-14)
+    s = json.load(open(os.path.join(out, "run.json")))["result"]["impact_statistics"]
+    assert s["impacts_recorded"] == len(imp)
+    assert s["impact_velocity_max"] == pytest.approx(max(float(r["normal_velocity"]) for r in imp), rel=1e-15)
+
+
+def test_sweep_over_the_flow_speed_in_si(vimpact, tmp_path):
+    out = str(tmp_path / "w")
+    p = run(vimpact, "sweep", "--si", f"{SI},gap=0.001", "--param", "U", "--range", "3.5:4.5:3", "--no-plot",
+            "--out", out, *SHORT)
+    assert p.returncode == 0, p.stderr
+    lab = rows(os.path.join(out, "labels.csv"))
+    assert [float(r["U"]) for r in lab] == [3.5, 4.0, 4.5]
+    for r in lab:
+        assert float(r["Ur"]) == pytest.approx(float(r["U"]) / 0.24, rel=1e-15)
+        omega = 2 * math.pi * 0.2 * float(r["U"]) / 0.02
+        assert float(r["impact_rate_si"]) == pytest.approx(float(r["impact_rate"]) * omega, rel=1e-14)
+    p = run(vimpact, "map", "--si", SI, "--x", "U:3.5:4.5:2", "--y", "gap:0.002:0.003:2", "--no-plot", "--out",
+            str(tmp_path / "m"), *SHORT)
+    assert p.returncode == 0, p.stderr
+    cells = rows(os.path.join(str(tmp_path / "m"), "labels.csv"))
+    assert [(float(c["U"]), float(c["gap"])) for c in cells] == [(3.5, 0.002), (4.5, 0.002), (3.5, 0.003),
+                                                                  (4.5, 0.003)]
+    assert all(float(c["sigma"]) == pytest.approx(-float(c["gap"]) / 0.02, rel=1e-14) for c in cells)
+
+
+def test_the_calibration_warning(vimpact):
+    p = run(vimpact, "clearance", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1.2", "--speeds", "4:4:1",
+            "--fractions", "1.2:1.2:1", *SHORT)
+    assert p.returncode == 0, p.stderr
+    assert "vimpact: warning: the mass ratio m* = m / (rho pi D^2 / 4) = " in p.stderr
+    p = run(vimpact, "simulate", "--si", f"{SI},U=10", *SHORT)
+    assert p.returncode == 0 and "warning: Re = U D / nu = 200000" in p.stderr
+    assert "warning" not in run(vimpact, "simulate", "--si", f"{SI},U=4", *SHORT).stderr
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["clearance", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=-1000", "--speeds", "3:6:7"], "rho (fluid density"),
+    (["clearance", "--si", "D=0,m=0.6,fn=12,zeta=0.002,rho=1000", "--speeds", "3:6:7"], "D (diameter, m) must be"),
+    (["clearance", "--si", SI, "--speeds", "3:6:7", "--gaps", "-0.001:0.004:6"], "--gaps: gap -0.001 m is below zero"),
+    (["simulate", "--si", f"{SI},U=4,gap=-0.001"], "gap (distance to the neighbouring surface, m)"),
+    (["clearance", "--si", "D=0.02,m", "--speeds", "3:6:7"], "--si expects KEY=VALUE"),
+    (["clearance", "--si", "D=0.02,m=abc,fn=12,zeta=0.002,rho=1000", "--speeds", "3:6:7"], "--si m"),
+    (["clearance", "--si", SI + ",Q=1", "--speeds", "3:6:7"], "unknown key 'Q'"),
+    (["clearance", "--speeds", "3:6:7"], "--speeds needs a cylinder in --si"),
+    (["clearance", "--si", SI, "--speeds", "0:6:7"], "U (flow speed, m/s) must be"),
+    (["simulate", "--si", SI, "--set", "mu=2"], "--set mu=2 and --si both set mu"),
+    (["simulate", "--model", "two_sided_impact_oscillator", "--si", SI], "model two_sided_impact_oscillator"),
+])
+def test_bad_physical_input_exits_2_naming_it_and_writes_nothing(vimpact, tmp_path, args, needle):
+    out = tmp_path / "out"
+    p = run(vimpact, *args, "--out", str(out))
+    assert p.returncode == 2, p.stderr
+    assert needle in p.stderr, p.stderr
+    assert not out.exists() and not (tmp_path / "out.jobs").exists()
+
+
+def test_statistics_in_every_sweep_and_map_table(vimpact, tmp_path):
+    out = str(tmp_path / "w")
+    p = run(vimpact, "sweep", "--param", "Ur", "--range", "16:17:2", "--no-plot", "--out", out, *SHORT)
+    assert p.returncode == 0, p.stderr
+    names = json.load(open(os.path.join(out, "run.json")))["result"]["statistics_columns"]
+    assert names[:3] == ["impacts_recorded", "duration", "impact_rate"]
+    lab = rows(os.path.join(out, "labels.csv"))
+    assert all(set(names) <= set(r) for r in lab)
+    # Each point's statistics are those of the same run alone.
+    single = run_json(vimpact, "simulate", "--set", "Ur=17", *SHORT)["impact_statistics"]
+    for k in names:
+        assert float(lab[1][k]) == pytest.approx(single[k], rel=1e-15), k
+
+
+def test_clearance_runs_through_the_job_loop(vimpact, tmp_path):
+    """Threads and shards give the same files as one thread."""
+    args = ["clearance", "--si", SI, "--speeds", "3.5:5:4", "--fractions", "0.5:1.2:2", *SHORT, "--no-plot"]
+    whole, threads, sharded = tmp_path / "whole", tmp_path / "threads", tmp_path / "sharded"
+    assert run(vimpact, *args, "--threads", "1", "--out", str(whole)).returncode == 0
+    assert run(vimpact, *args, "--threads", "2", "--out", str(threads)).returncode == 0
+    for i in range(2):
+        p = run(vimpact, *args, "--threads", "1", "--shard", f"{i}/2", "--out", str(sharded))
+        assert p.returncode == 0, p.stderr
+        assert (sharded / "chart.csv").exists() == (i == 1)
+    for d in (threads, sharded):
+        for name in ("clearance.csv", "chart.csv"):
+            assert (whole / name).read_bytes() == (d / name).read_bytes(), (d, name)
+    assert not os.path.exists(str(sharded) + ".jobs")

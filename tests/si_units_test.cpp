@@ -1,0 +1,189 @@
+// SI units: conversions against values computed by hand from the formulas of Facchinetti et
+// al. (2004) (docs/engineering.md), round trips model <-> SI, the statistics' SI forms against
+// hand-made products of the scales, bad inputs named, and the clearance at a flow speed against
+// the grazing analysis run directly at the matching Ur (times D).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "test_support.hpp"
+#include "vimpact/analysis/clearance.hpp"
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/physical/si_units.hpp"
+
+namespace {
+
+using namespace vimpact;
+using pairs = std::vector<std::pair<std::string, double>>;
+constexpr double pi = std::numbers::pi;
+
+// The contract's tube: 20 mm, 0.6 kg/m, 12 Hz, 0.2 %, in water.
+pairs tube() { return {{"D", 0.02}, {"m", 0.6}, {"fn", 12.0}, {"zeta", 0.002}, {"rho", 1000.0}}; }
+
+std::string message_of(const pairs& p)
+{
+    try {
+        (void)si_from_pairs(p);
+    } catch (const input_error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(SIUnits, TubeInWaterToTheWakeModelByHand)
+{
+    pairs p = tube();
+    p.emplace_back("U", 4.0);
+    p.emplace_back("gap", 0.003);
+    const si_input in = si_from_pairs(p);
+    const model m = apply_si(model{}, in);
+    // By hand: Ur = 4 / (12 * 0.02) = 16.666..., mu = (0.6 + pi/4 1000 0.0004) / (1000 0.0004)
+    // = 1.5 + pi/4, xi = 0.002, sigma = -0.003 / 0.02 = -0.15.
+    const auto& info = m.info();
+    EXPECT_NEAR(m.parameter(info.parameter_index("Ur")), 4.0 / 0.24, 1e-14);
+    EXPECT_NEAR(m.parameter(info.parameter_index("mu")), 1.5 + pi / 4, 1e-14);
+    EXPECT_EQ(m.parameter(info.parameter_index("xi")), 0.002);
+    EXPECT_EQ(m.parameter(info.parameter_index("St")), 0.2);
+    EXPECT_NEAR(m.parameter(info.parameter_index("sigma")), -0.15, 1e-15);
+    // Back: the same speed and gap.
+    EXPECT_NEAR(flow_speed_of(in, m), 4.0, 1e-14);
+    EXPECT_NEAR(gap_of(in, m), 0.003, 1e-17);
+    // The scales at U = 4: Omega_f = 2 pi 0.2 4 / 0.02 = 80 pi rad/s.
+    const physical_scales k = scales_at(in, m);
+    EXPECT_NEAR(k.time, 1.0 / (80 * pi), 1e-17);
+    EXPECT_NEAR(k.velocity(), 0.02 * 80 * pi, 1e-13);
+    EXPECT_NEAR(k.mass, 0.6 + pi / 4 * 1000 * 0.0004, 1e-14);  // m + m_f per metre
+}
+
+TEST(SIUnits, AnyModelByItsUnitsAndGap)
+{
+    // The two stops at x = +-d: one model unit 2.5 mm and 10 ms; a gap of 5 mm is d = 2.
+    const si_input in = si_from_pairs({{"length", 0.0025}, {"time", 0.01}, {"mass", 3.0}, {"gap", 0.005}});
+    const model two = model::builtin("two_sided_impact_oscillator");
+    const model m = apply_si(two, in);
+    EXPECT_NEAR(m.parameter(two.info().parameter_index("d")), 2.0, 1e-14);
+    EXPECT_NEAR(gap_of(in, m), 0.005, 1e-17);
+    EXPECT_TRUE(std::isnan(flow_speed_of(in, m)));
+    // The forced oscillator's barrier at sigma = -gap / length.
+    const model f = apply_si(model::builtin("forced_impact_oscillator"), in);
+    EXPECT_NEAR(f.parameter(f.info().parameter_index("sigma")), -2.0, 1e-14);
+    const physical_scales k = scales_at(in, m);
+    EXPECT_EQ(k.length, 0.0025);
+    EXPECT_NEAR(k.energy(), 3.0 * 0.25 * 0.25, 1e-15);
+    EXPECT_NEAR(k.power(), 3.0 * 0.25 * 0.25 / 0.01, 1e-13);
+}
+
+TEST(SIUnits, StatisticsInSIAreTheModelsTimesTheScales)
+{
+    impact_statistics s;
+    s.impacts = 10;
+    s.duration = 50.0;
+    s.rate = 0.2;
+    s.velocity_min = 0.1;
+    s.velocity_mean = 0.2;
+    s.velocity_rms = 0.25;
+    s.velocity_max = 0.3;
+    s.energy_per_impact = 0.01;
+    s.power = 0.002;
+    s.contact_fraction = 0.25;
+    s.excursion = 0.4;
+    s.excursion_by_surface = {0.4};
+    const physical_scales k{.length = 0.02, .time = 0.004, .mass = 0.9};
+    const impact_statistics o = in_si(s, k);
+    const double v = 0.02 / 0.004;  // m/s per model unit
+    EXPECT_EQ(o.impacts, 10);
+    EXPECT_NEAR(o.duration, 0.2, 1e-15);
+    EXPECT_NEAR(o.rate, 50.0, 1e-12);
+    EXPECT_NEAR(o.velocity_max, 0.3 * v, 1e-15);
+    EXPECT_NEAR(o.velocity_rms, 0.25 * v, 1e-15);
+    EXPECT_NEAR(o.energy_per_impact, 0.01 * 0.9 * v * v, 1e-15);
+    EXPECT_NEAR(o.power, 0.002 * 0.9 * v * v / 0.004, 1e-12);
+    EXPECT_EQ(o.contact_fraction, 0.25);
+    EXPECT_NEAR(o.excursion, 0.008, 1e-17);
+    EXPECT_NEAR(o.excursion_by_surface[0], 0.008, 1e-17);
+}
+
+TEST(SIUnits, BadInputsAreNamed)
+{
+    const auto without = [](const char* key) {
+        pairs p;
+        for (const auto& kv : tube())
+            if (kv.first != key) p.push_back(kv);
+        return p;
+    };
+    const auto with = [](const char* key, double v) {
+        pairs p = tube();
+        for (auto& kv : p)
+            if (kv.first == key) kv.second = v;
+        return p;
+    };
+    EXPECT_NE(message_of(with("rho", -1000)).find("rho (fluid density, kg/m^3) must be"), std::string::npos);
+    EXPECT_NE(message_of(with("D", 0.0)).find("D (diameter, m) must be"), std::string::npos);
+    pairs gap = tube();
+    gap.emplace_back("gap", -0.001);
+    EXPECT_NE(message_of(gap).find("gap (distance to the neighbouring surface, m) must be a finite number >= 0"),
+              std::string::npos);
+    EXPECT_NE(message_of(without("fn")).find("--si needs fn"), std::string::npos);
+    pairs both = tube();
+    both.emplace_back("length", 1.0);
+    EXPECT_NE(message_of(both).find("not both"), std::string::npos);
+    EXPECT_NE(message_of({{"length", 1.0}, {"time", 1.0}, {"U", 3.0}}).find("U (flow speed) needs a cylinder"),
+              std::string::npos);
+    // The wake model's parameters do not exist in the two-stop model.
+    EXPECT_THROW((void)apply_si(model::builtin("two_sided_impact_oscillator"), si_from_pairs(tube())), input_error);
+}
+
+TEST(SIUnits, CalibrationWarnings)
+{
+    pairs p = tube();
+    p.emplace_back("U", 4.0);
+    const si_input in = si_from_pairs(p);
+    EXPECT_TRUE(validity_warnings(in, apply_si(model{}, in)).empty());  // Re 8e4, m* 1.91
+    pairs fast = tube();
+    fast.emplace_back("U", 10.0);  // Re = 10 * 0.02 / 1e-6 = 2e5
+    const si_input f = si_from_pairs(fast);
+    const auto w = validity_warnings(f, apply_si(model{}, f));
+    ASSERT_EQ(w.size(), 1u);
+    EXPECT_NE(w[0].find("Re = U D / nu = 200000"), std::string::npos);
+    pairs air = tube();
+    for (auto& kv : air)
+        if (kv.first == "rho") kv.second = 1.2;  // m* = 0.6 / (1.2 pi 0.0001) = 1592
+    const si_input a = si_from_pairs(air);
+    const auto wa = validity_warnings(a, apply_si(model{}, a).with_parameter(0, 10.0));
+    ASSERT_FALSE(wa.empty());
+    EXPECT_NE(wa.back().find("mass ratio"), std::string::npos);
+}
+
+TEST(SIUnits, ClearanceIsTheGrazingValueAtTheMatchingReducedVelocity)
+{
+    pairs p = tube();
+    const si_input in = si_from_pairs(p);
+    const model m = apply_si(model{}, in);
+    const double U = 4.5;
+    clearance_options o;
+    o.parameter = si_parameter(in, m, "U");
+    o.values = {si_parameter_value(in, m, "U", U)};
+    o.fractions = {0.5, 1.2};
+    o.protocol.transient_impacts = 100;
+    o.protocol.record_points = 50;
+    const clearance_result r = clearance(m, o);
+    ASSERT_EQ(r.points.size(), 1u);
+    // Directly: the grazing analysis at Ur = U / (fn D) = 18.75, sigma_graze times -D.
+    grazing_options go = job_grazing_options(o.protocol.flow.integration);
+    go.parameter = m.info().parameter_index("sigma");
+    const model at = m.with_parameter(o.parameter, 4.5 / (12 * 0.02));
+    const grazing_result g = grazing(at, m.initial_state(), go);
+    const double sigma_graze = g.surfaces[0].parameter_value;
+    EXPECT_EQ(r.points[0].grazing_value, sigma_graze);
+    EXPECT_EQ(r.points[0].clearance, -sigma_graze);
+    EXPECT_NEAR(r.points[0].clearance * length_scale(in), -sigma_graze * 0.02, 1e-17);
+    EXPECT_TRUE(r.points[0].converged);
+    // Half the clearance impacts; 1.2 times it does not (the surface-free orbit clears it).
+    ASSERT_EQ(r.points[0].cells.size(), 2u);
+    EXPECT_GT(r.points[0].cells[0].statistics.impacts, 0);
+    EXPECT_EQ(r.points[0].cells[1].label.label, "P0");
+    EXPECT_NEAR(r.points[0].cells[1].gap, 1.2 * -sigma_graze, 1e-15);
+}
+
+}  // namespace
