@@ -33,19 +33,22 @@ int main(int argc, char** argv)
     std::vector<double> seconds(static_cast<std::size_t>(nx * ny), -1.0);
     vimpact::job_options j;
     j.threads = argc == 7 ? std::atoi(argv[6]) : 1;
+    j.batch = 1;  // each job timed alone (in SIMD lanes a batch's time is shared out evenly)
     j.timed = [&](long job, double s) { seconds[static_cast<std::size_t>(job)] = s; };
     std::vector<std::string> labels(seconds.size());
+    std::vector<long> steps(seconds.size(), 0);
     (void)vimpact::map2d(m, o, j, [&](long job, const vimpact::map_cell& c) {
         labels[static_cast<std::size_t>(job)] = c.label.label;
+        steps[static_cast<std::size_t>(job)] = c.steps;
     });
     std::ofstream out(argv[5]);
-    out << "job,ix,iy,Ur,sigma,label,seconds\n";
+    out << "job,ix,iy,Ur,sigma,label,seconds,steps\n";
     char buf[64];
     for (long k = 0; k < nx * ny; ++k) {
         std::snprintf(buf, sizeof buf, "%.9f", seconds[static_cast<std::size_t>(k)]);
         out << k << ',' << k % nx << ',' << k / nx << ',' << o.x.values[static_cast<std::size_t>(k % nx)] << ','
             << o.y.values[static_cast<std::size_t>(k / nx)] << ',' << labels[static_cast<std::size_t>(k)] << ',' << buf
-            << '\n';
+            << ',' << steps[static_cast<std::size_t>(k)] << '\n';
     }
     return out ? 0 : 1;
 }

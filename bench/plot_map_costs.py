@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The cost per job of a real map (bench/map_job_costs.cpp's CSV): where in (Ur, sigma) the
+"""The cost per job of a real map (bench/job_costs.cpp's CSV): where in (Ur, sigma) the
 time goes, and how it follows the work (accepted steps).
 
 Usage: /usr/bin/python3 bench/plot_map_costs.py MAP_COSTS.csv OUT.png
@@ -13,8 +13,9 @@ import numpy as np
 
 def main(path, png):
     d = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
-    # The thread's CPU time: what the job costs, whatever else the machine was doing.
-    ur, sigma, sec, steps = d["Ur"], d["sigma"], d["cpu_seconds"], d["steps"].astype(float)
+    # seconds: the CPU time of the thread that ran the job (build/job_costs), what the job
+    # costs whatever else the machine was doing.
+    ur, sigma, sec, steps = d["Ur"], d["sigma"], d["seconds"], d["steps"].astype(float)
     nx, ny = int(d["ix"].max()) + 1, int(d["iy"].max()) + 1
     a = float(np.dot(steps, sec) / np.dot(steps, steps))
     q = np.quantile(sec, [0.5, 0.9, 0.99, 1.0])

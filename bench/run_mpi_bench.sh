@@ -11,12 +11,12 @@
 # The machine's load average is printed with each measurement: timings on a busy machine are
 # slower and noisier (the per-job costs least, being single-threaded).
 # Usage: bash bench/run_mpi_bench.sh [1] [2] [3]   (default: all)
-#   BUILD_DIR (build), OUT_DIR (bench/results), REPEATS (3), MEM_SECONDS (240),
+#   BUILD_DIR (build), OUT_DIR (bench/output), REPEATS (3), MEM_SECONDS (240),
 #   COSTS=FILE: skip the 200 x 200 measurement and project from FILE.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
-out_dir=${OUT_DIR:-bench/results}
+out_dir=${OUT_DIR:-bench/output}
 repeats=${REPEATS:-3}
 mem_seconds=${MEM_SECONDS:-240}
 parts=("$@")

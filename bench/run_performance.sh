@@ -9,11 +9,12 @@
 #      set, also a whole build for AVX2, -march=haswell);
 #   3. the work-precision diagram (bench/work_precision.py, with scipy unless --no-scipy);
 #   4. the step-size controller's table (build/controller_bench);
-#   5. with --map-costs: the per-job cost of a 200 x 200 map (bench/map_job_costs.cpp; about
-#      10 minutes on 2 quiet cores) and its figure.
+#   5. with --map-costs: the per-job cost of a 200 x 200 map of the paper's protocol
+#      (build/job_costs, the same file the distributed-run projection reads; about 10 minutes on
+#      2 quiet cores) and its figure.
 # Each part prints the load average before it runs. Outputs go to OUT (default
 # bench/output): lanes.csv, like_for_like.md, work_precision.{csv,png}, controller.md,
-# map_costs.csv, map_costs.png.
+# job_costs_200x200.csv, map_costs.png.
 # Usage: bash bench/run_performance.sh [--no-scipy] [--map-costs] [--quick]
 #   BUILD_DIR (default build), AVX2_BUILD_DIR (optional), OUT (default bench/output)
 #   --quick: the lanes on a 32 x 32 map and 3 runs per like-for-like point.
@@ -34,7 +35,7 @@ for a in "$@"; do
   esac
 done
 mkdir -p "$out"
-targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench map_job_costs lanes_bench lanes_bench_avx2"
+targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench job_costs lanes_bench lanes_bench_avx2"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build" -j2 --target $targets > /dev/null
 [ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true
@@ -94,7 +95,7 @@ echo "== 4. step-size controller"; load
 
 if [ "$costs" = 1 ]; then
   echo "== 5. per-job cost of a 200 x 200 map"; load
-  "$build"/map_job_costs 200 200 "$out/map_costs.csv" 2
-  /usr/bin/python3 bench/plot_map_costs.py "$out/map_costs.csv" "$out/map_costs.png"
+  "$build"/job_costs 200 200 500 200 "$out/job_costs_200x200.csv" 2
+  /usr/bin/python3 bench/plot_map_costs.py "$out/job_costs_200x200.csv" "$out/map_costs.png"
   load
 fi

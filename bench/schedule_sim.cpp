@@ -37,7 +37,7 @@ measured read_costs(const std::string& path)
 {
     std::ifstream in(path);
     std::string line;
-    std::getline(in, line);  // job,ix,iy,Ur,sigma,label,seconds
+    std::getline(in, line);  // job,ix,iy,Ur,sigma,label,seconds[,steps]
     measured m;
     while (std::getline(in, line)) {
         std::vector<std::string> f;

@@ -156,10 +156,8 @@ clearance_result clearance(const model& m, const clearance_options& o, const job
     res.gap_parameter = G;
     res.surface = surface;
     const long n = static_cast<long>(o.values.size());
-    auto records = detail::run_journaled<clearance_point>(spec, {n, 0}, j, run, encode, decode, res.jobs);
-    if (res.jobs.complete()) res.points = detail::in_job_order(std::move(records));
-    else
-        for (auto& [job, p] : records) res.points.push_back(std::move(p));
+    res.jobs = detail::run_journaled<clearance_point>(spec, {n, 0}, j, run, encode, decode,
+                                                      [&](long, clearance_point&& p) { res.points.push_back(std::move(p)); });
     return res;
 }
 
