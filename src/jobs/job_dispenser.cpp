@@ -49,9 +49,9 @@ void job_dispenser::completed(long job)
     if (m_schedule.chained() && job + m_schedule.chains < m_schedule.jobs) m_completed.insert(job);
 }
 
-long rank_capacity(long threads, double mean_job_seconds, double batch_seconds)
+long rank_capacity(long threads, double mean_job_seconds, long batch, double batch_seconds)
 {
-    const long least = 4 * threads, most = 64 * threads;
+    const long least = std::max(4L, 2 * batch) * threads, most = std::max(64L, 2 * batch) * threads;
     if (!(mean_job_seconds > 0.0)) return least;
     const double want = static_cast<double>(threads) * batch_seconds / mean_job_seconds;
     return want >= static_cast<double>(most) ? most : std::max(least, static_cast<long>(want));

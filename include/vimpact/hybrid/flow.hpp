@@ -210,12 +210,18 @@ public:
     // and no watched event can have been crossed in it, decided from the same end samples and
     // by the same rule as after_free_step (hybrid/flow_lanes.hpp), which would only have moved
     // on. Its end samples are not kept (the next step samples its start again: the same numbers).
-    void quiet_free_step()
+    // With gap maxima watched (flow_options::gap_maxima), the driver also found no gap's rate
+    // turning from rising to falling in the step: each gap's largest value on it is its end
+    // value, which report_gap_maxima would report.
+    template <class Observer>
+    void quiet_free_step(Observer& obs)
     {
         m_free_step_max = std::max(m_free_step_max, m_integ.last_step());
         m_t = m_integ.t();
         m_x = m_integ.x();
         m_ends_valid = false;
+        if (m_opt.gap_maxima && m_opt.surfaces && !m_stop)
+            for (int i = 0; i < m_model.surface_count(); ++i) obs.on_gap_maximum(i, m_t, m_model.gap(i, m_x));
     }
     template <class Observer>
     std::optional<outcome> step_taken(step_status st, Observer& obs)

@@ -87,6 +87,8 @@ lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const
             const lanes v0 = def.gap(i, x0), v1 = def.gap(i, x1);
             const lanes r0 = rate<N>(def.gap_gradient(i, x0), f0, quiet), r1 = rate<N>(def.gap_gradient(i, x1), f1, quiet);
             quiet = quiet && v0 > zero && no_down_crossing(v0, v1, r0, r1);
+            // The flow's rule for a gap maximum inside the step (report_gap_maxima).
+            if (opt.gap_maxima) quiet = quiet && !(r0 > zero && r1 <= zero);
         }
     for (const flow_event& e : opt.events) {
         const lanes v0 = def.section(e.index, x0), v1 = def.section(e.index, x1);
@@ -294,9 +296,8 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
                 }
                 in.accept_external(pj, opt.t_max, xj, fj, H[j], LE[j],
                                    {fill_stages, &stage_contexts[static_cast<std::size_t>(j)]});
-                // A quiet step still has its gap maxima to report (flow_options::gap_maxima).
-                if (bit(quiet) && !s.run->obs.wants_segments() && !opt.gap_maxima) {
-                    flow.quiet_free_step();
+                if (bit(quiet) && !s.run->obs.wants_segments()) {
+                    flow.quiet_free_step(s.run->obs);
                     o = flow.step_taken(step_status::ok, s.run->obs);
                     if (!o) o = flow.limit_reached();
                 } else {

@@ -17,9 +17,10 @@ namespace vimpact {
 // The jobs a rank of `threads` threads holds at most (running and queued; it asks for more
 // when it holds half): four per thread, or, when its jobs are short, enough for about
 // `batch_seconds` of work, so that its requests and reports (which carry its results) stay
-// few per second whatever the job's length; at most 64 per thread. mean_job_seconds <= 0:
-// not known yet.
-long rank_capacity(long threads, double mean_job_seconds, double batch_seconds = 0.1);
+// few per second whatever the job's length; at most 64 per thread. Threads that take `batch`
+// jobs at a time (SIMD lanes) hold at least two batches each. mean_job_seconds <= 0: not
+// known yet.
+long rank_capacity(long threads, double mean_job_seconds, long batch = 1, double batch_seconds = 0.1);
 
 // The window of a run on several ranks, per computing thread of all ranks: room for every
 // rank's largest holding twice over.

@@ -239,6 +239,8 @@ public:
         const std::lock_guard lock(m_mutex);
         return m_failure;
     }
+    // Jobs a thread takes at once (to share its SIMD lanes).
+    [[nodiscard]] long batch() const { return m_batch; }
     // Queued and running jobs.
     [[nodiscard]] long held() const
     {
@@ -411,7 +413,7 @@ job_loop_summary run_rank(const job_loop_options& opt, const job_loop_io<Record>
     bool active = false;
     auto oldest = std::chrono::steady_clock::now();
     for (;;) {
-        const long capacity = rank_capacity(summary.threads, pool.mean_job_seconds());
+        const long capacity = rank_capacity(summary.threads, pool.mean_job_seconds(), pool.batch());
         // Held before the results are taken: a job done meanwhile is then among them.
         const long held = pool.held();
         active = false;
@@ -652,9 +654,11 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
             if (!stop_deadline) stop_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
             if (remote_left == 0 || std::chrono::steady_clock::now() > *stop_deadline) break;
         } else {
-            // Hand out: the own threads first (no message), then the ranks that asked.
-            const long own_want = 2L * own_threads - pool.held();
-            if (own_want > own_threads - 1) {
+            // Hand out: the own threads first (no message), then the ranks that asked. The
+            // own threads hold two batches each (a batch: the jobs a thread runs together in
+            // its SIMD lanes), and are topped up a whole batch at a time.
+            const long own_want = 2L * batch * own_threads - pool.held();
+            if (own_want >= std::max(batch, static_cast<long>(own_threads))) {
                 auto jobs = dispenser.grant(own_want);
                 if (!jobs.empty()) {
                     std::vector<typename pool_t::item> items;
