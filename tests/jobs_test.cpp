@@ -10,6 +10,7 @@
 #include <deque>
 #include <mutex>
 #include <set>
+#include <span>
 #include <string>
 #include <thread>
 
@@ -266,6 +267,53 @@ TEST(JobLoopRanks, EveryJobOnceInOrderAndBitForBitWhateverTheRanksAndThreads)
                 EXPECT_GT(remote, 0) << "the other ranks computed nothing";
             }
         }
+    }
+}
+
+// Runners with a `many` member get whole batches: a thread of a rank, whether it is rank 0 or
+// another, is handed `batch` jobs at a time (SIMD lanes are only full then), and every job is
+// still delivered once, in order, with the value a job alone gives.
+struct batch_recorder {
+    std::mutex mutex;
+    std::vector<std::size_t> sizes;
+};
+
+TEST(JobLoopRanks, ThreadsTakeWholeBatches)
+{
+    constexpr long batch = 8, jobs = 400;
+    const job_schedule s{jobs, 0};
+    job_loop_options o;
+    o.threads = 1;
+    const auto one = collect(s, o);
+    for (const int ranks : {1, 2}) {
+        batch_recorder rec;
+        auto single = [](long j, const double* p) { return work(j, p); };
+        auto many = [&](std::span<const long> js) {
+            {
+                const std::lock_guard lock(rec.mutex);
+                rec.sizes.push_back(js.size());
+            }
+            std::vector<double> out;
+            for (const long j : js) out.push_back(work(j, nullptr));
+            return out;
+        };
+        o.batch = batch;
+        const auto r = ranks == 1 ? ranks_run{} : run_ranks(ranks, s, o, vimpact::job_runners{single, many});
+        std::vector<std::pair<long, double>> delivered = r.delivered;
+        if (ranks == 1)
+            run_jobs<double>(s, o, {}, vimpact::job_runners{single, many},
+                             [&](long j, double&& v) { delivered.emplace_back(j, v); });
+        EXPECT_EQ(delivered, one) << ranks << " rank(s)";
+        long full = 0, in_batches = 0;
+        for (const std::size_t n : rec.sizes) {
+            EXPECT_LE(static_cast<long>(n), batch);
+            in_batches += static_cast<long>(n);
+            if (static_cast<long>(n) == batch) ++full;
+        }
+        // Only the ends of the list (and of a rank's grants) may give a thread less.
+        EXPECT_GE(full * batch, jobs * 3 / 4) << ranks << " rank(s): " << rec.sizes.size() << " batches, "
+                                              << full << " of them full";
+        EXPECT_LE(in_batches, jobs);
     }
 }
 
