@@ -7,6 +7,8 @@ set -euo pipefail
 packages=(
   build-essential cmake git pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
+  # journal lines read fast by a distributed run's coordinator (src/io/json_line.hpp)
+  libsimdjson-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-dev libnanoflann-dev libginac-dev
   # SIMD lanes of the job commands (include/vimpact/core/lanes.hpp)
   libxsimd-dev

@@ -5,8 +5,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
+#include <string>
+#include <vector>
 
+#include "io/json_line.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/staged_output.hpp"
@@ -61,4 +65,34 @@ TEST(StagedOutput, CommitMovesFilesIntoExistingDirectory)
     EXPECT_EQ(header, "x,y");
     EXPECT_EQ(row, "0.1,2");
     fs::remove_all(dir);
+}
+
+// Journal lines are read by simdjson into the value nlohmann's own parser gives: the same
+// types (non-negative integers unsigned, negative signed, other numbers doubles), the same
+// digits (every double correctly rounded) and the same text when written again.
+TEST(JsonLine, ReadsWhatNlohmannReads)
+{
+    const std::vector<std::string> lines = {
+        R"({"job":1,"record":{"grazing":[],"label":{"closure":9.992007221626409e-15,"impacts":1,"label":"P2","settled":true},"statistics":{"values":[9.0,150.46680647601897,"nan",-0.0,6.322403519779272e-06,1e-300,4.9e-324,1.7976931348623157e308]},"status":"ok","steps":7048}})",
+        R"([-9223372036854775808,18446744073709551615,0,-1,1.0,0.1,2.5e-8,"a\"b\\c\u00e9\n",null,false,{"":{}},[[],[[]]]])",
+        R"({"z":1,"a":2,"m":{"k":[1,2,3]}})",
+        "  3.141592653589793  ",
+    };
+    for (const auto& line : lines) {
+        const auto fast = vimpact::detail::try_parse_json_line(line);
+        ASSERT_TRUE(fast.has_value()) << line;
+        const auto slow = nlohmann::json::parse(line);
+        EXPECT_EQ(*fast, slow) << line;
+        EXPECT_EQ(fast->dump(), slow.dump()) << line;
+        std::function<void(const nlohmann::json&, const nlohmann::json&)> same_types = [&](const auto& a, const auto& b) {
+            ASSERT_EQ(a.type(), b.type()) << a.dump() << " in " << line;
+            if (a.is_structured())
+                for (auto i = a.begin(), j = b.begin(); i != a.end(); ++i, ++j) same_types(*i, *j);
+        };
+        same_types(*fast, slow);
+    }
+    for (const std::string bad : {"", "{", R"({"job":1,})", "[1 2]", "nan", "{} {}"}) {
+        EXPECT_FALSE(vimpact::detail::try_parse_json_line(bad).has_value()) << bad;
+        EXPECT_THROW((void)vimpact::detail::parse_json_line(bad), std::runtime_error) << bad;
+    }
 }

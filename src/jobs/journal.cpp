@@ -164,8 +164,9 @@ void journal::index_file(const fs::path& file, bool repair)
     while (std::getline(in, text)) {
         if (in.eof()) break;  // no newline: a torn last line
         ++line;
-        const auto r = json::parse(text, nullptr, false);
-        const bool valid = !r.is_discarded() && r.is_object() && r.contains("job") && r["job"].is_number_integer() &&
+        const auto parsed = try_parse_json_line(text);
+        const json r = parsed ? *parsed : json();
+        const bool valid = parsed && r.is_object() && r.contains("job") && r["job"].is_number_integer() &&
                            r["job"].get<long>() >= 0 && r["job"].get<long>() < m_jobs && r.contains("record");
         if (!valid)
             throw input_error("the journal file " + file.string() + " is damaged at line " + std::to_string(line) +
@@ -196,8 +197,9 @@ json journal::load(long job) const
     int& fd = m_read_fds[file];
     if (fd < 0) fd = ::open(m_files[file].c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) throw std::runtime_error("cannot read " + m_files[file].string() + ": " + std::strerror(errno));
-    const auto r = json::parse(read_line(fd, w & offset_mask, m_files[file]), nullptr, false);
-    if (r.is_discarded() || !r.is_object() || !r.contains("record"))
+    const auto parsed = try_parse_json_line(read_line(fd, w & offset_mask, m_files[file]));
+    const json r = parsed ? *parsed : json();
+    if (!parsed || !r.is_object() || !r.contains("record"))
         throw input_error("the journal file " + m_files[file].string() + " is damaged at job " + std::to_string(job) +
                           "; remove the journal " + m_dir.string() + " and run again");
     return r["record"];

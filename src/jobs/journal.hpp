@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/json_line.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/jobs/job_options.hpp"
 
@@ -111,7 +112,7 @@ job_report run_journaled(const json& spec, const job_schedule& schedule, const j
     job_loop_io<Record> io;
     io.encode = [&](long job, const Record& r) { return journal_line(job, encode(r)); };
     io.decode = [&](std::string_view line) {
-        const json j = json::parse(line);
+        const json j = parse_json_line(line);
         return std::pair<long, Record>(j.at("job").get<long>(), decode(j.at("record")));
     };
     auto fill = [&](const job_loop_summary& s) {
