@@ -52,9 +52,10 @@ void add_si_option(CLI::App& app, common_args& a)
 {
     app.add_option("--si", a.si,
                    "The run in SI units: a cylinder in a flow D=..,m=..,fn=..,zeta=..,rho=.. [m, kg/m, Hz, -, kg/m^3] "
-                   "(CM, St, nu optional) for the wake model, or length=..,time=..[,mass=..] (one model unit in m, s, "
-                   "kg) for any model; U=.. (flow speed, m/s) and gap=.. (m, rest state to the surface) set Ur and "
-                   "the gap parameter; results also in SI (docs/engineering.md)");
+                   "(mstar=.. mass ratio for m, k=.. stiffness per length [N/m^2] for fn; CM, St, nu, CL0 optional) for "
+                   "the wake model, or length=..,time=..[,mass=..] (one model unit in m, s, kg) for any model; U=.. "
+                   "(flow speed, m/s) and gap=.. (m, rest state to the surface) set Ur and the gap parameter; results "
+                   "also in SI (docs/engineering.md)");
 }
 
 std::vector<std::string> warn_validity(const run_config& c, const std::vector<vimpact::model>& at)

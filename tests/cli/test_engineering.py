@@ -157,6 +157,15 @@ def test_the_calibration_warning(vimpact):
     (["clearance", "--si", SI, "--speeds", "0:6:7"], "U (flow speed, m/s) must be"),
     (["simulate", "--si", SI, "--set", "mu=2"], "--set mu=2 and --si both set mu"),
     (["simulate", "--model", "two_sided_impact_oscillator", "--si", SI], "model two_sided_impact_oscillator"),
+    (["simulate", "--si", SI + ",mstar=2"], "m (structural mass per unit length, kg/m) and mstar (mass ratio"),
+    (["simulate", "--si", "D=0.02,fn=12,zeta=0.002,rho=1000"], "--si needs m (structural mass per unit length"),
+    (["simulate", "--si", SI + ",k=5000"], "fn (natural frequency in still fluid, Hz) and k (stiffness per unit"),
+    (["simulate", "--si", "D=0.02,m=0.6,zeta=0.002,rho=1000"], "--si needs fn (natural frequency in still fluid"),
+    (["simulate", "--si", "D=0.02,m=0.6,k=0,zeta=0.002,rho=1000"],
+     "k (stiffness per unit length, N/m^2) must be a finite number > 0"),
+    (["simulate", "--si", "D=0.02,mstar=-1,fn=12,zeta=0.002,rho=1000"], "mstar (mass ratio m / (rho pi D^2 / 4)) must"),
+    (["simulate", "--si", SI + ",CL0=-0.3"], "CL0 (lift coefficient of the fixed cylinder) must be a finite number >= 0"),
+    (["simulate", "--si", SI + ",CL0=0.3", "--set", "CL0=0.2"], "--set CL0=0.2 and --si both set CL0"),
 ])
 def test_bad_physical_input_exits_2_naming_it_and_writes_nothing(vimpact, tmp_path, args, needle):
     out = tmp_path / "out"
@@ -194,3 +203,40 @@ def test_clearance_runs_through_the_job_loop(vimpact, tmp_path):
         for name in ("clearance.csv", "chart.csv"):
             assert (whole / name).read_bytes() == (d / name).read_bytes(), (d, name)
     assert not os.path.exists(str(sharded) + ".jobs")
+
+
+# ---------------------------------------------------------------- the alternatives to m and fn, CL0
+
+# m* = 3 on the 20 mm tube in water: m = 0.3 pi kg/m, 0.4 pi kg/m with the added mass; the
+# stiffness k = 160 pi^3 N/m^2 = 0.4 pi (2 pi 10 Hz)^2 gives fn = 10 Hz.
+STIFF = f"D=0.02,mstar=3,k={160 * math.pi ** 3!r},zeta=0.002,rho=1000"
+
+
+def test_mass_ratio_and_stiffness_give_the_model_by_hand(vimpact):
+    j = run_json(vimpact, "units", "--si", STIFF, "--speeds", "2:4:2")
+    for row, u in zip(j["dimensionless"], (2.0, 4.0)):
+        assert row["Ur"] == pytest.approx(u / (10 * 0.02), rel=1e-13)
+        assert row["mu"] == pytest.approx(math.pi, rel=1e-14)  # (m* + CM) pi / 4
+        assert row["mass_ratio"] == pytest.approx(3.0, rel=1e-15)
+    assert j["si"]["mstar"] == 3 and j["si"]["m"] == pytest.approx(0.3 * math.pi, rel=1e-15)
+    assert j["si"]["fn"] == pytest.approx(10.0, rel=1e-14)
+    # The same model as with m and fn given.
+    same = run_json(vimpact, "units", "--si", f"D=0.02,m={0.3 * math.pi!r},fn=10,zeta=0.002,rho=1000", "--speeds",
+                    "2:4:2")
+    for a, b in zip(j["dimensionless"], same["dimensionless"]):
+        assert a["Ur"] == pytest.approx(b["Ur"], rel=1e-13) and a["mu"] == pytest.approx(b["mu"], rel=1e-15)
+
+
+def test_the_lift_coefficient_is_set_and_echoed(vimpact, tmp_path):
+    paper_cl0 = 0.05 * 16 * math.pi ** 2 * 0.2 ** 2  # the paper preset's back-fitted value
+    for extra, preset, expected in (("", [], paper_cl0), ("", ["--preset", "facchinetti"], 0.3),
+                                    (",CL0=0.25", ["--preset", "facchinetti"], 0.25)):
+        out = tmp_path / f"cl0{len(extra)}{len(preset)}"
+        p = run(vimpact, "simulate", "--si", f"{SI},U=4{extra}", *preset, *SHORT, "--no-plot", "--out", str(out))
+        assert p.returncode == 0, p.stderr
+        cfg = json.load(open(out / "run.json"))["config"]
+        assert cfg["parameters"]["CL0"] == pytest.approx(expected, rel=1e-15)
+        assert cfg["si"]["values"]["CL0"] == cfg["parameters"]["CL0"]
+        assert ("CL0" in cfg["si"]["inputs"]) == bool(extra)
+        assert ("CL0" in cfg["si"]["parameters"]) == bool(extra)
+    assert "--set CL0=0.3" in run(vimpact, "units", "--si", SI + ",CL0=0.3", "--speeds", "4:4:1").stdout
