@@ -267,4 +267,33 @@ TEST(SIUnits, LiftCoefficientSetsTheModelsAndIsEchoed)
               std::string::npos);
 }
 
+TEST(SIUnits, StateDimensionsReadOffTheModels)
+{
+    using d = physical_dimension;
+    // The paper's y (gap y - sigma) and its velocity; the wake variable and its rate have none.
+    EXPECT_EQ(state_dimensions(model::builtin("wake_impact")), (std::vector<d>{d::length, d::velocity, d::none, d::none}));
+    // The forced oscillator's y, ydot and its forcing phase; the two stops' x, v and phase.
+    EXPECT_EQ(state_dimensions(model::builtin("forced_impact_oscillator")), (std::vector<d>{d::length, d::velocity, d::none}));
+    EXPECT_EQ(state_dimensions(model::builtin("two_sided_impact_oscillator")),
+              (std::vector<d>{d::length, d::velocity, d::none}));
+    const physical_scales k{.length = 0.02, .time = 0.004, .mass = 1.0};
+    EXPECT_EQ(k.of(d::length), 0.02);
+    EXPECT_NEAR(k.of(d::velocity), 5.0, 1e-15);
+    EXPECT_TRUE(std::isnan(k.of(d::none)));
+}
+
+TEST(SIUnits, FrequencyScaleGivesTheTubesNaturalFrequency)
+{
+    // The model's structure oscillates at angular frequency delta = 1 / (St Ur) per unit of
+    // model time: in hertz it must be the tube's fn = 12 Hz at any flow speed.
+    for (const double U : {1.0, 4.0}) {
+        pairs p = tube();
+        p.emplace_back("U", U);
+        const si_input in = si_from_pairs(p);
+        const model m = apply_si(model{}, in);
+        const double delta = 1.0 / (0.2 * m.parameter(m.info().parameter_index("Ur")));
+        EXPECT_NEAR(delta * scales_at(in, m).frequency(), 12.0, 1e-12) << U;
+    }
+}
+
 }  // namespace

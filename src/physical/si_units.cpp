@@ -71,6 +71,18 @@ double length_scale(const si_input& in)
     return nan;
 }
 
+double physical_scales::frequency() const { return 1.0 / (2.0 * std::numbers::pi * time); }
+
+double physical_scales::of(physical_dimension d) const
+{
+    switch (d) {
+    case physical_dimension::length: return length;
+    case physical_dimension::velocity: return velocity();
+    case physical_dimension::none: break;
+    }
+    return nan;
+}
+
 std::string si_keys()
 {
     return "D, m or mstar, fn or k, zeta, rho for a cylinder in a flow (CM, St, nu, CL0 optional), or length, time "

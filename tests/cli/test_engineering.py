@@ -10,6 +10,7 @@ import os
 
 import pytest
 
+from conftest import TWO_SIDED_TOML, check_png
 from test_cli import run, run_json
 
 SI = "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000"
@@ -240,3 +241,57 @@ def test_the_lift_coefficient_is_set_and_echoed(vimpact, tmp_path):
         assert ("CL0" in cfg["si"]["inputs"]) == bool(extra)
         assert ("CL0" in cfg["si"]["parameters"]) == bool(extra)
     assert "--set CL0=0.3" in run(vimpact, "units", "--si", SI + ",CL0=0.3", "--speeds", "4:4:1").stdout
+
+
+# ---------------------------------------------------------------- the run's tables in SI
+
+def test_simulate_writes_its_tables_also_in_si(vimpact, tmp_path):
+    out = tmp_path / "s"
+    p = run(vimpact, "simulate", "--si", f"{SI},U=4,gap=0.001", *SHORT, "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    omega = 2 * math.pi * 0.2 * 4 / 0.02  # Omega_f = 80 pi rad/s: one model time unit is 1/Omega_f s
+    mass = 0.6 + math.pi / 4 * 1000 * 0.02 ** 2
+    ts = rows(out / "timeseries.csv")
+    assert list(ts[0])[:5] == ["t", "y", "ydot", "x", "xdot"]  # the model's columns first, unchanged
+    for r in ts:
+        assert float(r["t_si"]) == pytest.approx(float(r["t"]) / omega, rel=1e-15)
+        assert float(r["y_si"]) == pytest.approx(float(r["y"]) * 0.02, rel=1e-15, abs=1e-18)
+        assert float(r["ydot_si"]) == pytest.approx(float(r["ydot"]) * 0.02 * omega, rel=1e-14, abs=1e-15)
+        assert "x_si" not in r and "xdot_si" not in r  # the wake variable has no SI value
+    # Another way to the velocity: the slope of the SI displacement over the SI time.
+    t = [float(r["t_si"]) for r in ts]
+    y = [float(r["y_si"]) for r in ts]
+    v = [float(r["ydot_si"]) for r in ts]
+    vmax = max(abs(x) for x in v)
+    for i in range(1, len(t) - 1):
+        if float(ts[i - 1]["y"]) > -0.05 + 1e-9 and float(ts[i + 1]["y"]) > -0.05 + 1e-9:  # no impact between
+            slope = (y[i + 1] - y[i - 1]) / (t[i + 1] - t[i - 1])
+            assert slope == pytest.approx(v[i], abs=2e-3 * vmax)
+    imp = rows(out / "impacts.csv")
+    assert imp
+    for r in imp:  # the barrier 1 mm below the rest position; e = (1 - r^2) M v^2 / 2 per metre
+        assert float(r["y_si"]) == pytest.approx(-0.001, rel=1e-13)
+        v = -float(r["ydot_before_si"])
+        assert float(r["normal_velocity_si"]) == pytest.approx(v, rel=1e-15)
+        assert float(r["rebound_velocity_si"]) == pytest.approx(0.8 * v, rel=1e-14)
+        assert float(r["energy_si"]) == pytest.approx(0.18 * mass * v * v, rel=1e-13)
+    sec = rows(out / "sections.csv")
+    assert all(float(r["ydot_si"]) == 0 for r in sec)  # the maxima of y
+    si = json.load(open(out / "run.json"))["result"]["si"]
+    assert si["columns"]["states"] == {"t_si": "s", "y_si": "m", "ydot_si": "m/s"}
+    assert si["columns"]["impacts"]["energy_si"] == "J/m"
+    assert json.load(open(out / "run.json"))["plot_options"] == {"units": "si"}
+    check_png(out / "plot.png")
+
+
+def test_any_models_tables_in_si(vimpact, tmp_path):
+    """The two stops (a model file): x in m, v in m/s by the units given, the phase left out."""
+    out = tmp_path / "two"
+    p = run(vimpact, "simulate", "--model", TWO_SIDED_TOML, "--si", "length=0.001,time=0.5,gap=0.002", *SHORT,
+            "--no-plot", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    for r in rows(out / "timeseries.csv"):
+        assert float(r["x_si"]) == pytest.approx(float(r["x"]) * 0.001, rel=1e-15, abs=1e-19)
+        assert float(r["v_si"]) == pytest.approx(float(r["v"]) * 0.002, rel=1e-15, abs=1e-19)
+        assert "phi_si" not in r
+    assert all(abs(float(r["x_si"])) == pytest.approx(0.002, rel=1e-12) for r in rows(out / "impacts.csv"))

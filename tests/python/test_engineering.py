@@ -197,3 +197,22 @@ def test_a_tube_given_by_its_stiffness_oscillates_at_sqrt_k_over_its_total_mass(
     t = r.section_t
     period_s = (t[-1] - t[0]) / (len(t) - 1) * u.values(m)["time_scale"]
     assert 1.0 / period_s == pytest.approx(math.sqrt(160 * math.pi ** 3 / (0.4 * math.pi)) / (2 * math.pi), rel=1e-4)
+
+
+def test_the_picture_of_a_run_in_si(cli, tmp_path):
+    out = tmp_path / "s"
+    p = cli("simulate", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000,U=4,gap=0.001", "--transient", "100",
+            "--record", "40", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    r = vimpact.Simulation.load(str(out))
+    assert r.si["values"]["length_scale"] == 0.02
+    fig = plot.phase(r, str(tmp_path / "si.png"), units="si")
+    series, portrait, hist = fig.axes[:3]
+    assert series.get_xlabel() == "t [s]" and series.get_ylabel().endswith("[m]")
+    assert portrait.get_ylabel().endswith("[m/s]")
+    assert hist.get_xlabel() == "impact velocity -dg/dt [m/s]"
+    # The barrier 1 mm below the rest position, drawn in metres.
+    assert any(abs(line.get_ydata()[0] + 0.001) < 1e-12 for line in series.get_lines()[1:2])
+    check_layout(fig)
+    with pytest.raises(ValueError, match="units='si' needs a run with its SI scales"):
+        plot.phase(vimpact.simulate(vimpact.Model("wake_impact"), **SHORT), units="si")

@@ -29,6 +29,7 @@
 #include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/model/model.hpp"
 #include "vimpact/physical/flow_units.hpp"
+#include "vimpact/physical/state_dimensions.hpp"
 
 namespace vimpact {
 
@@ -41,6 +42,10 @@ struct physical_scales {
     [[nodiscard]] double velocity() const { return length / time; }
     [[nodiscard]] double energy() const { return mass * velocity() * velocity(); }
     [[nodiscard]] double power() const { return energy() / time; }
+    // Hz of an angular frequency w of the model (a response's frequency): w / (2 pi time).
+    [[nodiscard]] double frequency() const;
+    // One model unit of a state variable of dimension d in SI (m, m/s); NaN for none.
+    [[nodiscard]] double of(physical_dimension d) const;
 };
 
 struct si_input {
