@@ -58,6 +58,29 @@ void add_si_option(CLI::App& app, common_args& a)
                    "also in SI (docs/engineering.md)");
 }
 
+axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+                         const std::string& what)
+{
+    axis_values a;
+    if (c.si && (name == "U" || name == "gap")) {
+        a.parameter = si_parameter(*c.si, c.model, name);
+        a.si_name = name;
+        a.si_values = given;
+        for (const double v : given) a.values.push_back(si_parameter_value(*c.si, c.model, name, v));
+        return a;
+    }
+    a.parameter = parameter_index(c.model, name, what);
+    a.values = given;
+    return a;
+}
+
+double axis_values::si_value(const run_config& c, double v) const
+{
+    const auto it = std::find(values.begin(), values.end(), v);
+    if (it != values.end()) return si_values.at(static_cast<std::size_t>(it - values.begin()));
+    return si_quantity_value(*c.si, c.model, si_name, v);
+}
+
 std::vector<std::string> warn_validity(const run_config& c, const std::vector<vimpact::model>& at)
 {
     std::vector<std::string> out;

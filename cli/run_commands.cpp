@@ -177,7 +177,7 @@ int run_grazing(const grazing_args& a)
         if (p >= 0) text += pname + "_graze = " + format_double(s.parameter_value) + ", ";
         text += "margin " + format_double(s.margin);
         if (si_gap >= 0 && p == si_gap && std::isfinite(s.parameter_value)) {
-            const double gap = gap_of(*c.si, m.with_parameter(p, s.parameter_value));
+            const double gap = gap_to(*c.si, m.with_parameter(p, s.parameter_value), static_cast<int>(i));
             surfaces.back()["gap_si"] = finite_or_null(gap);
             text += ", smallest gap without impact " + format_double(gap) + " m";
         }

@@ -296,4 +296,17 @@ TEST(SIUnits, FrequencyScaleGivesTheTubesNaturalFrequency)
     }
 }
 
+TEST(SIUnits, QuantitiesBackFromTheirParameters)
+{
+    // Ur = 20 is U = 20 fn D = 4.8 m/s; sigma = -0.1 is a gap of 0.1 D = 2 mm.
+    const si_input in = si_from_pairs(tube());
+    const model m = apply_si(model{}, in);
+    EXPECT_NEAR(si_quantity_value(in, m, "U", 20.0), 4.8, 1e-14);
+    EXPECT_NEAR(si_quantity_value(in, m, "gap", -0.1), 0.002, 1e-17);
+    // The two stops at +-d: the gap to either is d model units.
+    const si_input two = si_from_pairs({{"length", 0.0025}, {"time", 0.01}});
+    const model t = model::builtin("two_sided_impact_oscillator");
+    EXPECT_NEAR(gap_to(two, t.with_parameter(t.info().parameter_index("d"), 2.0), 1), 0.005, 1e-17);
+}
+
 }  // namespace

@@ -203,6 +203,14 @@ double si_parameter_value(const si_input& in, const model& m, std::string_view q
     throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
 }
 
+double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value)
+{
+    const int p = si_parameter(in, m, quantity);
+    if (p < 0) throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
+    const model at = m.with_parameter(p, value);
+    return quantity == "U" ? flow_speed_of(in, at) : gap_of(in, at);
+}
+
 std::vector<std::pair<int, double>> si_parameters(const model& m, const si_input& in)
 {
     std::vector<std::pair<int, double>> out;
@@ -238,8 +246,10 @@ double flow_speed_of(const si_input& in, const model& m)
 double gap_of(const si_input& in, const model& m)
 {
     const int surface = gap_parameter_and_surface(m).second;
-    return surface < 0 ? nan : rest_gap(m, surface) * length_scale(in);
+    return surface < 0 ? nan : gap_to(in, m, surface);
 }
+
+double gap_to(const si_input& in, const model& m, int surface) { return rest_gap(m, surface) * length_scale(in); }
 
 physical_scales scales_at(const si_input& in, const model& m)
 {

@@ -75,6 +75,8 @@ std::vector<named_value> si_inputs(const si_input& in);
 int si_parameter(const si_input& in, const model& m, std::string_view quantity);
 // The value of that parameter for the SI value (U in m/s, gap in m), at m's other parameters.
 double si_parameter_value(const si_input& in, const model& m, std::string_view quantity, double value);
+// Back: the SI value of the quantity (U [m/s], gap [m]) where that parameter is `value`.
+double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value);
 
 // The model with the parameters the SI input sets (mu, xi, St of a cylinder, CL0 when given; Ur
 // from U; the gap parameter from gap). Throws input_error naming what `m` lacks.
@@ -89,6 +91,8 @@ physical_scales scales_at(const si_input& in, const model& m);
 // when m has none).
 double flow_speed_of(const si_input& in, const model& m);
 double gap_of(const si_input& in, const model& m);
+// The gap [m] between the rest state and surface `surface` of m.
+double gap_to(const si_input& in, const model& m, int surface);
 // One model unit of length in metres.
 double length_scale(const si_input& in);
 
