@@ -52,9 +52,33 @@ void add_si_option(CLI::App& app, common_args& a)
 {
     app.add_option("--si", a.si,
                    "The run in SI units: a cylinder in a flow D=..,m=..,fn=..,zeta=..,rho=.. [m, kg/m, Hz, -, kg/m^3] "
-                   "(CM, St, nu optional) for the wake model, or length=..,time=..[,mass=..] (one model unit in m, s, "
-                   "kg) for any model; U=.. (flow speed, m/s) and gap=.. (m, rest state to the surface) set Ur and "
-                   "the gap parameter; results also in SI (docs/engineering.md)");
+                   "(mstar=.. mass ratio for m, k=.. stiffness per length [N/m^2] for fn; CM, St, nu, CL0 optional) for "
+                   "the wake model, or length=..,time=..[,mass=..] (one model unit in m, s, kg) for any model; U=.. "
+                   "(flow speed, m/s) and gap=.. (m, rest state to the surface) set Ur and the gap parameter; results "
+                   "also in SI (docs/engineering.md)");
+}
+
+axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+                         const std::string& what)
+{
+    axis_values a;
+    if (c.si && (name == "U" || name == "gap")) {
+        a.parameter = si_parameter(*c.si, c.model, name);
+        a.si_name = name;
+        a.si_values = given;
+        for (const double v : given) a.values.push_back(si_parameter_value(*c.si, c.model, name, v));
+        return a;
+    }
+    a.parameter = parameter_index(c.model, name, what);
+    a.values = given;
+    return a;
+}
+
+double axis_values::si_value(const run_config& c, double v) const
+{
+    const auto it = std::find(values.begin(), values.end(), v);
+    if (it != values.end()) return si_values.at(static_cast<std::size_t>(it - values.begin()));
+    return si_quantity_value(*c.si, c.model, si_name, v);
 }
 
 std::vector<std::string> warn_validity(const run_config& c, const std::vector<vimpact::model>& at)

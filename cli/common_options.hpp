@@ -73,7 +73,7 @@ struct run_config {
 };
 
 void add_common_options(CLI::App& app, common_args& args);
-// --si on the commands where SI units make sense (simulate, period, grazing, sweep, map).
+// --si on the commands where SI units make sense (docs/engineering.md lists them).
 void add_si_option(CLI::App& app, common_args& args);
 // The warnings of the SI inputs at the model `m` (a cylinder outside the wake model's
 // calibrated range), each printed once per call to stderr; returns them.
@@ -82,6 +82,23 @@ std::vector<std::string> warn_validity(const run_config& c, const std::vector<vi
 // Checks --out first (nothing is computed for a bad target), then loads the model and applies
 // everything else. Throws input_error for anything invalid.
 run_config resolve(const common_args& args);
+
+// A parameter axis (--param with --range, --x, --y): a model parameter by name or, with --si,
+// an SI quantity (U [m/s], gap [m]) as the model parameter it sets (physical/si_units.hpp).
+// The SI values are kept for the tables' SI column (named si_name).
+struct axis_values {
+    int parameter = -1;
+    std::vector<double> values;     // of the model parameter
+    std::vector<double> si_values;  // as given, when the axis is an SI quantity
+    std::string si_name;            // U or gap, else empty
+
+    [[nodiscard]] bool si() const { return !si_name.empty(); }
+    // The SI value where the parameter is v: the one given for one of `values`, else converted
+    // back (a continuation's points lie between them).
+    [[nodiscard]] double si_value(const run_config& c, double v) const;
+};
+axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+                         const std::string& what);
 
 // Throws input_error unless the initial state is admissible (on the allowed side of every
 // surface), naming the surface.

@@ -19,6 +19,7 @@
 #include "vimpact/io/continuation_json.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
 namespace {
@@ -51,6 +52,15 @@ std::pair<double, double> parse_interval(const std::string& text, const std::str
     const double a = parse_number(parts[0], what), b = parse_number(parts[1], what);
     if (a == b) throw input_error(what + " '" + text + "' is empty: a must differ from b");
     return {a, b};
+}
+
+std::vector<double> as_vector(std::pair<double, double> interval) { return {interval.first, interval.second}; }
+
+// With --si and the parameter an SI quantity: " (U = 4 m/s)" for its value v, else empty.
+std::string si_text(const run_config& c, const axis_values& axis, double v)
+{
+    if (!axis.si()) return {};
+    return " (" + axis.si_name + " = " + format_double(axis.si_value(c, v)) + (axis.si_name == "U" ? " m/s)" : " m)");
 }
 
 std::string orbit_name(int returns) { return "P" + std::to_string(returns); }
@@ -110,8 +120,11 @@ int run_continue(const continue_args& a)
     const auto& info = c.info();
     if (a.param.empty() || a.range.empty()) throw input_error("continue needs --param P and --range a:b");
     continuation_options o;
-    o.parameter = parameter_index(m, a.param, "--param");
-    std::tie(o.start, o.end) = parse_interval(a.range, "--range");
+    // With --si the parameter may be U [m/s] or gap [m], the range in SI.
+    const axis_values axis = resolve_axis(c, a.param, as_vector(parse_interval(a.range, "--range")), "--param");
+    o.parameter = axis.parameter;
+    o.start = axis.values.front();
+    o.end = axis.values.back();
     o.protocol = c.protocol;
     if (o.protocol.section.type != section_choice::kind::crossing)
         throw input_error("--section " + c.section_name() + ": continuation needs a section crossing (model " + m.name() +
@@ -136,6 +149,7 @@ int run_continue(const continue_args& a)
     o.arclength.integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
     o.cancel = &interrupt_flag();
     const model m0 = m.with_parameter(o.parameter, o.start);
+    warn_validity(c, {m0, m.with_parameter(o.parameter, o.end)});
     std::vector<Eigen::VectorXd> starts{c.ic};
     if (!a.ics.empty())
         for (const auto& s : split(a.ics, ';')) {
@@ -146,13 +160,16 @@ int run_continue(const continue_args& a)
     for (const auto& x : starts)
         if (const int s = violated_surface(m0, x); s >= 0)
             throw input_error("initial state lies beyond surface " + info.surfaces[static_cast<std::size_t>(s)].name +
-                              " at " + a.param + " = " + format_double(o.start));
+                              " at " + a.param + " = " + format_double(axis.si() ? axis.si_values.front() : o.start));
     const bool two = !a.param2.empty() || !a.range2.empty();
     curve_options co;
+    axis_values axis2;
     if (two) {
         if (a.param2.empty() || a.range2.empty()) throw input_error("--param2 needs --range2 c:d, and --range2 needs --param2");
-        co.parameter2 = parameter_index(m, a.param2, "--param2");
-        std::tie(co.lo2, co.hi2) = parse_interval(a.range2, "--range2");
+        axis2 = resolve_axis(c, a.param2, as_vector(parse_interval(a.range2, "--range2")), "--param2");
+        co.parameter2 = axis2.parameter;
+        co.lo2 = axis2.values.front();
+        co.hi2 = axis2.values.back();
         if (co.lo2 > co.hi2) std::swap(co.lo2, co.hi2);
         co.types = parse_types(a.curve_types);
         co.arclength = o.arclength;
@@ -180,8 +197,8 @@ int run_continue(const continue_args& a)
     const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
     const std::string pname2 = two ? info.parameters[static_cast<std::size_t>(co.parameter2)].name : std::string();
 
-    std::string text = "continuation of " + pname + " from " + format_double(o.start) + " towards " +
-                       format_double(o.end) + " (start: " +
+    std::string text = "continuation of " + pname + " from " + format_double(o.start) + si_text(c, axis, o.start) +
+                       " towards " + format_double(o.end) + si_text(c, axis, o.end) + " (start: " +
                        (o.from_attractor ? "the attractor, " + r.start_label : "a point of " + orbit_name(o.returns)) +
                        ")\n";
     if (r.status != outcome::ok)
@@ -215,7 +232,8 @@ int run_continue(const continue_args& a)
         const auto& bf = r.bifurcations[i];
         text += "  " + std::to_string(i) + ": " + std::string(to_string(bf.type)) +
                 (bf.surface >= 0 ? " (" + info.surfaces[static_cast<std::size_t>(bf.surface)].name + ")" : "") + " at " +
-                pname + " = " + format_double(bf.parameter) + (bf.located ? "" : " (not located to the tolerance)") +
+                pname + " = " + format_double(bf.parameter) + si_text(c, axis, bf.parameter) +
+                (bf.located ? "" : " (not located to the tolerance)") +
                 " on branch " + std::to_string(bf.branch);
         if (bf.type == bifurcation_type::grazing)
             text += ", impacts per period " + std::to_string(bf.sequence_before.size()) + " -> " +
@@ -239,6 +257,25 @@ int run_continue(const continue_args& a)
     json summary = two ? continuation_json(m, o, r, co, curves) : continuation_json(m, o, r);
     summary["command"] = "continue";
     summary["out"] = c.out ? json(c.out->string()) : json(nullptr);
+    if (c.si) {
+        // The SI value of an SI parameter beside its model value: param_si at every point,
+        // bifurcation and curve point (param2_si for --param2).
+        summary["si"] = si_json(*c.si, m);
+        const auto put = [&](json& at, const char* key, const axis_values& ax) {
+            if (ax.si()) at[std::string(key) + "_si"] = finite_or_null(ax.si_value(c, at[key].get<double>()));
+        };
+        if (axis.si()) summary["si_param"] = axis.si_name;
+        if (axis2.si()) summary["si_param2"] = axis2.si_name;
+        for (auto& branch : summary["branches"])
+            for (auto& p : branch) put(p, "param", axis);
+        for (auto& bf : summary["bifurcations"]) put(bf, "param", axis);
+        if (two)
+            for (auto& cv : summary["curves"])
+                for (auto& p : cv["points"]) {
+                    put(p, "param", axis);
+                    put(p, "param2", axis2);
+                }
+    }
 
     if (c.out) {
         // The brute-force picture underneath, with the same protocol and starting state.
@@ -278,6 +315,7 @@ int run_continue(const continue_args& a)
             bh.push_back("arclength");
             for (const auto& n : state_columns(info)) bh.push_back(n);
             for (const auto& n : multiplier_columns(dim)) bh.push_back(n);
+            if (axis.si()) bh.push_back(axis.si_name);  // the parameter in SI, last
             csv_writer bw(out.file("branches.csv"), bh);
             std::vector<std::string> sh{"branch", "point", "return", pname, "stable"};
             for (const auto& n : state_columns(info)) sh.push_back(n);
@@ -293,6 +331,7 @@ int run_continue(const continue_args& a)
                     row.push_back(p.arclength);
                     push_state(row, p.state);
                     push_multipliers(row, p.multipliers, dim);
+                    if (axis.si()) row.push_back(axis.si_value(c, p.parameter));
                     bw.row(row);
                     for (std::size_t j = 0; j < p.section_points.size(); ++j) {
                         std::vector<double> srow{static_cast<double>(b), static_cast<double>(k), static_cast<double>(j),
@@ -307,6 +346,7 @@ int run_continue(const continue_args& a)
                                         "period"};
             for (const auto& n : state_columns(info)) fh.push_back(n);
             for (const auto& n : multiplier_columns(dim)) fh.push_back(n);
+            if (axis.si()) fh.push_back(axis.si_name);
             csv_writer fw(out.file("bifurcations.csv"), fh);
             for (std::size_t i = 0; i < r.bifurcations.size(); ++i) {
                 const auto& bf = r.bifurcations[i];
@@ -323,6 +363,7 @@ int run_continue(const continue_args& a)
                 std::vector<double> mu;
                 push_multipliers(mu, bf.point.multipliers, dim);
                 for (const double v : mu) row.push_back(format_double(v));
+                if (axis.si()) row.push_back(format_double(axis.si_value(c, bf.parameter)));
                 fw.text_row(row);
             }
             fw.close();
@@ -331,6 +372,8 @@ int run_continue(const continue_args& a)
                                             "condition"};
                 for (const auto& n : state_columns(info)) ch.push_back(n);
                 for (const auto& n : multiplier_columns(dim)) ch.push_back(n);
+                if (axis.si()) ch.push_back(axis.si_name);
+                if (axis2.si()) ch.push_back(axis2.si_name);
                 csv_writer cw(out.file("curves.csv"), ch);
                 for (std::size_t i = 0; i < curves.size(); ++i)
                     for (std::size_t k = 0; k < curves[i].points.size(); ++k) {
@@ -344,6 +387,8 @@ int run_continue(const continue_args& a)
                         std::vector<double> mu;
                         push_multipliers(mu, p.multipliers, dim);
                         for (const double v : mu) row.push_back(format_double(v));
+                        if (axis.si()) row.push_back(format_double(axis.si_value(c, p.parameter)));
+                        if (axis2.si()) row.push_back(format_double(axis2.si_value(c, p.parameter2)));
                         cw.text_row(row);
                     }
                 cw.close();
@@ -390,7 +435,8 @@ cli_command add_continue_command(CLI::App& app)
         "map), with folds, period doublings, Neimark-Sacker and grazing points located; branch switching at "
         "period doublings; curves of bifurcation points in a second parameter (--param2)");
     add_common_options(*s, a->common);
-    s->add_option("--param", a->param, "The parameter to continue in")->required();
+    add_si_option(*s, a->common);
+    s->add_option("--param", a->param, "The parameter to continue in (with --si also U [m/s] or gap [m])")->required();
     s->add_option("--range", a->range, "a:b: the branch starts at a (the attractor there, or --period) and runs towards b; "
                                       "it ends where the parameter leaves [a, b]")
         ->required();

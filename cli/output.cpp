@@ -141,11 +141,21 @@ std::string statistics_text(const impact_statistics& s, bool si, bool per_metre)
     return t + "\n";
 }
 
+void add_si_summary(json& summary, const run_config& c, const vimpact::model& m)
+{
+    if (!c.si) return;
+    const json si = si_json(*c.si, m);
+    const si_tables tables = *si_tables_of(c, m);
+    summary["si"] = {{"values", si["values"]},
+                     {"warnings", si["warnings"]},
+                     {"columns",
+                      {{"states", si_columns_json(tables, m, false)}, {"impacts", si_columns_json(tables, m, true)}}}};
+}
+
 std::string add_si_results(json& summary, const run_config& c, const vimpact::model& m, const impact_statistics& s)
 {
     if (!c.si) return {};
-    const json si = si_json(*c.si, m);
-    summary["si"] = {{"values", si["values"]}, {"warnings", si["warnings"]}};
+    add_si_summary(summary, c, m);
     const impact_statistics k = in_si(s, scales_at(*c.si, m));
     summary["impact_statistics_si"] = statistics_json(k, m.info());
     return "in SI: " + statistics_text(k, true, c.si->cylinder.has_value());
@@ -195,39 +205,106 @@ void write_json(const std::filesystem::path& p, const json& j)
     if (!out) throw std::runtime_error("cannot write " + p.string());
 }
 
-void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info)
+std::optional<si_tables> si_tables_of(const run_config& c, const vimpact::model& m)
+{
+    if (!c.si) return std::nullopt;
+    return si_tables{.scales = scales_at(*c.si, m),
+                     .dimensions = state_dimensions(m),
+                     .energy_unit = c.si->cylinder ? "J/m" : "J"};
+}
+
+namespace {
+
+// The columns among `columns` that have an SI value: (index, dimension).
+std::vector<std::pair<std::size_t, physical_dimension>> dimensioned(const std::vector<impact_column>& columns,
+                                                                    const si_tables& si)
+{
+    std::vector<std::pair<std::size_t, physical_dimension>> out;
+    for (std::size_t k = 0; k < columns.size(); ++k)
+        if (const auto d = si.dimensions.at(static_cast<std::size_t>(columns[k].variable)); d != physical_dimension::none)
+            out.emplace_back(k, d);
+    return out;
+}
+
+// A table of states as columns: each variable once, under its name.
+std::vector<impact_column> plain_columns(const model_info& info)
+{
+    std::vector<impact_column> out;
+    for (const auto& name : state_columns(info)) out.push_back({name, static_cast<int>(out.size()), false});
+    return out;
+}
+
+}  // namespace
+
+json si_columns_json(const si_tables& si, const vimpact::model& m, bool impacts)
+{
+    json j = json::object();
+    j["t_si"] = "s";
+    const auto columns = impacts ? impact_columns(m) : plain_columns(m.info());
+    for (const auto& [k, d] : dimensioned(columns, si)) j[columns[k].name + "_si"] = std::string(si_unit(d));
+    if (!impacts) return j;
+    j["normal_velocity_si"] = "m/s";
+    j["rebound_velocity_si"] = "m/s";
+    j["energy_si"] = si.energy_unit;
+    return j;
+}
+
+void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info, const si_tables* si)
 {
     std::vector<std::string> header{"t"};
     for (const auto& name : state_columns(info)) header.push_back(name);
+    const auto columns = plain_columns(info);
+    const auto in_si = si ? dimensioned(columns, *si) : std::vector<std::pair<std::size_t, physical_dimension>>{};
+    if (si) {
+        header.emplace_back("t_si");
+        for (const auto& [k, d] : in_si) header.push_back(columns[k].name + "_si");
+    }
     csv_writer w(p, header);
     std::vector<double> row(header.size());
     for (std::size_t i = 0; i < s.size(); ++i) {
         row[0] = s.t(i);
         for (int k = 0; k < s.dim(); ++k) row[static_cast<std::size_t>(k) + 1] = s.x(i, k);
+        if (si) {
+            std::size_t at = static_cast<std::size_t>(s.dim()) + 1;
+            row[at++] = s.t(i) * si->scales.time;
+            for (const auto& [k, d] : in_si) row[at++] = s.x(i, static_cast<int>(k)) * si->scales.of(d);
+        }
         w.row(row);
     }
     w.close();
 }
 
-void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m)
+void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m, const si_tables* si)
 {
     const auto columns = impact_columns(m);
     std::vector<std::string> header{"t"};
     for (const auto& c : columns) header.push_back(c.name);
     header.emplace_back("surface");
     for (const char* name : {"normal_velocity", "rebound_velocity", "energy"}) header.emplace_back(name);
+    const auto in_si = si ? dimensioned(columns, *si) : std::vector<std::pair<std::size_t, physical_dimension>>{};
+    if (si) {
+        header.emplace_back("t_si");
+        for (const auto& [k, d] : in_si) header.push_back(columns[k].name + "_si");
+        for (const char* name : {"normal_velocity_si", "rebound_velocity_si", "energy_si"}) header.emplace_back(name);
+    }
     csv_writer w(p, header);
     const auto velocities = impact_velocities(m, s);
-    std::vector<std::string> cells(header.size());
+    std::vector<std::string> cells;
     for (std::size_t i = 0; i < s.size(); ++i) {
-        cells[0] = format_double(s.pre.t(i));
-        for (std::size_t k = 0; k < columns.size(); ++k)
-            cells[k + 1] = format_double((columns[k].after ? s.post : s.pre).x(i, columns[k].variable));
-        const std::size_t after = columns.size() + 1;
-        cells[after] = m.info().surfaces.at(static_cast<std::size_t>(s.surface[i])).name;
-        cells[after + 1] = format_double(velocities[i].normal);
-        cells[after + 2] = format_double(velocities[i].rebound);
-        cells[after + 3] = format_double(velocities[i].energy);
+        const auto value = [&](std::size_t k) { return (columns[k].after ? s.post : s.pre).x(i, columns[k].variable); };
+        cells = {format_double(s.pre.t(i))};
+        for (std::size_t k = 0; k < columns.size(); ++k) cells.push_back(format_double(value(k)));
+        cells.push_back(m.info().surfaces.at(static_cast<std::size_t>(s.surface[i])).name);
+        for (const double v : {velocities[i].normal, velocities[i].rebound, velocities[i].energy})
+            cells.push_back(format_double(v));
+        if (si) {
+            const physical_scales& k = si->scales;
+            cells.push_back(format_double(s.pre.t(i) * k.time));
+            for (const auto& [c, d] : in_si) cells.push_back(format_double(value(c) * k.of(d)));
+            for (const double v : {velocities[i].normal * k.velocity(), velocities[i].rebound * k.velocity(),
+                                   velocities[i].energy * k.energy()})
+                cells.push_back(format_double(v));
+        }
         w.text_row(cells);
     }
     w.close();

@@ -49,8 +49,11 @@ json si_json(const si_input& in, const vimpact::model& m);
 // One line on the impact statistics for the text output, in the model's units, or in SI
 // (`si`: per metre of a cylinder's length when `per_metre`).
 std::string statistics_text(const impact_statistics& s, bool si = false, bool per_metre = false);
-// With --si: summary["si"] (si_json's values and warnings) and summary["impact_statistics_si"]
-// of a run of `m`; returns the text line in SI (empty without --si).
+// With --si: summary["si"] of a run of `m`: si_json's values and warnings, and `columns`, the
+// SI columns of its tables of states and of impacts with their units (si_columns_json).
+void add_si_summary(json& summary, const run_config& c, const vimpact::model& m);
+// With --si: add_si_summary and summary["impact_statistics_si"] of a run of `m`; returns the
+// text line in SI (empty without --si).
 std::string add_si_results(json& summary, const run_config& c, const vimpact::model& m, const impact_statistics& s);
 // The SI columns of sweep and map tables: the statistics' names with the suffix _si.
 std::vector<std::string> si_statistics_columns();
@@ -64,11 +67,30 @@ std::string counts_text(const json& counts);
 // command has any.
 json record_header(const std::string& command, const run_config& c);
 void write_json(const std::filesystem::path& p, const json& j);
-// t and one column per state variable.
-void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info);
+
+// With --si, what a run's state tables add in SI: the model's scales at the run's parameters
+// and which state variables are displacements and velocities (physical/state_dimensions.hpp).
+struct si_tables {
+    physical_scales scales;
+    std::vector<physical_dimension> dimensions;
+    std::string energy_unit;  // J, or J/m for a cylinder (per metre of its length)
+};
+std::optional<si_tables> si_tables_of(const run_config& c, const vimpact::model& m);
+// The SI columns those tables get, with their units: t_si (s), NAME_si of each displacement
+// (m) and velocity (m/s); with `impacts`, those of the impact columns and normal_velocity_si,
+// rebound_velocity_si (m/s) and energy_si.
+json si_columns_json(const si_tables& si, const vimpact::model& m, bool impacts);
+
+// t and one column per state variable; with `si`, then t_si and NAME_si of each displacement
+// and velocity.
+void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info,
+                  const si_tables* si = nullptr);
 // t, the impact columns of the model (io/state_columns.hpp), the surface's name, and each
-// impact's normal_velocity, rebound_velocity and energy (analysis/impact_statistics.hpp).
-void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m);
+// impact's normal_velocity, rebound_velocity and energy (analysis/impact_statistics.hpp); with
+// `si`, then t_si, the impact columns' NAME_si of each displacement and velocity,
+// normal_velocity_si, rebound_velocity_si and energy_si.
+void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m,
+                   const si_tables* si = nullptr);
 
 // Runs `python3 -m vimpact.plot KIND DIR FORMAT` (png, pdf, svg). A failure is reported, not fatal: the numbers are
 // the result, the picture is a view of them.

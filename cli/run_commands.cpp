@@ -39,7 +39,8 @@ std::string written_to(const run_config& c) { return c.out ? "output written to 
 
 int run_simulate(const simulate_args& a)
 {
-    const run_config c = resolve(a.common);
+    run_config c = resolve(a.common);
+    if (c.si) c.plot_options["units"] = "si";  // the picture in seconds, metres, m/s
     check_positive(a.sample_dt, "--dt");
     check_admissible(c);
     protocol_options po = c.protocol;
@@ -69,9 +70,10 @@ int run_simulate(const simulate_args& a)
         json record = record_header("simulate", c);
         record["result"] = summary;
         record["files"] = {"timeseries.csv", "impacts.csv", "sections.csv"};
-        write_states(out.file("timeseries.csv"), r.series, info);
-        write_impacts(out.file("impacts.csv"), r.impacts, c.model);
-        write_states(out.file("sections.csv"), r.points, info);
+        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+        write_states(out.file("timeseries.csv"), r.series, info, si ? &*si : nullptr);
+        write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
+        write_states(out.file("sections.csv"), r.points, info, si ? &*si : nullptr);
         finish_output(out, "simulate", c, record);
     }
     const std::string text = "outcome " + std::string(to_string(r.status)) + ", " + std::to_string(r.stats.impacts) +
@@ -122,8 +124,9 @@ int run_period(const period_args& a)
         json record = record_header("period", c);
         record["result"] = summary;
         record["files"] = {"sections.csv", "impacts.csv"};
-        write_states(out.file("sections.csv"), r.run.points, info);
-        write_impacts(out.file("impacts.csv"), r.run.impacts, c.model);
+        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+        write_states(out.file("sections.csv"), r.run.points, info, si ? &*si : nullptr);
+        write_impacts(out.file("impacts.csv"), r.run.impacts, c.model, si ? &*si : nullptr);
         finish_output(out, "period", c, record);
     }
     std::string text = lab.label;
@@ -174,7 +177,7 @@ int run_grazing(const grazing_args& a)
         if (p >= 0) text += pname + "_graze = " + format_double(s.parameter_value) + ", ";
         text += "margin " + format_double(s.margin);
         if (si_gap >= 0 && p == si_gap && std::isfinite(s.parameter_value)) {
-            const double gap = gap_of(*c.si, m.with_parameter(p, s.parameter_value));
+            const double gap = gap_to(*c.si, m.with_parameter(p, s.parameter_value), static_cast<int>(i));
             surfaces.back()["gap_si"] = finite_or_null(gap);
             text += ", smallest gap without impact " + format_double(gap) + " m";
         }

@@ -20,6 +20,7 @@
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
+#include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
 namespace {
@@ -60,17 +61,32 @@ std::string fixed(double v, int digits)
 
 double nan_unless(bool have, double v) { return have ? v : std::nan(""); }
 
-struct sweep_values {
-    int parameter = 0;
+// The swept parameter (with --si also U [m/s] or gap [m]), its name in the model and values.
+struct sweep_values : axis_values {
     std::string name;
-    std::vector<double> values;
 };
 
-sweep_values parse_sweep(const sweep_request& s, const model& m)
+sweep_values parse_sweep(const sweep_request& s, const run_config& c)
 {
     if (s.param.empty() || s.range.empty()) throw input_error("a sweep needs both --param and --range a:b:n");
-    const int p = parameter_index(m, s.param, "--param");
-    return {p, s.param, parse_range(s.range, "--range")};
+    sweep_values v{resolve_axis(c, s.param, parse_range(s.range, "--range"), "--param"), {}};
+    v.name = c.info().parameters[static_cast<std::size_t>(v.parameter)].name;
+    const model& m = c.model;
+    warn_validity(c, {m.with_parameter(v.parameter, v.values.front()), m.with_parameter(v.parameter, v.values.back())});
+    return v;
+}
+
+// One model unit of time in seconds where the swept parameter is `value` (with --si).
+double time_scale_at(const run_config& c, const sweep_values& sv, double value)
+{
+    return scales_at(*c.si, c.model.with_parameter(sv.parameter, value)).time;
+}
+
+// With --si: the sweep's SI quantity (si_param) and the conversion (si).
+void add_si_sweep(json& summary, const run_config& c, const sweep_values& sv)
+{
+    if (sv.si()) summary["si_param"] = sv.si_name;
+    if (c.si) summary["si"] = si_json(*c.si, c.model);
 }
 
 // points.csv of a stability sweep: the section points of every value's result, a value at a
@@ -106,10 +122,12 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
     job_session session(a.sweep.jobs, c.out);
     const model& m = c.model;
     const auto& info = c.info();
-    const sweep_values sv = parse_sweep(a.sweep, m);
+    const sweep_values sv = parse_sweep(a.sweep, c);
     std::vector<std::string> lh{sv.name, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
                                 "closure", "outcome"};
     for (const auto& n : impact_count_columns(info)) lh.push_back(n);
+    if (sv.si()) lh.push_back(sv.si_name);
+    if (c.si) lh.emplace_back("period_si");
 
     // The values stream in job order: rows to --out DIR, or each value's result to the
     // summary without it (with it they are in the CSV files).
@@ -130,6 +148,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
         const bool have = r.has_multipliers();
         tally.add(r.label);
         if (have && r.max_nontrivial_modulus >= 1.0) ++unstable;
+        const double period_si = c.si && have ? r.period * time_scale_at(c, sv, p.value) : std::nan("");
         if (!c.out) {
             per_value.push_back({{"value", p.value},
                                  {"label", r.label},
@@ -139,6 +158,8 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
                                  {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
                                  {"multipliers", multipliers_json(r)},
                                  {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)}});
+            if (sv.si()) per_value.back()[sv.si_name] = sv.si_value(c, p.value);
+            if (c.si) per_value.back()["period_si"] = finite_or_null(period_si);
             return;
         }
         open();
@@ -153,6 +174,8 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
         for (std::size_t s = 0; s < info.surfaces.size(); ++s)
             row.push_back(have && s < r.impacts_by_surface.size() ? std::to_string(r.impacts_by_surface[s])
                                                                    : std::string("nan"));
+        if (sv.si()) row.push_back(format_double(sv.si_value(c, p.value)));
+        if (c.si) row.push_back(format_double(period_si));
         lab->text_row(row);
         for (std::size_t i = 0; i < r.multipliers.size(); ++i)
             mu->row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
@@ -172,6 +195,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
                     {"files", {"labels.csv", "multipliers.csv", "points.csv"}},
                     {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     if (!c.out) summary["points"] = per_value;
+    add_si_sweep(summary, c, sv);
     std::string text = "floquet sweep of " + sv.name + " over " + std::to_string(sv.values.size()) +
                        " values: " + counts_text(counts) + "; " + std::to_string(unstable) +
                        " periodic orbit(s) with a multiplier outside the unit circle\n";
@@ -214,6 +238,7 @@ int run_floquet(const floquet_args& a)
     validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
     check_admissible(c);
+    warn_validity(c, {c.model});
     if (c.out) fo.sample_dt = 0.01;
     const floquet_result r = floquet(c.model, c.ic, fo);
     const auto& info = c.info();
@@ -221,7 +246,7 @@ int run_floquet(const floquet_args& a)
     const bool have = r.has_multipliers();
     json moduli = json::array();
     for (const auto& mu : r.multipliers) moduli.push_back(std::abs(mu));
-    const json summary = {
+    json summary = {
         {"command", "floquet"},
         {"label", r.label},
         {"outcome", std::string(to_string(r.status))},
@@ -246,6 +271,9 @@ int run_floquet(const floquet_args& a)
         {"tangent_rtol", fo.tangent_integration.rtol},
         {"stats", {{"protocol", stats_json(r.protocol_stats, info)}, {"tangent", stats_json(r.tangent_stats, info)}}},
         {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    add_si_summary(summary, c, c.model);
+    const double period_si = c.si && have ? r.period * scales_at(*c.si, c.model).time : std::nan("");
+    if (c.si) summary["period_si"] = finite_or_null(period_si);
     if (c.out) {
         throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
@@ -258,15 +286,18 @@ int run_floquet(const floquet_args& a)
             w.row({static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(), std::abs(r.multipliers[i]),
                    i == 0 ? 1.0 : 0.0});
         w.close();
-        write_states(out.file("orbit.csv"), r.orbit, info);
-        write_impacts(out.file("impacts.csv"), r.impacts, c.model);
+        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+        write_states(out.file("orbit.csv"), r.orbit, info, si ? &*si : nullptr);
+        write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
         finish_output(out, "floquet", c, record);
     }
 
     const std::string status(to_string(r.status));
     std::string text = r.label == status || r.status == outcome::ok ? r.label + "\n" : r.label + " (" + status + ")\n";
     if (have) {
-        text += "period T = " + format_double(r.period) + " (" + std::to_string(r.section_returns) +
+        text += "period T = " + format_double(r.period) +
+                (c.si ? " = " + format_double(period_si) + " s" : std::string()) + " (" +
+                std::to_string(r.section_returns) +
                 " section return(s), " + std::to_string(r.impacts_per_period) + " impact(s)), closure " +
                 fixed(r.closure, 3) + " after " + std::to_string(r.newton_iterations) + " Newton step(s)\n";
         text += "multipliers (" + std::string(to_string(r.jump)) + " at impacts; trivial first):\n";
@@ -302,7 +333,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
     job_session session(a.sweep.jobs, c.out);
     const model& m = c.model;
     const auto& info = c.info();
-    const sweep_values sv = parse_sweep(a.sweep, m);
+    const sweep_values sv = parse_sweep(a.sweep, c);
     if (c.protocol.section.type != section_choice::kind::crossing)
         throw input_error("--section " + c.section_name() + ": a lyapunov sweep records points on a section crossing (model " +
                           m.name() + " has " + info.section_names() + ")");
@@ -312,6 +343,9 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
     for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
     for (const char* k : {"lle_standard_error", "settled", "impacts", "time", "misses", "outcome"}) h.emplace_back(k);
     for (const auto& n : impact_count_columns(info)) h.push_back(n);
+    if (sv.si()) h.push_back(sv.si_name);
+    if (c.si)
+        for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i) + "_si");
 
     // The values stream in job order: rows to --out DIR, or each value's result to the
     // summary without it (with it they are in the CSV files).
@@ -331,6 +365,8 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         const double lle = have ? r.exponents[0] : std::nan("");
         if (have && std::isfinite(lle) && std::isfinite(r.lle_standard_error) && lle > 3.0 * r.lle_standard_error) ++positive;
         if (have && !r.settled) ++unsettled;
+        // Exponents per second with --si: per unit of model time over its length in seconds.
+        const double per_second = c.si ? 1.0 / time_scale_at(c, sv, p.value) : std::nan("");
         if (!c.out) {
             per_value.push_back({{"value", p.value},
                                  {"outcome", std::string(to_string(r.status))},
@@ -340,6 +376,8 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                                  {"exponents", exponents_json(r)},
                                  {"impacts", r.impacts},
                                  {"impacts_by_surface", by_surface(r.impacts_by_surface, info)}});
+            if (sv.si()) per_value.back()[sv.si_name] = sv.si_value(c, p.value);
+            if (c.si) per_value.back()["lle_si"] = finite_or_null(lle * per_second);
             return;
         }
         open();
@@ -354,6 +392,9 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         row.emplace_back(to_string(r.status));
         for (std::size_t s = 0; s < info.surfaces.size(); ++s)
             row.push_back(std::to_string(s < r.impacts_by_surface.size() ? r.impacts_by_surface[s] : 0L));
+        if (sv.si()) row.push_back(format_double(sv.si_value(c, p.value)));
+        if (c.si)
+            for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(all ? r.exponents[i] * per_second : std::nan("")));
         w->text_row(row);
         write_sweep_points(*pts, p.value, r.section_points);
     };
@@ -370,6 +411,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                     {"files", {"exponents.csv", "points.csv"}},
                     {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     if (!c.out) summary["points"] = per_value;
+    add_si_sweep(summary, c, sv);
     std::string text = "lyapunov sweep of " + sv.name + " over " + std::to_string(sv.values.size()) + " values (" +
                        std::string(to_string(lo.tdm)) + "): largest exponent above 3 standard errors at " +
                        std::to_string(positive) + "\n";
@@ -417,12 +459,13 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
     lo.method = c.protocol.method;
     if (sweep) return run_lyapunov_sweep(a, c, lo);
     check_admissible(c);
+    warn_validity(c, {c.model});
     const lyapunov_result r = lyapunov(c.model, c.ic, lo);
     const auto& info = c.info();
 
     const bool have = r.has_exponents();
     const double rate = r.time > 0.0 ? static_cast<double>(r.impacts) / r.time : 0.0;
-    const json summary = {
+    json summary = {
         {"command", "lyapunov"},
         {"outcome", std::string(to_string(r.status))},
         {"tdm", std::string(to_string(r.tdm))},
@@ -446,6 +489,19 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         {"warmup", a.warmup},
         {"stats", {{"transient", stats_json(r.transient_stats, info)}, {"tangent", stats_json(r.stats, info)}}},
         {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    // With --si: exponents and the impact rate per second, times in seconds.
+    const double second = c.si ? scales_at(*c.si, c.model).time : std::nan("");
+    add_si_summary(summary, c, c.model);
+    if (c.si) {
+        json e = json::array();
+        if (have)
+            for (Eigen::Index i = 0; i < r.exponents.size(); ++i) e.push_back(finite_or_null(r.exponents[i] / second));
+        summary["exponents_si"] = e;
+        summary["lle_si"] = have ? finite_or_null(r.exponents[0] / second) : json(nullptr);
+        summary["lle_standard_error_si"] = have ? finite_or_null(r.lle_standard_error / second) : json(nullptr);
+        summary["impact_rate_si"] = rate / second;
+        summary["time_si"] = r.time * second;
+    }
     if (c.out) {
         throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
@@ -455,6 +511,10 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         // Running estimates per QR column (the columns converge to the descending order).
         std::vector<std::string> h{"t"};
         for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i));
+        if (c.si) {
+            h.emplace_back("t_si");
+            for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i) + "_si");
+        }
         csv_writer w(out.file("convergence.csv"), h);
         Eigen::VectorXd sum = Eigen::VectorXd::Zero(c.model.dim());
         std::vector<double> row(h.size());
@@ -464,6 +524,11 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
             for (int i = 0; i < c.model.dim(); ++i) {
                 sum[i] += r.history[k][i];
                 row[static_cast<std::size_t>(i) + 1] = sum[i] / elapsed;
+            }
+            if (c.si) {
+                const std::size_t n = static_cast<std::size_t>(c.model.dim()) + 1;
+                row[n] = row[0] * second;
+                for (std::size_t i = 1; i < n; ++i) row[n + i] = row[i] / second;
             }
             w.row(row);
         }
@@ -478,6 +543,9 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         for (Eigen::Index i = 0; i < r.exponents.size(); ++i) text += " " + fixed(r.exponents[i], 6);
         text += "\nlargest " + fixed(r.exponents[0], 6) + " +- " + fixed(r.lle_standard_error, 2) +
                 " (standard error of 8 block means)\n";
+        if (c.si)
+            text += "in SI: largest " + fixed(r.exponents[0] / second, 6) + " +- " +
+                    fixed(r.lle_standard_error / second, 2) + " per second\n";
         if (!r.settled)
             text += "warning: not settled: the largest exponent differs between the halves of the averaging by more "
                     "than 4 standard errors; lengthen --transient or --impacts\n";
@@ -497,7 +565,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
 
 void add_sweep_options(CLI::App& app, sweep_request& s, const std::string& what)
 {
-    app.add_option("--param", s.param, "Sweep: the parameter to vary; " + what);
+    app.add_option("--param", s.param, "Sweep: the parameter to vary (with --si also U [m/s] or gap [m]); " + what);
     app.add_option("--range", s.range, "Sweep: values a:b:n (from a to b, n points; fixed starts from --ic)");
     add_job_options(app, s.jobs);
 }
@@ -511,6 +579,7 @@ cli_command add_floquet_command(CLI::App& app)
                                  "Floquet multipliers: find the periodic orbit after the transient, refine it by "
                                  "Newton shooting, and diagonalise its monodromy (saltation at impacts)");
     add_common_options(*f, a->common);
+    add_si_option(*f, a->common);
     f->add_option("--tol", a->tol, "Period tolerance for the label (default 1e-8)");
     f->add_option("--newton-tol", a->newton_tol, "Closure |P^k(z) - z| to reach by Newton shooting (default 1e-11)");
     f->add_option("--newton-iterations", a->newton_iterations, "Newton steps allowed (default 20)");
@@ -528,6 +597,7 @@ cli_command add_lyapunov_command(CLI::App& app)
                                  "Lyapunov spectrum by the paper's Algorithm 2: deviation vectors re-orthonormalised "
                                  "every t0, mapped through impacts by --tdm");
     add_common_options(*l, a->common);
+    add_si_option(*l, a->common);
     l->add_option("--tdm", a->tdm,
                   "Mapping at impacts: saltation (default; linear), second-order (finite deviations) "
                   "or trajectory (two-trajectory method)");

@@ -56,31 +56,6 @@ void append_counts(std::vector<std::string>& row, const std::vector<long>& count
 
 std::string out_json_text(const run_config& c) { return c.out ? c.out->string() : std::string(); }
 
-// An axis named by an SI quantity (U, gap) with --si: its model parameter and values; the SI
-// values are kept for the tables. A model parameter's name passes through.
-struct axis_values {
-    int parameter = -1;
-    std::vector<double> values;     // of the model parameter
-    std::vector<double> si_values;  // as given, when the axis is an SI quantity
-    std::string si_name;            // U or gap, else empty
-};
-
-axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
-                         const std::string& what)
-{
-    axis_values a;
-    if (c.si && (name == "U" || name == "gap")) {
-        a.parameter = si_parameter(*c.si, c.model, name);
-        a.si_name = name;
-        a.si_values = given;
-        for (const double v : given) a.values.push_back(si_parameter_value(*c.si, c.model, name, v));
-        return a;
-    }
-    a.parameter = parameter_index(c.model, name, what);
-    a.values = given;
-    return a;
-}
-
 // With --si: the SI columns of a run of `m` (the statistics in SI).
 void append_si_statistics(std::vector<std::string>& cells, const run_config& c, const model& m,
                           const impact_statistics& s)
@@ -181,11 +156,7 @@ int run_sweep(const sweep_args& a)
                 cells.push_back(format_double(s < p.grazing.size() ? p.grazing[s] : std::nan("")));
         append_counts(cells, p.label.impacts_by_surface, info.surfaces.size());
         append_statistics(cells, p.statistics);
-        if (!axis.si_name.empty()) {
-            const auto k =
-                static_cast<std::size_t>(std::find(o.values.begin(), o.values.end(), p.value) - o.values.begin());
-            cells.push_back(format_double(axis.si_values.at(k)));
-        }
+        if (axis.si()) cells.push_back(format_double(axis.si_value(c, p.value)));
         if (c.si) append_si_statistics(cells, c, m.with_parameter(o.parameter, p.value), p.statistics);
         lab->text_row(cells);
     };
@@ -375,13 +346,24 @@ int run_basins(const basins_args& a)
     check_tolerance(a.match_tol, "--match-tol");
     o.match.tolerance = a.match_tol;
     const std::size_t nx = ax.values.size(), ny = ay.values.size();
+    warn_validity(c, {m});
+    // With --si: the initial displacement or velocity of each axis also in SI (the axes that are
+    // one), at the model's scales.
+    const auto si = si_tables_of(c, m);
+    const auto si_factor = [&](int state) {
+        return si ? si->scales.of(si->dimensions.at(static_cast<std::size_t>(state))) : std::nan("");
+    };
+    const double fx = si_factor(o.x_state), fy = si_factor(o.y_state);
+    std::vector<std::string> h{ax.name, ay.name, "attractor", "label", "settled"};
+    if (std::isfinite(fx)) h.push_back(ax.name + "_si");
+    if (std::isfinite(fy)) h.push_back(ay.name + "_si");
 
     // The cells stream in job order to cells.csv; the summary counts.
     long excluded = 0, unsettled = 0;
     streamed_output stream(c);
     std::optional<csv_writer> cells;
     auto open = [&] {
-        if (!cells) cells.emplace(stream.get()->file("cells.csv"), std::vector<std::string>{ax.name, ay.name, "attractor", "label", "settled"});
+        if (!cells) cells.emplace(stream.get()->file("cells.csv"), h);
     };
     auto each = [&](long job, const basin_cell& b) {
         if (!b.admissible) ++excluded;
@@ -389,8 +371,12 @@ int run_basins(const basins_args& a)
         if (!c.out) return;
         open();
         const auto j = static_cast<std::size_t>(job);
-        cells->text_row({format_double(ax.values[j % nx]), format_double(ay.values[j / nx]), std::to_string(b.attractor),
-                         b.label.label, b.label.settled ? "1" : "0"});
+        const double x = ax.values[j % nx], y = ay.values[j / nx];
+        std::vector<std::string> row{format_double(x), format_double(y), std::to_string(b.attractor), b.label.label,
+                                     b.label.settled ? "1" : "0"};
+        if (std::isfinite(fx)) row.push_back(format_double(x * fx));
+        if (std::isfinite(fy)) row.push_back(format_double(y * fy));
+        cells->text_row(row);
     };
     const basins_result res = basins(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -403,15 +389,16 @@ int run_basins(const basins_args& a)
         table.push_back({{"id", i}, {"label", e.signature.label}, {"cells", e.members}, {"section_points", pts}});
         labels.push_back(e.signature.label);
     }
-    const json summary = {{"command", "basins"},
-                          {"x", ax.name},
-                          {"y", ay.name},
-                          {"shape", {ny, nx}},
-                          {"attractors", {{"count", res.attractors.size()}, {"labels", labels}, {"table", table}}},
-                          {"inadmissible_cells", excluded},
-                          {"unsettled", unsettled},
-                          {"batch", res.jobs.batch},
-                          {"out", out_json(c)}};
+    json summary = {{"command", "basins"},
+                    {"x", ax.name},
+                    {"y", ay.name},
+                    {"shape", {ny, nx}},
+                    {"attractors", {{"count", res.attractors.size()}, {"labels", labels}, {"table", table}}},
+                    {"inadmissible_cells", excluded},
+                    {"unsettled", unsettled},
+                    {"batch", res.jobs.batch},
+                    {"out", out_json(c)}};
+    if (c.si) summary["si"] = si_json(*c.si, m);
     std::string text = std::to_string(res.attractors.size()) + " attractor(s) on the " + std::to_string(nx) + " x " +
                        std::to_string(ny) + " grid of initial " + ax.name + ", " + ay.name + ":\n";
     for (const auto& t : table)
@@ -468,8 +455,9 @@ int run_response(const response_args& a)
     const model& m = c.model;
     const auto& info = c.info();
     response_options o;
-    o.parameter = parameter_index(m, a.param, "--param");
-    o.values = parse_range(a.range, "--range");
+    const axis_values axis = resolve_axis(c, a.param, parse_range(a.range, "--range"), "--param");
+    o.parameter = axis.parameter;
+    o.values = axis.values;
     o.curves = parse_curves(a.curves, m);
     o.variable = a.variable.empty() ? 0 : state_index(m, a.variable, "--variable");
     o.initial_state = c.ic;
@@ -494,22 +482,74 @@ int run_response(const response_args& a)
                 if (q == p) return v;
         return m.parameter(p);
     };
+    // The model at a point of a curve: the curve's parameters and the swept one.
+    auto model_at = [&](std::size_t k, double value) {
+        model at = m;
+        if (k < o.curves.size())
+            for (const auto& [q, v] : o.curves[k]) at = at.with_parameter(q, v);
+        return at.with_parameter(o.parameter, value);
+    };
+    std::vector<vimpact::model> ends;
+    for (std::size_t k = 0; k < std::max<std::size_t>(1, o.curves.size()); ++k)
+        for (const double v : {o.values.front(), o.values.back()}) ends.push_back(model_at(k, v));
+    warn_validity(c, ends);
+    // With --si: the amplitude in metres (the measured variable a displacement), the frequency
+    // in hertz and the grazing values as the smallest gap without impact, per surface, in metres.
+    const physical_dimension vdim = c.si ? state_dimensions(m).at(static_cast<std::size_t>(o.variable))
+                                         : physical_dimension::none;
+    const bool si_gaps = c.si && o.grazing.parameter >= 0;
 
     // The points stream in job order (curve by curve): rows to --out DIR; each curve's
     // arrays go to the summary only without it (with it they are in response.csv).
     struct curve_tally {
         json amplitude = json::array(), frequency = json::array();
-        std::vector<json> graze;
+        json amplitude_si = json::array(), frequency_si = json::array();
+        std::vector<json> graze, clearance_si;
         long unconverged = 0;
-        double peak = -1.0;
+        double peak = -1.0, peak_si = -1.0;
     };
     std::vector<curve_tally> tallies(ncurves);
-    for (auto& t : tallies) t.graze.assign(gcols.size(), json::array());
+    for (auto& t : tallies) {
+        t.graze.assign(gcols.size(), json::array());
+        if (si_gaps) t.clearance_si.assign(gcols.size(), json::array());
+    }
     std::vector<std::string> h{"curve"};
     for (const int p : curve_params) h.push_back(info.parameters[static_cast<std::size_t>(p)].name);
     append(h, {pname, "amplitude", vname + "_max", vname + "_min"});
     append(h, gcols);
     append(h, {"frequency", "converged"});
+    const auto ccols = si_gaps ? surface_columns(info, "clearance_si") : std::vector<std::string>{};
+    if (axis.si()) h.push_back(axis.si_name);
+    if (c.si) {
+        if (vdim != physical_dimension::none) append(h, {"amplitude_si", vname + "_max_si", vname + "_min_si"});
+        h.emplace_back("frequency_si");
+        append(h, ccols);
+    }
+    // A point's SI values: the amplitude (NaN unless the variable has a dimension), its maximum
+    // and minimum, the frequency, and the clearance to each surface.
+    struct si_point {
+        double amplitude = std::nan(""), maximum = std::nan(""), minimum = std::nan(""), frequency = std::nan("");
+        std::vector<double> clearance;
+    };
+    auto in_si = [&](const response_point& r) {
+        si_point q;
+        const model at = model_at(static_cast<std::size_t>(r.curve), r.value);
+        const physical_scales k = scales_at(*c.si, at);
+        if (vdim != physical_dimension::none) {
+            q.amplitude = r.amplitude * k.of(vdim);
+            q.maximum = r.maximum * k.of(vdim);
+            q.minimum = r.minimum * k.of(vdim);
+        }
+        q.frequency = r.frequency * k.frequency();
+        if (si_gaps)
+            for (std::size_t s = 0; s < gcols.size(); ++s) {
+                const double g = s < r.grazing.size() ? r.grazing[s] : std::nan("");
+                q.clearance.push_back(std::isfinite(g)
+                                          ? gap_to(*c.si, at.with_parameter(o.grazing.parameter, g), static_cast<int>(s))
+                                          : std::nan(""));
+            }
+        return q;
+    };
     streamed_output stream(c);
     std::optional<csv_writer> w;
     auto open = [&] {
@@ -519,11 +559,18 @@ int run_response(const response_args& a)
         auto& t = tallies[static_cast<std::size_t>(r.curve)];
         t.unconverged += r.converged ? 0 : 1;
         if (std::isfinite(r.amplitude)) t.peak = std::max(t.peak, r.amplitude);
+        const si_point q = c.si ? in_si(r) : si_point{};
+        if (std::isfinite(q.amplitude)) t.peak_si = std::max(t.peak_si, q.amplitude);
         if (!c.out) {
             t.amplitude.push_back(finite_or_null(r.amplitude));
             t.frequency.push_back(finite_or_null(r.frequency));
             for (std::size_t s = 0; s < gcols.size(); ++s)
                 t.graze[s].push_back(finite_or_null(s < r.grazing.size() ? r.grazing[s] : std::nan("")));
+            if (c.si) {
+                t.amplitude_si.push_back(finite_or_null(q.amplitude));
+                t.frequency_si.push_back(finite_or_null(q.frequency));
+                for (std::size_t s = 0; s < q.clearance.size(); ++s) t.clearance_si[s].push_back(finite_or_null(q.clearance[s]));
+            }
             return;
         }
         open();
@@ -532,6 +579,12 @@ int run_response(const response_args& a)
         row.insert(row.end(), {r.value, r.amplitude, r.maximum, r.minimum});
         for (std::size_t s = 0; s < gcols.size(); ++s) row.push_back(s < r.grazing.size() ? r.grazing[s] : std::nan(""));
         row.insert(row.end(), {r.frequency, r.converged ? 1.0 : 0.0});
+        if (axis.si()) row.push_back(axis.si_value(c, r.value));
+        if (c.si) {
+            if (vdim != physical_dimension::none) row.insert(row.end(), {q.amplitude, q.maximum, q.minimum});
+            row.push_back(q.frequency);
+            row.insert(row.end(), q.clearance.begin(), q.clearance.end());
+        }
         w->row(row);
     };
     const response_result res = response(m, o, session.options(), each);
@@ -549,24 +602,34 @@ int run_response(const response_args& a)
             }
         auto& t = tallies[k];
         json cj = {{"parameters", set}, {"values", o.values}, {"not_converged", t.unconverged}};
+        if (axis.si()) cj["si_values"] = axis.si_values;
         if (!c.out) {
             cj["amplitude"] = std::move(t.amplitude);
             cj["frequency"] = std::move(t.frequency);
             for (std::size_t s = 0; s < gcols.size(); ++s) cj[gcols[s]] = std::move(t.graze[s]);
+            if (c.si) {
+                if (vdim != physical_dimension::none) cj["amplitude_si"] = std::move(t.amplitude_si);
+                cj["frequency_si"] = std::move(t.frequency_si);
+                for (std::size_t s = 0; s < ccols.size(); ++s) cj[ccols[s]] = std::move(t.clearance_si[s]);
+            }
         }
         curves.push_back(std::move(cj));
         text += (described.empty() ? std::string("response") : join(described)) + ": peak amplitude of " + vname + " " +
                 format_double(t.peak) +
+                (t.peak_si >= 0.0 ? " (" + format_double(t.peak_si) + " " + std::string(si_unit(vdim)) + ")"
+                                  : std::string()) +
                 (t.unconverged ? " (" + std::to_string(t.unconverged) + " points not converged)" : std::string()) + "\n";
     }
-    const json summary = {{"command", "response"},
-                          {"param", pname},
-                          {"variable", vname},
-                          {"grazing_param", o.grazing.parameter >= 0
-                                                ? json(info.parameters[static_cast<std::size_t>(o.grazing.parameter)].name)
-                                                : json(nullptr)},
-                          {"curves", curves},
-                          {"out", out_json(c)}};
+    json summary = {{"command", "response"},
+                    {"param", pname},
+                    {"variable", vname},
+                    {"grazing_param", o.grazing.parameter >= 0
+                                          ? json(info.parameters[static_cast<std::size_t>(o.grazing.parameter)].name)
+                                          : json(nullptr)},
+                    {"curves", curves},
+                    {"out", out_json(c)}};
+    if (axis.si()) summary["si_param"] = axis.si_name;
+    if (c.si) summary["si"] = si_json(*c.si, m);
     if (c.out) {
         open();
         w->close();
@@ -626,8 +689,12 @@ cli_command add_basins_command(CLI::App& app)
     auto a = std::make_shared<basins_args>();
     auto* s = app.add_subcommand("basins", "Basins of attraction over a grid of initial states");
     add_common_options(*s, a->common);
+    add_si_option(*s, a->common);
     add_job_options(*s, a->jobs);
-    s->add_option("--x", a->x, "Horizontal axis S:a:b:n, S a state variable of the model (the others from --ic)")->required();
+    s->add_option("--x", a->x,
+                  "Horizontal axis S:a:b:n, S a state variable of the model (the others from --ic; in model units "
+                  "also with --si)")
+        ->required();
     s->add_option("--y", a->y, "Vertical axis T:c:d:m")->required();
     s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
     s->add_option("--match-tol", a->match_tol, "Section points closer than this are the same attractor (default 1e-6)");
@@ -640,8 +707,11 @@ cli_command add_response_command(CLI::App& app)
     auto* s = app.add_subcommand("response",
                                  "Surface-free response (lock-in curves): amplitude, frequency and grazing values over a range");
     add_common_options(*s, a->common);
+    add_si_option(*s, a->common);
     add_job_options(*s, a->jobs);
-    s->add_option("--param", a->param, "Parameter to vary (one that enters the vector field)")->required();
+    s->add_option("--param", a->param,
+                  "Parameter to vary (one that enters the vector field; with --si also U [m/s])")
+        ->required();
     s->add_option("--range", a->range, "Values a:b:n")->required();
     s->add_option("--curves", a->curves,
                   "Several curves, each a list of parameter values: 'A=14,eps=0.35;A=12,eps=0.3' (default: one curve at "

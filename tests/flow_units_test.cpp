@@ -93,3 +93,36 @@ TEST(FlowUnits, BadInputNamesTheQuantity)
     EXPECT_THROW((void)dimensionless(tube(), -1.0), input_error);
     EXPECT_THROW((void)dimensionless(tube(), std::nan("")), input_error);
 }
+
+TEST(FlowUnits, TheMassRatioGivesTheModelsMuAsItsDescriptionSays)
+{
+    // The model describes mu as "(m* + C_m) pi/4": with Facchinetti et al.'s m* = 0.52 and
+    // C_M = 1 that is 1.52 pi / 4 = 1.19381 (the model's default), whatever D and rho are.
+    for (const double D : {0.02, 0.5}) {
+        cylinder_in_flow c = tube();
+        c.diameter = D;
+        c.fluid_density = 1025.0;
+        c.mass = mass_from_ratio(c, 0.52);
+        EXPECT_NEAR(dimensionless(c, 1.0).mu, 1.52 * std::numbers::pi / 4.0, 1e-14) << D;
+        EXPECT_NEAR(mass_ratio(c), 0.52, 1e-15) << D;
+    }
+    // By hand for the tube: m* = 2 is 2 * 1000 * pi * 0.0004 / 4 = 0.2 pi kg/m.
+    EXPECT_NEAR(mass_from_ratio(tube(), 2.0), 0.2 * std::numbers::pi, 1e-15);
+}
+
+TEST(FlowUnits, TheStiffnessGivesTheFrequencyOnTheTotalMass)
+{
+    // The tube with m* = 3 (m = 0.3 pi kg/m) and water's added mass 0.1 pi kg/m: 0.4 pi kg/m
+    // in all. k = 160 pi^3 N/m^2 = 0.4 pi (2 pi 10)^2: 10 Hz.
+    cylinder_in_flow c = tube();
+    c.mass = 0.3 * std::numbers::pi;
+    EXPECT_NEAR(added_mass(c), 0.1 * std::numbers::pi, 1e-15);
+    EXPECT_NEAR(natural_frequency_from_stiffness(c, 160.0 * std::pow(std::numbers::pi, 3)), 10.0, 1e-13);
+    // Added mass lowers the frequency: in air (rho = 1.2) nearly the structure's own, sqrt(k/m).
+    c.fluid_density = 1.2;
+    EXPECT_NEAR(natural_frequency_from_stiffness(c, 160.0 * std::pow(std::numbers::pi, 3)),
+                10.0 * std::sqrt(0.4 / (0.3 + 0.1 * 1.2 / 1000.0)), 1e-12);
+    EXPECT_THROW((void)natural_frequency_from_stiffness(tube(), 0.0), input_error);
+    EXPECT_THROW((void)mass_from_ratio(tube(), -1.0), input_error);
+}
+

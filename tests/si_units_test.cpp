@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "test_support.hpp"
@@ -184,6 +185,128 @@ TEST(SIUnits, ClearanceIsTheGrazingValueAtTheMatchingReducedVelocity)
     EXPECT_GT(r.points[0].cells[0].statistics.impacts, 0);
     EXPECT_EQ(r.points[0].cells[1].label.label, "P0");
     EXPECT_NEAR(r.points[0].cells[1].gap, 1.2 * -sigma_graze, 1e-15);
+}
+
+TEST(SIUnits, MassRatioAndStiffnessInsteadOfMassAndFrequency)
+{
+    // The model's own mass ratio: Facchinetti et al.'s m* = 0.52 with C_M = 1 is the default
+    // mu = (m* + C_M) pi / 4 = 1.19381 (the parameter's description), for any D and rho.
+    const si_input a = si_from_pairs({{"D", 0.5}, {"mstar", 0.52}, {"fn", 0.1}, {"zeta", 0.01}, {"rho", 1025.0}});
+    const model m = apply_si(model{}, a);
+    EXPECT_NEAR(m.parameter(m.info().parameter_index("mu")), 1.19381, 5e-6);
+    EXPECT_NEAR(m.parameter(m.info().parameter_index("mu")), 1.52 * pi / 4, 1e-14);
+    // m* = 3 on the 20 mm tube in water: m = 0.3 pi kg/m, with the added mass 0.4 pi kg/m; a
+    // stiffness k = 160 pi^3 N/m^2 = 0.4 pi (2 pi 10 Hz)^2 makes fn = 10 Hz, so Ur = U / 0.2.
+    const si_input b = si_from_pairs(
+        {{"D", 0.02}, {"mstar", 3.0}, {"k", 160 * pi * pi * pi}, {"zeta", 0.002}, {"rho", 1000.0}, {"U", 3.0}});
+    ASSERT_TRUE(b.cylinder);
+    EXPECT_NEAR(b.cylinder->mass, 0.3 * pi, 1e-15);
+    EXPECT_NEAR(b.cylinder->natural_frequency, 10.0, 1e-13);
+    const model mb = apply_si(model{}, b);
+    EXPECT_NEAR(mb.parameter(mb.info().parameter_index("Ur")), 15.0, 1e-12);
+    EXPECT_NEAR(mb.parameter(mb.info().parameter_index("mu")), pi, 1e-14);  // (3 + 1) pi / 4
+    // Echoed as given, with the m and fn they give.
+    std::map<std::string, double> echo;
+    for (const auto& [name, v] : si_inputs(b)) echo[name] = v;
+    EXPECT_EQ(echo.at("mstar"), 3.0);
+    EXPECT_EQ(echo.at("k"), 160 * pi * pi * pi);
+    EXPECT_NEAR(echo.at("m"), 0.3 * pi, 1e-15);
+    EXPECT_NEAR(echo.at("fn"), 10.0, 1e-13);
+    EXPECT_FALSE(echo.count("CL0"));
+}
+
+TEST(SIUnits, ExactlyOneOfEachPairOfAlternatives)
+{
+    const pairs rest{{"D", 0.02}, {"zeta", 0.002}, {"rho", 1000.0}};
+    const auto with = [&](pairs more) {
+        pairs p = rest;
+        p.insert(p.end(), more.begin(), more.end());
+        return message_of(p);
+    };
+    EXPECT_NE(with({{"m", 0.6}, {"mstar", 2.0}, {"fn", 12.0}}).find("m (structural mass per unit length, kg/m) and "
+                                                                     "mstar (mass ratio m / (rho pi D^2 / 4))"),
+              std::string::npos);
+    EXPECT_NE(with({{"fn", 12.0}}).find("--si needs m (structural mass per unit length, kg/m) or mstar"),
+              std::string::npos);
+    EXPECT_NE(with({{"m", 0.6}, {"fn", 12.0}, {"k", 5000.0}}).find("fn (natural frequency in still fluid, Hz) and k"),
+              std::string::npos);
+    EXPECT_NE(with({{"m", 0.6}}).find("--si needs fn (natural frequency in still fluid, Hz) or k (stiffness per unit "
+                                      "length, N/m^2)"),
+              std::string::npos);
+    EXPECT_NE(with({{"mstar", -1.0}, {"fn", 12.0}}).find("mstar (mass ratio m / (rho pi D^2 / 4)) must be a finite "
+                                                         "number >= 0"),
+              std::string::npos);
+    EXPECT_NE(with({{"m", 0.6}, {"k", 0.0}}).find("k (stiffness per unit length, N/m^2) must be a finite number > 0"),
+              std::string::npos);
+    EXPECT_EQ(with({{"mstar", 2.0}, {"k", 5000.0}}), "");
+}
+
+TEST(SIUnits, LiftCoefficientSetsTheModelsAndIsEchoed)
+{
+    const model paper = model::builtin("wake_impact");
+    const int cl = paper.info().parameter_index("CL0");
+    // Without CL0 the model keeps its own: the paper preset's back-fitted 0.05 * 16 pi^2 * 0.2^2
+    // (M = 0.05 / mu at St = 0.2), or the facchinetti preset's 0.3.
+    const si_input in = si_from_pairs(tube());
+    const auto value_of = [](const std::vector<named_value>& v, const std::string& name) {
+        for (const auto& [n, x] : v)
+            if (name == n) return x;
+        return std::nan("");
+    };
+    EXPECT_NEAR(value_of(si_values(in, apply_si(paper, in)), "CL0"), 0.05 * 16 * pi * pi * 0.04, 1e-15);
+    const model facchinetti = paper.with_preset(paper.info().preset_index("facchinetti"));
+    EXPECT_EQ(value_of(si_values(in, apply_si(facchinetti, in)), "CL0"), 0.3);
+    // Given, it sets the model's parameter, whatever the preset.
+    pairs p = tube();
+    p.emplace_back("CL0", 0.25);
+    const si_input given = si_from_pairs(p);
+    EXPECT_EQ(apply_si(facchinetti, given).parameter(cl), 0.25);
+    EXPECT_EQ(value_of(si_inputs(given), "CL0"), 0.25);
+    p.back().second = -0.1;
+    EXPECT_NE(message_of(p).find("CL0 (lift coefficient of the fixed cylinder) must be a finite number >= 0"),
+              std::string::npos);
+}
+
+TEST(SIUnits, StateDimensionsReadOffTheModels)
+{
+    using d = physical_dimension;
+    // The paper's y (gap y - sigma) and its velocity; the wake variable and its rate have none.
+    EXPECT_EQ(state_dimensions(model::builtin("wake_impact")), (std::vector<d>{d::length, d::velocity, d::none, d::none}));
+    // The forced oscillator's y, ydot and its forcing phase; the two stops' x, v and phase.
+    EXPECT_EQ(state_dimensions(model::builtin("forced_impact_oscillator")), (std::vector<d>{d::length, d::velocity, d::none}));
+    EXPECT_EQ(state_dimensions(model::builtin("two_sided_impact_oscillator")),
+              (std::vector<d>{d::length, d::velocity, d::none}));
+    const physical_scales k{.length = 0.02, .time = 0.004, .mass = 1.0};
+    EXPECT_EQ(k.of(d::length), 0.02);
+    EXPECT_NEAR(k.of(d::velocity), 5.0, 1e-15);
+    EXPECT_TRUE(std::isnan(k.of(d::none)));
+}
+
+TEST(SIUnits, FrequencyScaleGivesTheTubesNaturalFrequency)
+{
+    // The model's structure oscillates at angular frequency delta = 1 / (St Ur) per unit of
+    // model time: in hertz it must be the tube's fn = 12 Hz at any flow speed.
+    for (const double U : {1.0, 4.0}) {
+        pairs p = tube();
+        p.emplace_back("U", U);
+        const si_input in = si_from_pairs(p);
+        const model m = apply_si(model{}, in);
+        const double delta = 1.0 / (0.2 * m.parameter(m.info().parameter_index("Ur")));
+        EXPECT_NEAR(delta * scales_at(in, m).frequency(), 12.0, 1e-12) << U;
+    }
+}
+
+TEST(SIUnits, QuantitiesBackFromTheirParameters)
+{
+    // Ur = 20 is U = 20 fn D = 4.8 m/s; sigma = -0.1 is a gap of 0.1 D = 2 mm.
+    const si_input in = si_from_pairs(tube());
+    const model m = apply_si(model{}, in);
+    EXPECT_NEAR(si_quantity_value(in, m, "U", 20.0), 4.8, 1e-14);
+    EXPECT_NEAR(si_quantity_value(in, m, "gap", -0.1), 0.002, 1e-17);
+    // The two stops at +-d: the gap to either is d model units.
+    const si_input two = si_from_pairs({{"length", 0.0025}, {"time", 0.01}});
+    const model t = model::builtin("two_sided_impact_oscillator");
+    EXPECT_NEAR(gap_to(two, t.with_parameter(t.info().parameter_index("d"), 2.0), 1), 0.005, 1e-17);
 }
 
 }  // namespace

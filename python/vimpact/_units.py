@@ -18,7 +18,14 @@ class PhysicalUnits:
         A cylinder in a flow: diameter [m], structural mass per unit length [kg/m], natural
         frequency in still fluid [Hz], structural damping ratio (free decay in still fluid),
         fluid density [kg/m^3]. Optional ``CM`` (added-mass coefficient, 1), ``St`` (0.2),
-        ``nu`` (kinematic viscosity for the Reynolds number, 1e-6 m^2/s: water).
+        ``nu`` (kinematic viscosity for the Reynolds number, 1e-6 m^2/s: water), ``CL0`` (the
+        wake model's lift coefficient; default the model's own, 0.31583 for the paper's
+        preset, 0.3 for ``facchinetti``).
+    mstar, k : float
+        Instead of ``m``: the mass ratio ``m / (rho pi D^2 / 4)``; instead of ``fn``: the
+        stiffness per unit length [N/m^2], ``fn = sqrt(k / (m + m_f)) / (2 pi)`` with the added
+        mass ``m_f = CM rho pi D^2 / 4``. Exactly one of ``m``, ``mstar`` and one of ``fn``,
+        ``k``.
     length, time, mass : float
         Instead of a cylinder, for any model: one model unit of length [m], time [s] and mass
         [kg] (mass 1 when left out: energies per kilogram).
@@ -54,7 +61,8 @@ class PhysicalUnits:
 
     @property
     def inputs(self):
-        """dict: the inputs by key, defaults filled in."""
+        """dict: the inputs by key, defaults filled in (``m`` and ``fn`` computed when ``mstar``
+        and ``k`` were given)."""
         return dict(self._handle.inputs)
 
     @property
@@ -93,8 +101,8 @@ class PhysicalUnits:
         return self._handle.gap(self._model(model)._handle)
 
     def values(self, model):
-        """dict: at the model's parameters, U, Re, mass_ratio (a cylinder), gap, and one model unit
-        in SI: length_scale [m], time_scale [s], mass_scale, velocity_scale [m/s],
+        """dict: at the model's parameters, U, Re, mass_ratio and CL0 (a cylinder), gap, and one
+        model unit in SI: length_scale [m], time_scale [s], mass_scale, velocity_scale [m/s],
         energy_scale, power_scale."""
         return dict(self._handle.values(self._model(model)._handle))
 

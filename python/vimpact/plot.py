@@ -48,7 +48,29 @@ def _simulation(result):
     return result.simulation if hasattr(result, "simulation") else result
 
 
-def phase(result, path=None, window=200.0):
+def _si_scales(result, units):
+    """(time factor, per state variable (factor, unit or None)) of the picture: all 1 and the
+    model's units, or with ``units="si"`` the SI value of one model unit of time and of each
+    variable that has one (``result.si``: its columns' units, whose scales are its values)."""
+    names = tuple(result.state_names)
+    if units not in ("model", "si"):
+        raise ValueError(f"units must be 'model' or 'si' (got {units!r})")
+    si = getattr(result, "si", None)
+    if units == "model":
+        return 1.0, [(1.0, None)] * len(names)
+    if not si:
+        raise ValueError("units='si' needs a run with its SI scales (the directory of `vimpact simulate --si ... "
+                         "--out DIR`, loaded by vimpact.Simulation.load)")
+    values, columns = si.get("values", {}), si.get("columns", {}).get("states", {})
+    scale = {"s": values.get("time_scale"), "m": values.get("length_scale"), "m/s": values.get("velocity_scale")}
+    per = []
+    for n in names:
+        u = columns.get(n + "_si")
+        per.append((scale[u], u) if u in scale and scale[u] is not None else (1.0, None))
+    return scale["s"] or 1.0, per
+
+
+def phase(result, path=None, window=200.0, units="model"):
     """Time series of the plot variable with impacts and section points, a phase portrait, and
     the histogram of the recorded impacts' normal velocities with the run's impact statistics.
 
@@ -66,8 +88,13 @@ def phase(result, path=None, window=200.0):
     path : str, optional
         Write the picture there (PNG at 120 dpi).
     window : float, default 200
-        The time series shows the last ``window`` time units, so single oscillations and
-        impacts stay visible; the phase portrait shows the whole recorded window.
+        The time series shows the last ``window`` time units (of the model), so single
+        oscillations and impacts stay visible; the phase portrait shows the whole recorded
+        window.
+    units : "model" (default) or "si"
+        ``"si"`` (the command line's picture of a run with ``--si``): time in seconds, the
+        displacements and velocities in m and m/s, the histogram and its statistics in SI, by
+        the scales of ``result.si``; the other variables stay in the model's units.
 
     Returns
     -------
@@ -77,6 +104,8 @@ def phase(result, path=None, window=200.0):
     k = plot_index(r)
     dim = len(r.state_names)
     j = k + 1 if k + 1 < dim else (0 if k else min(1, dim - 1))
+    ft, per = _si_scales(r, units)
+    (fk, uk), (fj, uj) = per[k], per[j]
     fig, (ax1, ax2, ax3) = new_figure(path, None, figsize=(16, 4.5), nrows=1, ncols=3,
                                       gridspec_kw={"width_ratios": [1.6, 1, 0.9]})
     ts_t, ts = np.asarray(r.series_t), np.asarray(r.series)
@@ -86,45 +115,57 @@ def phase(result, path=None, window=200.0):
     t_end = max(ends) if ends else 0.0
     keep = ts_t >= t_end - window
     name = state_name(r, k)
-    ax1.plot(ts_t[keep], ts[keep, k] if len(ts) else [], lw=0.8, color="C0", label=name)
-    levels = surface_levels(r, k)
+    ax1.plot(ts_t[keep] * ft, ts[keep, k] * fk if len(ts) else [], lw=0.8, color="C0", label=name)
+    levels = {n: level * fk for n, level in surface_levels(r, k).items()}
     for n, level in levels.items():
         ax1.axhline(level, color="k", lw=1.0, ls="--", label=f"{n}: {name} = {level:g}")
     ki = imp_t >= t_end - window
     if ki.any():
-        ax1.plot(imp_t[ki], imp[ki, k], "rv", ms=3, label="impacts")
+        ax1.plot(imp_t[ki] * ft, imp[ki, k] * fk, "rv", ms=3, label="impacts")
     ks = sec_t >= t_end - window
     if ks.any():
-        ax1.plot(sec_t[ks], sec[ks, k], "g^", ms=4, label="section points")
-    ax1.set_xlabel("t")
-    label_axis(ax1, "y", r, name)
+        ax1.plot(sec_t[ks] * ft, sec[ks, k] * fk, "g^", ms=4, label="section points")
+    ax1.set_xlabel("t [s]" if ft != 1.0 else "t")
+    label_axis(ax1, "y", r, name, unit=uk)
     legend_outside(ax1)
-    ax1.set_title(f"time series, last {window:g} time units (outcome {r.outcome})", fontsize=10)
+    shown = f"{window * ft:.3g} s" if ft != 1.0 else f"{window:g} time units"
+    ax1.set_title(f"time series, last {shown} (outcome {r.outcome})", fontsize=10)
 
     if len(ts):
-        ax2.plot(ts[:, k], ts[:, j], lw=0.6, color="C0")
+        ax2.plot(ts[:, k] * fk, ts[:, j] * fj, lw=0.6, color="C0")
     for level in levels.values():
         ax2.axvline(level, color="k", lw=1.0, ls="--")
     if len(sec):
-        ax2.plot(sec[:, k], sec[:, j], "g^", ms=4)
+        ax2.plot(sec[:, k] * fk, sec[:, j] * fj, "g^", ms=4)
     if len(imp):
-        ax2.plot(imp[:, k], imp[:, j], "rv", ms=3)
-    label_axis(ax2, "x", r, name)
-    label_axis(ax2, "y", r, state_name(r, j))
+        ax2.plot(imp[:, k] * fk, imp[:, j] * fj, "rv", ms=3)
+    label_axis(ax2, "x", r, name, unit=uk)
+    label_axis(ax2, "y", r, state_name(r, j), unit=uj)
     ax2.set_title("phase portrait", fontsize=10)
-    impact_histogram(ax3, r)
+    impact_histogram(ax3, r, units)
     suptitle(fig, title(r))
     return finish_figure(fig, path, dpi=120)
 
 
-def impact_histogram(ax, result):
+def impact_histogram(ax, result, units="model"):
     """The histogram of a run's impact velocities (the normal velocity -dg/dt before each
     reset, ``impact_velocity``), titled with its impact statistics: rate, mean and largest
-    velocity, energy per impact, dissipated power (model units; docs/model.md)."""
+    velocity, energy per impact, dissipated power (model units, docs/model.md; SI with
+    ``units="si"`` and ``result.si``: m/s, Hz, J, W, per metre of a cylinder)."""
     v = np.asarray(getattr(result, "impact_velocity", None) if getattr(result, "impact_velocity", None) is not None
                    else [], dtype=float)
     v = v[np.isfinite(v)]
     st = getattr(result, "statistics", None) or {}
+    si = getattr(result, "si", None) if units == "si" else None
+    if si:
+        v = v * si["values"]["velocity_scale"]
+        st = si.get("impact_statistics_si") or {}
+        energy = si.get("columns", {}).get("impacts", {}).get("energy_si", "J")
+        u = {"v": " m/s", "rate": " Hz", "e": " " + energy, "p": " " + energy.replace("J", "W"), "per": "",
+             "velocity": "impact velocity -dg/dt [m/s]"}
+    else:
+        u = {"v": "", "rate": "", "e": "", "p": "", "per": " per unit t",
+             "velocity": "impact velocity -dg/dt before the reset"}
     if len(v) and v.max() > 0:
         # From zero, so that the bars say how hard next to how often (and velocities equal to
         # rounding, a periodic orbit's, make one bar, not an axis of rounding errors).
@@ -132,16 +173,16 @@ def impact_histogram(ax, result):
         ax.set_xlim(0.0, 1.1 * v.max())
     else:
         ax.text(0.5, 0.5, "no impacts in the recorded window", ha="center", va="center", transform=ax.transAxes)
-    ax.set_xlabel("impact velocity -dg/dt before the reset")
+    ax.set_xlabel(u["velocity"])
     ax.set_ylabel("impacts")
 
     def g(key):
         x = st.get(key)
         return "-" if x is None or not np.isfinite(x) else f"{x:.4g}"
 
-    ax.set_title(f"{len(v)} impacts, rate {g('impact_rate')} per unit t\n"
-                 f"velocity mean {g('impact_velocity_mean')}, max {g('impact_velocity_max')}\n"
-                 f"energy/impact {g('energy_per_impact')}, power {g('power')}", fontsize=8)
+    ax.set_title(f"{len(v)} impacts, rate {g('impact_rate')}{u['rate']}{u['per']}\n"
+                 f"velocity mean {g('impact_velocity_mean')}, max {g('impact_velocity_max')}{u['v']}\n"
+                 f"energy/impact {g('energy_per_impact')}{u['e']}, power {g('power')}{u['p']}", fontsize=8)
 
 
 def sections(result, path=None, ax=None):

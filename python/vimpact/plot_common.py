@@ -108,12 +108,13 @@ def describe(result, name):
     return "", ""
 
 
-def quantity_text(result, name, before="", after="", room=None):
+def quantity_text(result, name, before="", after="", room=None, unit=None):
     """``{before}{name}{after} [unit]``, e.g. "y at the section (maxima) [D]"; without
     ``before`` and ``after``, the meaning too ("Ur, reduced velocity U/(f_n D)") when the whole
     fits in ``room`` characters (a meaning's parenthesised remark dropped first). A quantity
-    without a unit is dimensionless: no brackets."""
-    meaning, unit = describe(result, name)
+    without a unit is dimensionless: no brackets. ``unit`` replaces the model's (SI units)."""
+    meaning, model_unit = describe(result, name)
+    unit = model_unit if unit is None else unit
     tail = f" [{unit}]" if unit else ""
     text = f"{before}{name}{after}{tail}"
     short = meaning.split(" (")[0].strip()
@@ -124,14 +125,14 @@ def quantity_text(result, name, before="", after="", room=None):
     return plain_text(text)
 
 
-def label_axis(ax, axis, result, name, before="", after=""):
+def label_axis(ax, axis, result, name, before="", after="", unit=None):
     """Sets the x or y label of ``ax`` to ``quantity_text``, the meaning included when the
     label fits along the axis as laid out now (about 9 characters of 10-point text per inch,
     with room for the layout to shrink the axes)."""
     fig = ax.figure
     pos = ax.get_position()
     inches = pos.width * fig.get_figwidth() if axis == "x" else pos.height * fig.get_figheight()
-    text = quantity_text(result, name, before, after, room=int(inches * 9))
+    text = quantity_text(result, name, before, after, room=int(inches * 9), unit=unit)
     (ax.set_xlabel if axis == "x" else ax.set_ylabel)(text)
     return text
 

@@ -397,6 +397,11 @@ class Simulation(_Context):
     impact_velocity, impact_rebound, impact_energy : ndarray, float64, shape (k,)
         Per recorded impact: the normal velocity -dg/dt before the reset, the rebound
         velocity dg/dt after it, and the energy dissipated (v^2 - u^2)/2 per unit mass.
+    si : dict or None
+        A run in SI units (``--si``; None otherwise): run.json's ``si`` (``values``: the SI
+        value of one model unit, ``length_scale``, ``time_scale``, ``velocity_scale``, ...;
+        ``columns``: the SI columns of the CSV files and their units) and
+        ``impact_statistics_si``. The arrays above stay in the model's units.
     """
     outcome: str = "ok"
     impacting: Optional[bool] = None
@@ -417,6 +422,7 @@ class Simulation(_Context):
     impact_velocity: np.ndarray = None
     impact_rebound: np.ndarray = None
     impact_energy: np.ndarray = None
+    si: Optional[dict] = None
 
     def __repr__(self):
         return (f"Simulation(outcome={self.outcome!r}, {len(self.section_t)} section points, "
@@ -456,7 +462,9 @@ class Simulation(_Context):
                    series_t=ser_t, series=ser, stats=RunStats.from_dict(res.get("stats", {}), ctx["surfaces"]),
                    t_record_end=res.get("t_record_end"), statistics=_statistics(res.get("impact_statistics")),
                    impact_velocity=per_impact("normal_velocity"), impact_rebound=per_impact("rebound_velocity"),
-                   impact_energy=per_impact("energy"), **ctx)
+                   impact_energy=per_impact("energy"),
+                   si=dict(res["si"], impact_statistics_si=res.get("impact_statistics_si")) if res.get("si") else None,
+                   **ctx)
 
 
 @dataclass(repr=False)

@@ -6,46 +6,64 @@
 
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/physical/checked_input.hpp"
 
 namespace vimpact {
 
 namespace {
 
-void require_positive(double v, const char* name, const char* what)
+// The inputs the cylinder's cross-section and fluid give, checked before anything uses them.
+void validate_section(const cylinder_in_flow& c)
 {
-    if (!(v > 0.0) || !std::isfinite(v))
-        throw input_error(std::string(name) + " (" + what + ") must be a finite number > 0 (got " + format_double(v) +
-                          ")");
+    positive_input(c.diameter, "D", "diameter, m");
+    positive_input(c.fluid_density, "rho", "fluid density, kg/m^3");
+    non_negative_input(c.added_mass_coefficient, "CM", "added-mass coefficient");
 }
 
 }  // namespace
 
 void validate(const cylinder_in_flow& c)
 {
-    require_positive(c.diameter, "D", "diameter, m");
-    require_positive(c.natural_frequency, "fn", "natural frequency in still fluid, Hz");
-    require_positive(c.fluid_density, "rho", "fluid density, kg/m^3");
-    require_positive(c.strouhal, "St", "Strouhal number");
-    if (!(c.mass >= 0.0) || !std::isfinite(c.mass))
-        throw input_error("m (structural mass per unit length, kg/m) must be a finite number >= 0 (got " +
-                          format_double(c.mass) + ")");
-    if (!(c.damping_ratio >= 0.0) || !std::isfinite(c.damping_ratio))
-        throw input_error("zeta (structural damping ratio) must be a finite number >= 0 (got " +
-                          format_double(c.damping_ratio) + ")");
-    require_positive(c.kinematic_viscosity, "nu", "kinematic viscosity, m^2/s");
-    if (!(c.added_mass_coefficient >= 0.0) || !std::isfinite(c.added_mass_coefficient))
-        throw input_error("CM (added-mass coefficient) must be a finite number >= 0 (got " +
-                          format_double(c.added_mass_coefficient) + ")");
+    positive_input(c.diameter, "D", "diameter, m");
+    positive_input(c.natural_frequency, "fn", "natural frequency in still fluid, Hz");
+    positive_input(c.fluid_density, "rho", "fluid density, kg/m^3");
+    positive_input(c.strouhal, "St", "Strouhal number");
+    non_negative_input(c.mass, "m", "structural mass per unit length, kg/m");
+    non_negative_input(c.damping_ratio, "zeta", "structural damping ratio");
+    positive_input(c.kinematic_viscosity, "nu", "kinematic viscosity, m^2/s");
+    non_negative_input(c.added_mass_coefficient, "CM", "added-mass coefficient");
+}
+
+double added_mass(const cylinder_in_flow& c)
+{
+    validate_section(c);
+    return c.added_mass_coefficient * c.fluid_density * std::numbers::pi * c.diameter * c.diameter / 4.0;
+}
+
+double mass_from_ratio(const cylinder_in_flow& c, double mass_ratio)
+{
+    validate_section(c);
+    non_negative_input(mass_ratio, "mstar", "mass ratio m / (rho pi D^2 / 4)");
+    return mass_ratio * c.fluid_density * std::numbers::pi * c.diameter * c.diameter / 4.0;
+}
+
+double natural_frequency_from_stiffness(const cylinder_in_flow& c, double stiffness)
+{
+    non_negative_input(c.mass, "m", "structural mass per unit length, kg/m");
+    positive_input(stiffness, "k", "stiffness per unit length, N/m^2");
+    const double total = c.mass + added_mass(c);
+    if (!(total > 0.0))
+        throw input_error("k (stiffness per unit length, N/m^2) needs a mass to oscillate: m + CM rho pi D^2 / 4 is 0");
+    return std::sqrt(stiffness / total) / (2.0 * std::numbers::pi);
 }
 
 wake_dimensionless dimensionless(const cylinder_in_flow& c, double U)
 {
     validate(c);
-    require_positive(U, "U", "flow speed, m/s");
+    positive_input(U, "U", "flow speed, m/s");
     const double D = c.diameter;
-    const double added = c.added_mass_coefficient * c.fluid_density * std::numbers::pi * D * D / 4.0;
     return {.Ur = U / (c.natural_frequency * D),
-            .mu = (c.mass + added) / (c.fluid_density * D * D),
+            .mu = (c.mass + added_mass(c)) / (c.fluid_density * D * D),
             .xi = c.damping_ratio,
             .St = c.strouhal};
 }
@@ -53,7 +71,7 @@ wake_dimensionless dimensionless(const cylinder_in_flow& c, double U)
 flow_scales scales(const cylinder_in_flow& c, double U)
 {
     validate(c);
-    require_positive(U, "U", "flow speed, m/s");
+    positive_input(U, "U", "flow speed, m/s");
     const double omega_f = 2.0 * std::numbers::pi * c.strouhal * U / c.diameter;
     return {.length = c.diameter,
             .time = 1.0 / omega_f,
@@ -108,7 +126,7 @@ std::vector<std::string> validity_warnings(const cylinder_in_flow& c, double U)
 double flow_speed(const cylinder_in_flow& c, double Ur)
 {
     validate(c);
-    require_positive(Ur, "Ur", "reduced velocity");
+    positive_input(Ur, "Ur", "reduced velocity");
     return Ur * c.natural_frequency * c.diameter;
 }
 

@@ -9,16 +9,19 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/physical/checked_input.hpp"
 
 namespace vimpact {
 
 namespace {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* cylinder_text = "D, m or mstar, fn or k, zeta, rho";
+constexpr const char* gap_text = "distance to the neighbouring surface, m";
 
 const std::vector<std::string>& cylinder_keys()
 {
-    static const std::vector<std::string> keys{"D", "m", "fn", "zeta", "rho", "CM", "St", "nu"};
+    static const std::vector<std::string> keys{"D", "m", "mstar", "fn", "k", "zeta", "rho", "CM", "St", "nu", "CL0"};
     return keys;
 }
 const std::vector<std::string>& scale_keys()
@@ -47,6 +50,18 @@ std::pair<int, int> gap_parameter_and_surface(const model& m)
     return {p, p < 0 ? -1 : surface_moved_by(m, p)};
 }
 
+// Exactly one of two keys that give the same quantity (m or mstar, fn or k): the one given.
+const char* one_of(const std::map<std::string, double>& v, const char* a, const char* a_is, const char* b,
+                   const char* b_is)
+{
+    const std::string what = std::string(a) + " (" + a_is + ") or " + b + " (" + b_is + ")";
+    if (v.count(a) && v.count(b))
+        throw input_error(std::string("--si: ") + a + " (" + a_is + ") and " + b + " (" + b_is +
+                          ") give the same quantity: give one, not both");
+    if (!v.count(a) && !v.count(b)) throw input_error("--si needs " + what + " (keys: " + si_keys() + ")");
+    return v.count(a) ? a : b;
+}
+
 }  // namespace
 
 double length_scale(const si_input& in)
@@ -56,10 +71,22 @@ double length_scale(const si_input& in)
     return nan;
 }
 
+double physical_scales::frequency() const { return 1.0 / (2.0 * std::numbers::pi * time); }
+
+double physical_scales::of(physical_dimension d) const
+{
+    switch (d) {
+    case physical_dimension::length: return length;
+    case physical_dimension::velocity: return velocity();
+    case physical_dimension::none: break;
+    }
+    return nan;
+}
+
 std::string si_keys()
 {
-    return "D, m, fn, zeta, rho for a cylinder in a flow (CM, St, nu optional), or length, time for any model (mass "
-           "optional); U (flow speed, m/s, with a cylinder) and gap (m)";
+    return "D, m or mstar, fn or k, zeta, rho for a cylinder in a flow (CM, St, nu, CL0 optional), or length, time "
+           "for any model (mass optional); U (flow speed, m/s, with a cylinder) and gap (m)";
 }
 
 si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs)
@@ -73,48 +100,47 @@ si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs)
     const bool cyl = std::any_of(cylinder_keys().begin(), cylinder_keys().end(), [&](const auto& k) { return v.count(k); });
     const bool sc = std::any_of(scale_keys().begin(), scale_keys().end(), [&](const auto& k) { return v.count(k); });
     if (cyl && sc)
-        throw input_error("--si: give either a cylinder (D, m, fn, zeta, rho) or the model's units (length, time), not "
-                          "both");
-    if (!cyl && !sc) throw input_error("--si needs a cylinder (D, m, fn, zeta, rho) or the model's units (length, time)");
+        throw input_error(std::string("--si: give either a cylinder (") + cylinder_text +
+                          ") or the model's units (length, time), not both");
+    if (!cyl && !sc)
+        throw input_error(std::string("--si needs a cylinder (") + cylinder_text + ") or the model's units (length, time)");
     si_input in;
     if (cyl) {
-        for (const char* key : {"D", "m", "fn", "zeta", "rho"})
+        for (const char* key : {"D", "zeta", "rho"})
             if (!v.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys() + ")");
+        const char* mass = one_of(v, "m", "structural mass per unit length, kg/m", "mstar",
+                                  "mass ratio m / (rho pi D^2 / 4)");
+        const char* frequency = one_of(v, "fn", "natural frequency in still fluid, Hz", "k",
+                                       "stiffness per unit length, N/m^2");
         cylinder_in_flow c;
         c.diameter = v.at("D");
-        c.mass = v.at("m");
-        c.natural_frequency = v.at("fn");
         c.damping_ratio = v.at("zeta");
         c.fluid_density = v.at("rho");
         if (v.count("CM")) c.added_mass_coefficient = v.at("CM");
         if (v.count("St")) c.strouhal = v.at("St");
         if (v.count("nu")) c.kinematic_viscosity = v.at("nu");
+        // The alternatives to m and fn (flow_units.hpp): fn from k needs the mass, so m first.
+        if (mass == std::string("mstar")) in.mass_ratio = v.at("mstar");
+        c.mass = in.mass_ratio ? mass_from_ratio(c, *in.mass_ratio) : v.at("m");
+        if (frequency == std::string("k")) in.stiffness = v.at("k");
+        c.natural_frequency = in.stiffness ? natural_frequency_from_stiffness(c, *in.stiffness) : v.at("fn");
         validate(c);
         in.cylinder = c;
+        if (v.count("CL0"))
+            in.lift_coefficient = non_negative_input(v.at("CL0"), "CL0", "lift coefficient of the fixed cylinder");
     } else {
         for (const char* key : {"length", "time"})
             if (!v.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys() + ")");
         physical_scales s{.length = v.at("length"), .time = v.at("time"), .mass = v.count("mass") ? v.at("mass") : 1.0};
         for (const auto& [name, x] : {std::pair{"length", s.length}, {"time", s.time}, {"mass", s.mass}})
-            if (!(x > 0.0) || !std::isfinite(x))
-                throw input_error(std::string(name) + " (one model unit in SI) must be a finite number > 0 (got " +
-                                  format_double(x) + ")");
+            positive_input(x, name, "one model unit in SI");
         in.scales = s;
     }
     if (v.count("U")) {
-        if (!in.cylinder) throw input_error("--si: U (flow speed) needs a cylinder (D, m, fn, zeta, rho)");
-        const double U = v.at("U");
-        if (!(U > 0.0) || !std::isfinite(U))
-            throw input_error("U (flow speed, m/s) must be a finite number > 0 (got " + format_double(U) + ")");
-        in.speed = U;
+        if (!in.cylinder) throw input_error(std::string("--si: U (flow speed) needs a cylinder (") + cylinder_text + ")");
+        in.speed = positive_input(v.at("U"), "U", "flow speed, m/s");
     }
-    if (v.count("gap")) {
-        const double g = v.at("gap");
-        if (!(g >= 0.0) || !std::isfinite(g))
-            throw input_error("gap (distance to the neighbouring surface, m) must be a finite number >= 0 (got " +
-                              format_double(g) + ")");
-        in.gap = g;
-    }
+    if (v.count("gap")) in.gap = non_negative_input(v.at("gap"), "gap", gap_text);
     return in;
 }
 
@@ -123,9 +149,17 @@ std::vector<named_value> si_inputs(const si_input& in)
     std::vector<named_value> out;
     if (in.cylinder) {
         const cylinder_in_flow& c = *in.cylinder;
-        out = {{"D", c.diameter},    {"m", c.mass},   {"fn", c.natural_frequency}, {"zeta", c.damping_ratio},
-               {"rho", c.fluid_density}, {"CM", c.added_mass_coefficient}, {"St", c.strouhal},
-               {"nu", c.kinematic_viscosity}};
+        out.push_back({"D", c.diameter});
+        out.push_back({"m", c.mass});
+        if (in.mass_ratio) out.push_back({"mstar", *in.mass_ratio});
+        out.push_back({"fn", c.natural_frequency});
+        if (in.stiffness) out.push_back({"k", *in.stiffness});
+        out.insert(out.end(), {{"zeta", c.damping_ratio},
+                               {"rho", c.fluid_density},
+                               {"CM", c.added_mass_coefficient},
+                               {"St", c.strouhal},
+                               {"nu", c.kinematic_viscosity}});
+        if (in.lift_coefficient) out.push_back({"CL0", *in.lift_coefficient});
     }
     if (in.scales) out = {{"length", in.scales->length}, {"time", in.scales->time}, {"mass", in.scales->mass}};
     if (in.speed) out.push_back({"U", *in.speed});
@@ -136,7 +170,7 @@ std::vector<named_value> si_inputs(const si_input& in)
 int si_parameter(const si_input& in, const model& m, std::string_view quantity)
 {
     if (quantity == "U") {
-        if (!in.cylinder) throw input_error("U (flow speed) needs a cylinder in --si (D, m, fn, zeta, rho)");
+        if (!in.cylinder) throw input_error(std::string("U (flow speed) needs a cylinder in --si (") + cylinder_text + ")");
         return named_parameter(m, "Ur", "the flow speed U");
     }
     if (quantity == "gap") {
@@ -152,15 +186,12 @@ int si_parameter(const si_input& in, const model& m, std::string_view quantity)
 double si_parameter_value(const si_input& in, const model& m, std::string_view quantity, double value)
 {
     if (quantity == "U") {
-        if (!(value > 0.0) || !std::isfinite(value))
-            throw input_error("U (flow speed, m/s) must be a finite number > 0 (got " + format_double(value) + ")");
+        positive_input(value, "U", "flow speed, m/s");
         (void)si_parameter(in, m, quantity);
         return dimensionless(*in.cylinder, value).Ur;
     }
     if (quantity == "gap") {
-        if (!(value >= 0.0) || !std::isfinite(value))
-            throw input_error("gap (distance to the neighbouring surface, m) must be a finite number >= 0 (got " +
-                              format_double(value) + ")");
+        non_negative_input(value, "gap", gap_text);
         const auto [p, surface] = gap_parameter_and_surface(m);
         if (p < 0) (void)si_parameter(in, m, quantity);  // the message
         const double P = parameter_for_gap(m, surface, p, m.initial_state(), value / length_scale(in));
@@ -170,6 +201,14 @@ double si_parameter_value(const si_input& in, const model& m, std::string_view q
         return P;
     }
     throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
+}
+
+double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value)
+{
+    const int p = si_parameter(in, m, quantity);
+    if (p < 0) throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
+    const model at = m.with_parameter(p, value);
+    return quantity == "U" ? flow_speed_of(in, at) : gap_of(in, at);
 }
 
 std::vector<std::pair<int, double>> si_parameters(const model& m, const si_input& in)
@@ -182,6 +221,8 @@ std::vector<std::pair<int, double>> si_parameters(const model& m, const si_input
         out.emplace_back(named_parameter(m, "mu", "the cylinder (D, m, rho, CM)"), d.mu);
         out.emplace_back(named_parameter(m, "xi", "the damping ratio zeta"), d.xi);
         out.emplace_back(named_parameter(m, "St", "the Strouhal number St"), d.St);
+        if (in.lift_coefficient)
+            out.emplace_back(named_parameter(m, "CL0", "the lift coefficient CL0"), *in.lift_coefficient);
         if (in.speed) out.emplace_back(si_parameter(in, m, "U"), d.Ur);
     }
     if (in.gap) out.emplace_back(si_parameter(in, m, "gap"), si_parameter_value(in, m, "gap", *in.gap));
@@ -205,8 +246,10 @@ double flow_speed_of(const si_input& in, const model& m)
 double gap_of(const si_input& in, const model& m)
 {
     const int surface = gap_parameter_and_surface(m).second;
-    return surface < 0 ? nan : rest_gap(m, surface) * length_scale(in);
+    return surface < 0 ? nan : gap_to(in, m, surface);
 }
+
+double gap_to(const si_input& in, const model& m, int surface) { return rest_gap(m, surface) * length_scale(in); }
 
 physical_scales scales_at(const si_input& in, const model& m)
 {
@@ -271,6 +314,8 @@ std::vector<named_value> si_values(const si_input& in, const model& m)
         out.push_back({"U", U});
         out.push_back({"Re", reynolds_number(*in.cylinder, U)});
         out.push_back({"mass_ratio", mass_ratio(*in.cylinder)});
+        // The lift coefficient the run uses: CL0 from --si, else the model's (its preset's).
+        if (const int cl = m.info().parameter_index("CL0"); cl >= 0) out.push_back({"CL0", m.parameter(cl)});
     }
     out.push_back({"gap", gap_of(in, m)});
     const physical_scales k = scales_at(in, m);

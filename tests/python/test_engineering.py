@@ -165,3 +165,54 @@ def test_the_command_lines_clearance_loads_as_the_same_result(cli, tmp_path):
     assert (loaded.label == mine.label).all()
     for k in ("impact_rate", "power", "excursion"):
         assert np.allclose(loaded.statistics_si[k], mine.statistics_si[k], rtol=1e-15, equal_nan=True), k
+
+
+# m* = 3 on the 20 mm tube in water (m = 0.3 pi kg/m; 0.4 pi kg/m with the added mass) and a
+# stiffness per metre k = 160 pi^3 N/m^2 = 0.4 pi (2 pi 10 Hz)^2: fn = 10 Hz.
+STIFF = dict(D=0.02, mstar=3.0, k=160 * math.pi ** 3, zeta=0.002, rho=1000.0)
+
+
+def test_mass_ratio_and_stiffness_instead_of_mass_and_frequency():
+    u = vimpact.PhysicalUnits(**STIFF, U=2.0)
+    p = u.parameters()
+    assert p["Ur"] == pytest.approx(2.0 / (10 * 0.02), rel=1e-13)
+    assert p["mu"] == pytest.approx(math.pi, rel=1e-14)  # (m* + CM) pi / 4
+    assert u.inputs["m"] == pytest.approx(0.3 * math.pi, rel=1e-15) and u.inputs["fn"] == pytest.approx(10, rel=1e-14)
+    assert (u.inputs["mstar"], u.inputs["k"]) == (3.0, STIFF["k"])
+    with pytest.raises(vimpact.InputError, match=r"m \(structural mass per unit length, kg/m\) and mstar"):
+        vimpact.PhysicalUnits(**STIFF, m=0.6)
+    with pytest.raises(vimpact.InputError, match=r"--si needs fn \(natural frequency in still fluid, Hz\) or k"):
+        vimpact.PhysicalUnits(D=0.02, m=0.6, zeta=0.002, rho=1000.0)
+
+
+def test_a_tube_given_by_its_stiffness_oscillates_at_sqrt_k_over_its_total_mass():
+    # A free decay far below lock-in, the wake's coupling and lift off (A = 0, CL0 = 0 given
+    # as an SI input), no barrier in reach: the structure's period, in seconds by the run's
+    # time scale, is that of sqrt(k / (m + m_f)) = 2 pi 10 rad/s (to the 0.2 % damping's
+    # correction and the section's sampling).
+    u = vimpact.PhysicalUnits(**STIFF, U=0.4, CL0=0.0)
+    m = u.model().with_(A=0.0, gamma=0.0, sigma=-10.0)
+    assert m.parameters["CL0"] == 0.0 and u.values(m)["CL0"] == 0.0
+    r = vimpact.simulate(m, ic=[0.01, 0.0, 0.0, 0.0], transient=0, record=40, section="maxima")
+    t = r.section_t
+    period_s = (t[-1] - t[0]) / (len(t) - 1) * u.values(m)["time_scale"]
+    assert 1.0 / period_s == pytest.approx(math.sqrt(160 * math.pi ** 3 / (0.4 * math.pi)) / (2 * math.pi), rel=1e-4)
+
+
+def test_the_picture_of_a_run_in_si(cli, tmp_path):
+    out = tmp_path / "s"
+    p = cli("simulate", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000,U=4,gap=0.001", "--transient", "100",
+            "--record", "40", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    r = vimpact.Simulation.load(str(out))
+    assert r.si["values"]["length_scale"] == 0.02
+    fig = plot.phase(r, str(tmp_path / "si.png"), units="si")
+    series, portrait, hist = fig.axes[:3]
+    assert series.get_xlabel() == "t [s]" and series.get_ylabel().endswith("[m]")
+    assert portrait.get_ylabel().endswith("[m/s]")
+    assert hist.get_xlabel() == "impact velocity -dg/dt [m/s]"
+    # The barrier 1 mm below the rest position, drawn in metres.
+    assert any(abs(line.get_ydata()[0] + 0.001) < 1e-12 for line in series.get_lines()[1:2])
+    check_layout(fig)
+    with pytest.raises(ValueError, match="units='si' needs a run with its SI scales"):
+        plot.phase(vimpact.simulate(vimpact.Model("wake_impact"), **SHORT), units="si")

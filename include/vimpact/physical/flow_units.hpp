@@ -17,6 +17,9 @@
 // St (0.2) and C_M (1) are the values Facchinetti et al. use for the subcritical range
 // 300 < Re < 1.5e5. The Reynolds number Re = U D / nu needs the fluid's kinematic viscosity
 // nu (default 1.0e-6 m^2/s, water at 20 C); the mass ratio is m* = m_s / (rho pi D^2 / 4).
+// What an engineer may know instead of m_s and f_n: the mass ratio m* (m_s = m* rho pi D^2 / 4)
+// and the stiffness per unit length k [N/m^2]; f_n is then the natural frequency in still
+// fluid on the total mass, f_n = sqrt(k / (m_s + m_f)) / (2 pi), the f_n the formulas above use.
 #include <string>
 #include <vector>
 
@@ -42,6 +45,13 @@ struct wake_dimensionless {
 
 // The model's parameters at flow speed U [m/s].
 wake_dimensionless dimensionless(const cylinder_in_flow& c, double flow_speed);
+
+// m_f = C_M rho pi D^2 / 4 [kg/m], the fluid that moves with the cylinder.
+double added_mass(const cylinder_in_flow& c);
+// m_s from the mass ratio m* (c's D and rho), and f_n from the stiffness per unit length k
+// [N/m^2] (c's D, rho, C_M and m_s). Each throws input_error naming the input it refuses.
+double mass_from_ratio(const cylinder_in_flow& c, double mass_ratio);
+double natural_frequency_from_stiffness(const cylinder_in_flow& c, double stiffness);
 
 // The SI value of one unit of the model's quantities at flow speed U.
 struct flow_scales {

@@ -5,10 +5,14 @@
 // metres, seconds, hertz, joules and watts. docs/engineering.md has every formula.
 //
 // The keys (KEY=VALUE, as `--si` and vimpact.PhysicalUnits take them):
-//   D, m, fn, zeta, rho [, CM, St, nu]  a cylinder in a flow (flow_units.hpp): sets the wake
-//                                       model's mu, xi, St; one model unit of length is D, of
-//                                       time 1 / Omega_f at the flow speed, of mass (per metre
-//                                       of tube) m + m_f = mu rho D^2
+//   D, m | mstar, fn | k, zeta, rho     a cylinder in a flow (flow_units.hpp): sets the wake
+//   [, CM, St, nu, CL0]                 model's mu, xi, St (and CL0 when given); the mass per
+//                                       metre m or the mass ratio mstar = m / (rho pi D^2 / 4),
+//                                       the natural frequency fn in still fluid or the
+//                                       stiffness per metre k [N/m^2] (exactly one of each);
+//                                       one model unit of length is D, of time 1 / Omega_f at
+//                                       the flow speed, of mass (per metre of tube)
+//                                       m + m_f = mu rho D^2
 //   length, time [, mass]               any model: one model unit of length [m], time [s] and
 //                                       mass [kg] (mass 1 when not given: energies per kg)
 //   U                                   the flow speed [m/s] (with a cylinder): sets Ur
@@ -25,6 +29,7 @@
 #include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/model/model.hpp"
 #include "vimpact/physical/flow_units.hpp"
+#include "vimpact/physical/state_dimensions.hpp"
 
 namespace vimpact {
 
@@ -37,24 +42,32 @@ struct physical_scales {
     [[nodiscard]] double velocity() const { return length / time; }
     [[nodiscard]] double energy() const { return mass * velocity() * velocity(); }
     [[nodiscard]] double power() const { return energy() / time; }
+    // Hz of an angular frequency w of the model (a response's frequency): w / (2 pi time).
+    [[nodiscard]] double frequency() const;
+    // One model unit of a state variable of dimension d in SI (m, m/s); NaN for none.
+    [[nodiscard]] double of(physical_dimension d) const;
 };
 
 struct si_input {
-    std::optional<cylinder_in_flow> cylinder;
-    std::optional<physical_scales> scales;  // given directly (any model)
-    std::optional<double> speed;            // U [m/s]
-    std::optional<double> gap;              // [m]
+    std::optional<cylinder_in_flow> cylinder;  // m and fn computed when mstar and k are given
+    std::optional<double> mass_ratio;          // mstar, as given
+    std::optional<double> stiffness;           // k [N/m^2], as given
+    std::optional<double> lift_coefficient;    // CL0, as given (else the model's own)
+    std::optional<physical_scales> scales;     // given directly (any model)
+    std::optional<double> speed;               // U [m/s]
+    std::optional<double> gap;                 // [m]
 };
 
-// "D, m, fn, zeta, rho (a cylinder; CM, St, nu optional) or length, time (mass optional);
-// U, gap", for messages.
+// "D, m or mstar, fn or k, zeta, rho (a cylinder; CM, St, nu, CL0 optional) or length, time
+// (mass optional); U, gap", for messages.
 std::string si_keys();
 
 // From KEY=VALUE pairs in the order given. Throws input_error naming the key: an unknown or
 // repeated key, a missing one, a value out of range (a gap below zero, a zero diameter...).
 si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs);
 
-// The inputs by key, defaults filled in (CM, St, nu; mass), as run.json echoes them.
+// The inputs by key, defaults filled in (CM, St, nu; mass) and m and fn computed where mstar
+// and k were given, as run.json echoes them.
 std::vector<named_value> si_inputs(const si_input& in);
 
 // The parameter an SI quantity sets on `m` (U -> Ur, gap -> the first gap parameter), -1 for a
@@ -62,9 +75,11 @@ std::vector<named_value> si_inputs(const si_input& in);
 int si_parameter(const si_input& in, const model& m, std::string_view quantity);
 // The value of that parameter for the SI value (U in m/s, gap in m), at m's other parameters.
 double si_parameter_value(const si_input& in, const model& m, std::string_view quantity, double value);
+// Back: the SI value of the quantity (U [m/s], gap [m]) where that parameter is `value`.
+double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value);
 
-// The model with the parameters the SI input sets (mu, xi, St of a cylinder; Ur from U; the
-// gap parameter from gap). Throws input_error naming what `m` lacks.
+// The model with the parameters the SI input sets (mu, xi, St of a cylinder, CL0 when given; Ur
+// from U; the gap parameter from gap). Throws input_error naming what `m` lacks.
 model apply_si(const model& m, const si_input& in);
 // Those parameters, (index, value) in the model's order.
 std::vector<std::pair<int, double>> si_parameters(const model& m, const si_input& in);
@@ -76,6 +91,8 @@ physical_scales scales_at(const si_input& in, const model& m);
 // when m has none).
 double flow_speed_of(const si_input& in, const model& m);
 double gap_of(const si_input& in, const model& m);
+// The gap [m] between the rest state and surface `surface` of m.
+double gap_to(const si_input& in, const model& m, int surface);
 // One model unit of length in metres.
 double length_scale(const si_input& in);
 
@@ -89,8 +106,9 @@ std::vector<double> gaps_in_model_units(const si_input& in, const std::vector<do
 // run's statistics in SI at its point's flow value (m with `parameter` at the point's value).
 clearance_result in_si(const clearance_result& r, const si_input& in, const model& m, int parameter);
 
-// The numbers of a run in SI by name (U, Re, mass_ratio for a cylinder, gap, and the scales
-// length, time, mass, velocity, energy, power), as run.json's `si` section gives them.
+// The numbers of a run in SI by name (U, Re, mass_ratio and the lift coefficient CL0 the run
+// uses for a cylinder, gap, and the scales length, time, mass, velocity, energy, power), as
+// run.json's `si` section gives them.
 std::vector<named_value> si_values(const si_input& in, const model& m);
 
 // Where the wake model leaves the range it was calibrated for: the Reynolds number U D / nu
