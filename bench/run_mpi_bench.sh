@@ -152,21 +152,39 @@ print("\n| label | jobs | mean cost [ms] |\n|---|---|---|")
 for k, v in sorted(by.items(), key=lambda kv: -len(kv[1]))[:8]:
     print(f"| {k} | {len(v)} | {sum(v) / len(v) * 1e3:.2f} |")
 PY
+  # Real journal lines of this build for the coordinator's cost per result: half a map's jobs
+  # as a shard (the journal stays), and the lanes' throughput on one thread (a map with and
+  # without --batch 1), which divides every job's cost in the projection of a run in lanes.
+  rm -rf "$tmp/lines" "$tmp/lines.jobs" "$tmp/b1" "$tmp/b8"
+  "$vimpact" map --x Ur:14:26:20 --y sigma:-0.16:-0.02:20 --transient 50 --record 20 --threads 2 --no-plot \
+    --shard 1/2 --out "$tmp/lines" > /dev/null
+  lines=$(ls "$tmp"/lines.jobs/*.jsonl | head -1)
+  echo "lanes: load before $(load)"
+  cpu() { /usr/bin/time -f '%U' "$@" 2>&1 > /dev/null | tail -1; }
+  b1=$(cpu "$vimpact" map --x Ur:12:25:24 --y sigma:-0.2:0:24 --threads 1 --batch 1 --no-plot --out "$tmp/b1")
+  bw=$(cpu "$vimpact" map --x Ur:12:25:24 --y sigma:-0.2:0:24 --threads 1 --no-plot --out "$tmp/b8")
+  batch=$(grep -o '"batch": *[0-9]*' "$tmp/b8/run.json" | head -1 | grep -o '[0-9]*$')
+  speedup=$(echo "$b1 / $bw" | bc -l)
+  printf 'map 24 x 24, one thread: --batch 1 %s s CPU, lanes (batch %s) %s s CPU: %.2fx\n' "$b1" "$batch" "$bw" "$speedup"
   echo
-  echo "| ranks x threads | costs | makespan [s] | ideal [s] | efficiency | coordinator messages/s | coordinator busy | largest reorder buffer |"
-  echo "|---|---|---|---|---|---|---|---|"
-  for mode in upsampled resampled; do
-    for r in 64 256 1024; do
-      "$build/schedule_sim" "$costs" 1000 1000 "$r" 1 "$mode" 20 5 > "$tmp/sim.json"
-      /usr/bin/python3 - "$tmp/sim.json" <<'PY'
+  echo "| ranks x threads | jobs | costs | makespan [s] | ideal [s] | efficiency | coordinator messages/s | coordinator busy | largest reorder buffer |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  for lanes in 1 "$batch"; do
+    sp=1
+    [ "$lanes" != 1 ] && sp=$speedup
+    for mode in upsampled resampled; do
+      for r in 64 256 1024; do
+        "$build/schedule_sim" "$costs" 1000 1000 "$r" 1 "$mode" 20 5 "$lines" "$lanes" "$sp" > "$tmp/sim.json"
+        /usr/bin/python3 - "$tmp/sim.json" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
-print(f"| {j['ranks']} x {j['threads_per_rank']} | {j['costs']} | {j['makespan_s']:.1f} | {j['ideal_s']:.1f} | "
+how = "one at a time" if j["batch"] == 1 else f"lanes (batch {j['batch']}, {j['lanes_speedup']:.2f}x)"
+print(f"| {j['ranks']} x {j['threads_per_rank']} | {how} | {j['costs']} | {j['makespan_s']:.1f} | {j['ideal_s']:.1f} | "
       f"{100 * j['efficiency']:.2f}% | {j['messages_per_s']:.0f} | {100 * j['coordinator_busy']:.1f}% | "
       f"{j['max_reorder_buffer']} |")
 PY
+      done
     done
   done
-  "$build/schedule_sim" "$costs" 1000 1000 1024 1 upsampled 20 5 > "$tmp/sim.json"
-  /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(f\"\nmodel constants: latency {j['latency_us']:g} us one way, {j['message_us']:g} us per message, {j['record_us']:.2f} us per result (measured here: parse its journal line, append it to a file)\")" "$tmp/sim.json"
+  /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(f\"\nmodel constants: latency {j['latency_us']:g} us one way, {j['message_us']:g} us per message, {j['record_us']:.2f} us per result (measured here on this build's journal lines of a map: read the line, decode the cell, format its labels.csv row, append the line to the journal)\")" "$tmp/sim.json"
 fi

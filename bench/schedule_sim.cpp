@@ -5,7 +5,11 @@
 // each job of the NX x NY target grid takes the cost of the measured cell it falls in
 // ("upsampled": the expensive cells near the grazing line stay together, as in a real map), or
 // a cost drawn at random from the measured ones ("resampled").
-//   schedule_sim COSTS.csv NX NY R T [upsampled|resampled] [L_us] [msg_us] [record_us]
+//   schedule_sim COSTS.csv NX NY R T [upsampled|resampled] [L_us] [msg_us] [RECORD] [BATCH] [SPEEDUP]
+// RECORD: the coordinator's cost per result in us, or a file of journal lines to measure it on
+// (measure_record_cost); BATCH: the jobs a thread takes at once (SIMD lanes; the hand-out rules
+// of jobs/job_loop.hpp for that batch), SPEEDUP: the lanes' throughput over one job at a time
+// (each job's measured cost divided by it). Defaults: 5 us, 1, 1.
 // Prints one line of JSON: makespan, parallel efficiency (work / (R T makespan)), the
 // coordinator's messages per second and its busy fraction, the largest reorder buffer.
 #include <algorithm>
@@ -22,7 +26,16 @@
 #include <utility>
 #include <vector>
 
+#include <filesystem>
+#include <stdexcept>
+
 #include <nlohmann/json.hpp>
+
+#include "io/json_codec.hpp"
+#include "io/json_line.hpp"
+#include "vimpact/analysis/impact_statistics.hpp"
+#include "vimpact/core/format.hpp"
+#include "vimpact/io/csv_writer.hpp"
 
 #include "vimpact/jobs/job_dispenser.hpp"
 
@@ -51,34 +64,51 @@ measured read_costs(const std::string& path)
     return m;
 }
 
-// The coordinator's cost per received result, measured here: parsing a map record's journal
-// line (what rank 0 does with every result from another rank), formatting its row of
-// labels.csv, and writing both to files (the journal written once per batch of 8).
-double measure_record_cost()
+// The coordinator's cost per received result, measured here on real journal lines (a map's,
+// from a run of this build: bench/run_mpi_bench.sh makes them): what rank 0 does with every
+// result from another rank, as the library and the command line do it: read the line
+// (detail::parse_json_line), decode the map cell (the map's record: label, outcome, steps,
+// impact statistics, grazing values), format its row of labels.csv (format_double, csv_writer's
+// text_row) and append the journal line (the journal is flushed once per batch of 8).
+double measure_record_cost(const std::string& lines_path)
 {
-    const std::string line =
-        R"({"job":123456,"record":{"grazing":[],"label":{"closure":2.7398083801699613e-12,"impacts":1,)"
-        R"("impacts_by_surface":[1],"label":"P2","period":2,"settled":true},"status":"ok","steps":6993}})";
-    std::FILE* f = std::tmpfile();
+    std::ifstream in(lines_path);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);)
+        if (!l.empty()) lines.push_back(l);
+    if (lines.empty()) throw std::runtime_error("no journal lines in " + lines_path);
+    const auto dir = std::filesystem::temp_directory_path() / "vimpact_schedule_sim";
+    std::filesystem::create_directories(dir);
+    vimpact::csv_writer rows(dir / "labels.csv", std::vector<std::string>(20, "c"));
+    std::FILE* journal = std::fopen((dir / "journal.jsonl").c_str(), "w");
     constexpr int n = 20000;
-    const auto t0 = std::chrono::steady_clock::now();
     long sum = 0;
-    char row[256];
+    const auto t0 = std::chrono::steady_clock::now();
     for (int i = 0; i < n; ++i) {
-        const auto j = nlohmann::json::parse(line);
-        const auto& r = j["record"];
-        sum += r["steps"].get<long>();
-        std::snprintf(row, sizeof row, "%.17g,%.17g,%s,%d,%d,%d,%s,%d\n", 14.0 + 1e-3 * i, -0.16 + 1e-4 * i,
-                      r["label"]["label"].get<std::string>().c_str(), r["label"]["period"].get<int>(),
-                      r["label"]["impacts"].get<int>(), r["label"]["settled"].get<bool>() ? 1 : 0,
-                      r["status"].get<std::string>().c_str(), r["label"]["impacts_by_surface"][0].get<int>());
-        std::fputs(row, f);
-        std::fputs(line.c_str(), f);
-        std::fputc('\n', f);
-        if (i % 8 == 7) std::fflush(f);
+        const std::string& line = lines[static_cast<std::size_t>(i) % lines.size()];
+        const auto j = vimpact::detail::parse_json_line(line);
+        const auto& r = j.at("record");
+        const auto label = vimpact::detail::label_from(r.at("label"));
+        const auto status = vimpact::detail::outcome_from(r.at("status"));
+        const long steps = r.at("steps").get<long>();
+        const auto stats = vimpact::detail::statistics_from(r.at("statistics"));
+        const auto grazing = vimpact::detail::numbers_from(r.at("grazing"));
+        sum += steps + static_cast<long>(grazing.size());
+        std::vector<std::string> cells{vimpact::format_double(14.0 + 1e-3 * i), vimpact::format_double(-0.16 + 1e-4 * i),
+                                       label.label, std::to_string(label.period), std::to_string(label.impacts_per_period),
+                                       label.settled ? "1" : "0", std::string(vimpact::to_string(status))};
+        for (const long c : label.impacts_by_surface) cells.push_back(std::to_string(c));
+        for (const double v : vimpact::impact_statistics_values(stats)) cells.push_back(vimpact::format_double(v));
+        cells.resize(20, "0");
+        rows.text_row(cells);
+        std::fwrite(line.data(), 1, line.size(), journal);
+        std::fputc('\n', journal);
+        if (i % 8 == 7) std::fflush(journal);
     }
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / n;
-    std::fclose(f);
+    std::fclose(journal);
+    rows.close();
+    std::filesystem::remove_all(dir);
     return sum > 0 ? s : s;
 }
 
@@ -97,7 +127,8 @@ struct event {
 int main(int argc, char** argv)
 {
     if (argc < 6) {
-        std::cerr << "usage: schedule_sim COSTS.csv NX NY R T [upsampled|resampled] [L_us] [msg_us] [record_us]\n";
+        std::cerr << "usage: schedule_sim COSTS.csv NX NY R T [upsampled|resampled] [L_us] [msg_us] [RECORD_us|LINES.jsonl]"
+                     " [BATCH] [SPEEDUP]\n";
         return 2;
     }
     const measured m = read_costs(argv[1]);
@@ -107,7 +138,11 @@ int main(int argc, char** argv)
     const std::string mode = argc > 6 ? argv[6] : "upsampled";
     const double L = (argc > 7 ? std::atof(argv[7]) : 20.0) * 1e-6;
     const double c_msg = (argc > 8 ? std::atof(argv[8]) : 5.0) * 1e-6;
-    const double c_rec = argc > 9 ? std::atof(argv[9]) * 1e-6 : measure_record_cost();
+    const std::string record_arg = argc > 9 ? argv[9] : "5";
+    const bool record_file = record_arg.find_first_not_of("0123456789.eE+-") != std::string::npos;
+    const double c_rec = record_file ? measure_record_cost(record_arg) : std::atof(record_arg.c_str()) * 1e-6;
+    const long B = argc > 10 ? std::max(1L, std::atol(argv[10])) : 1L;
+    const double speedup = argc > 11 ? std::atof(argv[11]) : 1.0;
     const double c_grant = 0.2e-6;  // per job granted: a number on a line
 
     std::vector<double> cost(static_cast<std::size_t>(jobs));
@@ -117,13 +152,13 @@ int main(int argc, char** argv)
     for (long j = 0; j < jobs; ++j) {
         const long ix = j % NX * m.nx / NX, iy = j / NX * m.ny / NY;
         const double c = mode == "resampled" ? m.cost[pick(rng)] : m.cost[static_cast<std::size_t>(iy * m.nx + ix)];
-        cost[static_cast<std::size_t>(j)] = c;
-        work += c;
+        cost[static_cast<std::size_t>(j)] = c / speedup;
+        work += c / speedup;
     }
 
     const long all_threads = static_cast<long>(R) * T;
     vimpact::job_dispenser dispenser({jobs, 0}, [](long) { return true; }, jobs,
-                                     vimpact::ranks_window_per_thread * all_threads, all_threads);
+                                     std::max(vimpact::ranks_window_per_thread, 2 * B) * all_threads, all_threads);
     std::vector<char> arrived(static_cast<std::size_t>(jobs), 0);
     long next_undelivered = 0, buffered = 0, max_buffered = 0;
 
@@ -135,12 +170,14 @@ int main(int argc, char** argv)
         std::vector<long> unsent;
         double work = 0.0;  // of the jobs done, for the mean that sets the capacity
         long done = 0;
+        long batch = 1;
         [[nodiscard]] long capacity(long threads) const
         {
-            return vimpact::rank_capacity(threads, done > 0 ? work / static_cast<double>(done) : 0.0);
+            return vimpact::rank_capacity(threads, done > 0 ? work / static_cast<double>(done) : 0.0, batch);
         }
     };
     std::vector<rank_state> ranks(static_cast<std::size_t>(R));
+    for (auto& r : ranks) r.batch = B;
     std::priority_queue<event, std::vector<event>, std::greater<>> events;
     double coordinator_free = 0.0, busy = 0.0, end = 0.0;
     long messages = 0, done = 0;
@@ -161,8 +198,8 @@ int main(int argc, char** argv)
     // The coordinator hands out after each thing it does: its own threads first, then the
     // ranks that asked (as run_jobs does), each grant a message of latency L.
     auto hand_out = [&](double t) {
-        const long own_want = 2 * T - held(0);
-        if (own_want > T - 1)
+        const long own_want = 2 * B * T - held(0);
+        if (own_want >= std::max(B, T))
             for (const long j : dispenser.grant(own_want)) ranks[0].queue.push_back(j);
         start_jobs(0, t);
         for (int r = 1; r < R; ++r) {
@@ -193,7 +230,7 @@ int main(int argc, char** argv)
 
     for (int r = 1; r < R; ++r) {
         ranks[static_cast<std::size_t>(r)].asked = true;
-        events.push({L, 1, r, 0, vimpact::rank_capacity(T, 0.0), {}});
+        events.push({L, 1, r, 0, vimpact::rank_capacity(T, 0.0, B), {}});
     }
     hand_out(0.0);
     while (!events.empty()) {
@@ -250,6 +287,8 @@ int main(int argc, char** argv)
                                 {"latency_us", L * 1e6},
                                 {"message_us", c_msg * 1e6},
                                 {"record_us", c_rec * 1e6},
+                                {"batch", B},
+                                {"lanes_speedup", speedup},
                                 {"work_s", work},
                                 {"makespan_s", end},
                                 {"ideal_s", work / static_cast<double>(all_threads)},

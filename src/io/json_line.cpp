@@ -24,7 +24,8 @@ json to_nlohmann(simdjson::dom::element e)
         case simdjson::dom::element_type::OBJECT: {
             json o = json::object();
             const simdjson::dom::object fields = e.get_object().value_unsafe();
-            for (const auto kv : fields) o[std::string(kv.key)] = to_nlohmann(kv.value);
+            auto& members = o.get_ref<json::object_t&>();
+            for (const auto kv : fields) members.emplace_hint(members.end(), std::string(kv.key), to_nlohmann(kv.value));
             return o;
         }
         case simdjson::dom::element_type::INT64: {
