@@ -85,6 +85,18 @@ for b in dict.fromkeys(r["build"] for r in rows):
 PY
 load
 
+echo "-- the cost of a map against its number of jobs: the same region at three densities, one core, lanes"
+echo "| grid | jobs | CPU time [s] | CPU ms per job |" | tee "$out/scaling.md"
+echo "|---|---|---|---|" | tee -a "$out/scaling.md"
+for k in 12 24 48; do
+  /usr/bin/time -f "%U" -o "$out/scaling-time" "$build"/vimpact map --x Ur:12:25:$k --y sigma:-0.2:0:$k --threads 1 \
+    --no-plot --out "$out/scaling-map" > /dev/null
+  cpu=$(tail -1 "$out/scaling-time")
+  /usr/bin/python3 -c "import sys; k, c = int(sys.argv[1]), float(sys.argv[2]); print(f'| {k} x {k} | {k * k} | {c:.2f} | {1e3 * c / (k * k):.2f} |')" "$k" "$cpu" | tee -a "$out/scaling.md"
+done
+rm -rf "$out/scaling-map" "$out/scaling-time"
+load
+
 echo "== 3. work-precision"; load
 wp=()
 [ "$scipy" = 1 ] || wp+=(--no-scipy)

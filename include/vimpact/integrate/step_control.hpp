@@ -39,12 +39,22 @@ T fast_log2(const T& x)
     const auto big = m > T(1.4142135623730951);
     m = select(big, T(0.5 * m), m);
     e = select(big, T(e + 1.0), e);
-    // ln m = 2 atanh(s), s = (m - 1)/(m + 1) in [-0.172, 0.172]
+    // ln m = 2 atanh(s), s = (m - 1)/(m + 1) in [-0.172, 0.172]:
+    //   atanh(s) / s = 1 + s^2/3 + s^4/5 + ... + s^12/13,
+    // evaluated by Estrin's scheme (products of powers of s^2 beside each other rather than
+    // one chain of 6 multiply-adds: the controller's result starts the next step, so its
+    // latency is the integrator's).
     using std::fma;
     const T s = (m - 1.0) / (m + 1.0);
     const T s2 = s * s;
-    T p(1.0 / 13);
-    for (const double c : {1.0 / 11, 1.0 / 9, 1.0 / 7, 1.0 / 5, 1.0 / 3, 1.0}) p = fma(p, s2, T(c));
+    const T s4 = s2 * s2;
+    const T s8 = s4 * s4;
+    const T q01 = fma(s2, T(1.0 / 3), T(1.0));
+    const T q23 = fma(s2, T(1.0 / 7), T(1.0 / 5));
+    const T q45 = fma(s2, T(1.0 / 11), T(1.0 / 9));
+    const T q03 = fma(s4, q23, q01);
+    const T q46 = fma(s4, T(1.0 / 13), q45);
+    const T p = fma(s8, q46, q03);
     return fma(T(2.0 * 1.4426950408889634), T(s * p), e);
 }
 
@@ -57,11 +67,19 @@ T fast_exp2(const T& y_in)
     const T n = B::round(y);
     using std::fma;
     const T g = (y - n) * 0.6931471805599453;  // in [-0.347, 0.347]
-    // e^g by its Taylor polynomial to degree 11 (explicit multiply-adds: the same bits in lanes).
-    T p(1.0 / 39916800);
-    for (const double c : {1.0 / 3628800, 1.0 / 362880, 1.0 / 40320, 1.0 / 5040, 1.0 / 720, 1.0 / 120, 1.0 / 24,
-                           1.0 / 6, 0.5, 1.0, 1.0})
-        p = fma(p, g, T(c));
+    // e^g by its Taylor polynomial to degree 11 (explicit multiply-adds: the same bits in
+    // lanes), by Estrin's scheme: pairs c_k + c_{k+1} g, joined with g^2, g^4, g^8 (depth 5
+    // instead of a chain of 11).
+    const T g2 = g * g;
+    const T g4 = g2 * g2;
+    const T g8 = g4 * g4;
+    constexpr double c[12] = {1.0,       1.0,        0.5,         1.0 / 6,       1.0 / 24,       1.0 / 120,
+                              1.0 / 720, 1.0 / 5040, 1.0 / 40320, 1.0 / 362880, 1.0 / 3628800, 1.0 / 39916800};
+    const T p01 = fma(g, T(c[1]), T(c[0])), p23 = fma(g, T(c[3]), T(c[2])), p45 = fma(g, T(c[5]), T(c[4])),
+            p67 = fma(g, T(c[7]), T(c[6])), p89 = fma(g, T(c[9]), T(c[8])), pab = fma(g, T(c[11]), T(c[10]));
+    const T p03 = fma(g2, p23, p01), p47 = fma(g2, p67, p45), p8b = fma(g2, pab, p89);
+    const T p07 = fma(g4, p47, p03);
+    const T p = fma(g8, p8b, p07);
     return p * B::from_bits(B::exponent_bits(n) << 52);
 }
 
