@@ -46,7 +46,7 @@ void p1_branch_with_its_period_doubling(benchmark::State& state)
     state.counters["plain_maps"] = static_cast<double>(r.plain_maps);
     state.counters["pd_Ur"] = r.bifurcations.empty() ? 0.0 : r.bifurcations[0].parameter;
 }
-BENCHMARK(p1_branch_with_its_period_doubling)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(p1_branch_with_its_period_doubling)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
 // The same branch from a point of the orbit (no protocol first): the continuation alone.
 void p1_branch_from_a_point(benchmark::State& state)
@@ -63,7 +63,28 @@ void p1_branch_from_a_point(benchmark::State& state)
     }
     state.counters["points"] = static_cast<double>(r.branches.at(0).points.size());
 }
-BENCHMARK(p1_branch_from_a_point)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(p1_branch_from_a_point)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+
+// The same without the bifurcation tests (no period doubling located): the cost of the
+// points alone.
+void p1_branch_from_a_point_points_only(benchmark::State& state)
+{
+    const auto m = paper(12.0);
+    auto o = p1_branch();
+    o.from_attractor = false;
+    o.returns = 1;
+    o.detect = false;
+    const auto start = vimpact::floquet(m, m.initial_state(), {}).orbit_point;
+    vimpact::continuation_result r;
+    for (auto _ : state) {
+        r = vimpact::continuation(m, {start}, o, 1);
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["points"] = static_cast<double>(r.branches.at(0).points.size());
+    state.counters["tangent_maps"] = static_cast<double>(r.tangent_maps);
+    state.counters["plain_maps"] = static_cast<double>(r.plain_maps);
+}
+BENCHMARK(p1_branch_from_a_point_points_only)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
 // A Floquet point on the same branch (Ur = 14, P1): Newton and monodromy from a point of the
 // orbit's neighbourhood on the section.
@@ -78,7 +99,7 @@ void floquet_from_a_point(benchmark::State& state)
     }
     state.counters["map_evaluations"] = static_cast<double>(r.map_evaluations);
 }
-BENCHMARK(floquet_from_a_point)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(floquet_from_a_point)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
 // The whole Floquet analysis of one sweep value: the protocol, then the above.
 void floquet_with_its_protocol(benchmark::State& state)
@@ -90,7 +111,7 @@ void floquet_with_its_protocol(benchmark::State& state)
         benchmark::DoNotOptimize(r);
     }
 }
-BENCHMARK(floquet_with_its_protocol)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(floquet_with_its_protocol)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
 }  // namespace
 

@@ -33,4 +33,11 @@ print(f"| one Floquet point from a point (Newton + monodromy) | {near:.2f} ms |"
 print(f"| one Floquet point with its protocol (a stability sweep's) | {full:.2f} ms |")
 print(f"| continuation point / Floquet point from a point | {point / near:.2f} |")
 print(f"| continuation point / Floquet point with its protocol | {point / full:.3f} |")
+bare = runs["p1_branch_from_a_point_points_only"]
+per = bare["real_time"] / bare["points"]
+print(f"| without bifurcation tests: {bare['points']:.0f} points, maps with tangent / without "
+      f"{bare['tangent_maps']:.0f} / {bare['plain_maps']:.0f} | {bare['real_time']:.1f} ms |")
+print(f"| one point of it | {per:.2f} ms |")
+print(f"| that point / Floquet point from a point | {per / near:.2f} |")
+print(f"| that point / Floquet point with its protocol | {per / full:.3f} |")
 PY

@@ -111,3 +111,9 @@ if [ "$costs" = 1 ]; then
   /usr/bin/python3 bench/plot_map_costs.py "$out/job_costs_200x200.csv" "$out/map_costs.png"
   load
 fi
+# Intermediate files: the maps' labels (compared above), the work-precision runs' points.
+rm -rf "$out"/lanes-labels-*.csv "$out/lanes-map" "$out/lanes-time" "$out/pts.csv" "$out"/ref-*.csv
+# The figures docs/performance.md shows.
+cp "$out/work_precision.png" docs/figures/work_precision.png
+[ -f "$out/map_costs.png" ] && cp "$out/map_costs.png" docs/figures/map_costs.png
+exit 0
