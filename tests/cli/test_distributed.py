@@ -57,7 +57,7 @@ def same_files(a, b):
 
 
 # Each a many-job command with --out: a map, a chained sweep (both directions followed), basins,
-# and a stability sweep.
+# stability sweeps (Floquet and Lyapunov), response curves and a clearance chart.
 CASES = {
     "map": MAP + ["--grazing"],
     "sweep": ["sweep", "--param", "Ur", "--range", "14.5:15.5:7", "--ic-mode", "follow", "--direction", "both",
@@ -65,6 +65,10 @@ CASES = {
     "basins": ["basins", "--set", "Ur=14.9", "--x", "y:-0.2:0.25:6", "--y", "ydot:-0.2:0.2:5", "--transient", "200",
                "--record", "40"],
     "floquet": ["floquet", "--param", "Ur", "--range", "15:17:5", "--transient", "200"],
+    "lyapunov": ["lyapunov", "--param", "Ur", "--range", "16:24:3", "--transient", "100", "--impacts", "300"],
+    "response": ["response", "--param", "Ur", "--range", "4:12:5", "--curves", "A=14,eps=0.35;A=12,eps=0.3"],
+    "clearance": ["clearance", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000", "--speeds", "3:5:3",
+                  "--transient", "100", "--record", "40"],
 }
 _threaded = {}
 
