@@ -14,7 +14,6 @@
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/io/build_info.hpp"
-#include "vimpact/physical/flow_units.hpp"
 
 namespace py = pybind11;
 using namespace vimpact;
@@ -97,22 +96,6 @@ PYBIND11_MODULE(_vimpact, m)
     m.def(
         "remove_journal", [](const std::string& dir) { remove_journal(dir); }, py::arg("directory"),
         "Internal: removes a journal directory.");
-    m.def(
-        "cylinder_units",
-        [](double D, double mass, double fn, double zeta, double rho, double U, double CM, double St) {
-            const cylinder_in_flow c{.diameter = D,
-                                     .mass = mass,
-                                     .natural_frequency = fn,
-                                     .damping_ratio = zeta,
-                                     .fluid_density = rho,
-                                     .added_mass_coefficient = CM,
-                                     .strouhal = St};
-            py::dict r;
-            for (const auto& [name, value] : units_at(c, U)) r[name] = value;
-            return r;
-        },
-        py::arg("D"), py::arg("m"), py::arg("fn"), py::arg("zeta"), py::arg("rho"), py::arg("U"), py::arg("CM"),
-        py::arg("St"), "Internal: see vimpact.cylinder_units.");
     vimpact::python::bind_models(m);
     vimpact::python::bind_runs(m);
     vimpact::python::bind_jobs(m);

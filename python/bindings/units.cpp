@@ -66,6 +66,13 @@ void bind_units(py::module_& m)
         .def("flow_speed", &flow_speed_of, "model"_a)
         .def("gap", &gap_of, "model"_a)
         .def("length_scale", &length_scale)
+        .def(
+            "at",
+            [](const si_input& in, double U) {
+                if (!in.cylinder) throw input_error("units: a flow speed needs a cylinder (D, m or mstar, fn or k, zeta, rho)");
+                return named(units_at(*in.cylinder, U));
+            },
+            "U"_a)
         .def("warnings", [](const si_input& in, const model& mm) { return validity_warnings(in, mm); }, "model"_a)
         .def(
             "statistics",

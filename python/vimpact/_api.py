@@ -726,7 +726,8 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
                      stats=_job_stats(d, report), jobs=report, **_context(model, opts))
 
 
-def cylinder_units(D, m, fn, zeta, rho, U, CM=1.0, St=0.2):
+def cylinder_units(D, m=None, fn=None, zeta=None, rho=None, U=None, CM=1.0, St=0.2, *, mstar=None, k=None,
+                   nu=None):
     """A cylinder in a flow, in SI units, as the wake model's dimensionless parameters.
 
     The conversion of Facchinetti, de Langre & Biolley (2004), the model ``wake_impact`` builds
@@ -741,30 +742,34 @@ def cylinder_units(D, m, fn, zeta, rho, U, CM=1.0, St=0.2):
     Parameters
     ----------
     D : float       diameter [m]
-    m : float       structural mass per unit length [kg/m]
-    fn : float      natural frequency in still fluid [Hz]
+    m : float       structural mass per unit length [kg/m]; or ``mstar``
+    fn : float      natural frequency in still fluid [Hz]; or ``k``
     zeta : float    structural damping ratio
     rho : float     fluid density [kg/m^3]
     U : float       flow speed [m/s]
     CM : float      added-mass coefficient (1)
     St : float      Strouhal number (0.2)
+    mstar : float   instead of ``m``: the mass ratio m / (rho pi D^2 / 4)
+    k : float       instead of ``fn``: stiffness per unit length [N/m^2],
+                    fn = sqrt(k / (m + m_f)) / (2 pi)
+    nu : float      kinematic viscosity for ``Re`` [m^2/s] (1e-6, water)
 
     Returns
     -------
     dict
         ``U``, ``Ur``, ``mu``, ``xi``, ``St`` (pass ``mu``, ``xi``, ``St`` and ``Ur`` to
-        ``Model("wake_impact", ...)``), and the SI value of one model unit: ``time_scale`` [s],
+        ``Model("wake_impact", ...)``), the SI value of one model unit: ``time_scale`` [s],
         ``length_scale`` [m], ``velocity_scale`` [m/s], ``frequency_scale`` [Hz] (of a
-        dimensionless angular frequency).
+        dimensionless angular frequency), ``Re`` and ``mass_ratio``.
     """
-    args = {}
-    for name, value in (("D", D), ("m", m), ("fn", fn), ("zeta", zeta), ("rho", rho), ("U", U), ("CM", CM),
-                        ("St", St)):
-        try:
-            args[name] = float(value)
-        except (TypeError, ValueError):
-            raise InputError(f"{name} must be a number (got {value!r})") from None
-    return _vimpact.cylinder_units(**args)
+    if U is None:
+        raise InputError("U (flow speed, m/s) is required")
+    try:
+        U = float(U)
+    except (TypeError, ValueError):
+        raise InputError(f"U must be a number (got {U!r})") from None
+    keys = dict(D=D, m=m, mstar=mstar, fn=fn, k=k, zeta=zeta, rho=rho, CM=CM, St=St, nu=nu)
+    return PhysicalUnits(**keys)._handle.at(U)
 
 
 def grid(a, b, n):

@@ -35,3 +35,35 @@ def test_bad_values_are_refused():
         vimpact.cylinder_units(**{**TUBE, "D": "wide"}, U=1.0)
     with pytest.raises(vimpact.InputError, match="rho"):
         vimpact.cylinder_units(**{**TUBE, "rho": 0.0}, U=1.0)
+
+
+def test_mass_ratio_and_stiffness_give_the_same_cylinder():
+    # By hand: m_f = rho pi D^2 / 4 = 0.3141593 kg/m, so m = 0.6 is mstar = 0.6 / m_f, and
+    # fn = 12 Hz on the total mass 0.9141593 kg/m is k = (2 pi 12)^2 0.9141593 N/m^2.
+    m_f = 1000.0 * math.pi * 0.02 ** 2 / 4.0
+    mstar = 0.6 / m_f
+    k = (2.0 * math.pi * 12.0) ** 2 * (0.6 + m_f)
+    assert k == pytest.approx(5196.9, abs=0.1)
+    given = vimpact.cylinder_units(D=0.02, mstar=mstar, k=k, zeta=0.002, rho=1000.0, U=4.0)
+    direct = vimpact.cylinder_units(**TUBE, U=4.0)
+    assert given.keys() == direct.keys()
+    for key, value in direct.items():
+        assert given[key] == pytest.approx(value, rel=1e-12), key
+    assert given["Ur"] == pytest.approx(4.0 / (12.0 * 0.02), rel=1e-12)
+    assert given["mass_ratio"] == pytest.approx(mstar, rel=1e-12)
+
+
+def test_viscosity_sets_the_reynolds_number():
+    d = vimpact.cylinder_units(**TUBE, U=4.0, nu=1.5e-6)
+    assert d["Re"] == pytest.approx(4.0 * 0.02 / 1.5e-6, rel=1e-12)
+
+
+def test_one_of_each_pair_and_a_speed_are_required():
+    with pytest.raises(vimpact.InputError, match="mstar"):
+        vimpact.cylinder_units(D=0.02, m=0.6, mstar=1.9, fn=12.0, zeta=0.002, rho=1000.0, U=1.0)
+    with pytest.raises(vimpact.InputError, match="fn"):
+        vimpact.cylinder_units(D=0.02, m=0.6, zeta=0.002, rho=1000.0, U=1.0)
+    with pytest.raises(vimpact.InputError, match="U"):
+        vimpact.cylinder_units(**TUBE)
+    with pytest.raises(vimpact.InputError, match="U"):
+        vimpact.cylinder_units(**TUBE, U=-1.0)
