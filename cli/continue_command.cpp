@@ -316,9 +316,15 @@ int run_continue(const continue_args& a)
             for (const auto& n : state_columns(info)) bh.push_back(n);
             for (const auto& n : multiplier_columns(dim)) bh.push_back(n);
             if (axis.si()) bh.push_back(axis.si_name);  // the parameter in SI, last
+            // With --si the state in SI at each point's own scales (a cylinder's follow U).
+            const auto tables_at = [&](double value) { return si_tables_of(c, m.with_parameter(o.parameter, value)); };
+            const auto si0 = tables_at(o.start);
+            if (si0) append(bh, state_si_columns(*si0, info));
             csv_writer bw(out.file("branches.csv"), bh);
             std::vector<std::string> sh{"branch", "point", "return", pname, "stable"};
             for (const auto& n : state_columns(info)) sh.push_back(n);
+            if (axis.si()) sh.push_back(axis.si_name);
+            if (si0) append(sh, state_si_columns(*si0, info));
             csv_writer sw(out.file("sections.csv"), sh);
             for (std::size_t b = 0; b < r.branches.size(); ++b)
                 for (std::size_t k = 0; k < r.branches[b].points.size(); ++k) {
@@ -332,11 +338,15 @@ int run_continue(const continue_args& a)
                     push_state(row, p.state);
                     push_multipliers(row, p.multipliers, dim);
                     if (axis.si()) row.push_back(axis.si_value(c, p.parameter));
+                    const auto si = si0 ? tables_at(p.parameter) : std::nullopt;
+                    if (si) append_state_si(row, *si, p.state);
                     bw.row(row);
                     for (std::size_t j = 0; j < p.section_points.size(); ++j) {
                         std::vector<double> srow{static_cast<double>(b), static_cast<double>(k), static_cast<double>(j),
                                                  p.parameter, p.stable ? 1.0 : 0.0};
                         push_state(srow, p.section_points.x(j));
+                        if (axis.si()) srow.push_back(axis.si_value(c, p.parameter));
+                        if (si) append_state_si(srow, *si, p.section_points.x(j));
                         sw.row(srow);
                     }
                 }
@@ -397,13 +407,23 @@ int run_continue(const continue_args& a)
             if (diagram) {
                 std::vector<std::string> dh{pname, "label"};
                 for (const auto& n : state_columns(info)) dh.push_back(n);
+                if (axis.si()) dh.push_back(axis.si_name);
+                if (si0) append(dh, state_si_columns(*si0, info));
                 csv_writer dw(out.file("diagram.csv"), dh);
-                for (const auto& p : diagram->points)
+                for (const auto& p : diagram->points) {
+                    const auto si = si0 ? tables_at(p.value) : std::nullopt;
                     for (std::size_t i = 0; i < p.points.size(); ++i) {
                         std::vector<std::string> row{format_double(p.value), p.label.label};
                         for (int k = 0; k < p.points.dim(); ++k) row.push_back(format_double(p.points.x(i, k)));
+                        if (axis.si()) row.push_back(format_double(axis.si_value(c, p.value)));
+                        if (si) {
+                            std::vector<double> v;
+                            append_state_si(v, *si, p.points.x(i));
+                            for (const double x : v) row.push_back(format_double(x));
+                        }
                         dw.text_row(row);
                     }
+                }
                 dw.close();
                 files.push_back("diagram.csv");
             }

@@ -249,6 +249,20 @@ json si_columns_json(const si_tables& si, const vimpact::model& m, bool impacts)
     return j;
 }
 
+std::vector<std::string> state_si_columns(const si_tables& si, const model_info& info)
+{
+    const auto columns = plain_columns(info);
+    std::vector<std::string> out;
+    for (const auto& [k, d] : dimensioned(columns, si)) out.push_back(columns[k].name + "_si");
+    return out;
+}
+
+void append_state_si(std::vector<double>& row, const si_tables& si, const Eigen::Ref<const Eigen::VectorXd>& x)
+{
+    for (std::size_t k = 0; k < si.dimensions.size(); ++k)
+        if (si.dimensions[k] != physical_dimension::none) row.push_back(x[static_cast<Eigen::Index>(k)] * si.scales.of(si.dimensions[k]));
+}
+
 void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info, const si_tables* si)
 {
     std::vector<std::string> header{"t"};

@@ -81,6 +81,13 @@ std::optional<si_tables> si_tables_of(const run_config& c, const vimpact::model&
 // rebound_velocity_si (m/s) and energy_si.
 json si_columns_json(const si_tables& si, const vimpact::model& m, bool impacts);
 
+// A state's displacements and velocities in SI beside the model's values in the tables of a
+// sweep or a continuation, whose points each have their own parameters (a cylinder's velocity
+// scale follows U): the NAME_si columns, and one state's values at the scales of `si`
+// (si_tables_of the model at that point).
+std::vector<std::string> state_si_columns(const si_tables& si, const model_info& info);
+void append_state_si(std::vector<double>& row, const si_tables& si, const Eigen::Ref<const Eigen::VectorXd>& x);
+
 // t and one column per state variable; with `si`, then t_si and NAME_si of each displacement
 // and velocity.
 void write_states(const std::filesystem::path& p, const state_series& s, const model_info& info,

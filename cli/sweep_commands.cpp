@@ -111,6 +111,11 @@ int run_sweep(const sweep_args& a)
     const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : first_gap_parameter(m);
     std::vector<std::string> ph{"branch", pname};
     append(ph, state_columns(info));
+    // With --si the section points also in SI, each at its point's scales (a cylinder's follow U).
+    const auto tables_at = [&](double value) { return si_tables_of(c, m.with_parameter(o.parameter, value)); };
+    const bool si_points = c.si.has_value();
+    if (!axis.si_name.empty()) ph.push_back(axis.si_name);
+    if (si_points) append(ph, state_si_columns(*tables_at(o.values.front()), info));
     std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "settled", "outcome"};
     append(lh, grazing_columns(m, gp));
     append(lh, impact_count_columns(info));
@@ -143,8 +148,12 @@ int run_sweep(const sweep_args& a)
         open();
         row[0] = p.branch;
         row[1] = p.value;
+        const auto si = si_points ? tables_at(p.value) : std::nullopt;
         for (std::size_t i = 0; i < p.points.size(); ++i) {
             for (int k = 0; k < p.points.dim(); ++k) row[static_cast<std::size_t>(k) + 2] = p.points.x(i, k);
+            row.resize(static_cast<std::size_t>(p.points.dim()) + 2);
+            if (!axis.si_name.empty()) row.push_back(axis.si_value(c, p.value));
+            if (si) append_state_si(row, *si, p.points.x(i));
             pts->row(row);
         }
         std::vector<std::string> cells{format_double(p.branch), format_double(p.value), p.label.label,

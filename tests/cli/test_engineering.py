@@ -390,3 +390,41 @@ def test_continuation_over_the_flow_speed_in_si(vimpact, tmp_path):
         for pt in branch:
             assert pt["param_si"] == pytest.approx(pt["param"] * 0.24, rel=1e-14)
 
+
+
+def test_sweep_and_continuation_tables_have_their_states_in_si(vimpact, tmp_path):
+    # Each point at its own flow speed: y_si = y D, ydot_si = ydot D Omega_f(U) with
+    # Omega_f = 2 pi St U / D, so the velocities of two speeds scale differently.
+    out = tmp_path / "w"
+    p = run(vimpact, "sweep", "--si", f"{SI},gap=0.001", "--param", "U", "--range", "3.5:4.5:3", "--section",
+            "impacts", "--no-plot", "--out", str(out), *SHORT)
+    assert p.returncode == 0, p.stderr
+    pts = rows(out / "points.csv")
+    assert {float(r["U"]) for r in pts} == {3.5, 4.0, 4.5}
+    moving = 0
+    for r in pts:
+        u = float(r["U"])
+        assert float(r["Ur"]) == pytest.approx(u / 0.24, rel=1e-15)
+        assert float(r["y_si"]) == pytest.approx(float(r["y"]) * 0.02, rel=1e-15, abs=1e-18)
+        assert float(r["ydot_si"]) == pytest.approx(float(r["ydot"]) * 2 * math.pi * 0.2 * u, rel=1e-14, abs=1e-15)
+        moving += float(r["ydot"]) != 0
+    assert moving > 0 and "x_si" not in pts[0]
+    out = tmp_path / "c"
+    p = run(vimpact, "continue", "--si", f"{SI},gap=0.003", "--param", "U", "--range", "3.4:3.6", "--diagram", "3",
+            "--no-plot", "--out", str(out), *SHORT)
+    assert p.returncode == 0, p.stderr
+    for name in ("branches.csv", "sections.csv", "diagram.csv"):
+        table = rows(out / name)
+        assert table, name
+        for r in table:
+            assert float(r["U"]) == pytest.approx(float(r["Ur"]) * 0.24, rel=1e-14), name
+            assert float(r["y_si"]) == pytest.approx(float(r["y"]) * 0.02, rel=1e-15, abs=1e-18), name
+    # Any model with the SI value of its units: a velocity is length / time.
+    out = tmp_path / "f"
+    p = run(vimpact, "continue", "--model", "forced_impact_oscillator", "--section", "strobe", "--set", "omega=1.5",
+            "--set", "sigma=0", "--param", "sigma", "--range", "0:-0.2", "--si", "length=0.01,time=0.1", "--no-plot",
+            "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    sec = rows(out / "sections.csv")
+    assert sec and all(float(r["ydot_si"]) == pytest.approx(float(r["ydot"]) * 0.1, rel=1e-15) for r in sec)
+    assert "theta_si" not in sec[0]
