@@ -119,18 +119,24 @@ def rank_pids(launcher_pid):
 
 
 LONG_MAP = MAP[:] + ["--no-plot", "--threads", "1"]
-LONG_MAP[2] = "Ur:16:25:40"  # 240 cells, each 20 times longer: long enough to stop in the middle
-LONG_MAP[LONG_MAP.index("--transient") + 1] = "2000"
+LONG_MAP[2] = "Ur:16:25:40"  # 240 cells, each 80 times longer: long enough to stop in the middle
+# (2 ranks take about 3 s: the SIMD lanes run 8 cells at once, and Open MPI passes a SIGTERM
+# on to the ranks up to a second late)
+LONG_MAP[LONG_MAP.index("--transient") + 1] = "8000"
 
 
 def start_and_wait(mpi, n, vimpact, out, lines):
+    """mpirun started, its n ranks found, and `lines` results in the journal: (process, ranks)."""
     proc = subprocess.Popen(mpi + ["-n", str(n), vimpact, *LONG_MAP, "--out", str(out)], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, start_new_session=True)
     deadline = time.time() + 120
+    ranks = {}
+    while len(ranks) < n and proc.poll() is None and time.time() < deadline:
+        ranks = rank_pids(proc.pid)  # before the results: the interruption follows them at once
     while journal_lines(out) < lines and proc.poll() is None and time.time() < deadline:
         time.sleep(0.01)
     assert proc.poll() is None, "the run finished before it could be interrupted"
-    return proc
+    return proc, ranks
 
 
 @pytest.fixture(scope="module")
@@ -143,8 +149,7 @@ def long_whole(vimpact, tmp_path_factory):
 
 def test_a_rank_killed_mid_run_loses_only_unfinished_jobs(vimpact, mpi, tmp_path, long_whole):
     out = tmp_path / "run"
-    proc = start_and_wait(mpi, 2, vimpact, out, 10)
-    ranks = rank_pids(proc.pid)
+    proc, ranks = start_and_wait(mpi, 2, vimpact, out, 10)
     assert sorted(ranks) == [0, 1]
     before = journal_lines(out)
     os.kill(ranks[1], signal.SIGKILL)
@@ -162,10 +167,10 @@ def test_a_rank_killed_mid_run_loses_only_unfinished_jobs(vimpact, mpi, tmp_path
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL])
 def test_the_whole_job_killed_then_resumed_by_one_process(vimpact, mpi, tmp_path, long_whole, sig):
     out = tmp_path / "run"
-    proc = start_and_wait(mpi, 2, vimpact, out, 10)
+    proc, ranks = start_and_wait(mpi, 2, vimpact, out, 10)
     before = journal_lines(out)
     if sig == signal.SIGKILL:
-        for pid in rank_pids(proc.pid).values():
+        for pid in ranks.values():
             os.kill(pid, signal.SIGKILL)
         os.kill(proc.pid, signal.SIGKILL)
     else:
