@@ -88,7 +88,8 @@ int run_simulate(const simulate_args& a)
 
 int run_period(const period_args& a)
 {
-    const run_config c = resolve(a.common);
+    run_config c = resolve(a.common);
+    if (c.si) c.plot_options["units"] = "si";  // the section points in metres and m/s
     check_positive(a.tol, "--tol");
     check_admissible(c);
     warn_validity(c, {c.model});

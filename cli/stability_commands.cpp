@@ -214,7 +214,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
 
 int run_floquet(const floquet_args& a)
 {
-    const run_config c = resolve(a.common);
+    run_config c = resolve(a.common);
     if (c.protocol.section.type != section_choice::kind::crossing)
         throw input_error("--section " + c.section_name() + ": floquet needs a section crossing (model " + c.model.name() +
                           " has " + c.info().section_names() + ")");
@@ -237,6 +237,7 @@ int run_floquet(const floquet_args& a)
     fo.jump = parse_name(a.impact_map, monodromy_jumps, "--impact-map");
     validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
+    if (c.si) c.plot_options["units"] = "si";  // the orbit in metres and m/s, the period in s
     check_admissible(c);
     warn_validity(c, {c.model});
     if (c.out) fo.sample_dt = 0.01;
@@ -437,7 +438,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         throw input_error("--section is used by lyapunov only in a sweep (--param, --range), for the bifurcation diagram");
     if (!sweep && app.get_option("--record")->count() > 0)
         throw input_error("--record is used by lyapunov only in a sweep (--param, --range), for the bifurcation diagram");
-    const run_config c = resolve(a.common);
+    run_config c = resolve(a.common);
     lyapunov_options lo;
     lo.tdm = parse_name(a.tdm, all_lyapunov_tdms, "--tdm");
     if (!(a.r0 > 0.0 && a.r0 < 1.0) || !std::isfinite(a.r0))
@@ -458,6 +459,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
     lo.flow = c.protocol.flow;
     lo.method = c.protocol.method;
     if (sweep) return run_lyapunov_sweep(a, c, lo);
+    if (c.si) c.plot_options["units"] = "si";  // the exponents per second over time in s
     check_admissible(c);
     warn_validity(c, {c.model});
     const lyapunov_result r = lyapunov(c.model, c.ic, lo);

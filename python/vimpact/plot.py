@@ -32,7 +32,7 @@ import sys
 import numpy as np
 
 from .plot_common import (coincident_limits, finish_figure, label_axis, legend_outside, new_figure, plot_index,
-                          section_name, state_name, suptitle, surface_levels, title)
+                          section_name, si_scales, state_name, suptitle, surface_levels, title)
 from .plot_continuation import continuation, curves  # noqa: F401
 from .plot_clearance import design_chart  # noqa: F401
 from .plot_stability import floquet, floquet_sweep, lyapunov, lyapunov_sweep  # noqa: F401
@@ -46,28 +46,6 @@ map = periodicity_map  # vimpact.plot.map(result): the periodicity map
 
 def _simulation(result):
     return result.simulation if hasattr(result, "simulation") else result
-
-
-def _si_scales(result, units):
-    """(time factor, per state variable (factor, unit or None)) of the picture: all 1 and the
-    model's units, or with ``units="si"`` the SI value of one model unit of time and of each
-    variable that has one (``result.si``: its columns' units, whose scales are its values)."""
-    names = tuple(result.state_names)
-    if units not in ("model", "si"):
-        raise ValueError(f"units must be 'model' or 'si' (got {units!r})")
-    si = getattr(result, "si", None)
-    if units == "model":
-        return 1.0, [(1.0, None)] * len(names)
-    if not si:
-        raise ValueError("units='si' needs a run with its SI scales (the directory of `vimpact simulate --si ... "
-                         "--out DIR`, loaded by vimpact.Simulation.load)")
-    values, columns = si.get("values", {}), si.get("columns", {}).get("states", {})
-    scale = {"s": values.get("time_scale"), "m": values.get("length_scale"), "m/s": values.get("velocity_scale")}
-    per = []
-    for n in names:
-        u = columns.get(n + "_si")
-        per.append((scale[u], u) if u in scale and scale[u] is not None else (1.0, None))
-    return scale["s"] or 1.0, per
 
 
 def phase(result, path=None, window=200.0, units="model"):
@@ -104,7 +82,7 @@ def phase(result, path=None, window=200.0, units="model"):
     k = plot_index(r)
     dim = len(r.state_names)
     j = k + 1 if k + 1 < dim else (0 if k else min(1, dim - 1))
-    ft, per = _si_scales(r, units)
+    ft, per = si_scales(r, units)
     (fk, uk), (fj, uj) = per[k], per[j]
     fig, (ax1, ax2, ax3) = new_figure(path, None, figsize=(16, 4.5), nrows=1, ncols=3,
                                       gridspec_kw={"width_ratios": [1.6, 1, 0.9]})
@@ -185,7 +163,7 @@ def impact_histogram(ax, result, units="model"):
                  f"energy/impact {g('energy_per_impact')}{u['e']}, power {g('power')}{u['p']}", fontsize=8)
 
 
-def sections(result, path=None, ax=None):
+def sections(result, path=None, ax=None, units="model"):
     """The recorded section points in the plane of the plot variable and the next state
     variable that varies on the section, titled with the period label.
 
@@ -195,6 +173,9 @@ def sections(result, path=None, ax=None):
         Uses ``section`` (and ``label`` for a Period).
     path : str, optional
     ax : matplotlib Axes, optional
+    units : "model" (default) or "si"
+        With "si" (a run of ``vimpact period --si ... --out DIR``), displacements in m and
+        velocities in m/s, by the scales of ``result.si``.
 
     Returns
     -------
@@ -208,11 +189,13 @@ def sections(result, path=None, ax=None):
     varying = [i for i in range(sec.shape[1]) if i != k and len(sec) and np.ptp(sec[:, i]) > 0] if sec.ndim == 2 \
         else []
     j = varying[0] if varying else (k + 1) % max(len(r.state_names), 1)
+    _, per = si_scales(r, units)
+    (fk, uk), (fj, uj) = per[k], per[j]
     if len(sec):
-        ax.plot(sec[:, k], sec[:, j], "o", ms=3)
-        coincident_limits(ax, sec[:, k], sec[:, j])
-    label_axis(ax, "x", r, state_name(r, k), after=f" at the section ({section_name(r)})")
-    label_axis(ax, "y", r, state_name(r, j), after=" at the section")
+        ax.plot(sec[:, k] * fk, sec[:, j] * fj, "o", ms=3)
+        coincident_limits(ax, sec[:, k] * fk, sec[:, j] * fj)
+    label_axis(ax, "x", r, state_name(r, k), after=f" at the section ({section_name(r)})", unit=uk)
+    label_axis(ax, "y", r, state_name(r, j), after=" at the section", unit=uj)
     label = getattr(result, "label", None)
     ax.set_title(f"{label + ': ' if label else ''}{len(sec)} section points", fontsize=10)
     if own:

@@ -235,3 +235,25 @@ def surface_levels(result, column):
         if len(v) and np.all(np.isfinite(v)) and np.ptp(v) <= 1e-9 * (1.0 + abs(v[0])):
             levels[names[i] if 0 <= i < len(names) else f"surface {i}"] = float(v[0])
     return levels
+
+
+def si_scales(result, units):
+    """(time factor, per state variable (factor, unit or None)) of the picture: all 1 and the
+    model's units, or with ``units="si"`` the SI value of one model unit of time and of each
+    variable that has one (``result.si``: its columns' units, whose scales are its values)."""
+    names = tuple(result.state_names)
+    if units not in ("model", "si"):
+        raise ValueError(f"units must be 'model' or 'si' (got {units!r})")
+    si = getattr(result, "si", None)
+    if units == "model":
+        return 1.0, [(1.0, None)] * len(names)
+    if not si:
+        raise ValueError("units='si' needs a run with its SI scales (the directory of a run with --si and --out "
+                         "DIR, loaded by the result's load)")
+    values, columns = si.get("values", {}), si.get("columns", {}).get("states", {})
+    scale = {"s": values.get("time_scale"), "m": values.get("length_scale"), "m/s": values.get("velocity_scale")}
+    per = []
+    for n in names:
+        u = columns.get(n + "_si")
+        per.append((scale[u], u) if u in scale and scale[u] is not None else (1.0, None))
+    return scale["s"] or 1.0, per

@@ -11,11 +11,11 @@ parameter over the bifurcation diagram (the paper's Figures 14-17).
 """
 import numpy as np
 
-from .plot_common import (finish_figure, label_axis, legend_outside, new_figure, plot_index, section_name, state_name,
-                          suptitle, surface_levels, title)
+from .plot_common import (finish_figure, label_axis, legend_outside, new_figure, plot_index, section_name, si_scales,
+                          state_name, suptitle, surface_levels, title)
 
 
-def floquet(result, path=None):
+def floquet(result, path=None, units="model"):
     """Multipliers on the unit circle, and the periodic orbit they belong to.
 
     Parameters
@@ -25,6 +25,9 @@ def floquet(result, path=None):
         ``impacts_per_period``, ``stable``, ``status``, ``orbit`` (from ``sample_dt > 0``),
         ``impact_pre``/``impact_post``, ``state_names``, ``plot_variable``.
     path : str, optional
+    units : "model" (default) or "si"
+        With "si" (loaded from ``vimpact floquet --si ... --out DIR``): the orbit's
+        displacements in m, velocities in m/s and the period in s, by the scales of ``result.si``.
 
     Returns
     -------
@@ -49,8 +52,10 @@ def floquet(result, path=None):
     ax1.set_xlabel("Re mu")
     ax1.set_ylabel("Im mu")
     legend_outside(ax1)
+    ft, per = si_scales(result, units)
     if len(mus):
-        head = (f"{result.label}: T = {result.period:.6g}, {result.impacts_per_period} impact(s), "
+        period = f"{result.period * ft:.6g} s" if units == "si" else f"{result.period:.6g}"
+        head = (f"{result.label}: T = {period}, {result.impacts_per_period} impact(s), "
                 f"{'stable' if result.stable else 'unstable'}")
     else:
         head = f"{result.label}: no multipliers ({result.status})"
@@ -58,19 +63,21 @@ def floquet(result, path=None):
 
     k = plot_index(result)
     j = k + 1 if k + 1 < len(result.state_names) else 0
+    (fk, uk), (fj, uj) = per[k], per[j]
     orbit = np.asarray(result.orbit if result.orbit is not None else np.empty((0, 0)))
     if orbit.ndim == 2 and len(orbit):
-        ax2.plot(orbit[:, k], orbit[:, j], lw=1.0, color="C0", label="periodic orbit")
-        ax2.plot(orbit[:1, k], orbit[:1, j], "g^", ms=6, label="start on the section")
+        ax2.plot(orbit[:, k] * fk, orbit[:, j] * fj, lw=1.0, color="C0", label="periodic orbit")
+        ax2.plot(orbit[:1, k] * fk, orbit[:1, j] * fj, "g^", ms=6, label="start on the section")
     pre = np.asarray(result.impact_pre if result.impact_pre is not None else np.empty((0, 0)))
     post = np.asarray(result.impact_post if result.impact_post is not None else np.empty((0, 0)))
     if pre.ndim == 2 and len(pre):
-        ax2.plot(pre[:, k], pre[:, j], "rv", ms=5, label="impact (before)")
-        ax2.plot(post[:, k], post[:, j], "r^", ms=5, label="impact (after)")
+        ax2.plot(pre[:, k] * fk, pre[:, j] * fj, "rv", ms=5, label="impact (before)")
+        ax2.plot(post[:, k] * fk, post[:, j] * fj, "r^", ms=5, label="impact (after)")
     for name, level in surface_levels(result, k).items():
-        ax2.axvline(level, color="k", ls="--", lw=1.0, label=f"{name}: {state_name(result, k)} = {level:g}")
-    label_axis(ax2, "x", result, state_name(result, k))
-    label_axis(ax2, "y", result, state_name(result, j))
+        ax2.axvline(level * fk, color="k", ls="--", lw=1.0,
+                    label=f"{name}: {state_name(result, k)} = {level * fk:g}{' ' + uk if uk else ''}")
+    label_axis(ax2, "x", result, state_name(result, k), unit=uk)
+    label_axis(ax2, "y", result, state_name(result, j), unit=uj)
     legend_outside(ax2)
     ax2.set_title("the orbit over one period" if len(orbit) else "impacts over one period (sample_dt = 0)",
                   fontsize=10)
@@ -78,7 +85,7 @@ def floquet(result, path=None):
     return finish_figure(fig, path, dpi=120)
 
 
-def lyapunov(result, path=None):
+def lyapunov(result, path=None, units="model"):
     """Running estimates of the exponents (cumulative QR growth / elapsed time).
 
     Parameters
@@ -87,6 +94,9 @@ def lyapunov(result, path=None):
         Uses ``history_t``, ``running_exponents``, ``t_start``, ``lle``,
         ``lle_standard_error``, ``tdm``, ``impacts``, ``time``, ``status``.
     path : str, optional
+    units : "model" (default) or "si"
+        With "si" (loaded from ``vimpact lyapunov --si ... --out DIR``): time in s and the
+        exponents per second, by the time scale of ``result.si``.
 
     Returns
     -------
@@ -94,19 +104,20 @@ def lyapunov(result, path=None):
     """
     fig, (ax1, ax2) = new_figure(path, None, figsize=(9, 7), nrows=2, ncols=1, sharex=True,
                                  gridspec_kw={"height_ratios": [1, 1.4]})
+    ft = si_scales(result, units)[0]
     ht = np.asarray(result.history_t if result.history_t is not None else [])
     if len(ht):
-        t = ht - result.t_start
-        run = result.running_exponents
+        t = (ht - result.t_start) * ft
+        run = result.running_exponents / ft
         for i in range(run.shape[1]):
             ax2.plot(t, run[:, i], lw=1.0, color=f"C{i}", label=f"lambda{i + 1}")
         # The largest on its own scale: whether it settles at 0 or above is the question.
         lead = int(np.argmax(run[-1]))
         ax1.plot(t, run[:, lead], color=f"C{lead}", lw=1.0)
         ax1.axhline(0.0, color="k", lw=0.6)
-        exps = np.asarray(result.exponents, dtype=float)
+        exps = np.asarray(result.exponents, dtype=float) / ft
         if len(exps) and np.isfinite(exps[0]):
-            se = result.lle_standard_error if np.isfinite(result.lle_standard_error) else 0.0
+            se = result.lle_standard_error / ft if np.isfinite(result.lle_standard_error) else 0.0
             ax1.axhspan(exps[0] - se, exps[0] + se, color=f"C{lead}", alpha=0.15,
                         label=f"LLE = {exps[0]:.4g} +- {se:.1g}")
             legend_outside(ax1)
@@ -114,13 +125,15 @@ def lyapunov(result, path=None):
         span = float(np.abs(tail).max()) if len(run) > 10 and np.abs(tail).max() > 0 else 1.0
         ax1.set_ylim(-1.5 * span, 1.5 * span)
         legend_outside(ax2)
-    # Exponents are rates: per unit of the model's time.
-    ax1.set_ylabel("largest exponent [per unit t]")
-    ax1.set_title(f"mapping at impacts: {result.tdm}; {result.impacts} impacts, t = {result.time:.6g} "
+    # Exponents are rates: per unit of the model's time, or per second.
+    rate = "1/s" if units == "si" else "per unit t"
+    ax1.set_ylabel(f"largest exponent [{rate}]")
+    elapsed = f"{result.time * ft:.6g} s" if units == "si" else f"{result.time:.6g}"
+    ax1.set_title(f"mapping at impacts: {result.tdm}; {result.impacts} impacts, t = {elapsed} "
                   f"({result.status})", fontsize=10)
     ax2.axhline(0.0, color="k", lw=0.6)
-    ax2.set_xlabel("t - t_start, since the start of the average")
-    ax2.set_ylabel("running estimate [per unit t]")
+    ax2.set_xlabel("t - t_start, since the start of the average" + (" [s]" if units == "si" else ""))
+    ax2.set_ylabel(f"running estimate [{rate}]")
     suptitle(fig, title(result))
     return finish_figure(fig, path, dpi=120)
 

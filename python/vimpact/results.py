@@ -1053,6 +1053,9 @@ class Floquet(_Context):
         The protocol's recorded section points, shapes (n,), (n, dim).
     stats : dict
         ``protocol`` and ``tangent`` RunStats, ``map_evaluations``.
+    si : dict or None
+        Loaded from a run with ``--si``: its run.json's ``si`` (the scales in ``values``, the
+        SI columns of ``orbit.csv`` in ``columns``) and ``period_si`` [s].
     """
     status: str = "ok"
     label: str = ""
@@ -1084,6 +1087,7 @@ class Floquet(_Context):
     section_t: np.ndarray = None
     section: np.ndarray = None
     stats: dict = field(default_factory=dict)
+    si: dict = None
 
     def __repr__(self):
         if self.multipliers is None or not len(self.multipliers):
@@ -1113,7 +1117,8 @@ class Floquet(_Context):
                    max_nontrivial_modulus=_num(res.get("max_nontrivial_modulus")), stable=res.get("stable"),
                    orbit_t=orbit["t"], orbit=_states(orbit, names, len(orbit["t"])), impact_t=imp["t"],
                    impact_surface=surface, impact_pre=_impact_states(imp, names, "before"),
-                   impact_post=_impact_states(imp, names, "after"), **ctx)
+                   impact_post=_impact_states(imp, names, "after"),
+                   si=dict(res["si"], period_si=res.get("period_si")) if res.get("si") else None, **ctx)
 
 
 @dataclass(repr=False)
@@ -1171,6 +1176,7 @@ class Lyapunov(_Context):
     section_t: np.ndarray = None
     section: np.ndarray = None
     stats: dict = field(default_factory=dict)
+    si: dict = None
 
     @property
     def lle(self):
@@ -1205,7 +1211,8 @@ class Lyapunov(_Context):
                    lle_standard_error=_num(res.get("lle_standard_error")), settled=res.get("settled", True),
                    t_start=t_start,
                    time=_num(res.get("time")), impacts=res.get("impacts", 0), sum_rule=_num(res.get("sum_rule")),
-                   misses=res.get("misses", 0), history_t=conv["t"], history_growth=growth, **ctx)
+                   misses=res.get("misses", 0), history_t=conv["t"], history_growth=growth,
+                   si=dict(res["si"], exponents_si=res.get("exponents_si")) if res.get("si") else None, **ctx)
 
 
 @dataclass(repr=False)

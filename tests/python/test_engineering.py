@@ -216,3 +216,41 @@ def test_the_picture_of_a_run_in_si(cli, tmp_path):
     check_layout(fig)
     with pytest.raises(ValueError, match="units='si' needs a run with its SI scales"):
         plot.phase(vimpact.simulate(vimpact.Model("wake_impact"), **SHORT), units="si")
+
+
+def test_the_pictures_of_period_floquet_and_lyapunov_in_si(cli, tmp_path):
+    # Each command with --si draws in SI (run.json's plot_options); the data drawn are the
+    # model's values times the scales computed here by hand: D = 0.02 m, and one model time
+    # unit 1 / Omega_f with Omega_f = 2 pi St U / D = 80 pi rad/s at U = 4 m/s.
+    si = "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000,U=4,gap=0.001"
+    second = 1.0 / (2 * math.pi * 0.2 * 4 / 0.02)
+    runs = {}
+    for command, extra in (("period", ["--transient", "100", "--record", "40"]), ("floquet", []),
+                           ("lyapunov", ["--impacts", "100"])):
+        out = tmp_path / command
+        p = cli(command, "--si", si, *extra, "--out", str(out))
+        assert p.returncode == 0, p.stderr
+        record = vimpact.results.read_record(str(out))
+        assert record["plot_options"] == {"units": "si"}, command
+        runs[command] = out
+
+    r = vimpact.Period.load(str(runs["period"]))
+    ax = plot.sections(r, units="si").axes[0]
+    x = ax.get_lines()[0].get_xdata()
+    assert np.allclose(x, np.asarray(r.section)[:, 0] * 0.02, rtol=1e-15, atol=0)
+    assert ax.get_xlabel().endswith("[m]")
+
+    f = vimpact.Floquet.load(str(runs["floquet"]))
+    fig = plot.floquet(f, units="si")
+    orbit_line = fig.axes[1].get_lines()[0]
+    assert np.allclose(orbit_line.get_xdata(), f.orbit[:, 0] * 0.02, rtol=1e-15, atol=0)
+    assert np.allclose(orbit_line.get_ydata(), f.orbit[:, 1] * 0.02 / second, rtol=1e-14, atol=0)
+    assert f"T = {f.period * second:.6g} s" in fig.axes[0].get_title()
+    assert f.si["period_si"] == pytest.approx(f.period * second, rel=1e-14)
+
+    ly = vimpact.Lyapunov.load(str(runs["lyapunov"]))
+    fig = plot.lyapunov(ly, units="si")
+    last = [line.get_ydata()[-1] for line in fig.axes[1].get_lines() if line.get_label().startswith("lambda")]
+    assert np.allclose(last, ly.running_exponents[-1] * (1 / second), rtol=1e-12, atol=0)
+    assert np.allclose(last, ly.si["exponents_si"], rtol=1e-9, atol=1e-9)
+    assert fig.axes[1].get_ylabel() == "running estimate [1/s]"
