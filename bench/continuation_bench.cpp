@@ -48,32 +48,16 @@ void p1_branch_with_its_period_doubling(benchmark::State& state)
 }
 BENCHMARK(p1_branch_with_its_period_doubling)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
-// The same branch from a point of the orbit (no protocol first): the continuation alone.
-void p1_branch_from_a_point(benchmark::State& state)
-{
-    const auto m = paper(12.0);
-    auto o = p1_branch();
-    o.from_attractor = false;
-    o.returns = 1;
-    const auto start = vimpact::floquet(m, m.initial_state(), {}).orbit_point;
-    vimpact::continuation_result r;
-    for (auto _ : state) {
-        r = vimpact::continuation(m, {start}, o, 1);
-        benchmark::DoNotOptimize(r);
-    }
-    state.counters["points"] = static_cast<double>(r.branches.at(0).points.size());
-}
-BENCHMARK(p1_branch_from_a_point)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
-
-// The same without the bifurcation tests (no period doubling located): the cost of the
+// The same branch from a point of the orbit (no protocol first): the continuation alone;
+// without the bifurcation tests (`detect` false, no period doubling located) the cost of the
 // points alone.
-void p1_branch_from_a_point_points_only(benchmark::State& state)
+void branch_from_a_point(benchmark::State& state, bool detect)
 {
     const auto m = paper(12.0);
     auto o = p1_branch();
     o.from_attractor = false;
     o.returns = 1;
-    o.detect = false;
+    o.detect = detect;
     const auto start = vimpact::floquet(m, m.initial_state(), {}).orbit_point;
     vimpact::continuation_result r;
     for (auto _ : state) {
@@ -84,6 +68,11 @@ void p1_branch_from_a_point_points_only(benchmark::State& state)
     state.counters["tangent_maps"] = static_cast<double>(r.tangent_maps);
     state.counters["plain_maps"] = static_cast<double>(r.plain_maps);
 }
+
+void p1_branch_from_a_point(benchmark::State& state) { branch_from_a_point(state, true); }
+BENCHMARK(p1_branch_from_a_point)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+
+void p1_branch_from_a_point_points_only(benchmark::State& state) { branch_from_a_point(state, false); }
 BENCHMARK(p1_branch_from_a_point_points_only)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
 // A Floquet point on the same branch (Ur = 14, P1): Newton and monodromy from a point of the
