@@ -2,7 +2,8 @@
 # Every number of docs/performance.md and of the README's performance table, in one command:
 #   1. like for like at the paper's protocol point (Ur = 16, rtol = atol = 1e-10): vimpact's
 #      DOP853 and DOPRI5 beside Boost.Odeint's DOPRI5 and RKF78, the plain DOPRI5 loop,
-#      SUNDIALS' CVODE (Adams) and ARKODE (ERK), medians of 7 runs each, side by side;
+#      SUNDIALS' CVODE (Adams) and ARKODE (ERK), medians of 7 runs each, side by side; then
+#      one trial step alone, ours against Odeint's (bench/trial_bench.cpp);
 #   2. the SIMD lanes: the engine on a 16 x 16 grid built for this machine's instruction set
 #      and for AVX2 (bench/lanes_bench.cpp), and a 64 x 64 map (Ur 12..25 x sigma -0.2..0, the
 #      full protocol) on one core, --batch 1 against the default batch (with AVX2_BUILD_DIR
@@ -13,7 +14,7 @@
 #      (build/job_costs, the same file the distributed-run projection reads; about 10 minutes on
 #      2 quiet cores) and its figure.
 # Each part prints the load average before it runs. Outputs go to OUT (default
-# bench/output): lanes.csv, like_for_like.md, work_precision.{csv,png}, controller.md,
+# bench/output): lanes.csv, like_for_like.md, trial.md, work_precision.{csv,png}, controller.md,
 # job_costs_200x200.csv, map_costs.png.
 # Usage: bash bench/run_performance.sh [--no-scipy] [--map-costs] [--quick]
 #   BUILD_DIR (default build), AVX2_BUILD_DIR (optional), OUT (default bench/output)
@@ -35,7 +36,7 @@ for a in "$@"; do
   esac
 done
 mkdir -p "$out"
-targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench job_costs lanes_bench lanes_bench_avx2"
+targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench job_costs lanes_bench lanes_bench_avx2 trial_bench"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build" -j2 --target $targets > /dev/null
 [ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true
@@ -43,6 +44,17 @@ load() { echo "load average: $(cut -d' ' -f1-3 /proc/loadavg)"; }
 
 echo "== 1. like for like: the protocol point, Ur = 16, rtol = atol = 1e-10"; load
 /usr/bin/python3 bench/like_for_like.py "$build" "$reps" | tee "$out/like_for_like.md"
+echo "-- one Runge-Kutta trial alone, a serial chain (bench/trial_bench.cpp), medians of 9"
+"$build"/trial_bench --benchmark_repetitions=9 --benchmark_report_aggregates_only=true \
+  --benchmark_format=json > "$out/trial.json" 2> /dev/null
+/usr/bin/python3 - "$out/trial.json" <<'PY' | tee "$out/trial.md"
+import json, sys
+rows = [b for b in json.load(open(sys.argv[1]))["benchmarks"] if b.get("aggregate_name") == "median"]
+print("| trial | stages | CPU ns per trial | ns per stage |")
+print("|---|---|---|---|")
+for b in rows:
+    print(f"| {b['run_name']} | {b['stages']:.0f} | {b['cpu_time']:.1f} | {b['cpu_time'] / b['stages']:.1f} |")
+PY
 
 echo "== 2. SIMD lanes: a $n x $n map on one core"; load
 lanes_run() {  # build label
@@ -112,7 +124,7 @@ if [ "$costs" = 1 ]; then
   load
 fi
 # Intermediate files: the maps' labels (compared above), the work-precision runs' points.
-rm -rf "$out"/lanes-labels-*.csv "$out/lanes-map" "$out/lanes-time" "$out/pts.csv" "$out"/ref-*.csv
+rm -rf "$out"/lanes-labels-*.csv "$out/lanes-map" "$out/lanes-time" "$out/pts.csv" "$out"/ref-*.csv "$out/trial.json"
 # The figures docs/performance.md shows.
 cp "$out/work_precision.png" docs/figures/work_precision.png
 [ -f "$out/map_costs.png" ] && cp "$out/map_costs.png" docs/figures/map_costs.png
