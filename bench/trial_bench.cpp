@@ -65,7 +65,7 @@ struct odeint_field {
 };
 
 // flatten: Odeint's step inlined into the loop, as in a program that steps it (out of line,
-// its arrays go through memory between the calls: 2.5x the time).
+// its arrays go through memory between the calls: 2.3x the time).
 [[gnu::flatten]] void odeint_dopri5_do_step(benchmark::State& state)
 {
     const vimpact::wake_impact def(protocol_point_parameters());
