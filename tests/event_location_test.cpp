@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "vimpact/integrate/event_location.hpp"
@@ -223,4 +224,37 @@ TEST(EventLocation, NoCrossingNoInteriorEvaluations)
     const int n = find_down_crossings(g, s0, s1, [](double) { return true; });
     EXPECT_EQ(n, 0);
     EXPECT_EQ(evaluations, 0);
+}
+
+// The screening that lets a step skip the locator (find_down_crossings, and the flow's quiet
+// steps, which decide from the end samples alone) never rules out a crossing of a quadratic:
+// with at most one extremum on the step, a downward crossing needs the ends to go from > 0 to
+// <= 0, a minimum below zero between positive ends, or a maximum above zero between ends at or
+// below it. Checked on random quadratics against a dense scan of their values; every case
+// the scan finds must have been let through, and the locator must then find a root too.
+TEST(EventLocation, ScreeningNeverRulesOutACrossingOfAQuadratic)
+{
+    std::mt19937_64 rng(20261126);
+    std::uniform_real_distribution<double> coef(-2.0, 2.0);
+    int crossing_cases = 0, screened_out = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double a = coef(rng), b = 2.0 * coef(rng), c = 2.0 * coef(rng);
+        scalar_fn g = [=](double t) { return scalar_sample{a + t * (b + t * c), b + 2.0 * c * t}; };
+        const scalar_sample s0 = g(0.0), s1 = g(1.0);
+        bool crosses = false, seen_positive = s0.value > 0.0;
+        for (int k = 1; k <= 4000 && !crosses; ++k) {
+            const double v = g(k / 4000.0).value;
+            crosses = seen_positive && v <= 0.0;
+            seen_positive = seen_positive || v > 0.0;
+        }
+        const bool possible = vimpact::down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope);
+        if (!possible) ++screened_out;
+        if (!crosses) continue;
+        ++crossing_cases;
+        EXPECT_TRUE(possible) << "a = " << a << ", b = " << b << ", c = " << c;
+        EXPECT_GE(find_down_crossings(g, s0, s1, [](double) { return true; }), 1);
+    }
+    // Both kinds of case occur often enough for the check to mean something.
+    EXPECT_GT(crossing_cases, 2000);
+    EXPECT_GT(screened_out, 2000);
 }

@@ -332,8 +332,14 @@ private:
     // `samples`) is asked once per state.
     void sample_step_ends(bool gaps)
     {
-        if (m_ends_valid) std::swap(m_start, m_end);
-        else sample_at(m_integ.x_prev(), m_integ.f_prev(), gaps, m_start);
+        // The end's samples copied into the start's, not the containers swapped: the copy
+        // of a few numbers is cheaper on this path than moving the containers' pointers.
+        if (m_ends_valid) {
+            std::copy(m_end.gaps.begin(), m_end.gaps.end(), m_start.gaps.begin());
+            std::copy(m_end.events.begin(), m_end.events.end(), m_start.events.begin());
+        } else {
+            sample_at(m_integ.x_prev(), m_integ.f_prev(), gaps, m_start);
+        }
         sample_at(m_integ.x(), m_integ.f(), gaps, m_end);
         m_ends_valid = false;  // set again when the step ends without a reset
     }
@@ -456,6 +462,18 @@ private:
         const state& x0 = m_integ.x_prev();
         const state& x1 = m_integ.x();
         sample_step_ends(m_opt.surfaces);
+        if (quiet_step(h)) {
+            // What the general path below does when it finds nothing.
+            m_stop_theta = 2.0;
+            if (m_opt.gap_maxima && m_opt.surfaces && !m_stop)
+                for (int i = 0; i < m_model.surface_count(); ++i)
+                    obs.on_gap_maximum(i, t0 + 1.0 * h, m_end.gaps[static_cast<std::size_t>(i)].value);
+            if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::free);
+            m_t = m_integ.t();
+            m_x = x1;
+            m_ends_valid = true;
+            return step_status::ok;
+        }
 
         // Terminal event: the first crossing of any surface inside (t0, t1].
         double theta_impact = 2.0;
@@ -511,6 +529,32 @@ private:
         m_x = post;
         after_impact(obs, surface);
         return step_status::ok;
+    }
+
+    // Whether the free step just taken (end samples taken) is quiet: find_crossings' screening
+    // finds no possible crossing of any surface (each gap positive at the start) or watched
+    // event, and no gap's rate turns from rising to falling (report_gap_maxima's test for a
+    // maximum inside the step). The general path of after_free_step would then find nothing;
+    // deciding it from the samples alone skips that path's setup on most steps (about a tenth
+    // of a step's time: docs/performance.md).
+    [[nodiscard]] bool quiet_step(double h) const
+    {
+        if (m_opt.surfaces)
+            for (int i = 0; i < m_model.surface_count(); ++i) {
+                const scalar_sample s0 = m_start.gaps[static_cast<std::size_t>(i)].at(h);
+                const scalar_sample s1 = m_end.gaps[static_cast<std::size_t>(i)].at(h);
+                if (!absent(i) && (!(s0.value > 0.0) || down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)))
+                    return false;
+                if (m_opt.gap_maxima && s0.slope > 0.0 && s1.slope <= 0.0) return false;
+            }
+        for (std::size_t e = 0; e < m_opt.events.size(); ++e) {
+            const scalar_sample s0 = m_start.events[e].at(h), s1 = m_end.events[e].at(h);
+            const crossing dir = m_opt.events[e].direction;
+            if (dir != crossing::up && down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)) return false;
+            if (dir != crossing::down && down_crossing_possible(-s0.value, -s1.value, -s0.slope, -s1.slope))
+                return false;
+        }
+        return true;
     }
 
     // Each gap's largest value on (0, theta_end] of the step just taken (theta_end < 1: an

@@ -46,16 +46,10 @@ concept lanes_screenable = requires(const L& d, const vec_t<lanes, N>& x) {
 
 namespace detail {
 
-// find_down_crossings' screening (integrate/event_location.hpp) in lanes, on the values v and
-// rates r at the step's ends (the slopes on the interpolant are the rates times the step, of
-// the same sign): true where it finds no possible crossing.
+// find_down_crossings' screening in lanes: true where it finds no possible crossing.
 inline lane_mask no_down_crossing(const lanes& v0, const lanes& v1, const lanes& r0, const lanes& r1)
 {
-    const lanes zero(0.0);
-    const lane_mask ends_down = v0 > zero && v1 <= zero;
-    const lane_mask interior_min = r0 < zero && r1 > zero;
-    const lane_mask interior_max = r0 > zero && r1 < zero;
-    return !ends_down && !(interior_min && v1 > zero) && !(interior_max && v1 <= zero && v0 <= zero);
+    return !down_crossing_possible(v0, v1, r0, r1);
 }
 
 // grad . f, and whether its sign is beyond doubt: the flow computes the same rate with

@@ -83,7 +83,9 @@ public:
             const auto plan = plan_trial(m_t, m_h, m_opt.h_max, t_stop);
             if (plan.underflow) return step_status::step_underflow;
             const double err = m_method.attempt(rhs, m_x, m_f, plan.h, m_opt.rtol, m_opt.atol, m_x_new, m_f_new);
-            const bool finite = is_finite(err) && m_x_new.allFinite() && m_f_new.allFinite();
+            // x * 0 is 0 for finite x and NaN otherwise: one vector sum instead of Eigen's
+            // allFinite, which GCC leaves out of line.
+            const bool finite = is_finite(err) && (m_x_new * 0.0 + m_f_new * 0.0).sum() == 0.0;
             const auto out = control_step(constants(), err, finite, plan.h, m_h, plan.clipped, rejected_before,
                                           m_log_err_old);
             if (out.accepted) {

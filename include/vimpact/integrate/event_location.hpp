@@ -86,6 +86,21 @@ double extremum_bracketed(G&& g, double a, double sa, double b, double sb)
 
 }  // namespace detail
 
+// find_down_crossings' screening from the end samples alone (values v, slopes or rates r of
+// the same signs): false when no downward crossing can lie on the step. No crossing without a
+// sign change to <= 0, and no dip without an interior minimum (slope from negative to
+// positive) or maximum (from the g <= 0 side). T: double, or lanes (hybrid/flow_lanes.hpp),
+// whose comparisons give masks.
+template <class T>
+auto down_crossing_possible(const T& v0, const T& v1, const T& r0, const T& r1)
+{
+    const T zero(0.0);
+    const auto ends_down = v0 > zero && v1 <= zero;
+    const auto interior_min = r0 < zero && r1 > zero;
+    const auto interior_max = r0 > zero && r1 < zero;
+    return ends_down || (interior_min && v1 > zero) || (interior_max && v1 <= zero && v0 <= zero);
+}
+
 // Finds the downward crossings of g on (0, 1] in increasing order and calls on_root(theta)
 // for each; on_root returns false to stop the search (a terminal event). `g(theta)` returns
 // value and slope; the end samples are passed in because they are known exactly.
@@ -94,14 +109,7 @@ template <class G, class OnRoot>
 int find_down_crossings(G&& g, scalar_sample s0, scalar_sample s1, OnRoot&& on_root,
                         int subdivisions = 8)
 {
-    // Screening: no crossing possible without a sign change to <= 0, and no dip without an
-    // interior minimum (slope from negative to positive) or maximum (from the g <= 0 side).
-    const bool ends_down = s0.value > 0.0 && s1.value <= 0.0;
-    const bool interior_min = s0.slope < 0.0 && s1.slope > 0.0;
-    const bool interior_max = s0.slope > 0.0 && s1.slope < 0.0;
-    if (!ends_down && !(interior_min && s1.value > 0.0) &&
-        !(interior_max && s1.value <= 0.0 && s0.value <= 0.0))
-        return 0;
+    if (!down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)) return 0;
 
     // Sample the interpolant; split at every extremum so each piece is monotone.
     constexpr int max_points = 2 * 32 + 2;
