@@ -51,9 +51,8 @@ struct lanes {
     void store(double* p) const { v.store_unaligned(p); }
     [[nodiscard]] double lane(int i) const
     {
-        alignas(64) std::array<double, lane_width> a;
-        v.store_aligned(a.data());
-        return a[static_cast<std::size_t>(i)];
+        const typename lane_batch::register_type r = v;
+        return r[i];
     }
 
     lanes& operator+=(const lanes& o) { v += o.v; return *this; }

@@ -212,7 +212,8 @@ public:
     // on. Its end samples are not kept (the next step samples its start again: the same numbers).
     // With gap maxima watched (flow_options::gap_maxima), the driver also found no gap's rate
     // turning from rising to falling in the step: each gap's largest value on it is its end
-    // value, which report_gap_maxima would report.
+    // value, which report_gap_maxima would report, at the time it would report it (t0 + 1.0 h,
+    // which differs from the step's end time in its last bit on a step cut short at t_max).
     template <class Observer>
     void quiet_free_step(Observer& obs)
     {
@@ -220,8 +221,10 @@ public:
         m_t = m_integ.t();
         m_x = m_integ.x();
         m_ends_valid = false;
-        if (m_opt.gap_maxima && m_opt.surfaces && !m_stop)
-            for (int i = 0; i < m_model.surface_count(); ++i) obs.on_gap_maximum(i, m_t, m_model.gap(i, m_x));
+        if (m_opt.gap_maxima && m_opt.surfaces && !m_stop) {
+            const double t_end = m_integ.t_prev() + 1.0 * m_integ.last_step();
+            for (int i = 0; i < m_model.surface_count(); ++i) obs.on_gap_maximum(i, t_end, m_model.gap(i, m_x));
+        }
     }
     template <class Observer>
     std::optional<outcome> step_taken(step_status st, Observer& obs)

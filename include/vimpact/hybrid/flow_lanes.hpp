@@ -138,14 +138,10 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
     for (int j = 0; j < W; ++j) stage_contexts[static_cast<std::size_t>(j)] = {&method, j};
     auto fill_stages = [](const void* c, method_type& m) {
         const auto* sc = static_cast<const stage_context*>(c);
-        alignas(64) double buf[W];
         const auto& src = sc->method->stages();
         auto& dst = m.stages();
         for (std::size_t k = 0; k < src.size(); ++k)
-            for (int i = 0; i < N; ++i) {
-                src[k][i].store(buf);
-                dst[k][i] = buf[sc->lane];
-            }
+            for (int i = 0; i < N; ++i) dst[k][i] = src[k][i].lane(sc->lane);
     };
 
     auto load = [&](int j) {
