@@ -158,7 +158,7 @@ int main(int argc, char** argv)
 
     const long all_threads = static_cast<long>(R) * T;
     vimpact::job_dispenser dispenser({jobs, 0}, [](long) { return true; }, jobs,
-                                     std::max(vimpact::ranks_window_per_thread, 2 * B) * all_threads, all_threads);
+                                     std::max(vimpact::ranks_window_per_thread, 2 * B) * all_threads, all_threads, 2, B);
     std::vector<char> arrived(static_cast<std::size_t>(jobs), 0);
     long next_undelivered = 0, buffered = 0, max_buffered = 0;
 

@@ -298,6 +298,8 @@ TEST(JobLoopRanks, ThreadsTakeWholeBatches)
             return out;
         };
         o.batch = batch;
+        // A window that is not a whole number of batches cuts grants short.
+        o.window = 4 * batch + 3;
         const auto r = ranks == 1 ? ranks_run{} : run_ranks(ranks, s, o, vimpact::job_runners{single, many});
         std::vector<std::pair<long, double>> delivered = r.delivered;
         if (ranks == 1)
@@ -310,9 +312,10 @@ TEST(JobLoopRanks, ThreadsTakeWholeBatches)
             in_batches += static_cast<long>(n);
             if (static_cast<long>(n) == batch) ++full;
         }
-        // Only the ends of the list (and of a rank's grants) may give a thread less.
-        EXPECT_GE(full * batch, jobs * 3 / 4) << ranks << " rank(s): " << rec.sizes.size() << " batches, "
-                                              << full << " of them full";
+        // Grants and capacities are whole batches: only the end of the list may give a
+        // thread less, at most one batch short per computing thread (one per rank here).
+        EXPECT_GE(full * batch, jobs - batch * ranks) << ranks << " rank(s): " << rec.sizes.size() << " batches, "
+                                                      << full << " of them full";
         EXPECT_LE(in_batches, jobs);
     }
 }
@@ -363,6 +366,69 @@ TEST(JobLoopRanks, AJobsFailureOnAnyRankReachesRankZeroAndEveryRankEnds)
         return work(j, p);
     });
     EXPECT_NE(r.errors[0].find("job 37 failed"), std::string::npos) << r.errors[0];
+}
+
+// ---- the dispenser's grants and a rank's capacity --------------------------------------
+// A thread running SIMD lanes takes `batch` jobs at a time and a lanes run costs as much one
+// job short as full: grants and capacities come in whole batches, and only the end of the
+// list is handed out in a smaller piece.
+
+TEST(JobDispenser, GrantsWholeGranulesUntilTheListEndsAndEveryJobOnce)
+{
+    constexpr long jobs = 1003, granule = 8;
+    vimpact::job_dispenser d(job_schedule{jobs, 0}, [](long) { return true; }, jobs, jobs, 3, 2, granule);
+    std::vector<long> order;
+    const long wants[] = {16, 8, 40, 5, 24};
+    for (int k = 0; !d.exhausted() && k < 10000; ++k) {
+        const long want = wants[k % 5];
+        const auto g = d.grant(want);
+        ASSERT_FALSE(g.empty());
+        const long n = static_cast<long>(g.size());
+        EXPECT_LE(n, want);
+        const bool last = g.back() == jobs - 1;
+        if (want >= granule && !last) {
+            EXPECT_EQ(n % granule, 0) << "grant " << k << " of " << n << " jobs for a want of " << want;
+        }
+        order.insert(order.end(), g.begin(), g.end());
+    }
+    ASSERT_EQ(static_cast<long>(order.size()), jobs);
+    for (long j = 0; j < jobs; ++j) EXPECT_EQ(order[static_cast<std::size_t>(j)], j);
+}
+
+TEST(JobDispenser, AGrantCutByTheWindowKeepsWholeGranules)
+{
+    // Window 20 ahead of the first undelivered job, granule 8.
+    vimpact::job_dispenser d(job_schedule{100, 0}, [](long) { return true; }, 100, 20, 1, 1, 8);
+    EXPECT_EQ(d.grant(16), std::vector<long>({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}));
+    EXPECT_TRUE(d.grant(16).empty());  // only 16 .. 19 fit: half a granule, kept for later
+    EXPECT_EQ(d.unassigned(), 84);
+    d.delivered_below(8);              // the window now ends before 28: one granule fits
+    EXPECT_EQ(d.grant(16), std::vector<long>({16, 17, 18, 19, 20, 21, 22, 23}));
+    EXPECT_EQ(d.unassigned(), 76);
+}
+
+TEST(JobDispenser, GuidedShareShrinksTowardsTheEnd)
+{
+    // granule 1: ceil(unassigned / (2 threads)) at most, so later grants are smaller.
+    vimpact::job_dispenser d(job_schedule{100, 0}, [](long) { return true; }, 100, 100, 2, 2, 1);
+    EXPECT_EQ(d.grant(1000).size(), 25u);  // ceil(100 / 4)
+    EXPECT_EQ(d.grant(1000).size(), 19u);  // ceil(75 / 4)
+    EXPECT_EQ(d.grant(3).size(), 3u);
+}
+
+TEST(JobDispenser, RankCapacityIsWholeBatchesWithinItsBounds)
+{
+    for (const long threads : {1L, 2L, 5L})
+        for (const long batch : {1L, 3L, 4L, 8L, 100L})
+            for (const double mean : {0.0, 1e-5, 3e-4, 1.1e-3, 7e-3, 0.05, 2.0}) {
+                const long c = vimpact::rank_capacity(threads, mean, batch);
+                EXPECT_EQ(c % batch, 0) << threads << " threads, batch " << batch << ", mean " << mean;
+                EXPECT_GE(c, std::max(4L, 2 * batch) * threads);
+                EXPECT_LE(c, std::max(64L, 2 * batch) * threads);
+            }
+    // Short jobs: about 0.1 s of work per thread, down to a whole batch.
+    EXPECT_EQ(vimpact::rank_capacity(1, 0.1 / 29.5, 8), 24);
+    EXPECT_EQ(vimpact::rank_capacity(1, 0.1 / 29.5, 1), 29);
 }
 
 }  // namespace

@@ -18,8 +18,9 @@ namespace vimpact {
 // when it holds half): four per thread, or, when its jobs are short, enough for about
 // `batch_seconds` of work, so that its requests and reports (which carry its results) stay
 // few per second whatever the job's length; at most 64 per thread. Threads that take `batch`
-// jobs at a time (SIMD lanes) hold at least two batches each. mean_job_seconds <= 0: not
-// known yet.
+// jobs at a time (SIMD lanes) hold at least two batches each, and the capacity is a whole
+// number of batches: what the rank asks for then fills its lanes (a batch short of a job
+// costs a lanes run as much as a full one). mean_job_seconds <= 0: not known yet.
 long rank_capacity(long threads, double mean_job_seconds, long batch = 1, double batch_seconds = 0.1);
 
 // The window of a run on several ranks, per computing thread of all ranks: room for every
@@ -30,11 +31,13 @@ class job_dispenser {
 public:
     // The jobs to compute are those of `schedule` for which `todo` holds (this shard's,
     // not finished before), `count` of them. `threads` counts the computing threads of all
-    // ranks; a grant is at most ceil(unassigned / (divisor * threads)) jobs.
+    // ranks; a grant is at most ceil(unassigned / (divisor * threads)) jobs, that share rounded
+    // up to a whole number of `granule` jobs (the batch a thread runs in its SIMD lanes).
     job_dispenser(const job_schedule& schedule, std::function<bool(long)> todo, long count, long window, long threads,
-                  long divisor = 2);
+                  long divisor = 2, long granule = 1);
 
-    // Up to `want` jobs, ascending; fewer or none when the window, a chain waiting for its
+    // Up to `want` jobs, ascending; a whole number of granules when `want` holds one, except
+    // at the end of the list. Fewer or none when the window, a chain waiting for its
     // predecessor or the end of the list allows no more.
     std::vector<long> grant(long want);
     // A job's result arrived (its successor in a chain may go).
@@ -50,7 +53,7 @@ public:
 private:
     job_schedule m_schedule;
     std::function<bool(long)> m_todo;
-    long m_window, m_threads, m_divisor;
+    long m_window, m_threads, m_divisor, m_granule;
     long m_next = 0;            // the next job to hand out
     long m_undelivered = 0;     // the first job not delivered
     long m_unassigned = 0;

@@ -537,7 +537,7 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     const long window = std::max(opt.window > 0 ? opt.window : (nranks > 1 ? ranks_window_per_thread : 8L) * all_threads,
                                  2L * batch * all_threads);
     // With shards a window of jobs spans fewer of this shard's: widen it by the shard count.
-    job_dispenser dispenser(schedule, todo, todo_count, window * opt.shard.count, all_threads);
+    job_dispenser dispenser(schedule, todo, todo_count, window * opt.shard.count, all_threads, 2, batch);
 
     using pool_t = detail::job_pool<Record, Run>;
     pool_t pool(own_threads, run, opt.stop, opt.timed, batch);
