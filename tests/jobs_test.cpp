@@ -320,6 +320,32 @@ TEST(JobLoopRanks, ThreadsTakeWholeBatches)
     }
 }
 
+// A resumed run in lanes whose windows hold less than a batch still to compute ends, on one
+// rank and on two, and delivers exactly the jobs left.
+TEST(JobLoopRanks, AResumedRunInBatchesWithFewJobsLeftEnds)
+{
+    constexpr long jobs = 600;
+    const job_schedule s{jobs, 0};
+    std::unordered_map<long, double> done;
+    for (long j = 0; j < jobs; ++j)
+        if (j % 37 != 0) done[j] = work(j, nullptr);
+    auto single = [](long j, const double* p) { return work(j, p); };
+    auto many = [](std::span<const long> js) {
+        std::vector<double> out;
+        for (const long j : js) out.push_back(work(j, nullptr));
+        return out;
+    };
+    job_loop_options o;
+    o.threads = 1;
+    o.batch = 8;
+    std::vector<std::pair<long, double>> expected;
+    for (long j = 0; j < jobs; j += 37) expected.emplace_back(j, work(j, nullptr));
+    std::vector<std::pair<long, double>> one;
+    run_jobs<double>(s, o, vimpact::finished_in(done), vimpact::job_runners{single, many},
+                     [&](long j, double&& v) { one.emplace_back(j, v); });
+    EXPECT_EQ(one, expected);
+}
+
 TEST(JobLoopRanks, MoreRanksThanJobs)
 {
     job_loop_options o;
@@ -405,6 +431,24 @@ TEST(JobDispenser, AGrantCutByTheWindowKeepsWholeGranules)
     d.delivered_below(8);              // the window now ends before 28: one granule fits
     EXPECT_EQ(d.grant(16), std::vector<long>({16, 17, 18, 19, 20, 21, 22, 23}));
     EXPECT_EQ(d.unassigned(), 76);
+}
+
+TEST(JobDispenser, AResumedRunWithFewJobsLeftInTheWindowStillProgresses)
+{
+    // Every 50th job left to compute, a window of 16 jobs, granule 8: a window never holds a
+    // granule, and with nothing out a grant must still give what it holds.
+    constexpr long jobs = 1000;
+    auto todo = [](long j) { return j % 50 == 0; };
+    vimpact::job_dispenser d(job_schedule{jobs, 0}, todo, jobs / 50, 16, 1, 2, 8);
+    std::vector<long> got;
+    for (int k = 0; !d.exhausted() && k < 1000; ++k) {
+        const auto g = d.grant(16);
+        ASSERT_FALSE(g.empty()) << "no job granted with none out, after " << got.size();
+        got.insert(got.end(), g.begin(), g.end());
+        d.delivered_below(d.next_todo(g.back() + 1));  // every granted job delivered
+    }
+    ASSERT_EQ(got.size(), 20u);
+    for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], 50 * static_cast<long>(i));
 }
 
 TEST(JobDispenser, GuidedShareShrinksTowardsTheEnd)

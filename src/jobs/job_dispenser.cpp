@@ -51,8 +51,12 @@ std::vector<long> job_dispenser::grant(long want)
     }
     // Cut short by the window, a grant keeps whole granules; the rest goes with a later one
     // (a piece would leave lanes empty, and every grant after it would be misaligned too).
-    if (cut && m_granule > 1 && !m_schedule.chained()) {
-        const std::size_t keep = out.size() / static_cast<std::size_t>(m_granule) * static_cast<std::size_t>(m_granule);
+    // Nothing at all only while jobs before it are out: their delivery moves the window.
+    // Otherwise (a resumed run whose window holds less than a granule still to compute)
+    // waiting would never end, and the piece goes.
+    if (cut && m_granule > 1 && !m_schedule.chained() && !out.empty()) {
+        std::size_t keep = out.size() / static_cast<std::size_t>(m_granule) * static_cast<std::size_t>(m_granule);
+        if (keep == 0 && m_undelivered >= out.front()) keep = out.size();
         if (keep < out.size()) {
             m_next = out[keep];
             m_unassigned += static_cast<long>(out.size() - keep);
