@@ -29,8 +29,8 @@ std::vector<long> job_dispenser::grant(long want)
     std::vector<long> out;
     if (want <= 0 || exhausted()) return out;
     const long share = std::max(1L, (m_unassigned + m_divisor * m_threads - 1) / (m_divisor * m_threads));
-    // Whole granules: the guided share near the end of the list would otherwise leave lanes
-    // empty (a run of 2 ranks x 1 thread had 42 of its 288 batches one job short).
+    // Whole granules: a share that is not a whole number of batches (near the end of the
+    // list) would leave lanes empty, and misalign every later grant of that thread.
     const long n = want >= m_granule ? std::min(want / m_granule, (share + m_granule - 1) / m_granule) * m_granule
                                      : std::min(want, share);
     bool cut = false;
