@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <tuple>
 #include <cmath>
+#include <condition_variable>
 #include <deque>
 #include <mutex>
 #include <set>
@@ -320,8 +321,9 @@ TEST(JobLoopRanks, ThreadsTakeWholeBatches)
     }
 }
 
-// A resumed run in lanes whose windows hold less than a batch still to compute ends, on one
-// rank and on two, and delivers exactly the jobs left.
+// A resumed run in lanes whose windows hold less than a batch still to compute ends, and
+// delivers exactly the jobs left. A watchdog sets the stop flag after 60 s, so a dispenser
+// that waits forever fails the test instead of hanging it.
 TEST(JobLoopRanks, AResumedRunInBatchesWithFewJobsLeftEnds)
 {
     constexpr long jobs = 600;
@@ -340,9 +342,27 @@ TEST(JobLoopRanks, AResumedRunInBatchesWithFewJobsLeftEnds)
     o.batch = 8;
     std::vector<std::pair<long, double>> expected;
     for (long j = 0; j < jobs; j += 37) expected.emplace_back(j, work(j, nullptr));
+    std::atomic<bool> stop{false};
+    o.stop = &stop;
     std::vector<std::pair<long, double>> one;
-    run_jobs<double>(s, o, vimpact::finished_in(done), vimpact::job_runners{single, many},
-                     [&](long j, double&& v) { one.emplace_back(j, v); });
+    vimpact::job_loop_summary summary;
+    {
+        std::mutex m;
+        std::condition_variable finished;
+        bool over = false;
+        std::jthread watchdog([&] {
+            std::unique_lock lock(m);
+            if (!finished.wait_for(lock, std::chrono::seconds(60), [&] { return over; })) stop = true;
+        });
+        summary = run_jobs<double>(s, o, vimpact::finished_in(done), vimpact::job_runners{single, many},
+                                   [&](long j, double&& v) { one.emplace_back(j, v); });
+        {
+            const std::lock_guard lock(m);
+            over = true;
+        }
+        finished.notify_all();
+    }
+    EXPECT_FALSE(summary.stopped) << "the run waited 60 s for jobs it was never granted";
     EXPECT_EQ(one, expected);
 }
 

@@ -37,8 +37,9 @@ public:
                   long divisor = 2, long granule = 1);
 
     // Up to `want` jobs, ascending; a whole number of granules when `want` holds one, except
-    // at the end of the list. Fewer or none when the window, a chain waiting for its
-    // predecessor or the end of the list allows no more.
+    // at the end of the list, or when the window holds less than a granule still to compute
+    // and no job before it is out (a resumed run). Fewer or none when the window, a chain
+    // waiting for its predecessor or the end of the list allows no more.
     std::vector<long> grant(long want);
     // A job's result arrived (its successor in a chain may go).
     void completed(long job);
