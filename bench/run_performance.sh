@@ -16,15 +16,17 @@
 # Each part prints the load average before it runs. Outputs go to OUT (default
 # bench/output): lanes.csv, like_for_like.md, trial.md, work_precision.{csv,png}, controller.md,
 # job_costs_200x200.csv, map_costs.png.
-# Usage: bash bench/run_performance.sh [--no-scipy] [--map-costs] [--quick]
+# Usage: bash bench/run_performance.sh [--no-scipy] [--map-costs] [--quick] [--lanes-only]
 #   BUILD_DIR (default build), AVX2_BUILD_DIR (optional), OUT (default bench/output)
 #   --quick: the lanes on a 32 x 32 map and 3 runs per like-for-like point.
+#   --lanes-only: part 2 alone (the other parts' outputs are left as they are).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
 out=${OUT:-bench/output}
 scipy=1
 costs=0
+lanes_only=0
 n=64
 reps=7
 for a in "$@"; do
@@ -32,6 +34,7 @@ for a in "$@"; do
     --no-scipy) scipy=0 ;;
     --map-costs) costs=1 ;;
     --quick) n=32; reps=3 ;;
+    --lanes-only) lanes_only=1 ;;
     *) echo "unknown option $a" >&2; exit 2 ;;
   esac
 done
@@ -42,6 +45,7 @@ cmake --build "$build" -j2 --target $targets > /dev/null
 [ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true
 load() { echo "load average: $(cut -d' ' -f1-3 /proc/loadavg)"; }
 
+if [ "$lanes_only" = 0 ]; then
 echo "== 1. like for like: the protocol point, Ur = 16, rtol = atol = 1e-10"; load
 /usr/bin/python3 bench/like_for_like.py "$build" "$reps" | tee "$out/like_for_like.md"
 echo "-- one Runge-Kutta trial alone, a serial chain (bench/trial_bench.cpp), medians of 9"
@@ -55,6 +59,7 @@ print("|---|---|---|---|")
 for b in rows:
     print(f"| {b['run_name']} | {b['stages']:.0f} | {b['cpu_time']:.1f} | {b['cpu_time'] / b['stages']:.1f} |")
 PY
+fi
 
 echo "== 2. SIMD lanes: a $n x $n map on one core"; load
 lanes_run() {  # build label
@@ -108,6 +113,8 @@ for k in 12 24 48; do
 done
 rm -rf "$out/scaling-map" "$out/scaling-time"
 load
+rm -rf "$out"/lanes-labels-*.csv "$out/lanes-map" "$out/lanes-time"
+[ "$lanes_only" = 0 ] || exit 0
 
 echo "== 3. work-precision"; load
 wp=()
