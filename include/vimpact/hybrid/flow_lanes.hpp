@@ -226,6 +226,9 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
         const auto& opt = first.flow.options();
         const integrator_options& io = opt.integration;
         const controller_constants c = first.flow.integrator().constants();
+        // opt and io belong to the first free lane's run, which the loop over the lanes below
+        // may end and free: what that loop needs of them is copied here.
+        const double t_max = opt.t_max;
         const lanes t = lanes::load(Tt), h = lanes::load(H), le = lanes::load(LE);
         const lane_mask rb = lanes::load(RB) != lanes(0.0);
         const auto plan = plan_trial(t, h, io.h_max, opt.t_max);
@@ -284,7 +287,7 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
                     xj[i] = XN[i][j];
                     fj[i] = FN[i][j];
                 }
-                in.accept_external(pj, opt.t_max, xj, fj, H[j], LE[j],
+                in.accept_external(pj, t_max, xj, fj, H[j], LE[j],
                                    {fill_stages, &stage_contexts[static_cast<std::size_t>(j)]});
                 if (bit(quiet) && !s.run->obs.wants_segments()) {
                     flow.quiet_free_step(s.run->obs);
