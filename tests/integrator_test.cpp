@@ -146,6 +146,81 @@ TEST(IntegratorOrder, Dop853IsEighthOrderOnNonlinearProblem)
     EXPECT_NEAR(p, 8.0, 0.3);
 }
 
+// A state of more than 4 doubles takes the stage sums as whole-vector Eigen expressions, a
+// state of up to 4 (the paper's model) component by component in scalar registers
+// (runge_kutta.hpp, stage_input_ordered). Each component's arithmetic is the same whichever
+// path runs it, so with three reference problems stacked into one 6-dimensional system, each
+// block of the stacked run must equal the 2-dimensional run of its problem bit for bit (whose
+// order the tests above check).
+namespace {
+
+using V6 = vec<6>;
+
+struct stacked {
+    V6 operator()(const V6& x) const
+    {
+        const V2 a = harmonic{}(x.segment<2>(0)), b = limit_cycle{}(x.segment<2>(2)), c = exp_sin{}(x.segment<2>(4));
+        V6 f;
+        f << a, b, c;
+        return f;
+    }
+    static V6 exact(double t)
+    {
+        V6 x;
+        x << harmonic::exact(t), limit_cycle::exact(t), exp_sin::exact(t);
+        return x;
+    }
+};
+
+template <template <int> class Method>
+V6 stacked_after_fixed_steps(int n, double T)
+{
+    stacked rhs;
+    Method<6> m;
+    V6 x = stacked::exact(0.0), f = rhs(x), xn, fn;
+    for (int i = 0; i < n; ++i) {
+        m.attempt(rhs, x, f, T / n, 1.0, 1.0, xn, fn);
+        x = xn;
+        f = fn;
+    }
+    return x;
+}
+
+template <template <int> class Method, class Problem>
+V2 after_fixed_steps(int n, double T)
+{
+    Problem rhs;
+    Method<2> m;
+    V2 x = Problem::exact(0.0), f = rhs(x), xn, fn;
+    for (int i = 0; i < n; ++i) {
+        m.attempt(rhs, x, f, T / n, 1.0, 1.0, xn, fn);
+        x = xn;
+        f = fn;
+    }
+    return x;
+}
+
+template <template <int> class Method>
+void expect_stacked_blocks_equal_small_runs(int n, double T)
+{
+    const V6 big = stacked_after_fixed_steps<Method>(n, T);
+    const V2 a = after_fixed_steps<Method, harmonic>(n, T), b = after_fixed_steps<Method, limit_cycle>(n, T),
+             c = after_fixed_steps<Method, exp_sin>(n, T);
+    for (int i = 0; i < 2; ++i) {
+        EXPECT_EQ(big[i], a[i]) << "harmonic, component " << i;
+        EXPECT_EQ(big[2 + i], b[i]) << "limit cycle, component " << i;
+        EXPECT_EQ(big[4 + i], c[i]) << "exp(sin t), component " << i;
+    }
+}
+
+}  // namespace
+
+TEST(IntegratorOrder, LargeStateBlocksEqualTheSmallStateRunsBitForBit)
+{
+    expect_stacked_blocks_equal_small_runs<vimpact::dopri5>(200, 4.0);
+    expect_stacked_blocks_equal_small_runs<vimpact::dop853>(100, 4.0);
+}
+
 // ---- dense output -------------------------------------------------------------------------
 
 namespace {
