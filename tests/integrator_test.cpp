@@ -86,22 +86,28 @@ double fitted_slope(const std::vector<double>& h, const std::vector<double>& err
     return (dn * sxy - sx * sy) / (dn * sxx - sx * sx);
 }
 
-// Global error at T after n fixed steps of size T/n taken with method.attempt().
-template <template <int> class Method, class Problem>
-double fixed_step_global_error(int n, double T)
+// The state at T after n fixed steps of size T/n taken with method.attempt() from the exact
+// solution at 0.
+template <template <int> class Method, class Problem, int N = 2>
+vec<N> after_fixed_steps(int n, double T)
 {
     Problem rhs;
-    Method<2> m;
-    V2 x = Problem::exact(0.0);
-    V2 f = rhs(x);
-    V2 xn, fn;
+    Method<N> m;
+    vec<N> x = Problem::exact(0.0), f = rhs(x), xn, fn;
     const double h = T / n;
     for (int i = 0; i < n; ++i) {
         m.attempt(rhs, x, f, h, 1.0, 1.0, xn, fn);
         x = xn;
         f = fn;
     }
-    return (x - Problem::exact(T)).cwiseAbs().maxCoeff();
+    return x;
+}
+
+// Global error at T after n fixed steps.
+template <template <int> class Method, class Problem>
+double fixed_step_global_error(int n, double T)
+{
+    return (after_fixed_steps<Method, Problem>(n, T) - Problem::exact(T)).cwiseAbs().maxCoeff();
 }
 
 template <template <int> class Method, class Problem>
@@ -173,37 +179,9 @@ struct stacked {
 };
 
 template <template <int> class Method>
-V6 stacked_after_fixed_steps(int n, double T)
-{
-    stacked rhs;
-    Method<6> m;
-    V6 x = stacked::exact(0.0), f = rhs(x), xn, fn;
-    for (int i = 0; i < n; ++i) {
-        m.attempt(rhs, x, f, T / n, 1.0, 1.0, xn, fn);
-        x = xn;
-        f = fn;
-    }
-    return x;
-}
-
-template <template <int> class Method, class Problem>
-V2 after_fixed_steps(int n, double T)
-{
-    Problem rhs;
-    Method<2> m;
-    V2 x = Problem::exact(0.0), f = rhs(x), xn, fn;
-    for (int i = 0; i < n; ++i) {
-        m.attempt(rhs, x, f, T / n, 1.0, 1.0, xn, fn);
-        x = xn;
-        f = fn;
-    }
-    return x;
-}
-
-template <template <int> class Method>
 void expect_stacked_blocks_equal_small_runs(int n, double T)
 {
-    const V6 big = stacked_after_fixed_steps<Method>(n, T);
+    const V6 big = after_fixed_steps<Method, stacked, 6>(n, T);
     const V2 a = after_fixed_steps<Method, harmonic>(n, T), b = after_fixed_steps<Method, limit_cycle>(n, T),
              c = after_fixed_steps<Method, exp_sin>(n, T);
     for (int i = 0; i < 2; ++i) {
