@@ -1,6 +1,6 @@
 // The step-size controller's constants, compared by work and accuracy (machine-independent:
 // counts of right-hand-side calls, not times). For each candidate (safety, PI beta, largest
-// growth factor) and each method, the protocol of the paper's model at several Ur (periodic
+// growth factor, hold band) and each method, the protocol of the paper's model at several Ur (periodic
 // and chaotic cells) at rtol = atol = 1e-8 and 1e-10: total trial steps, rejected steps, rhs
 // calls, and the largest state error of the section points of the periodic cells against a
 // run at 1e-13 with the default controller (the chaotic cells have no reference: their errors
@@ -22,7 +22,7 @@ int main()
     const std::vector<double> periodic{12.0, 14.0, 16.0, 18.0, 20.0}, chaotic{22.5, 24.0};
     struct candidate {
         const char* name;
-        double safety, beta, factor_max, factor_min;
+        double safety, beta, factor_max, factor_min, hold_band = 0.0;
     };
     const integrator_options d;
     const std::vector<candidate> cands{
@@ -34,6 +34,11 @@ int main()
         {"PI 0.7/k, 0.4/k (beta = 0.4/k)", 0.9, -1.0, 10.0, 0.2},
         {"safety 0.8", 0.8, 0.04, 10.0, 0.2},
         {"safety 0.95", 0.95, 0.04, 10.0, 0.2},
+        {"hold band 0.05", 0.9, 0.04, 10.0, 0.2, 0.05},
+        {"hold band 0.1", 0.9, 0.04, 10.0, 0.2, 0.1},
+        {"hold band 0.2", 0.9, 0.04, 10.0, 0.2, 0.2},
+        {"hold band 0.3", 0.9, 0.04, 10.0, 0.2, 0.3},
+        {"hold band 0.5", 0.9, 0.04, 10.0, 0.2, 0.5},
     };
     std::printf("| method | rtol | controller | trial steps | rejected | rhs calls | max state error (periodic cells) |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
@@ -55,6 +60,7 @@ int main()
                 po.flow.integration.pi_beta = c.beta < 0.0 ? 0.4 / k : c.beta;
                 po.flow.integration.factor_max = c.factor_max;
                 po.flow.integration.factor_min = c.factor_min;
+                po.flow.integration.hold_band = c.hold_band;
                 long steps = 0, rejected = 0, rhs = 0;
                 double err = 0.0;
                 for (std::size_t i = 0; i < periodic.size() + chaotic.size(); ++i) {

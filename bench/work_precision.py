@@ -34,6 +34,8 @@ PROBLEMS = {"periodic": ["--ur", "16"], "chaotic": ["--ur", "22.5", "--horizon",
 def programs(build, scipy):
     p = [("vimpact DOP853", [f"{build}/wp_vimpact", "--method", "dop853"]),
          ("vimpact DOPRI5", [f"{build}/wp_vimpact", "--method", "dopri5"]),
+         ("vimpact DOP853, hold 0.1", [f"{build}/wp_vimpact", "--method", "dop853", "--hold", "0.1"]),
+         ("vimpact DOPRI5, hold 0.1", [f"{build}/wp_vimpact", "--method", "dopri5", "--hold", "0.1"]),
          ("Odeint DOPRI5", [f"{build}/baseline_odeint", "--method", "dopri5"]),
          ("Odeint RKF78", [f"{build}/baseline_odeint", "--method", "rkf78"]),
          ("plain DOPRI5 loop", [f"{build}/baseline_plain"])]
@@ -121,7 +123,8 @@ def plot(rows, path):
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(2, 2, figsize=(12, 9), constrained_layout=True)
     labels = list(dict.fromkeys(r["program"] for r in rows))
-    markers = "os^vD<>ph*"
+    # Twelve markers against ten colours: no two programs share both.
+    markers = "os^vD<>ph*XP"
     for col, name in enumerate(PROBLEMS):
         for row, (key, what) in enumerate((("state_error", "state error at the section"),
                                            ("time_error", "time error at the section"))):
@@ -130,7 +133,7 @@ def plot(rows, path):
                 rs = [r for r in rows if r["program"] == lab and r["problem"] == name and r[key] > 0]
                 if rs:
                     ax.loglog([r["wall_s"] for r in rs], [r[key] for r in rs], marker=markers[i % len(markers)],
-                              label=lab)
+                              color=f"C{i % 10}", linestyle="--" if "hold" in lab else "-", label=lab)
             title = ("periodic: Ur = 16, 500 impacts discarded, 200 maxima" if name == "periodic"
                      else f"chaotic: Ur = 22.5, maxima up to t = {HORIZON:g}")
             ax.set_title(title)

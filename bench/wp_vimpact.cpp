@@ -2,14 +2,23 @@
 // through the library's simulate(), the call every front end makes, with the options and
 // output of the standalone baselines (bench/baseline_common.hpp) and --method dop853|dopri5.
 // The protocol: 500 impacts discarded, 200 maxima kept; with --horizon H, every maximum up to
-// t = H from t = 0.
+// t = H from t = 0. --hold B: the step-size controller's hold band (integrator_options::hold_band).
+#include <cstring>
+#include <vector>
+
 #include "baseline_common.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/model/model.hpp"
 
 int main(int argc, char** argv)
 {
-    const auto a = baseline::parse_with_method(argc, argv, {"dop853", "dopri5"});
+    double hold_band = 0.0;
+    std::vector<char*> args;
+    for (int i = 0; i < argc; ++i) {
+        if (i > 0 && i + 1 < argc && std::strcmp(argv[i], "--hold") == 0) hold_band = std::atof(argv[++i]);
+        else args.push_back(argv[i]);
+    }
+    const auto a = baseline::parse_with_method(static_cast<int>(args.size()), args.data(), {"dop853", "dopri5"});
     if (!a) return 2;
     const auto& [method, pr] = *a;
     const baseline::problem* p = &pr;
@@ -19,6 +28,7 @@ int main(int argc, char** argv)
     po.method = method == "dopri5" ? vimpact::integration_method::dopri5 : vimpact::integration_method::dop853;
     po.flow.integration.rtol = p->tol;
     po.flow.integration.atol = p->tol;
+    po.flow.integration.hold_band = hold_band;
     if (p->horizon > 0.0) {
         po.transient_impacts = 0;
         po.record_points = 10'000'000;
@@ -26,7 +36,9 @@ int main(int argc, char** argv)
         po.quiet_time = 1e9;
     }
     const Eigen::VectorXd x0 = m.initial_state();
-    return baseline::report(*p, method == "dopri5" ? "vimpact-dopri5" : "vimpact-dop853", [&] {
+    const std::string name = std::string(method == "dopri5" ? "vimpact-dopri5" : "vimpact-dop853") +
+                             (hold_band > 0.0 ? "-hold" : "");
+    return baseline::report(*p, name.c_str(), [&] {
         baseline::run_result r;
         const auto t0 = baseline::clock::now();
         const auto s = vimpact::simulate(m, x0, po);

@@ -36,6 +36,10 @@ void add_common_options(CLI::App& app, common_args& a)
                    "replays the run");
     a.rtol_option = app.add_option("--rtol", a.rtol, "Relative tolerance (default 1e-10)");
     a.atol_option = app.add_option("--atol", a.atol, "Absolute tolerance (default 1e-10)");
+    a.hold_band_option = app.add_option("--hold-band", a.hold_band,
+                                        "Step sizes held while the error norm lies in [B, 1], in [0, 1) (default 0: "
+                                        "the controller acts on every step); faster steps, more rejections "
+                                        "(docs/performance.md)");
     a.transient_option = app.add_option("--transient", a.transient, "Impacts discarded before recording (default 500)");
     a.record_option = app.add_option("--record", a.record, "Section points kept (default " + std::to_string(a.record) + ")");
     a.method_option = app.add_option("--method", a.method, "Integrator: dop853 (default) or dopri5");
@@ -140,7 +144,7 @@ std::string toml_string(const toml::node& node, const std::string& key, const st
 const std::vector<std::string>& setting_keys()
 {
     static const std::vector<std::string> keys{"model",     "model_identity", "preset",  "ic",
-                                               "rtol",      "atol",           "method",  "transient",
+                                               "rtol",      "atol",           "hold_band", "method", "transient",
                                                "record",    "section",        "[parameters]"};
     return keys;
 }
@@ -242,6 +246,7 @@ run_config resolve(const common_args& a)
     c.protocol.record_points = a.record;
     c.protocol.flow.integration.rtol = a.rtol;
     c.protocol.flow.integration.atol = a.atol;
+    c.protocol.flow.integration.hold_band = a.hold_band;
     c.protocol.flow.cancel = &interrupt_flag();  // Ctrl-C ends a run with the outcome `interrupted`
     std::string method = a.method;
     std::string section;
@@ -277,6 +282,8 @@ run_config resolve(const common_args& a)
                 c.protocol.flow.integration.rtol = toml_number(node, key, file);
             } else if (key == "atol") {
                 c.protocol.flow.integration.atol = toml_number(node, key, file);
+            } else if (key == "hold_band") {
+                c.protocol.flow.integration.hold_band = toml_number(node, key, file);
             } else if (key == "transient") {
                 c.protocol.transient_impacts = toml_integer(node, key, file);
             } else if (key == "record") {
@@ -295,6 +302,7 @@ run_config resolve(const common_args& a)
     // Command-line values override the config file.
     if (a.rtol_option->count()) c.protocol.flow.integration.rtol = a.rtol;
     if (a.atol_option->count()) c.protocol.flow.integration.atol = a.atol;
+    if (a.hold_band_option->count()) c.protocol.flow.integration.hold_band = a.hold_band;
     if (a.transient_option->count()) c.protocol.transient_impacts = a.transient;
     if (a.record_option->count()) c.protocol.record_points = a.record;
     if (a.method_option->count()) method = a.method;
@@ -367,6 +375,7 @@ nlohmann::json run_config::to_json() const
     j["ic"] = std::vector<double>(ic.data(), ic.data() + ic.size());
     j["rtol"] = protocol.flow.integration.rtol;
     j["atol"] = protocol.flow.integration.atol;
+    if (protocol.flow.integration.hold_band > 0.0) j["hold_band"] = protocol.flow.integration.hold_band;
     j["method"] = std::string(to_string(protocol.method));
     j["transient"] = protocol.transient_impacts;
     j["record"] = protocol.record_points;

@@ -29,6 +29,7 @@ struct common_args {
     std::string method = "dop853";
     double rtol = 1e-10;
     double atol = 1e-10;
+    double hold_band = 0.0;
     long transient = 500;
     long record = 200;
     std::string out;
@@ -40,6 +41,7 @@ struct common_args {
     CLI::Option* preset_option = nullptr;
     CLI::Option* rtol_option = nullptr;
     CLI::Option* atol_option = nullptr;
+    CLI::Option* hold_band_option = nullptr;
     CLI::Option* transient_option = nullptr;
     CLI::Option* record_option = nullptr;
     CLI::Option* method_option = nullptr;

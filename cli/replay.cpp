@@ -32,7 +32,7 @@ const CLI::App* subcommand_named(const CLI::App& app, const std::string& name)
 bool is_unrecorded(const std::string& name)
 {
     static const std::set<std::string> names{"--model", "--preset", "--set",   "--ic",     "--config", "--rtol",
-                                             "--atol",  "--transient", "--record", "--method", "--section",
+                                             "--atol",  "--hold-band", "--transient", "--record", "--method", "--section",
                                              "--out",   "--json",   "--threads", "--shard",  "--resume", "--help"};
     return names.count(name) > 0;
 }
@@ -209,6 +209,7 @@ void write_replay_config(const fs::path& path, const run_config& c)
         line("ic", std::vector<double>(c.ic.data(), c.ic.data() + c.ic.size()));
         line("rtol", c.protocol.flow.integration.rtol);
         line("atol", c.protocol.flow.integration.atol);
+        if (c.protocol.flow.integration.hold_band > 0.0) line("hold_band", c.protocol.flow.integration.hold_band);
         line("method", std::string(to_string(c.protocol.method)));
         line("section", c.section_name());
         line("transient", static_cast<int64_t>(c.protocol.transient_impacts));

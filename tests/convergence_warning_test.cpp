@@ -155,6 +155,11 @@ TEST(Limits, OutOfRangeCountsAndIntervalsAreInputErrors)
     o = {};
     o.record_points = 20'000'000;
     EXPECT_THROW(simulate(paper(16.0), paper_ic(), o), input_error);
+    for (const double band : {1.0, -0.1, std::nan("")}) {
+        o = {};
+        o.flow.integration.hold_band = band;
+        EXPECT_THROW(simulate(paper(16.0), paper_ic(), o), input_error) << band;
+    }
     lyapunov_options lo;
     lo.t0 = 1e-3;  // 1e9 intervals up to max_time
     EXPECT_THROW(validate(paper(16.0), lo), input_error);

@@ -24,6 +24,7 @@
 #include "vimpact/integrate/adaptive_integrator.hpp"
 #include "vimpact/integrate/dense_output.hpp"
 #include "vimpact/integrate/runge_kutta.hpp"
+#include "vimpact/integrate/step_control.hpp"
 
 namespace {
 
@@ -324,11 +325,12 @@ TEST(DenseOutput, Dop853EndConditions) { check_end_conditions<vimpact::dop853>()
 namespace {
 
 template <template <int> class Method>
-double adaptive_error_at(double tol, double t_end)
+double adaptive_error_at(double tol, double t_end, double hold_band = 0.0)
 {
     vimpact::integrator_options opt;
     opt.rtol = tol;
     opt.atol = tol;
+    opt.hold_band = hold_band;
     vimpact::adaptive_integrator<2, Method> integ(opt);
     harmonic rhs;
     integ.start(rhs, 0.0, harmonic::exact(0.0));
@@ -338,11 +340,11 @@ double adaptive_error_at(double tol, double t_end)
 }
 
 template <template <int> class Method>
-void check_tolerance_proportionality()
+void check_tolerance_proportionality(double hold_band = 0.0)
 {
     std::vector<double> tols{1e-6, 1e-7, 1e-8, 1e-9, 1e-10}, errs;
     for (double tol : tols) {
-        const double e = adaptive_error_at<Method>(tol, 10.0);
+        const double e = adaptive_error_at<Method>(tol, 10.0, hold_band);
         EXPECT_LT(e, 100.0 * tol) << "tol = " << tol;
         errs.push_back(e);
     }
@@ -365,6 +367,80 @@ TEST(AdaptiveIntegrator, Dopri5ErrorProportionalToTolerance)
 TEST(AdaptiveIntegrator, Dop853ErrorProportionalToTolerance)
 {
     check_tolerance_proportionality<vimpact::dop853>();
+}
+// With a hold band the steps whose error is near the tolerance keep their size: the global
+// error still follows the tolerance.
+TEST(AdaptiveIntegrator, ErrorProportionalToToleranceWithAHoldBand)
+{
+    for (const double band : {0.1, 0.3, 0.5}) {
+        SCOPED_TRACE(band);
+        check_tolerance_proportionality<vimpact::dopri5>(band);
+        check_tolerance_proportionality<vimpact::dop853>(band);
+    }
+}
+
+// The hold band holds: the fraction of accepted steps after which the step size is exactly
+// the one tried (step_size() unchanged across advance(), the last, clipped step left out).
+// The proportional-integral controller changes it after every step. Its steps settle where
+// safety err^-(a - b) = 1, err = 0.9^(1/(a - b)) with a = 1/k - 0.75 b, b = 0.04: about 0.44
+// for DOPRI5 (k = 5) and 0.15 for DOP853 (k = 8), so most steps of a smooth problem lie inside
+// a band from 0.3 (DOPRI5) or 0.1 (DOP853) to 1, and few of DOP853's inside [0.3, 1].
+template <template <int> class Method>
+double held_fraction(double hold_band)
+{
+    vimpact::integrator_options opt;
+    opt.rtol = opt.atol = 1e-9;
+    opt.hold_band = hold_band;
+    vimpact::adaptive_integrator<2, Method> integ(opt);
+    limit_cycle rhs;
+    integ.start(rhs, 0.0, limit_cycle::exact(0.0));
+    const double t_stop = 40.0;
+    long steps = 0, held = 0;
+    while (integ.t() < t_stop && steps < 100000) {
+        const double h = integ.step_size();
+        const long rejected = integ.counters().rejected;
+        if (integ.advance(rhs, t_stop) != vimpact::step_status::ok) return -1.0;
+        if (integ.t() >= t_stop) break;
+        ++steps;
+        if (integ.counters().rejected == rejected && integ.step_size() == h) ++held;
+    }
+    return static_cast<double>(held) / static_cast<double>(steps);
+}
+
+TEST(AdaptiveIntegrator, HoldBandKeepsTheStepSizeOfMostSteps)
+{
+    EXPECT_LT(held_fraction<vimpact::dopri5>(0.0), 0.01);
+    EXPECT_LT(held_fraction<vimpact::dop853>(0.0), 0.01);
+    EXPECT_GT(held_fraction<vimpact::dopri5>(0.3), 0.5);
+    EXPECT_GT(held_fraction<vimpact::dop853>(0.1), 0.5);
+    EXPECT_LT(held_fraction<vimpact::dop853>(0.3), 0.2);
+}
+
+// control_step with a hold band: inside [band, 1] the step size and the controller's memory
+// stay as they were; outside it, the outcome of the controller without a band.
+TEST(AdaptiveIntegrator, HoldBandChangesOnlyTheStepsInsideIt)
+{
+    vimpact::controller_constants plain{0.9, 0.2, 10.0, 0.04, 5};
+    vimpact::controller_constants band = plain;
+    band.hold_from = 0.3;
+    const double h = 0.01, h_cur = 0.0125, memory = -3.5;
+    for (const double err : {0.3, 0.5, 0.99, 1.0}) {
+        const auto out = vimpact::control_step(band, err, true, h, h_cur, false, false, memory);
+        EXPECT_TRUE(out.accepted) << err;
+        EXPECT_EQ(out.h_next, h_cur) << err;
+        EXPECT_EQ(out.log2_err_old, memory) << err;
+    }
+    for (const double err : {0.0, 1e-6, 0.29, 1.0000001, 3.0}) {
+        for (const bool finite : {true, false}) {
+            const auto a = vimpact::control_step(band, err, finite, h, h_cur, false, false, memory);
+            const auto b = vimpact::control_step(plain, err, finite, h, h_cur, false, false, memory);
+            EXPECT_EQ(a.accepted, b.accepted) << err;
+            EXPECT_EQ(a.h_next, b.h_next) << err;
+            EXPECT_EQ(a.log2_err_old, b.log2_err_old) << err;
+        }
+    }
+    // Not finite is never held, whatever its error.
+    EXPECT_FALSE(vimpact::control_step(band, 0.5, false, h, h_cur, false, false, memory).accepted);
 }
 
 // Counters: the reported number of vector-field evaluations equals the number actually made

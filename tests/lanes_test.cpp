@@ -112,6 +112,28 @@ TEST(Lanes, PaperModelJobsEqualTheirScalarRunsBitForBit)
     }
 }
 
+// With a hold band (integrator_options::hold_band) the scalar integrator skips the
+// controller's arithmetic on held steps; lanes run control_step for every lane: the same steps.
+TEST(Lanes, HoldBandJobsEqualTheirScalarRunsBitForBit)
+{
+    if (!runs_in_lanes(model::builtin("wake_impact"))) GTEST_SKIP() << "this build has no SIMD lanes";
+    const model m = model::builtin("wake_impact");
+    const int ur = m.info().parameter_index("Ur"), sigma = m.info().parameter_index("sigma");
+    std::vector<model> models;
+    for (const double u : {12.0, 16.0, 22.5, 24.1, 13.7})
+        for (const double s : {-0.2, -0.150298})
+            models.push_back(m.with_parameter(ur, u).with_parameter(sigma, s));
+    protocol_options po;
+    po.transient_impacts = 100;
+    po.record_points = 60;
+    po.flow.integration.hold_band = 0.3;
+    for (const auto method : all_integration_methods) {
+        po.method = method;
+        SCOPED_TRACE(std::string(to_string(method)));
+        expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
+    }
+}
+
 // Fewer jobs than lanes, and contact phases: a soft restitution and a barrier near the rest
 // position make the barrier catch the cylinder (chatter ends in a contact phase, released when
 // the flow pulls it away): 89, 17 and 1 contact phases in these three runs.

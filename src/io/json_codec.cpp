@@ -71,7 +71,8 @@ json to_json(const integrator_options& o)
     return {{"rtol", number(o.rtol)},       {"atol", number(o.atol)},
             {"h_max", number(o.h_max)},     {"h_init", number(o.h_init)},
             {"safety", number(o.safety)},   {"factor_min", number(o.factor_min)},
-            {"factor_max", number(o.factor_max)}, {"pi_beta", number(o.pi_beta)}};
+            {"factor_max", number(o.factor_max)}, {"pi_beta", number(o.pi_beta)},
+            {"hold_band", number(o.hold_band)}};
 }
 
 json to_json(const flow_options& o)

@@ -91,6 +91,23 @@ def test_simulate_json_contract(vimpact):
     assert len(j["final_state"]) == 4
 
 
+def test_hold_band_reaches_the_integrator(vimpact, tmp_path):
+    # A held step keeps its size: a different sequence of steps, the same impacts.
+    a = run_json(vimpact, "simulate", "--transient", "20", "--record", "10")
+    b = run_json(vimpact, "simulate", "--transient", "20", "--record", "10", "--hold-band", "0.1")
+    assert a["stats"]["impacts"] == b["stats"]["impacts"]
+    assert a["stats"]["steps"] != b["stats"]["steps"]
+    # From a config file too, and written to the run's config.toml.
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("hold_band = 0.1\n")
+    c = run_json(vimpact, "simulate", "--transient", "20", "--record", "10", "--config", str(cfg))
+    assert c["stats"] == b["stats"]
+    out = tmp_path / "out"
+    assert run(vimpact, "simulate", "--transient", "20", "--record", "10", "--hold-band", "0.1", "--no-plot",
+               "--out", str(out)).returncode == 0
+    assert "hold_band = 0.1" in (out / "config.toml").read_text()
+
+
 def test_results_are_deterministic(vimpact):
     a = run(vimpact, "period", "--json", "--set", "Ur=21.5")
     b = run(vimpact, "period", "--json", "--set", "Ur=21.5")
@@ -156,6 +173,7 @@ BAD_INPUTS = [
     (["period", "--ic", "0,0,0"], "--ic needs 4 numbers (y, ydot, x, xdot), got 3"),
     (["period", "--config", "/nonexistent/file.toml"], "config"),
     (["period", "--rtol", "2"], "rtol"),
+    (["period", "--hold-band", "1"], "hold_band = 1 is outside its valid range [0, 1)"),
     (["period", "--record", "0"], "record"),
     (["period", "--method", "euler"], "method"),
     (["period", "--section", "sideways"], "maxima, minima, impacts, impacts:barrier"),

@@ -25,6 +25,10 @@ struct integrator_options {
     // on the paper's model with DOP853 at 1e-10: 8 % fewer trial steps than beta = 0).
     // 0: proportional.
     double pi_beta = 0.04;
+    // Hold band: an accepted step whose error norm lies in [hold_band, 1] keeps the step size
+    // (integrate/step_control.hpp). In [0, 1); 0: off, the controller acts on every step.
+    // Its cost and accuracy against the default: docs/performance.md, "The hold band".
+    double hold_band = 0.0;
 };
 
 enum class step_status { ok, step_underflow, non_finite };
@@ -86,8 +90,13 @@ public:
             // x * 0 is 0 for finite x and NaN otherwise: one vector sum instead of Eigen's
             // allFinite, which GCC leaves out of line.
             const bool finite = is_finite(err) && (m_x_new * 0.0 + m_f_new * 0.0).sum() == 0.0;
-            const auto out = control_step(constants(), err, finite, plan.h, m_h, plan.clipped, rejected_before,
-                                          m_log_err_old);
+            const controller_constants c = constants();
+            // control_step's outcome for a held step, taken before its logarithm and power.
+            if (step_held(c, err, finite && err <= 1.0)) {
+                accept(plan.h, plan.clipped ? t_stop : m_t + plan.h, m_x_new, m_f_new, m_h, m_log_err_old);
+                return step_status::ok;
+            }
+            const auto out = control_step(c, err, finite, plan.h, m_h, plan.clipped, rejected_before, m_log_err_old);
             if (out.accepted) {
                 accept(plan.h, plan.clipped ? t_stop : m_t + plan.h, m_x_new, m_f_new, out.h_next, out.log2_err_old);
                 return step_status::ok;
@@ -120,7 +129,8 @@ public:
     [[nodiscard]] double log2_err_old() const { return m_log_err_old; }
     [[nodiscard]] controller_constants constants() const
     {
-        return {m_opt.safety, m_opt.factor_min, m_opt.factor_max, m_opt.pi_beta, method_type::error_exponent_order};
+        return {m_opt.safety,  m_opt.factor_min, m_opt.factor_max, m_opt.pi_beta, method_type::error_exponent_order,
+                m_opt.hold_band > 0.0 ? m_opt.hold_band : std::numeric_limits<double>::infinity()};
     }
 
     // Interpolant of the last accepted step [t_prev(), t()].
