@@ -147,6 +147,7 @@ int run_continue(const continue_args& a)
     // The shooting needs a map far more accurate than the closure: never looser than 1e-12.
     o.arclength.integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
     o.arclength.integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
+    o.arclength.integration.hold_band = c.protocol.flow.integration.hold_band;
     o.cancel = &interrupt_flag();
     const model m0 = m.with_parameter(o.parameter, o.start);
     warn_validity(c, {m0, m.with_parameter(o.parameter, o.end)});

@@ -399,7 +399,7 @@ double held_fraction(double hold_band)
     while (integ.t() < t_stop && steps < 100000) {
         const double h = integ.step_size();
         const long rejected = integ.counters().rejected;
-        if (integ.advance(rhs, t_stop) != vimpact::step_status::ok) return -1.0;
+        if (integ.advance(rhs, t_stop) != vimpact::step_status::ok) return NAN;
         if (integ.t() >= t_stop) break;
         ++steps;
         if (integ.counters().rejected == rejected && integ.step_size() == h) ++held;
@@ -424,23 +424,65 @@ TEST(AdaptiveIntegrator, HoldBandChangesOnlyTheStepsInsideIt)
     vimpact::controller_constants band = plain;
     band.hold_from = 0.3;
     const double h = 0.01, h_cur = 0.0125, memory = -3.5;
-    for (const double err : {0.3, 0.5, 0.99, 1.0}) {
-        const auto out = vimpact::control_step(band, err, true, h, h_cur, false, false, memory);
-        EXPECT_TRUE(out.accepted) << err;
-        EXPECT_EQ(out.h_next, h_cur) << err;
-        EXPECT_EQ(out.log2_err_old, memory) << err;
-    }
-    for (const double err : {0.0, 1e-6, 0.29, 1.0000001, 3.0}) {
-        for (const bool finite : {true, false}) {
-            const auto a = vimpact::control_step(band, err, finite, h, h_cur, false, false, memory);
-            const auto b = vimpact::control_step(plain, err, finite, h, h_cur, false, false, memory);
-            EXPECT_EQ(a.accepted, b.accepted) << err;
-            EXPECT_EQ(a.h_next, b.h_next) << err;
-            EXPECT_EQ(a.log2_err_old, b.log2_err_old) << err;
+    // Also a step cut short by the stop time (clipped) and one that passed after a rejection:
+    // held, they keep the held size h_cur, not the size tried.
+    for (const bool clipped : {false, true}) {
+        for (const bool rejected_before : {false, true}) {
+            for (const double err : {0.3, 0.5, 0.99, 1.0}) {
+                const auto out = vimpact::control_step(band, err, true, h, h_cur, clipped, rejected_before, memory);
+                EXPECT_TRUE(out.accepted) << err;
+                EXPECT_EQ(out.h_next, h_cur) << err;
+                EXPECT_EQ(out.log2_err_old, memory) << err;
+                // Without the band the controller changes both.
+                const auto p = vimpact::control_step(plain, err, true, h, h_cur, clipped, rejected_before, memory);
+                EXPECT_NE(p.log2_err_old, memory) << err;
+            }
+            // Outside the band, and for trials that are not finite whatever their error (0.5
+            // included): the controller without a band, in every output.
+            for (const double err : {0.0, 1e-6, 0.29, 0.5, 1.0000001, 3.0, std::nan("")}) {
+                for (const bool finite : {true, false}) {
+                    if (finite && (err == 0.5 || std::isnan(err))) continue;
+                    const auto a = vimpact::control_step(band, err, finite, h, h_cur, clipped, rejected_before, memory);
+                    const auto b = vimpact::control_step(plain, err, finite, h, h_cur, clipped, rejected_before, memory);
+                    EXPECT_EQ(a.accepted, b.accepted) << err;
+                    EXPECT_EQ(a.h_next, b.h_next) << err << " finite " << finite;
+                    EXPECT_EQ(a.log2_err_old, b.log2_err_old) << err << " finite " << finite;
+                }
+            }
         }
     }
-    // Not finite is never held, whatever its error.
-    EXPECT_FALSE(vimpact::control_step(band, 0.5, false, h, h_cur, false, false, memory).accepted);
+}
+
+// The integrator's shortcut for a held step, on a step cut short by the stop time: the step
+// size held before the step is kept (not the shorter size the step was cut to), as
+// control_step decides. Free steps let the step size settle; after each, one step is cut to
+// 0.97 of the held size, so that its error (about 0.97^6 of a full step's) mostly still lies
+// inside the band. (Keeping the size tried instead fails about half of these steps.)
+TEST(AdaptiveIntegrator, HeldStepCutShortKeepsTheHeldSize)
+{
+    vimpact::integrator_options opt;
+    opt.rtol = opt.atol = 1e-9;
+    opt.hold_band = 0.1;
+    vimpact::adaptive_integrator<2, vimpact::dopri5> integ(opt);
+    limit_cycle rhs;
+    integ.start(rhs, 0.0, limit_cycle::exact(0.0));
+    const double far = 1e9;
+    for (int k = 0; k < 50; ++k) ASSERT_EQ(integ.advance(rhs, far), vimpact::step_status::ok);
+    long cut = 0, kept = 0;
+    for (int k = 0; k < 400; ++k) {
+        ASSERT_EQ(integ.advance(rhs, far), vimpact::step_status::ok);
+        const double h = integ.step_size();
+        const double t_stop = integ.t() + 0.97 * h;
+        const long rejected = integ.counters().rejected;
+        ASSERT_EQ(integ.advance(rhs, t_stop), vimpact::step_status::ok);
+        if (integ.counters().rejected != rejected) continue;
+        ASSERT_EQ(integ.t(), t_stop);
+        ++cut;
+        EXPECT_NE(integ.step_size(), integ.last_step()) << "step " << k;
+        if (integ.step_size() == h) ++kept;
+    }
+    EXPECT_GT(cut, 300);
+    EXPECT_GT(kept, 9 * cut / 10);
 }
 
 // Counters: the reported number of vector-field evaluations equals the number actually made

@@ -152,6 +152,7 @@ grazing_options job_grazing_options(const integrator_options& protocol_integrati
     grazing_options go;
     go.integration.rtol = std::min(protocol_integration.rtol, 1e-12);
     go.integration.atol = std::min(protocol_integration.atol, 1e-12);
+    go.integration.hold_band = protocol_integration.hold_band;
     go.transient_time = transient_time;
     return go;
 }
