@@ -331,11 +331,13 @@ inline section_choice section_of(const model& m, const std::string& name)
     throw input_error("section '" + name + "' is not one of model " + m.name() + "'s: " + section_choice_names(m));
 }
 
-// rtol, atol and method (as in vimpact.simulate) into an analysis' integration options.
+// rtol, atol, hold_band and method (as in vimpact.simulate) into an analysis' integration
+// options.
 inline void read_integration(options& o, integrator_options& in, integration_method& method)
 {
     in.rtol = o.get<double>("rtol", in.rtol);
     in.atol = o.get<double>("atol", in.atol);
+    in.hold_band = o.get<double>("hold_band", in.hold_band);
     method = parse_name(o.get<std::string>("method", std::string(to_string(method))), all_integration_methods,
                         "method");
 }

@@ -42,6 +42,7 @@ std::string continuation_run(const model& m, const py::list& starts, const py::d
     a.newton_iterations = o.get<int>("newton_iterations", a.newton_iterations);
     a.integration.rtol = std::min(co.protocol.flow.integration.rtol, 1e-12);
     a.integration.atol = std::min(co.protocol.flow.integration.atol, 1e-12);
+    a.integration.hold_band = co.protocol.flow.integration.hold_band;
     const int threads = o.get<int>("threads", 0);
     const bool two = o.has("param2");
     curve_options cv;

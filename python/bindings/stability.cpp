@@ -32,6 +32,7 @@ floquet_options floquet_of(const model& m, options& o)
     fo.newton_iterations = o.get<int>("newton_iterations", fo.newton_iterations);
     fo.tangent_integration.rtol = o.get<double>("tangent_rtol", fo.tangent_integration.rtol);
     fo.tangent_integration.atol = o.get<double>("tangent_atol", fo.tangent_integration.atol);
+    fo.tangent_integration.hold_band = fo.protocol.flow.integration.hold_band;  // as the command line does
     fo.jump = parse_name(o.get<std::string>("impact_map", std::string(to_string(fo.jump))), monodromy_jumps,
                          "impact_map");
     fo.sample_dt = o.get<double>("sample_dt", fo.sample_dt);

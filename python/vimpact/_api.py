@@ -47,6 +47,9 @@ _PROTOCOL_DOC = """    transient : int, default $transient
         section, or the impacts if it declares none.
     rtol, atol : float, default $rtol, $atol
         Relative and absolute tolerances of the adaptive integrator.
+    hold_band : float, default $hold_band
+        In [0, 1): an accepted step whose error norm lies in [hold_band, 1] keeps its step
+        size (faster steps, more rejections; docs/performance.md, "The hold band"). 0: off.
     method : {"dop853", "dopri5"}, default $method
         Runge-Kutta pair: DOP853 (8th order, 7th-order interpolant) or DOPRI5.
     quiet_time : float, default $quiet_time
@@ -108,9 +111,9 @@ def _context(model, options):
                 state_info=state_info, parameter_info=parameter_info)
 
 
-def _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, **extra):
+def _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, **extra):
     return dict(transient=transient, record=record, section=_section(model, section), rtol=rtol, atol=atol,
-                method=method, quiet_time=quiet_time, t_max=t_max, **extra)
+                hold_band=hold_band, method=method, quiet_time=quiet_time, t_max=t_max, **extra)
 
 
 def _jobs(threads, journal, resume, shard, progress, keep_journal):
@@ -166,7 +169,8 @@ def _options(ic, **kw):
 
 @_with_defaults
 def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
-             atol=_D["atol"], method=_D["method"], sample_dt=_D["sample_dt"], quiet_time=_D["quiet_time"],
+             atol=_D["atol"], hold_band=_D["hold_band"],
+             method=_D["method"], sample_dt=_D["sample_dt"], quiet_time=_D["quiet_time"],
              t_max=_D["t_max"]):
     """Run the simulation protocol: discard a transient of impacts, then record section points.
 
@@ -207,14 +211,16 @@ def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], 
     (200, 4)
     """
     model = _model(model)
-    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, sample_dt=sample_dt)
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
+                  sample_dt=sample_dt)
     d = _vimpact._simulate(model._handle, _ic(ic), o)
     return _simulation(d, model, _options(ic, **o))
 
 
 @_with_defaults
 def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], record=_D["record"], section=None,
-           rtol=_D["rtol"], atol=_D["atol"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+           rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+           method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
     """Classify the attractor reached from ``ic``: P0, P1, P2, ..., aperiodic.
 
     Runs the protocol (see ``simulate``) and labels its section points with the smallest N <=
@@ -244,7 +250,7 @@ def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], r
     'P3'
     """
     model = _model(model)
-    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, tol=tol)
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, tol=tol)
     d = _vimpact._period(model._handle, _ic(ic), o)
     opts = _options(ic, **o)
     by = dict(zip(model.surfaces, d["impacts_by_surface"]))
@@ -336,6 +342,7 @@ def _labels(d, shape, model):
 @_with_defaults
 def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol=_D["period_tol"], grazing=False,
           transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
+          hold_band=_D["hold_band"],
           method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0,
           journal=None, resume=False, shard=None, progress=None, keep_journal=False):
     """Bifurcation diagram: the protocol and the period label at every value of one parameter.
@@ -395,7 +402,7 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
     if grazing is True and gparam is None:
         raise InputError(f"grazing: no parameter of model {model.name} moves a surface without entering the "
                          f"vector field")
-    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, param=param,
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, param=param,
                   values=np.asarray(values, dtype=float), ic=_ic(ic), ic_mode=ic_mode, direction=direction, tol=tol,
                   grazing=gparam)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
@@ -426,7 +433,8 @@ def _axis(axis, what):
 
 @_with_defaults
 def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=_D["transient"],
-        record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+        record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+        method=_D["method"],
         quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0, journal=None, resume=False,
         shard=None, progress=None, keep_journal=False):
     """Periodicity map: the period label over a grid of two parameters.
@@ -462,7 +470,8 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
     model = _model(model)
     xname, xs = _axis(x, "x")
     yname, ys = _axis(y, "y")
-    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, x=xname, x_values=xs,
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
+                  x=xname, x_values=xs,
                   y=yname, y_values=ys, ic=_ic(ic), tol=tol, grazing=bool(grazing))
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
@@ -483,7 +492,8 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
 @_with_defaults
 def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_tol"],
            box_fraction=_D["box_fraction"], transient=_D["transient"], record=_D["record"], section=None,
-           rtol=_D["rtol"], atol=_D["atol"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
+           rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+           method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
            threads=_D["threads"], batch=0, journal=None, resume=False, shard=None, progress=None, keep_journal=False):
     """Basins of attraction: the attractor reached from every initial state of a grid.
 
@@ -523,7 +533,8 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     model = _model(model)
     xname, xs = _axis(x, "x")
     yname, ys = _axis(y, "y")
-    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, x=xname, x_values=xs,
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
+                  x=xname, x_values=xs,
                   y=yname, y_values=ys, ic=_ic(ic), tol=tol, match_tol=match_tol, box_fraction=box_fraction)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
@@ -624,6 +635,7 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
 def clearance(model=None, param=None, values=None, ic=None, *, units=None, speeds=None, gaps=None, fractions=None,
               gap_param=None, tol=_D["period_tol"], transient_time=_D["grazing_transient_time"],
               transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
+              hold_band=_D["hold_band"],
               method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"],
               journal=None, resume=False, shard=None, progress=None, keep_journal=False):
     """Clearance design: the smallest gap to a surface without impact over a range of flow
@@ -690,7 +702,7 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
         pairs = [units.parameter("U", u, model) for u in speed]
         param, values = (pairs[0][0] if pairs else "Ur"), np.array([v for _, v in pairs], dtype=float)
     values = np.asarray(values, dtype=float)
-    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, param=param,
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, param=param,
                   values=values, ic=_ic(ic), gap_param=gap_param,
                   gaps=None if gaps is None else np.asarray(gaps, dtype=float),
                   units=None if units is None else units._handle,
@@ -788,8 +800,8 @@ def grid(a, b, n):
 # ---------------------------------------------------------------- stability
 
 def _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, sample_dt, tangent_rtol, tangent_atol,
-                     transient, record, section, rtol, atol, method, quiet_time, t_max):
-    return _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, tol=tol,
+                     transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max):
+    return _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, tol=tol,
                      newton_tol=newton_tol, newton_iterations=newton_iterations, impact_map=impact_map,
                      sample_dt=sample_dt, tangent_rtol=tangent_rtol, tangent_atol=tangent_atol)
 
@@ -811,7 +823,8 @@ def _floquet_result(d, model, opts):
 def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
             newton_iterations=_D["newton_iterations"], impact_map=_D["impact_map"], sample_dt=0.0,
             tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"], transient=_D["transient"],
-            record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+            record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+            method=_D["method"],
             quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
     """Floquet multipliers of the periodic orbit reached from ``ic`` (the paper's Algorithm 1).
 
@@ -858,16 +871,16 @@ def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"]
     """
     model = _model(model)
     o = _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, sample_dt, tangent_rtol,
-                         tangent_atol, transient, record, section, rtol, atol, method, quiet_time, t_max)
+                         tangent_atol, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max)
     d = _vimpact._floquet(model._handle, _ic(ic), o)
     return _floquet_result(d, model, _options(ic, **o))
 
 
 def _lyapunov_options(tdm, r0, t0, impacts, time_, warmup, p0_time, max_time, divergence, record, section,
-                      transient, rtol, atol, method, quiet_time, t_max):
+                      transient, rtol, atol, hold_band, method, quiet_time, t_max):
     return dict(tdm=tdm, r0=r0, t0=t0, impacts=impacts, time=time_, warmup=warmup, p0_time=p0_time,
                 max_time=max_time, divergence=divergence, record=record, section=section, transient=transient,
-                rtol=rtol, atol=atol, method=method, quiet_time=quiet_time, t_max=t_max)
+                rtol=rtol, atol=atol, hold_band=hold_band, method=method, quiet_time=quiet_time, t_max=t_max)
 
 
 def _lyapunov_result(d, model, opts):
@@ -884,6 +897,7 @@ def _lyapunov_result(d, model, opts):
 def lyapunov(model, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"], impacts=_D["lyapunov_impacts"],
              time=_D["lyapunov_time"], warmup=_D["warmup"], p0_time=_D["p0_time"], max_time=_D["max_time"],
              divergence=True, record=0, section=None, transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"],
+             hold_band=_D["hold_band"],
              method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
     """The Lyapunov spectrum of the attractor reached from ``ic`` (the paper's Algorithm 2).
 
@@ -922,8 +936,8 @@ def lyapunov(model, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"], impacts
         > 0: also record this many section points in the averaging window (``section``).
     section : str, optional
         The section crossing those points lie on (default the model's first).
-    transient, rtol, atol, method, quiet_time, t_max
-        As for ``simulate`` (defaults $transient, $rtol, $atol, $method, $quiet_time, $t_max).
+    transient, rtol, atol, hold_band, method, quiet_time, t_max
+        As for ``simulate`` (defaults $transient, $rtol, $atol, $hold_band, $method, $quiet_time, $t_max).
 
     Returns
     -------
@@ -933,7 +947,7 @@ def lyapunov(model, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"], impacts
     """
     model = _model(model)
     o = _lyapunov_options(tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, record, section,
-                          transient, rtol, atol, method, quiet_time, t_max)
+                          transient, rtol, atol, hold_band, method, quiet_time, t_max)
     d = _vimpact._lyapunov(model._handle, _ic(ic), o)
     return _lyapunov_result(d, model, _options(ic, **o))
 
@@ -964,7 +978,8 @@ def _per_value(call, model, param, values, ic, o, jobs, result):
 def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
                   newton_iterations=_D["newton_iterations"], impact_map=_D["impact_map"],
                   tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"], transient=_D["transient"],
-                  record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+                  record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+                  method=_D["method"],
                   quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None,
                   resume=False, shard=None, progress=None, keep_journal=False):
     """Floquet multipliers at every value of one parameter (the paper's Figures 14, 15).
@@ -985,7 +1000,7 @@ def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton
     """
     model = _model(model)
     o = _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, 0.0, tangent_rtol, tangent_atol,
-                         transient, record, section, rtol, atol, method, quiet_time, t_max)
+                         transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max)
     results, fields = _per_value(_vimpact._floquet_sweep, model, param, values, ic, o,
                                  _jobs(threads, journal, resume, shard, progress, keep_journal), _floquet_result)
     if fields is None:
@@ -1004,7 +1019,8 @@ def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton
 def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"],
                    impacts=_D["lyapunov_impacts"], time=_D["lyapunov_time"], warmup=_D["warmup"],
                    p0_time=_D["p0_time"], max_time=_D["max_time"], divergence=True, record=0, section=None,
-                   transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"], method=_D["method"],
+                   transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+                   method=_D["method"],
                    quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None,
                    resume=False, shard=None, progress=None, keep_journal=False):
     """Lyapunov exponents at every value of one parameter (the paper's Figures 16, 17).
@@ -1015,7 +1031,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
         $warmup, $p0_time, $max_time, True, the model's first section).
     record : int, default 0
         > 0: section points per value in the averaging window (the diagram underneath).
-    transient, rtol, atol, method, quiet_time, t_max
+    transient, rtol, atol, hold_band, method, quiet_time, t_max
         As for ``simulate``.
     <jobs>
 
@@ -1027,7 +1043,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
     """
     model = _model(model)
     o = _lyapunov_options(tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, record, section,
-                          transient, rtol, atol, method, quiet_time, t_max)
+                          transient, rtol, atol, hold_band, method, quiet_time, t_max)
     results, fields = _per_value(_vimpact._lyapunov_sweep, model, param, values, ic, o,
                                  _jobs(threads, journal, resume, shard, progress, keep_journal), _lyapunov_result)
     if fields is None:
@@ -1137,7 +1153,8 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
                  max_points=_D["max_points"], closure_tol=_D["closure_tol"], locate_tol=_D["locate_tol"],
                  newton_iterations=_D["continuation_newton_iterations"], detect=True, tol=_D["period_tol"],
                  threads=_D["threads"], transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
-                 atol=_D["atol"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+                 atol=_D["atol"], hold_band=_D["hold_band"],
+                 method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
     """Continuation of periodic orbits in one parameter, stable and unstable, with their
     bifurcations; optionally the curves of the bifurcation points in a second parameter.
 
@@ -1212,7 +1229,8 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
     """
     model = _model(model)
     a, b = (float(v) for v in range)
-    o = _protocol(model, transient, record, section, rtol, atol, method, quiet_time, t_max, param=str(param), start=a,
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
+                  param=str(param), start=a,
                   end=b, tol=tol, period=0 if period is None else int(period), switch=int(switch), detect=bool(detect),
                   locate_tol=locate_tol, step=step, min_step=min_step, max_step=max_step, max_points=int(max_points),
                   closure_tol=closure_tol, newton_iterations=int(newton_iterations), threads=int(threads))

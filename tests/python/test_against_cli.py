@@ -158,12 +158,24 @@ def test_grid_is_the_command_lines_range(cli_json):
 W = vimpact.WakeImpact()
 
 
+def test_hold_band_gives_the_command_lines_numbers(cli, tmp_path):
+    # The step-size controller's hold band reaches the integrator from Python as from the
+    # command line (section points bit for bit), and changes the steps taken.
+    out = tmp_path / "sim"
+    p = cli("simulate", "--set", "Ur=21.5", *QA, "--hold-band", "0.1", "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    s = vimpact.simulate(vimpact.WakeImpact(Ur=21.5), hold_band=0.1, **Q)
+    same(s.section, vimpact.Simulation.load(out).section)
+    assert s.stats.steps != vimpact.simulate(vimpact.WakeImpact(Ur=21.5), **Q).stats.steps
+
+
 @pytest.mark.parametrize("call,args", [
     (lambda: vimpact.WakeImpact(r=1.5), ["period", "--set", "r=1.5"]),
     (lambda: vimpact.simulate(W, rtol=0), ["simulate", "--rtol", "0"]),
     (lambda: vimpact.simulate(W, rtol=2e-16), ["simulate", "--rtol", "2e-16"]),
     (lambda: vimpact.simulate(W, record=0), ["simulate", "--record", "0"]),
     (lambda: vimpact.simulate(W, transient=-1), ["simulate", "--transient=-1"]),
+    (lambda: vimpact.simulate(W, hold_band=1.0), ["simulate", "--hold-band", "1"]),
 ])
 def test_bad_input_gives_the_command_lines_message(cli, tmp_path, call, args):
     p = cli(*args, cwd=tmp_path)
