@@ -3,7 +3,7 @@
 // do), with a fixed step h = 0.01, so that the time per iteration is the trial's latency with
 // nothing of step-size control, events or the hybrid flow around it.
 //   - vimpact's dopri5<4> and dop853<4> attempt() on the library's model (native_model of the
-//     built-in definition, the field the protocol runs), error norm included;
+//     built-in definition, the field the protocol runs), their squared error norm included;
 //   - Boost.Odeint's runge_kutta_dopri5 do_step with its error vector (std::array state, the
 //     bench/baseline_odeint.cpp field), no norm: the part of Odeint's step that corresponds.
 //     Its error vector is summed into a result, as ours is returned: an error vector nothing

@@ -417,33 +417,36 @@ TEST(AdaptiveIntegrator, HoldBandKeepsTheStepSizeOfMostSteps)
 }
 
 // control_step with a hold band: inside [band, 1] the step size and the controller's memory
-// stay as they were; outside it, the outcome of the controller without a band.
+// stay as they were; outside it, the outcome of the controller without a band. control_step
+// takes the squared error norm, and the band's lower end as its square (0.3^2 here).
 TEST(AdaptiveIntegrator, HoldBandChangesOnlyTheStepsInsideIt)
 {
     vimpact::controller_constants plain{0.9, 0.2, 10.0, 0.04, 5};
     vimpact::controller_constants band = plain;
-    band.hold_from = 0.3;
+    band.hold_from = 0.3 * 0.3;
     const double h = 0.01, h_cur = 0.0125, memory = -3.5;
     // Also a step cut short by the stop time (clipped) and one that passed after a rejection:
     // held, they keep the held size h_cur, not the size tried.
     for (const bool clipped : {false, true}) {
         for (const bool rejected_before : {false, true}) {
             for (const double err : {0.3, 0.5, 0.99, 1.0}) {
-                const auto out = vimpact::control_step(band, err, true, h, h_cur, clipped, rejected_before, memory);
+                const double err2 = err * err;
+                const auto out = vimpact::control_step(band, err2, true, h, h_cur, clipped, rejected_before, memory);
                 EXPECT_TRUE(out.accepted) << err;
                 EXPECT_EQ(out.h_next, h_cur) << err;
                 EXPECT_EQ(out.log2_err_old, memory) << err;
                 // Without the band the controller changes both.
-                const auto p = vimpact::control_step(plain, err, true, h, h_cur, clipped, rejected_before, memory);
+                const auto p = vimpact::control_step(plain, err2, true, h, h_cur, clipped, rejected_before, memory);
                 EXPECT_NE(p.log2_err_old, memory) << err;
             }
             // Outside the band, and for trials that are not finite whatever their error (0.5
             // included): the controller without a band, in every output.
             for (const double err : {0.0, 1e-6, 0.29, 0.5, 1.0000001, 3.0, std::nan("")}) {
+                const double err2 = err * err;
                 for (const bool finite : {true, false}) {
                     if (finite && (err == 0.5 || std::isnan(err))) continue;
-                    const auto a = vimpact::control_step(band, err, finite, h, h_cur, clipped, rejected_before, memory);
-                    const auto b = vimpact::control_step(plain, err, finite, h, h_cur, clipped, rejected_before, memory);
+                    const auto a = vimpact::control_step(band, err2, finite, h, h_cur, clipped, rejected_before, memory);
+                    const auto b = vimpact::control_step(plain, err2, finite, h, h_cur, clipped, rejected_before, memory);
                     EXPECT_EQ(a.accepted, b.accepted) << err;
                     EXPECT_EQ(a.h_next, b.h_next) << err << " finite " << finite;
                     EXPECT_EQ(a.log2_err_old, b.log2_err_old) << err << " finite " << finite;
@@ -451,6 +454,78 @@ TEST(AdaptiveIntegrator, HoldBandChangesOnlyTheStepsInsideIt)
             }
         }
     }
+}
+
+// The controller's factors against pow: after an accepted step with error err (given as err^2)
+// and memory err_old, safety err^-(1/k - 0.75 beta) err_old^beta, clamped; after a rejection,
+// max(factor_min, safety err^(-1/k)); the memory becomes log2 max(err, 1e-4). To the
+// polynomials' accuracy (a relative 1e-7), whatever the squares do to the rounding.
+TEST(AdaptiveIntegrator, ControllerFactorsArePowersOfTheErrorNorm)
+{
+    const vimpact::controller_constants c{0.9, 0.2, 10.0, 0.04, 5};
+    const double a = 1.0 / 5 - 0.75 * 0.04, h = 0.01;
+    for (const double err_old : {1e-6, 1e-3, 0.4, 1.0}) {
+        const double memory = std::log2(std::max(err_old, 1e-4));
+        for (const double err : {1e-9, 1e-3, 0.05, 0.44, 0.9, 1.0, 1.5, 40.0, 1e6}) {
+            const auto out = vimpact::control_step(c, err * err, true, h, h, false, false, memory);
+            ASSERT_EQ(out.accepted, err <= 1.0) << err;
+            const double expected =
+                err <= 1.0 ? std::clamp(0.9 * std::pow(std::max(err, 1e-14), -a) * std::pow(std::max(err_old, 1e-4), 0.04), 0.2, 10.0)
+                           : std::max(0.2, 0.9 * std::pow(err, -1.0 / 5));
+            EXPECT_NEAR(out.h_next / h, expected, 1e-7 * expected) << "err " << err << " err_old " << err_old;
+            if (err <= 1.0) {
+                EXPECT_NEAR(out.log2_err_old, std::log2(std::max(err, 1e-4)), 1e-7) << err;
+            }
+        }
+    }
+}
+
+// What attempt() returns: the squared RMS norm of the embedded error estimate over the
+// weights atol + rtol max(|x0|, |x1|). For DOPRI5 against the difference of its 5th-order
+// solution and the 4th-order one of Dormand & Prince's published weights (Hairer, Norsett &
+// Wanner, Solving ODEs I, Table II.5.2), from the same stages.
+TEST(AdaptiveIntegrator, Dopri5ErrorIsTheSquaredNormOfTheEmbeddedDifference)
+{
+    constexpr double b4[7] = {5179.0 / 57600.0, 0.0, 7571.0 / 16695.0, 393.0 / 640.0, -92097.0 / 339200.0,
+                              187.0 / 2100.0, 1.0 / 40.0};
+    limit_cycle rhs;
+    for (const double h : {0.05, 0.1, 0.2}) {
+        for (const double tol : {1e-9, 1e-6}) {
+            vimpact::dopri5<2> m;
+            const V2 x0 = limit_cycle::exact(0.3), f0 = rhs(x0);
+            V2 x1, f1;
+            const double err2 = m.attempt(rhs, x0, f0, h, 10.0 * tol, tol, x1, f1);
+            V2 x4 = x0;
+            for (int i = 0; i < 7; ++i) x4 += h * b4[i] * m.stages()[static_cast<std::size_t>(i)];
+            const V2 sc = (tol + 10.0 * tol * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array()).matrix();
+            const double expected = (x1 - x4).cwiseQuotient(sc).squaredNorm() / 2.0;
+            EXPECT_NEAR(err2, expected, 1e-6 * expected) << "h " << h << " tol " << tol;
+        }
+    }
+}
+
+// The error estimates' orders: err^2 of one step falls like h^(2 k), k = 5 for DOPRI5's
+// estimate and 8 for DOP853's (its 5th-order estimate, damped by the 3rd-order one as
+// h^8 for small h: Hairer's formula).
+template <template <int> class Method>
+double error_norm_slope()
+{
+    limit_cycle rhs;
+    const V2 x0 = limit_cycle::exact(0.3), f0 = rhs(x0);
+    std::vector<double> hs, errs;
+    for (double h = 0.02; h < 0.17; h *= 1.25) {
+        Method<2> m;
+        V2 x1, f1;
+        hs.push_back(h);
+        errs.push_back(m.attempt(rhs, x0, f0, h, 1e-8, 1e-8, x1, f1));
+    }
+    return fitted_slope(hs, errs);
+}
+
+TEST(AdaptiveIntegrator, SquaredErrorNormFallsWithTwiceTheEstimatesOrder)
+{
+    EXPECT_NEAR(error_norm_slope<vimpact::dopri5>(), 10.0, 0.5);
+    EXPECT_NEAR(error_norm_slope<vimpact::dop853>(), 16.0, 0.8);
 }
 
 // The integrator's shortcut for a held step, on a step cut short by the stop time: the step

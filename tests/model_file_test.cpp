@@ -21,6 +21,7 @@
 
 #include "test_support.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/model/abi.h"
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
 #include "vimpact/model/model.hpp"
@@ -960,4 +961,24 @@ TEST(ModelFile, LibraryExportingACppDefinitionLoads)
     }
     EXPECT_THROW((void)load_model_code(dir / "missing.toml"), input_error);
     EXPECT_THROW((void)load_model_code(src), input_error);
+
+    // A library of another interface version (its fused step would return the error norm where
+    // this version reads its square): refused, with the versions named.
+    const fs::path old_src = dir / "old_abi.cpp", old_lib = dir / "libold_abi.so";
+    std::ofstream(old_src) << "#include <vimpact/model/abi.h>\n"
+                              "static vimpact_model_table table{VIMPACT_MODEL_ABI_VERSION - 1};\n"
+                              "extern \"C\" const vimpact_model_table* vimpact_model() { return &table; }\n";
+    ASSERT_EQ(std::system(("c++ -fPIC -shared -I'" + source_dir + "/include' -o '" + old_lib.string() + "' '" +
+                           old_src.string() + "'")
+                              .c_str()),
+              0);
+    try {
+        (void)load_model_code(old_lib);
+        ADD_FAILURE();
+    } catch (const input_error& e) {
+        EXPECT_EQ(std::string(e.what()), "model library " + old_lib.string() + " was built for model ABI version " +
+                                             std::to_string(VIMPACT_MODEL_ABI_VERSION - 1) +
+                                             "; this vimpact loads version " +
+                                             std::to_string(VIMPACT_MODEL_ABI_VERSION) + " (rebuild it)");
+    }
 }

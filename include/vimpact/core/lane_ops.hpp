@@ -28,8 +28,6 @@ struct lane_bits_ops<double> {
     static std::int64_t bits(double x) { return std::bit_cast<std::int64_t>(x); }
     static double from_bits(std::int64_t b) { return std::bit_cast<double>(b); }
     static double to_double(std::int64_t i) { return static_cast<double>(i); }
-    static std::int64_t exponent_bits(double n) { return static_cast<std::int64_t>(n) + 1023; }
-    static double round(double x) { return std::nearbyint(x); }
 };
 
 }  // namespace vimpact

@@ -97,8 +97,6 @@ struct lane_bits_ops<lanes> {
     static ints bits(const lanes& x) { return xsimd::bitwise_cast<ints>(x.v); }
     static lanes from_bits(const ints& b) { return {xsimd::bitwise_cast<lane_batch>(b)}; }
     static lanes to_double(const ints& i) { return {xsimd::batch_cast<double>(i)}; }
-    static ints exponent_bits(const lanes& n) { return xsimd::batch_cast<std::int64_t>(n.v) + ints(1023); }
-    static lanes round(const lanes& x) { return {xsimd::nearbyint(x.v)}; }
 };
 
 // ---- exact operations, vectorised ------------------------------------------------------------

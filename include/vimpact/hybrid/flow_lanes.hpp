@@ -238,11 +238,11 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
             f[i] = lanes::load(F[i]);
         }
         const auto& field = *def;
-        const lanes err = method.attempt([&field](const lvec& y) { return lvec(field.derivatives(y)); }, x, f, plan.h,
+        const lanes err2 = method.attempt([&field](const lvec& y) { return lvec(field.derivatives(y)); }, x, f, plan.h,
                                          io.rtol, io.atol, xn, fn);
-        lane_mask finite = is_finite(err);
+        lane_mask finite = is_finite(err2);
         for (int i = 0; i < N; ++i) finite = finite && is_finite(xn[i]) && is_finite(fn[i]);
-        const auto out = control_step(c, err, finite, plan.h, h, plan.clipped, rb, le);
+        const auto out = control_step(c, err2, finite, plan.h, h, plan.clipped, rb, le);
         // Every free lane's state moves on in the arrays; a lane whose flow handles events
         // is read back from its integrator afterwards (a reset, a contact phase).
         const lane_mask accepted_mask = out.accepted;

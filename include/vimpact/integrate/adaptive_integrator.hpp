@@ -86,17 +86,17 @@ public:
         for (;;) {
             const auto plan = plan_trial(m_t, m_h, m_opt.h_max, t_stop);
             if (plan.underflow) return step_status::step_underflow;
-            const double err = m_method.attempt(rhs, m_x, m_f, plan.h, m_opt.rtol, m_opt.atol, m_x_new, m_f_new);
+            const double err2 = m_method.attempt(rhs, m_x, m_f, plan.h, m_opt.rtol, m_opt.atol, m_x_new, m_f_new);
             // x * 0 is 0 for finite x and NaN otherwise: one vector sum instead of Eigen's
             // allFinite, which GCC leaves out of line.
-            const bool finite = is_finite(err) && (m_x_new * 0.0 + m_f_new * 0.0).sum() == 0.0;
+            const bool finite = is_finite(err2) && (m_x_new * 0.0 + m_f_new * 0.0).sum() == 0.0;
             const controller_constants c = constants();
             // control_step's outcome for a held step, taken before its logarithm and power.
-            if (step_held(c, err, finite && err <= 1.0)) {
+            if (step_held(c, err2, finite && err2 <= 1.0)) {
                 accept(plan.h, plan.clipped ? t_stop : m_t + plan.h, m_x_new, m_f_new, m_h, m_log_err_old);
                 return step_status::ok;
             }
-            const auto out = control_step(c, err, finite, plan.h, m_h, plan.clipped, rejected_before, m_log_err_old);
+            const auto out = control_step(c, err2, finite, plan.h, m_h, plan.clipped, rejected_before, m_log_err_old);
             if (out.accepted) {
                 accept(plan.h, plan.clipped ? t_stop : m_t + plan.h, m_x_new, m_f_new, out.h_next, out.log2_err_old);
                 return step_status::ok;
@@ -130,7 +130,7 @@ public:
     [[nodiscard]] controller_constants constants() const
     {
         return {m_opt.safety,  m_opt.factor_min, m_opt.factor_max, m_opt.pi_beta, method_type::error_exponent_order,
-                m_opt.hold_band > 0.0 ? m_opt.hold_band : std::numeric_limits<double>::infinity()};
+                m_opt.hold_band > 0.0 ? m_opt.hold_band * m_opt.hold_band : std::numeric_limits<double>::infinity()};
     }
 
     // Interpolant of the last accepted step [t_prev(), t()].

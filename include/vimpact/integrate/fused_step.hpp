@@ -27,7 +27,7 @@ double fused_attempt(F&& rhs, const double* x, const double* f, double h, double
     static_assert(sizeof(vec<N>) == N * sizeof(double), "stages must be contiguous doubles");
     Method<N> m;
     vec<N> xn, fn;
-    const double err = m.attempt(rhs, Eigen::Map<const vec<N>>(x), Eigen::Map<const vec<N>>(f), h, rtol, atol, xn, fn);
+    const double err2 = m.attempt(rhs, Eigen::Map<const vec<N>>(x), Eigen::Map<const vec<N>>(f), h, rtol, atol, xn, fn);
     Eigen::Map<vec<N>> x_out(x_new), f_out(f_new);
     x_out = xn;
     f_out = fn;
@@ -35,7 +35,7 @@ double fused_attempt(F&& rhs, const double* x, const double* f, double h, double
         Eigen::Map<vec<N>> out(stages + k * N);
         out = m.stages()[k];
     }
-    return err;
+    return err2;
 }
 
 template <int N, template <int> class Method, class F>

@@ -44,14 +44,33 @@ inline vec_t<T, N> error_scale(const vec_t<T, N>& x0, const vec_t<T, N>& x1, dou
     }
 }
 
-// sum_i (e_i / sc_i)^2 in one fixed order with explicit multiply-adds (two interleaved
+// The weights h / (atol + rtol max(|x0|, |x1|)) of the error estimate's components (the
+// estimate is h times a sum of stages): computed from the step's ends before its last stage
+// is, so that the error's own chain to the controller has a multiplication where a division
+// would be.
+template <int N, class T>
+inline vec_t<T, N> error_weights(const vec_t<T, N>& x0, const vec_t<T, N>& x1, const T& h, double rtol, double atol)
+{
+    const vec_t<T, N> sc = error_scale<N, T>(x0, x1, rtol, atol);
+    // h (1 / sc_i), not h / sc_i: Eigen vectorises the reciprocal for double (a loop of
+    // quotients made DOP853's step 1.3x slower), and lanes take the same two roundings.
+    if constexpr (std::is_same_v<T, double>) {
+        return (h * sc.array().inverse()).matrix();
+    } else {
+        vec_t<T, N> w;
+        for (int i = 0; i < N; ++i) w[i] = h * (T(1.0) / sc[i]);
+        return w;
+    }
+}
+
+// sum_i (e_i w_i)^2 in one fixed order with explicit multiply-adds (two interleaved
 // accumulators, even and odd i, then their sum): the same rounding for a scalar and for a SIMD
 // lane (core/lanes.hpp), whatever the compiler would contract on its own.
 template <int N, class T>
-inline T weighted_square_sum(const vec_t<T, N>& e, const vec_t<T, N>& sc)
+inline T weighted_square_sum(const vec_t<T, N>& e, const vec_t<T, N>& w)
 {
     using std::fma;
-    const vec_t<T, N> q = e.cwiseQuotient(sc);
+    const vec_t<T, N> q = e.cwiseProduct(w);
     if constexpr (N == 1) {
         return T(q[0] * q[0]);
     } else {
@@ -62,10 +81,9 @@ inline T weighted_square_sum(const vec_t<T, N>& e, const vec_t<T, N>& sc)
     }
 }
 
-// The stage arithmetic both methods share. sum_{j < Count} Coef[j] k_j, with the coefficients
-// known at compile time (zero entries cost nothing). Two interleaved accumulators halve the
-// dependency chain of the additions, which, not the arithmetic, bounds the speed of a
-// 4-dimensional stage.
+// The stage arithmetic both methods share. sum_{j < Count} Coef[j] k_j (error estimates,
+// interpolants), with the coefficients known at compile time (zero entries cost nothing) and
+// two interleaved accumulators, which halve the dependency chain of the additions.
 namespace rk_detail {
 
 template <double C, class State>
@@ -85,24 +103,12 @@ inline State combine(const std::array<State, S>& k)
     }(std::make_integer_sequence<int, Count>{});
 }
 
-// x + h sum_{j < Count} coef[j] k_j, arranged so that the newest stage k_{Count-1} enters
-// last with a single multiply-add: everything else is ready before it is, which shortens the
-// serial chain stage -> vector field -> next stage (the real bound on speed here). DOP853's
-// stage inputs; written as separate Eigen sums over whole stages, DOPRI5's step took 1.5x the
-// time of this form, and its inputs are now summed in order (stage_input_ordered, below),
-// which is faster still but rounds differently: DOP853 keeps this form so that its results,
-// which the documents show, stay the same bit for bit.
-template <int Count, const auto& Coef, class State, std::size_t S, class H>
-inline State stage_input(const std::array<State, S>& k, const State& x, H h)
-{
-    const State base = x + h * combine<Count - 1, Coef>(k);
-    if constexpr (Coef[Count - 1] != 0.0) return State(base + H(h * Coef[Count - 1]) * k[Count - 1]);
-    else return base;
-}
-
-// x + sum_{j < Count} (h coef[j]) k_j, added one stage at a time from the oldest to the
-// newest, as Odeint's steppers do: a stage's input then waits for the newest stage by one
-// multiply and one add, the older terms by one add each after it. For a small double state
+// x + sum_{j < Count} (h coef[j]) k_j, the stage inputs and the new state of both methods,
+// added one stage at a time from the oldest to the newest, as Odeint's steppers do: a stage's
+// input then waits for the newest stage by one multiply and one add, the older terms by one
+// add each after it. (Summed in two accumulators, then scaled by h and added to x, the older
+// stages stood five dependent operations before the next input: DOP853's step took 1.2x the
+// time of this form, DOPRI5's trial 1.3x.) For a small double state
 // the sum runs component by component in scalar registers, so that each component of the
 // next input waits only for the same component of the newest stage (and the vector field's
 // components, computed one by one, are not packed into a vector register and unpacked again
@@ -179,7 +185,9 @@ public:
     using dense_type = dense_segment<N, 4>;
     using state = vec_t<T, N>;
 
-    // Trial step from (x, f = F(x)); writes x_new and f_new = F(x_new); returns the error norm.
+    // Trial step from (x, f = F(x)); writes x_new and f_new = F(x_new); returns the squared
+    // error norm err^2 = (1/N) sum_i (e_i / sc_i)^2 of the error estimate e (the step is
+    // accepted for err^2 <= 1; the controller takes the square, integrate/step_control.hpp).
     // flatten: without it GCC leaves the stage sums out of line for larger states (the
     // tangent runs), and even the 4-state step is about 20 % slower.
     template <class F>
@@ -194,9 +202,8 @@ public:
         x_new = rk_detail::stage_input_ordered<Tab::stages, Tab::B>(m_k, x, h);
         f_new = rhs(x_new);
         m_k[Tab::stages] = f_new;
-        const state err = h * rk_detail::combine<Tab::stages + 1, Tab::E>(m_k);
-        using std::sqrt;
-        return sqrt(weighted_square_sum<N>(err, error_scale<N, T>(x, x_new, rtol, atol)) / double(N));
+        const state w = error_weights<N, T>(x, x_new, h, rtol, atol);
+        return T(weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E>(m_k), w) * (1.0 / N));
     }
 
     // Interpolant of the last accepted step (no extra right-hand side calls).
@@ -247,21 +254,19 @@ public:
         m_k[0] = f;
         // Stages unrolled at compile time; zero tableau entries cost nothing.
         [&]<int... S>(std::integer_sequence<int, S...>) {
-            ((m_k[S + 1] = rhs(rk_detail::stage_input<S + 1, Tab::A[S + 1]>(m_k, x, h))), ...);
+            ((m_k[S + 1] = rhs(rk_detail::stage_input_ordered<S + 1, Tab::A[S + 1]>(m_k, x, h))), ...);
         }(std::make_integer_sequence<int, Tab::stages - 1>{});
-        x_new = x + h * rk_detail::combine<Tab::stages, Tab::B>(m_k);
+        x_new = rk_detail::stage_input_ordered<Tab::stages, Tab::B>(m_k, x, h);
         f_new = rhs(x_new);
         m_k[Tab::stages] = f_new;
-        const state e5 = rk_detail::combine<Tab::stages + 1, Tab::E5>(m_k);
-        const state e3 = rk_detail::combine<Tab::stages + 1, Tab::E3>(m_k);
-        const state sc = error_scale<N, T>(x, x_new, rtol, atol);
-        const T n5 = weighted_square_sum<N>(e5, sc);
-        const T n3 = weighted_square_sum<N>(e3, sc);
+        // Hairer's error of DOP853, err = |h| s5 / sqrt(N (s5 + 0.01 s3)) with s5 and s3 the
+        // squared sums of its 5th- and 3rd-order estimates over sc, squared: with the weights'
+        // h folded into them (n5 = h^2 s5, n3 = h^2 s3), err^2 = n5^2 / (N (n5 + 0.01 n3)).
+        const state w = error_weights<N, T>(x, x_new, h, rtol, atol);
+        const T n5 = weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E5>(m_k), w);
+        const T n3 = weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E3>(m_k), w);
         // n5 = n3 = 0 (a field that vanishes): error 0, not 0/0.
-        using std::abs;
-        using std::sqrt;
-        const T den = sqrt((n5 + 0.01 * n3) * double(N));
-        return select(n5 == T(0.0) && n3 == T(0.0), T(0.0), T(abs(h) * n5 / den));
+        return select(n5 == T(0.0) && n3 == T(0.0), T(0.0), T(n5 * n5 / ((n5 + 0.01 * n3) * double(N))));
     }
 
     // Needs three extra stages, so it is built only for steps where an event or a sample
@@ -272,7 +277,7 @@ public:
     {
         namespace Tab = dop853_tableau;
         [&]<int... S>(std::integer_sequence<int, S...>) {
-            ((m_k[Tab::stages + 1 + S] = rhs(rk_detail::stage_input<Tab::stages + 1 + S, Tab::A[Tab::stages + 1 + S]>(m_k, x0, h))), ...);
+            ((m_k[Tab::stages + 1 + S] = rhs(rk_detail::stage_input_ordered<Tab::stages + 1 + S, Tab::A[Tab::stages + 1 + S]>(m_k, x0, h))), ...);
         }(std::make_integer_sequence<int, Tab::stages_extended - Tab::stages - 1>{});
         out.t0 = t0;
         out.h = h;

@@ -10,6 +10,10 @@
 // (floored at 1e-4), k the order of the error estimate. After a rejection the step shrinks by
 // max(factor_min, safety * err^(-1/k)) and the step that finally passes may not grow.
 //
+// It takes the squared error norm err^2, as the Runge-Kutta methods return it
+// (integrate/runge_kutta.hpp): the powers of err are powers of err^2 with half the exponent,
+// so no square root waits between a trial and the next step's size.
+//
 // With a hold band b in (0, 1) (integrator_options::hold_band), an accepted step whose error
 // lies in [b, 1] keeps the step size and leaves the controller's memory as it was: the step
 // is near its best size, and deciding that needs one comparison, so the next trial can start
@@ -17,10 +21,12 @@
 // a branch the processor predicts, not a chain of data the next step waits for). Boost.Odeint's
 // controller does the same with b = 0.5 and no integral term.
 //
-// The powers are computed as 2^(c log2 err) by short polynomials (relative error below 1e-10)
-// instead of pow, log and exp: a step size needs a few digits, the library functions cost a
-// quarter of a DOPRI5 step, and a polynomial gives the same bits in every SIMD lane as on a
-// scalar.
+// The powers are computed as 2^(c log2 err^2) by short polynomials instead of pow, log and
+// exp: a step size needs a few digits, the library functions cost a quarter of a DOPRI5 step,
+// and a polynomial gives the same bits in every SIMD lane as on a scalar. Their latency is the
+// integrator's (the next trial starts from the step size they give), so they are short: no
+// division, degree 8 and 6, errors of 1e-7 (log2, absolute) and 5e-9 (2^y, relative), which
+// move a step size by less than 1e-7 of itself.
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -32,62 +38,54 @@
 namespace vimpact {
 
 
-// log2(x) for finite x >= the smallest normal double; relative error below 1e-10.
+// log2(x) for finite x >= the smallest normal double; absolute error below 1e-7.
 template <class T>
-T fast_log2(const T& x)
+[[gnu::always_inline]] inline T fast_log2(const T& x)
 {
     using B = lane_bits_ops<T>;
-    constexpr std::int64_t mantissa = 0x000fffffffffffffLL, one = 0x3ff0000000000000LL;
     const auto b = B::bits(x);
     using I = std::decay_t<decltype(b)>;
-    // x = m 2^e with m in [1, 2), then m in [sqrt(1/2), sqrt(2)) so that s below is small.
-    T e = B::to_double((b >> 52) - I(1023));
-    T m = B::from_bits((b & I(mantissa)) | I(one));
-    const auto big = m > T(1.4142135623730951);
-    m = select(big, T(0.5 * m), m);
-    e = select(big, T(e + 1.0), e);
-    // ln m = 2 atanh(s), s = (m - 1)/(m + 1) in [-0.172, 0.172]:
-    //   atanh(s) / s = 1 + s^2/3 + s^4/5 + ... + s^12/13,
-    // evaluated by Estrin's scheme (products of powers of s^2 beside each other rather than
-    // one chain of 6 multiply-adds: the controller's result starts the next step, so its
-    // latency is the integrator's).
+    // x = m 2^e with m in [sqrt(1/2), sqrt(2)): the bits of x less those of sqrt(1/2) carry
+    // into the exponent field exactly where m would leave that range (integer operations, no
+    // comparison).
+    constexpr std::int64_t sqrt_half = 0x3fe6a09e667f3bcdLL, exponent_field = ~0x000fffffffffffffLL;
+    const I k = b - I(sqrt_half);
+    const T e = B::to_double(k >> 52);
+    const T t = B::from_bits(b - (k & I(exponent_field))) - 1.0;
+    // log2(1 + t) = t q(t) (scripts/gen_controller_polynomials.py), q by Estrin's scheme:
+    // pairs joined by t^2 and t^4, depth 3 instead of a chain of 7 multiply-adds.
+    constexpr double c[8] = {1.442694994893047,   -0.7213529313629857,  0.4809167080001993,
+                             -0.36022518246065766, 0.2872888823750311,  -0.24927182208104065,
+                             0.23265257881234003,  -0.14275973432399872};
     using std::fma;
-    const T s = (m - 1.0) / (m + 1.0);
-    const T s2 = s * s;
-    const T s4 = s2 * s2;
-    const T s8 = s4 * s4;
-    const T q01 = fma(s2, T(1.0 / 3), T(1.0));
-    const T q23 = fma(s2, T(1.0 / 7), T(1.0 / 5));
-    const T q45 = fma(s2, T(1.0 / 11), T(1.0 / 9));
-    const T q03 = fma(s4, q23, q01);
-    const T q46 = fma(s4, T(1.0 / 13), q45);
-    const T p = fma(s8, q46, q03);
-    return fma(T(2.0 * 1.4426950408889634), T(s * p), e);
+    const T t2 = t * t;
+    const T t4 = t2 * t2;
+    const T q01 = fma(t, T(c[1]), T(c[0])), q23 = fma(t, T(c[3]), T(c[2])), q45 = fma(t, T(c[5]), T(c[4])),
+            q67 = fma(t, T(c[7]), T(c[6]));
+    const T q03 = fma(t2, q23, q01), q47 = fma(t2, q67, q45);
+    return fma(t, fma(t4, q47, q03), e);
 }
 
-// 2^y for y in [-1020, 1020] (clamped there); relative error below 1e-12.
+// 2^y for y in [-1020, 1020]; relative error below 5e-9.
 template <class T>
-T fast_exp2(const T& y_in)
+[[gnu::always_inline]] inline T fast_exp2(const T& y)
 {
     using B = lane_bits_ops<T>;
-    const T y = lane_min(lane_max(y_in, T(-1020.0)), T(1020.0));
-    const T n = B::round(y);
+    // y + 1.5 2^52 rounds y to the nearest integer n, held in the low bits of its mantissa.
+    constexpr double round_shift = 6755399441055744.0;
+    const T shifted = y + round_shift;
+    const T g = y - (shifted - round_shift);  // in [-1/2, 1/2]
+    // 2^g = 1 + g p(g) (scripts/gen_controller_polynomials.py), p by Estrin's scheme.
+    constexpr double c[6] = {0.6931471880262284,   0.24022650760568226,   0.05550357114219106,
+                             0.009618082557271741, 0.0013390863364681129, 0.00015453162946382396};
     using std::fma;
-    const T g = (y - n) * 0.6931471805599453;  // in [-0.347, 0.347]
-    // e^g by its Taylor polynomial to degree 11 (explicit multiply-adds: the same bits in
-    // lanes), by Estrin's scheme: pairs c_k + c_{k+1} g, joined with g^2, g^4, g^8 (depth 5
-    // instead of a chain of 11).
     const T g2 = g * g;
     const T g4 = g2 * g2;
-    const T g8 = g4 * g4;
-    constexpr double c[12] = {1.0,       1.0,        0.5,         1.0 / 6,       1.0 / 24,       1.0 / 120,
-                              1.0 / 720, 1.0 / 5040, 1.0 / 40320, 1.0 / 362880, 1.0 / 3628800, 1.0 / 39916800};
-    const T p01 = fma(g, T(c[1]), T(c[0])), p23 = fma(g, T(c[3]), T(c[2])), p45 = fma(g, T(c[5]), T(c[4])),
-            p67 = fma(g, T(c[7]), T(c[6])), p89 = fma(g, T(c[9]), T(c[8])), pab = fma(g, T(c[11]), T(c[10]));
-    const T p03 = fma(g2, p23, p01), p47 = fma(g2, p67, p45), p8b = fma(g2, pab, p89);
-    const T p07 = fma(g4, p47, p03);
-    const T p = fma(g8, p8b, p07);
-    return p * B::from_bits(B::exponent_bits(n) << 52);
+    const T p01 = fma(g, T(c[1]), T(c[0])), p23 = fma(g, T(c[3]), T(c[2])), p45 = fma(g, T(c[5]), T(c[4]));
+    const T p = fma(g4, p45, fma(g2, p23, p01));
+    const auto n = B::bits(shifted);
+    using I = std::decay_t<decltype(n)>;
+    return fma(g, p, T(1.0)) * B::from_bits(((n + I(1023)) & I(0x7ff)) << 52);
 }
 
 // The step a trial tries from t with the held step size h_held: at most h_max, cut short to
@@ -115,16 +113,16 @@ auto plan_trial(const T& t, const T& h_held, double h_max, double t_stop)
 struct controller_constants {
     double safety, factor_min, factor_max, beta;
     int order;  // of the error estimate
-    // The lower end of the hold band; infinity: no hold.
+    // The lower end of the hold band for the squared error norm, b^2; infinity: no hold.
     double hold_from = std::numeric_limits<double>::infinity();
 };
 
-// Whether an accepted trial (accepted: finite, error <= 1) keeps the step size: the one rule
+// Whether an accepted trial (accepted: finite, err^2 <= 1) keeps the step size: the one rule
 // of the hold band, for control_step and for the integrator's shortcut around it.
 template <class T, class Mask>
-Mask step_held(const controller_constants& c, const T& err, Mask accepted)
+Mask step_held(const controller_constants& c, const T& err2, Mask accepted)
 {
-    return accepted && err >= T(c.hold_from);
+    return accepted && err2 >= T(c.hold_from);
 }
 
 // log2 of the error floor of the integral term (Hairer's 1e-4).
@@ -138,30 +136,32 @@ struct trial_outcome {
     T log2_err_old;
 };
 
-// err: the trial's error norm; finite: the trial produced finite numbers; h: the step tried;
-// h_cur: the step size held before the trial (kept after a step cut short by the stop time);
-// clipped: the step was cut short to end at the stop time; rejected_before: an earlier trial
-// of this step was rejected.
+// err2: the trial's squared error norm; finite: the trial produced finite numbers; h: the
+// step tried; h_cur: the step size held before the trial (kept after a step cut short by the
+// stop time); clipped: the step was cut short to end at the stop time; rejected_before: an
+// earlier trial of this step was rejected.
 template <class T, class Mask>
-trial_outcome<T, Mask> control_step(const controller_constants& c, const T& err, Mask finite, const T& h,
+trial_outcome<T, Mask> control_step(const controller_constants& c, const T& err2, Mask finite, const T& h,
                                     const T& h_cur, Mask clipped, Mask rejected_before, const T& log2_err_old)
 {
-    const Mask accepted = finite && err <= T(1.0);
+    const Mask accepted = finite && err2 <= T(1.0);
     // One logarithm and one power: the PI factor where the trial is accepted, the shrinking
-    // one (err^(-1/k)) where it is not.
-    const T log_e = fast_log2(lane_max(err, T(1e-14)));
+    // one (err^(-1/k)) where it is not. The exponents of err are halved for err^2, and the
+    // floor 1e-14 of err is 1e-28 of err^2. The power's argument stays inside fast_exp2's
+    // range for any err2, a NaN included: |log_e2| <= 1026, so |y| <= 1026 / (2 k) + 1.
+    const T log_e2 = fast_log2(lane_max(err2, T(1e-28)));
     const double a = 1.0 / c.order - 0.75 * c.beta;
     using std::fma;
-    const T power = c.safety * fast_exp2(select(accepted, T(fma(T(-a), log_e, T(c.beta * log2_err_old))),
-                                                  T(log_e * (-1.0 / c.order))));
+    const T power = c.safety * fast_exp2(select(accepted, T(fma(T(-0.5 * a), log_e2, T(c.beta * log2_err_old))),
+                                                  T(log_e2 * (-0.5 / c.order))));
     T factor_ok = lane_min(lane_max(power, T(c.factor_min)), T(c.factor_max));
     factor_ok = select(rejected_before, lane_min(factor_ok, T(1.0)), factor_ok);
     const T factor_bad = select(finite, lane_max(T(c.factor_min), power), T(c.factor_min));
     // A step cut short by the stop time says nothing about the achievable size.
     const T h_ok = select(!clipped || factor_ok < T(1.0), T(h * factor_ok), h_cur);
-    const Mask held = step_held(c, err, accepted);
+    const Mask held = step_held(c, err2, accepted);
     return {accepted, select(held, h_cur, select(accepted, h_ok, T(h * factor_bad))),
-            select(accepted && !held, lane_max(log_e, T(log2_err_floor)), log2_err_old)};
+            select(accepted && !held, lane_max(T(0.5 * log_e2), T(log2_err_floor)), log2_err_old)};
 }
 
 }  // namespace vimpact

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define VIMPACT_MODEL_ABI_VERSION 2
+#define VIMPACT_MODEL_ABI_VERSION 3
 
 enum vimpact_crossing { VIMPACT_CROSSING_DOWN = 0, VIMPACT_CROSSING_UP = 1, VIMPACT_CROSSING_BOTH = 2 };
 
@@ -85,7 +85,8 @@ typedef struct vimpact_model_table {
     /* Optional (NULL: the library calls rhs once per stage): one trial Runge-Kutta step of the
      * free vector field with the field compiled in (integrate/fused_step.hpp); method 0 is
      * DOP853, 1 DOPRI5. `stages` is the caller's scratch of 16 * dim doubles, carried from a
-     * step to its interpolant. Returns the scaled error norm, writes x_new and f_new = F(x_new). */
+     * step to its interpolant. Returns the squared scaled error norm (ABI version 3; the norm itself
+     * in version 2), writes x_new and f_new = F(x_new). */
     double (*step)(const void* c, int method, const double* x, const double* f, double h, double rtol, double atol,
                    double* x_new, double* f_new, double* stages);
     /* The interpolant of the last accepted step: 7 * dim coefficients (DOP853), 4 * dim (DOPRI5). */
