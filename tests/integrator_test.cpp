@@ -504,6 +504,34 @@ TEST(AdaptiveIntegrator, Dopri5ErrorIsTheSquaredNormOfTheEmbeddedDifference)
     }
 }
 
+// For DOP853 against Hairer's error formula as his code writes it, err = |h| s5 /
+// sqrt(N (s5 + 0.01 s3)), s5 and s3 the sums of the squared 5th- and 3rd-order estimates
+// (the tableau's E5 and E3 over the stages) divided by the weights: the constants N and 0.01
+// and the place of h, which the slope below cannot see.
+TEST(AdaptiveIntegrator, Dop853ErrorIsTheSquareOfHairersNorm)
+{
+    namespace tab = vimpact::dop853_tableau;
+    limit_cycle rhs;
+    for (const double h : {0.05, 0.2, 0.4}) {
+        vimpact::dop853<2> m;
+        const V2 x0 = limit_cycle::exact(0.3), f0 = rhs(x0);
+        V2 x1, f1;
+        const double err2 = m.attempt(rhs, x0, f0, h, 1e-9, 1e-9, x1, f1);
+        V2 e5 = V2::Zero(), e3 = V2::Zero();
+        for (std::size_t i = 0; i < tab::E5.size(); ++i) {
+            e5 += tab::E5[i] * m.stages()[i];
+            e3 += tab::E3[i] * m.stages()[i];
+        }
+        const V2 sc = (1e-9 + 1e-9 * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array()).matrix();
+        const double s5 = e5.cwiseQuotient(sc).squaredNorm(), s3 = e3.cwiseQuotient(sc).squaredNorm();
+        const double err = std::abs(h) * s5 / std::sqrt(2.0 * (s5 + 0.01 * s3));
+        // The estimates are small sums of O(1) stages: summed in another order, their
+        // cancellation leaves a relative 5e-6 at h = 0.05. A wrong constant (N, 0.01, a power
+        // of h) is off by a factor.
+        EXPECT_NEAR(err2, err * err, 1e-4 * err * err) << "h " << h;
+    }
+}
+
 // The error estimates' orders: err^2 of one step falls like h^(2 k), k = 5 for DOPRI5's
 // estimate and 8 for DOP853's (its 5th-order estimate, damped by the 3rd-order one as
 // h^8 for small h: Hairer's formula).

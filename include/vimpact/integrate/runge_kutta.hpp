@@ -1,7 +1,7 @@
 #pragma once
 // Embedded explicit Runge-Kutta pairs with dense output: DOPRI5 (Dormand & Prince 5(4), with
 // Shampine's 4th-order interpolant) and DOP853 (8(5,3), 7th-order interpolant). Each method
-// takes a trial step, returns its scaled error norm, and builds its interpolant on request.
+// takes a trial step, returns its squared scaled error norm, and builds its interpolant on request.
 #include <algorithm>
 #include <array>
 #include <cmath>
