@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <ctime>
 #include <memory>
 #include <vector>
@@ -48,8 +49,9 @@ int main(int argc, char** argv)
     for (long j = 0; j < jobs; ++j)
         alone.push_back(engine::run_protocol<dop853>(wake(params[static_cast<std::size_t>(j)]), x0, po));
     const std::clock_t c1 = std::clock();
+    long given = 0;
     run_in_lanes<wake_impact, dop853>(
-        jobs,
+        lane_width, [&]() { return given < jobs ? std::optional<long>(given++) : std::nullopt; },
         [&](long j) {
             return std::make_unique<engine::protocol_run<dop853, wake>>(wake(params[static_cast<std::size_t>(j)]), x0, po);
         },

@@ -198,7 +198,7 @@ int main(int argc, char** argv)
     // The coordinator hands out after each thing it does: its own threads first, then the
     // ranks that asked (as run_jobs does), each grant a message of latency L.
     auto hand_out = [&](double t) {
-        const long own_want = 2 * B * T - held(0);
+        const long own_want = (B > 1 ? 3 : 2) * B * T - held(0);
         if (own_want >= std::max(B, T))
             for (const long j : dispenser.grant(own_want)) ranks[0].queue.push_back(j);
         start_jobs(0, t);

@@ -31,11 +31,10 @@ struct lanes_engine_t<native_model<D>> : std::bool_constant<lanes_capable<D>> {}
 template <class EM>
 inline constexpr bool lanes_engine = lanes_engine_t<EM>::value;
 
-// The protocol for every model of `models` (all of the engine model EM, differing in their
-// parameters) from its initial state, in SIMD lanes.
+// The protocol for the jobs `next` gives (models of the engine model EM, differing in their
+// parameters), up to `width` at once in SIMD lanes (simulate_stream).
 template <class EM>
-std::vector<simulation> run_simulate_lanes(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
-                                           const protocol_options& o);
+void run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next, const protocol_sink& done);
 
 template <class EM>
 grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazing_options& o);

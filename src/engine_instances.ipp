@@ -8,6 +8,8 @@
 #include "vimpact/engine/protocol.hpp"
 #include "vimpact/integrate/runge_kutta.hpp"
 
+#include <unordered_map>
+
 namespace vimpact::detail {
 
 // f.template operator()<Method>() for the chosen integrator.
@@ -31,26 +33,33 @@ simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_
 }
 
 template <class EM>
-std::vector<simulation> run_simulate_lanes(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
-                                           const protocol_options& o)
+void run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next, const protocol_sink& done)
 {
     using D = typename EM::definition_type;
-    std::vector<simulation> out(models.size());
-    const auto n = static_cast<long>(models.size());
+    // The jobs in the lanes, by the number run_in_lanes knows them by.
+    std::unordered_map<long, protocol_job> running;
+    long taken = 0;
     auto run = [&]<template <int, class = double> class M>() {
         run_in_lanes<D, M>(
-            n,
-            [&](long j) {
-                const auto k = static_cast<std::size_t>(j);
-                return std::make_unique<engine::protocol_run<M, EM>>(EM(models[k].parameters()), fixed<EM::dim>(x0s[k]), o);
+            width,
+            [&]() -> std::optional<long> {
+                std::optional<protocol_job> j = next();
+                if (!j) return std::nullopt;
+                running.emplace(taken, std::move(*j));
+                return taken++;
             },
-            [&](long j) { return std::span<const double>(models[static_cast<std::size_t>(j)].parameters()); },
-            [&](long j, simulation&& s) { out[static_cast<std::size_t>(j)] = std::move(s); });
-        return 0;
+            [&](long k) {
+                const protocol_job& j = running.at(k);
+                return std::make_unique<engine::protocol_run<M, EM>>(EM(j.m.parameters()), fixed<EM::dim>(j.x0), o);
+            },
+            [&](long k) { return std::span<const double>(running.at(k).m.parameters()); },
+            [&](long k, simulation&& s) {
+                auto node = running.extract(k);
+                done(std::move(node.mapped()), std::move(s));
+            });
     };
     if (o.method == integration_method::dopri5) run.template operator()<dopri5>();
     else run.template operator()<dop853>();
-    return out;
 }
 
 template <class EM>
@@ -101,8 +110,9 @@ lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyap
 
 // For an engine model that runs in SIMD lanes (lanes_engine<EM>), besides the above.
 #define VIMPACT_INSTANTIATE_LANES(EM)                                                                            \
-    template std::vector<vimpact::simulation> vimpact::detail::run_simulate_lanes<EM>(                           \
-        const std::vector<vimpact::model>&, const std::vector<Eigen::VectorXd>&, const vimpact::protocol_options&);
+    template void vimpact::detail::run_simulate_lanes<EM>(const vimpact::protocol_options&, int,                   \
+                                                          const vimpact::protocol_source&,                       \
+                                                          const vimpact::protocol_sink&);
 
 #define VIMPACT_INSTANTIATE_ENGINE(EM)                                                                           \
     template vimpact::simulation vimpact::detail::run_simulate<EM>(const EM&, const Eigen::VectorXd&,            \

@@ -1,6 +1,7 @@
 // The job loop: order, determinism across thread counts, chains, shards, resume, stop, errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -10,10 +11,12 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <span>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "vimpact/jobs/job_loop.hpp"
 #include "vimpact/jobs/job_ranks.hpp"
@@ -26,10 +29,12 @@ using vimpact::run_jobs;
 
 // A job whose duration varies (so threads finish out of order) and whose value depends only
 // on its index and predecessor.
+double value(long job, const double* prev) { return (prev ? *prev : 0.0) * 0.5 + std::sin(static_cast<double>(job)); }
+
 double work(long job, const double* prev)
 {
     std::this_thread::sleep_for(std::chrono::microseconds(50 * ((job * 7919) % 13)));
-    return (prev ? *prev : 0.0) * 0.5 + std::sin(static_cast<double>(job));
+    return value(job, prev);
 }
 
 std::vector<std::pair<long, double>> collect(const job_schedule& s, job_loop_options o,
@@ -271,15 +276,51 @@ TEST(JobLoopRanks, EveryJobOnceInOrderAndBitForBitWhateverTheRanksAndThreads)
     }
 }
 
-// Runners with a `many` member get whole batches: a thread of a rank, whether it is rank 0 or
-// another, is handed `batch` jobs at a time (SIMD lanes are only full then), and every job is
-// still delivered once, in order, with the value a job alone gives.
-struct batch_recorder {
+// A stream runner as SIMD lanes run one: up to `width` jobs at once, in rounds of 50 us; job
+// j lasts (j * 7919) % 13 + 1 rounds, and a lane whose job ends takes the next at once.
+struct lanes_log {
     std::mutex mutex;
-    std::vector<std::size_t> sizes;
+    std::vector<long> taken;  // jobs per stream call
+    long most_at_once = 0;
 };
 
-TEST(JobLoopRanks, ThreadsTakeWholeBatches)
+auto lanes_stream(long width, lanes_log& log)
+{
+    return [width, &log](const vimpact::job_source& next, const vimpact::job_sink<double>& done) {
+        std::vector<std::pair<long, long>> lanes;  // job, rounds left
+        long taken = 0;
+        for (;;) {
+            while (static_cast<long>(lanes.size()) < width) {
+                const std::optional<long> j = next();
+                if (!j) break;
+                lanes.emplace_back(*j, (*j * 7919) % 13 + 1);
+                ++taken;
+            }
+            {
+                const std::lock_guard lock(log.mutex);
+                log.most_at_once = std::max(log.most_at_once, static_cast<long>(lanes.size()));
+            }
+            if (lanes.empty()) break;
+            std::this_thread::sleep_for(std::chrono::microseconds(50));
+            for (auto it = lanes.begin(); it != lanes.end();) {
+                if (--it->second > 0) {
+                    ++it;
+                    continue;
+                }
+                done(it->first, value(it->first, nullptr));
+                it = lanes.erase(it);
+            }
+        }
+        const std::lock_guard lock(log.mutex);
+        log.taken.push_back(taken);
+    };
+}
+
+// Stream runners (SIMD lanes) take their jobs from the queue of their rank as lanes free up:
+// a thread's lanes stay full through the list instead of waiting, batch after batch, for a
+// batch's longest job. Every job is still delivered once, in order, with the value a job
+// alone gives, on one rank or two.
+TEST(JobLoopRanks, StreamRunnersRefillTheirLanesFromTheSharedQueue)
 {
     constexpr long batch = 8, jobs = 400;
     const job_schedule s{jobs, 0};
@@ -287,38 +328,41 @@ TEST(JobLoopRanks, ThreadsTakeWholeBatches)
     o.threads = 1;
     const auto one = collect(s, o);
     for (const int ranks : {1, 2}) {
-        batch_recorder rec;
-        auto single = [](long j, const double* p) { return work(j, p); };
-        auto many = [&](std::span<const long> js) {
-            {
-                const std::lock_guard lock(rec.mutex);
-                rec.sizes.push_back(js.size());
-            }
-            std::vector<double> out;
-            for (const long j : js) out.push_back(work(j, nullptr));
-            return out;
-        };
+        lanes_log log;
+        const vimpact::job_streamer runner{lanes_stream(batch, log)};
         o.batch = batch;
         // A window that is not a whole number of batches cuts grants short.
         o.window = 4 * batch + 3;
-        const auto r = ranks == 1 ? ranks_run{} : run_ranks(ranks, s, o, vimpact::job_runners{single, many});
+        const auto r = ranks == 1 ? ranks_run{} : run_ranks(ranks, s, o, runner);
         std::vector<std::pair<long, double>> delivered = r.delivered;
-        if (ranks == 1)
-            run_jobs<double>(s, o, {}, vimpact::job_runners{single, many},
-                             [&](long j, double&& v) { delivered.emplace_back(j, v); });
+        if (ranks == 1) run_jobs<double>(s, o, {}, runner, [&](long j, double&& v) { delivered.emplace_back(j, v); });
         EXPECT_EQ(delivered, one) << ranks << " rank(s)";
-        long full = 0, in_batches = 0;
-        for (const std::size_t n : rec.sizes) {
-            EXPECT_LE(static_cast<long>(n), batch);
-            in_batches += static_cast<long>(n);
-            if (static_cast<long>(n) == batch) ++full;
+        long total = 0, most = 0;
+        for (const long n : log.taken) {
+            total += n;
+            most = std::max(most, n);
         }
-        // Grants and capacities are whole batches: only the end of the list may give a
-        // thread less, at most one batch short per computing thread (one per rank here).
-        EXPECT_GE(full * batch, jobs - batch * ranks) << ranks << " rank(s): " << rec.sizes.size() << " batches, "
-                                                      << full << " of them full";
-        EXPECT_LE(in_batches, jobs);
+        EXPECT_EQ(total, jobs) << ranks << " rank(s)";
+        EXPECT_EQ(log.most_at_once, batch) << ranks << " rank(s)";
+        // A stream call that took no more than a batch would be the fixed batches this replaced.
+        EXPECT_GT(most, 4 * batch) << ranks << " rank(s): " << log.taken.size() << " stream calls";
     }
+}
+
+// A job that continues from another goes to the runner's `single`, the others to its stream.
+TEST(JobLoop, ChainedJobsOfAStreamRunnerRunAlone)
+{
+    const job_schedule s{60, 3};
+    job_loop_options o;
+    o.threads = 2;
+    o.batch = 4;
+    const auto expected = collect(s, o);
+    lanes_log log;
+    auto single = [](long j, const double* p) { return value(j, p); };
+    std::vector<std::pair<long, double>> got;
+    run_jobs<double>(s, o, {}, vimpact::job_runners{single, lanes_stream(4, log)},
+                     [&](long j, double&& v) { got.emplace_back(j, v); });
+    EXPECT_EQ(got, expected);
 }
 
 // A resumed run in lanes whose windows hold less than a batch still to compute ends, and
@@ -331,12 +375,8 @@ TEST(JobLoopRanks, AResumedRunInBatchesWithFewJobsLeftEnds)
     std::unordered_map<long, double> done;
     for (long j = 0; j < jobs; ++j)
         if (j % 37 != 0) done[j] = work(j, nullptr);
-    auto single = [](long j, const double* p) { return work(j, p); };
-    auto many = [](std::span<const long> js) {
-        std::vector<double> out;
-        for (const long j : js) out.push_back(work(j, nullptr));
-        return out;
-    };
+    lanes_log log;
+    const vimpact::job_streamer runner{lanes_stream(8, log)};
     job_loop_options o;
     o.threads = 1;
     o.batch = 8;
@@ -354,7 +394,7 @@ TEST(JobLoopRanks, AResumedRunInBatchesWithFewJobsLeftEnds)
             std::unique_lock lock(m);
             if (!finished.wait_for(lock, std::chrono::seconds(60), [&] { return over; })) stop = true;
         });
-        summary = run_jobs<double>(s, o, vimpact::finished_in(done), vimpact::job_runners{single, many},
+        summary = run_jobs<double>(s, o, vimpact::finished_in(done), runner,
                                    [&](long j, double&& v) { one.emplace_back(j, v); });
         {
             const std::lock_guard lock(m);
@@ -487,12 +527,14 @@ TEST(JobDispenser, RankCapacityIsWholeBatchesWithinItsBounds)
             for (const double mean : {0.0, 1e-5, 3e-4, 1.1e-3, 7e-3, 0.05, 2.0}) {
                 const long c = vimpact::rank_capacity(threads, mean, batch);
                 EXPECT_EQ(c % batch, 0) << threads << " threads, batch " << batch << ", mean " << mean;
-                EXPECT_GE(c, std::max(4L, 2 * batch) * threads);
-                EXPECT_LE(c, std::max(64L, 2 * batch) * threads);
+                EXPECT_GE(c, 4 * batch * threads);
+                EXPECT_LE(c, std::max(64L, 4 * batch) * threads);
             }
     // Short jobs: about 0.1 s of work per thread, down to a whole batch.
-    EXPECT_EQ(vimpact::rank_capacity(1, 0.1 / 29.5, 8), 24);
+    EXPECT_EQ(vimpact::rank_capacity(1, 0.1 / 29.5, 4), 28);
     EXPECT_EQ(vimpact::rank_capacity(1, 0.1 / 29.5, 1), 29);
+    // Four batches at least.
+    EXPECT_EQ(vimpact::rank_capacity(1, 0.1 / 29.5, 8), 32);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "admissible_jobs.hpp"
 #include "io/json_codec.hpp"
 #include "jobs/journal.hpp"
 
@@ -88,42 +89,41 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
                        {"period_tolerance", detail::number(o.period_tolerance)},
                        {"match_tolerance", detail::number(o.match.tolerance)}};
     const int batch = resolve_batch(m, j.batch);
-    // The admissible jobs of a batch run their protocols together (SIMD lanes where the model allows).
-    auto many = [&](std::span<const long> jobs) {
-        std::vector<basin_cell> out(jobs.size());
-        std::vector<Eigen::VectorXd> x0s;
-        std::vector<std::size_t> admissible;
-        for (std::size_t k = 0; k < jobs.size(); ++k) {
-            Eigen::VectorXd x0 = base;
-            x0[o.x_state] = o.x_values[static_cast<std::size_t>(jobs[k] % nx)];
-            x0[o.y_state] = o.y_values[static_cast<std::size_t>(jobs[k] / nx)];
-            if (violated_surface(m, x0) >= 0) {
-                out[k].status = outcome::inadmissible;
-                out[k].label.label = std::string(to_string(out[k].status));
-                continue;
-            }
-            admissible.push_back(k);
-            x0s.push_back(std::move(x0));
-        }
-        const auto runs = run_and_classify_many(std::vector<model>(x0s.size(), m), x0s, po, o.period_tolerance, batch);
-        for (std::size_t a = 0; a < admissible.size(); ++a) {
-            basin_cell& c = out[admissible[a]];
-            const auto& r = runs[a];
-            c.admissible = true;
-            c.label = r.label;
-            c.status = r.run.status;
-            c.steps = r.run.stats.steps;
-            c.signature = signature_of(m, r.run, r.label);
-        }
-        return out;
+    // The admissible jobs run their protocols together as lanes free up (SIMD lanes where the
+    // model allows).
+    auto stream = [&](const job_source& next, const job_sink<basin_cell>& done) {
+        simulate_stream(
+            m, po, batch,
+            detail::admissible_jobs(
+                next,
+                [&](long job) {
+                    Eigen::VectorXd x0 = base;
+                    x0[o.x_state] = o.x_values[static_cast<std::size_t>(job % nx)];
+                    x0[o.y_state] = o.y_values[static_cast<std::size_t>(job / nx)];
+                    return protocol_job{job, m, std::move(x0)};
+                },
+                [&](protocol_job&& pj) {
+                    basin_cell c;
+                    c.status = outcome::inadmissible;
+                    c.label.label = std::string(to_string(c.status));
+                    done(pj.key, std::move(c));
+                }),
+            [&](protocol_job&& pj, simulation&& run) {
+                basin_cell c;
+                c.admissible = true;
+                c.label = classify_period(m, run, o.period_tolerance);
+                c.status = run.status;
+                c.steps = run.stats.steps;
+                c.signature = signature_of(m, run, c.label);
+                done(pj.key, std::move(c));
+            });
     };
-    auto single = [&](long job, const basin_cell*) { return many(std::span<const long>(&job, 1)).front(); };
     basins_result res;
     // Attractors are numbered in order of first appearance: identified as the cells stream.
     attractor_catalogue catalogue(o.match);
     job_options jb = j;
     jb.batch = batch;
-    res.jobs = detail::run_journaled<basin_cell>(spec, {nx * ny, 0}, jb, job_runners{single, many}, encode, decode,
+    res.jobs = detail::run_journaled<basin_cell>(spec, {nx * ny, 0}, jb, job_streamer{stream}, encode, decode,
                                                  [&](long job, basin_cell&& c) {
         c.attractor = c.admissible ? catalogue.identify(c.signature) : -1;
         if (each) each(job, c);

@@ -102,34 +102,36 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
     auto computes_grazing = [&](long ix, long iy) {
         return (grazing_axis == 1 && iy == 0) || (grazing_axis == 0 && ix == 0);
     };
-    // The jobs of a batch run their protocols together (SIMD lanes where the model allows).
-    auto many = [&](std::span<const long> jobs) {
-        std::vector<model> models;
-        for (const long job : jobs)
-            models.push_back(m.with_parameter(o.x.parameter, o.x.values[static_cast<std::size_t>(job % nx)])
-                                 .with_parameter(o.y.parameter, o.y.values[static_cast<std::size_t>(job / nx)]));
-        const auto runs = run_and_classify_many(models, std::vector<Eigen::VectorXd>(jobs.size(), ic), po,
-                                                o.period_tolerance, res_batch);
-        std::vector<map_record> out(jobs.size());
-        for (std::size_t k = 0; k < jobs.size(); ++k) {
-            map_record& rec = out[k];
-            rec.cell.label = runs[k].label;
-            rec.cell.status = runs[k].run.status;
-            rec.cell.steps = runs[k].run.stats.steps;
-            rec.cell.statistics = runs[k].run.statistics;
-            if (computes_grazing(jobs[k] % nx, jobs[k] / nx)) {
-                const auto g = grazing(models[k], ic, go);
-                for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);
-            }
-        }
-        return out;
+    // The jobs run their protocols together as lanes free up (SIMD lanes where the model allows).
+    auto stream = [&](const job_source& next, const job_sink<map_record>& done) {
+        simulate_stream(
+            m, po, res_batch,
+            [&]() -> std::optional<protocol_job> {
+                const std::optional<long> job = next();
+                if (!job) return std::nullopt;
+                return protocol_job{*job,
+                                    m.with_parameter(o.x.parameter, o.x.values[static_cast<std::size_t>(*job % nx)])
+                                        .with_parameter(o.y.parameter, o.y.values[static_cast<std::size_t>(*job / nx)]),
+                                    ic};
+            },
+            [&](protocol_job&& pj, simulation&& run) {
+                map_record rec;
+                rec.cell.label = classify_period(pj.m, run, o.period_tolerance);
+                rec.cell.status = run.status;
+                rec.cell.steps = run.stats.steps;
+                rec.cell.statistics = run.statistics;
+                if (computes_grazing(pj.key % nx, pj.key / nx)) {
+                    const auto g = grazing(pj.m, ic, go);
+                    for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);
+                }
+                done(pj.key, std::move(rec));
+            });
     };
-    auto single = [&](long job, const map_record*) { return many(std::span<const long>(&job, 1)).front(); };
     map_result res;
     res.grazing_axis = grazing_axis;
     job_options jb = j;
     jb.batch = res_batch;
-    res.jobs = detail::run_journaled<map_record>(spec, {nx * ny, 0}, jb, job_runners{single, many}, encode, decode,
+    res.jobs = detail::run_journaled<map_record>(spec, {nx * ny, 0}, jb, job_streamer{stream}, encode, decode,
                                                  [&](long job, map_record&& r) {
         if (computes_grazing(job % nx, job / nx)) {
             res.grazing_other.push_back(grazing_axis == 1 ? o.x.values[static_cast<std::size_t>(job % nx)]

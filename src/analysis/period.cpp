@@ -83,22 +83,3 @@ classified_run run_and_classify(const model& m, const Eigen::VectorXd& x0, const
 }
 
 }  // namespace vimpact
-
-namespace vimpact {
-
-std::vector<classified_run> run_and_classify_many(const std::vector<model>& models,
-                                                  const std::vector<Eigen::VectorXd>& x0s, const protocol_options& o,
-                                                  double tol, int batch)
-{
-    check_period_tolerance(tol);
-    auto runs = simulate_many(models, x0s, o, batch);
-    std::vector<classified_run> out;
-    out.reserve(runs.size());
-    for (std::size_t j = 0; j < runs.size(); ++j) {
-        out.push_back({std::move(runs[j]), {}});
-        out.back().label = classify_period(models[j], out.back().run, tol);
-    }
-    return out;
-}
-
-}  // namespace vimpact

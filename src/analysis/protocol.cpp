@@ -105,27 +105,56 @@ int resolve_batch(const model& m, int requested)
     return requested == 0 ? lane_width : requested;
 }
 
+void simulate_stream(const model& kind, const protocol_options& o, int width, const protocol_source& next,
+                     const protocol_sink& done)
+{
+    validate(o);
+    validate(kind, o.section);
+    // A job of another model runs alone, at once; the source is then asked again.
+    auto lanes_job = [&]() -> std::optional<protocol_job> {
+        for (;;) {
+            std::optional<protocol_job> j = next();
+            if (!j || j->m.code() == kind.code()) {
+                if (j) check_state_size(kind, j->x0.size(), "the initial state");
+                return j;
+            }
+            simulation s = simulate(j->m, j->x0, o);
+            done(std::move(*j), std::move(s));
+        }
+    };
+    if (width > 1 && runs_in_lanes(kind)) {
+        detail::with_engine(kind, [&](const auto& em) {  // with_engine needs a value: 0
+            using EM = std::decay_t<decltype(em)>;
+            if constexpr (detail::lanes_engine<EM>)
+                detail::run_simulate_lanes<EM>(o, width, lanes_job, [&](protocol_job&& j, simulation&& s) {
+                    s.statistics = compute_impact_statistics(j.m, s);
+                    done(std::move(j), std::move(s));
+                });
+            return 0;
+        });
+        return;
+    }
+    while (std::optional<protocol_job> j = next()) {
+        simulation s = simulate(j->m, j->x0, o);
+        done(std::move(*j), std::move(s));
+    }
+}
+
 std::vector<simulation> simulate_many(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
                                       const protocol_options& o, int batch)
 {
     if (models.size() != x0s.size()) throw std::invalid_argument("simulate_many: one initial state per model");
-    std::vector<simulation> out;
+    std::vector<simulation> out(models.size());
     if (models.empty()) return out;
-    const bool lanes = batch > 1 && models.size() > 1 && runs_in_lanes(models[0]) &&
-                       std::all_of(models.begin(), models.end(), [&](const model& m) { return m.code() == models[0].code(); });
-    if (!lanes) {
-        for (std::size_t j = 0; j < models.size(); ++j) out.push_back(simulate(models[j], x0s[j], o));
-        return out;
-    }
-    validate(o);
-    validate(models[0], o.section);
-    for (const auto& x0 : x0s) check_state_size(models[0], x0.size(), "the initial state");
-    out = detail::with_engine(models[0], [&](const auto& em) -> std::vector<simulation> {
-        using EM = std::decay_t<decltype(em)>;
-        if constexpr (detail::lanes_engine<EM>) return detail::run_simulate_lanes<EM>(models, x0s, o);
-        else return {};
-    });
-    for (std::size_t j = 0; j < out.size(); ++j) out[j].statistics = compute_impact_statistics(models[j], out[j]);
+    std::size_t given = 0;
+    simulate_stream(
+        models[0], o, models.size() > 1 ? batch : 1,
+        [&]() -> std::optional<protocol_job> {
+            if (given == models.size()) return std::nullopt;
+            const std::size_t k = given++;
+            return protocol_job{static_cast<long>(k), models[k], x0s[k]};
+        },
+        [&](protocol_job&& j, simulation&& s) { out[static_cast<std::size_t>(j.key)] = std::move(s); });
     return out;
 }
 

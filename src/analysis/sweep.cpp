@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "admissible_jobs.hpp"
 #include "io/json_codec.hpp"
 #include "jobs/journal.hpp"
 #include "vimpact/analysis/grazing.hpp"
@@ -154,57 +155,59 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     po.flow.cancel = j.stop;
     go.cancel = j.stop;
     const int batch = o.follow ? 1 : resolve_batch(m, j.batch);
-    // Independent points of a batch run their protocols together (SIMD lanes where the model
-    // allows); a followed branch goes one point after the other.
-    auto many_from = [&](std::span<const long> jobs, const sweep_point* prev) {
-        std::vector<sweep_point> out(jobs.size());
-        std::vector<model> models;
-        std::vector<Eigen::VectorXd> x0s;
-        std::vector<std::size_t> admissible;
-        for (std::size_t k = 0; k < jobs.size(); ++k) {
-            const auto [branch, i] = plan.at(jobs[k]);
-            sweep_point& p = out[k];
+    // The points `next` gives, from the fixed start or, on a followed branch, from where the
+    // previous point `prev` ended. Independent points run their protocols together (SIMD
+    // lanes where the model allows); a followed branch goes one point after the other.
+    auto stream_from = [&](const job_source& next, const job_sink<sweep_point>& done, const sweep_point* prev) {
+        auto point_at = [&](long job) {
+            const auto [branch, i] = plan.at(job);
+            sweep_point p;
             p.branch = branch;
             p.value = o.values[static_cast<std::size_t>(i)];
-            model mv = m.with_parameter(o.parameter, p.value);
-            Eigen::VectorXd x0 = prev ? continue_from(mv, prev->final_state) : ic;
             p.grazing.assign(static_cast<std::size_t>(m.surface_count()), std::numeric_limits<double>::quiet_NaN());
-            if (violated_surface(mv, x0) >= 0) {
-                p.status = outcome::inadmissible;
-                p.label.label = std::string(to_string(p.status));
-                p.points = state_series(m.dim());
-                p.final_state = x0;
-                continue;
-            }
-            admissible.push_back(k);
-            models.push_back(std::move(mv));
-            x0s.push_back(std::move(x0));
-        }
-        auto runs = run_and_classify_many(models, x0s, po, o.period_tolerance, batch);
-        for (std::size_t a = 0; a < admissible.size(); ++a) {
-            sweep_point& p = out[admissible[a]];
-            auto& r = runs[a];
-            p.label = std::move(r.label);
-            p.status = r.run.status;
-            p.points = std::move(r.run.points);
-            p.final_state = r.run.final_state;
-            p.stats = r.run.stats;
-            p.statistics = r.run.statistics;
-            if (o.grazing_parameter >= 0) {
-                const auto g = grazing(models[a], ic, go);
-                for (std::size_t s = 0; s < g.surfaces.size(); ++s) p.grazing[s] = g.surfaces[s].parameter_value;
-            }
-        }
-        return out;
+            return p;
+        };
+        simulate_stream(
+            m, po, batch,
+            detail::admissible_jobs(
+                next,
+                [&](long job) {
+                    model mv = m.with_parameter(o.parameter, point_at(job).value);
+                    Eigen::VectorXd x0 = prev ? continue_from(mv, prev->final_state) : ic;
+                    return protocol_job{job, std::move(mv), std::move(x0)};
+                },
+                [&](protocol_job&& pj) {
+                    sweep_point p = point_at(pj.key);
+                    p.status = outcome::inadmissible;
+                    p.label.label = std::string(to_string(p.status));
+                    p.points = state_series(m.dim());
+                    p.final_state = std::move(pj.x0);
+                    done(pj.key, std::move(p));
+                }),
+            [&](protocol_job&& pj, simulation&& run) {
+                sweep_point p = point_at(pj.key);
+                p.label = classify_period(pj.m, run, o.period_tolerance);
+                p.status = run.status;
+                p.points = std::move(run.points);
+                p.final_state = run.final_state;
+                p.stats = run.stats;
+                p.statistics = run.statistics;
+                if (o.grazing_parameter >= 0) {
+                    const auto g = grazing(pj.m, ic, go);
+                    for (std::size_t s = 0; s < g.surfaces.size(); ++s) p.grazing[s] = g.surfaces[s].parameter_value;
+                }
+                done(pj.key, std::move(p));
+            });
     };
     auto single = [&](long job, const sweep_point* prev) {
-        return std::move(many_from(std::span<const long>(&job, 1), prev).front());
+        return run_alone<sweep_point>(
+            [&](const job_source& next, const job_sink<sweep_point>& done) { stream_from(next, done, prev); }, job);
     };
-    auto many = [&](std::span<const long> jobs) { return many_from(jobs, nullptr); };
+    auto stream = [&](const job_source& next, const job_sink<sweep_point>& done) { stream_from(next, done, nullptr); };
     sweep_result res;
     job_options jb = j;
     jb.batch = batch;
-    res.jobs = detail::run_journaled<sweep_point>(spec, plan.schedule(), jb, job_runners{single, many}, encode, decode,
+    res.jobs = detail::run_journaled<sweep_point>(spec, plan.schedule(), jb, job_runners{single, stream}, encode, decode,
                                                   [&](long job, sweep_point&& p) {
                                                       if (each) each(job, p);
                                                       else res.points.push_back(std::move(p));

@@ -74,8 +74,8 @@ void job_dispenser::completed(long job)
 long rank_capacity(long threads, double mean_job_seconds, long batch, double batch_seconds)
 {
     batch = std::max(1L, batch);
-    // Both bounds are whole batches: 2 batch >= 4 for batch >= 2.
-    const long least = std::max(4L, 2 * batch) * threads, most = std::max(64L / batch, 2L) * batch * threads;
+    // Both bounds are whole batches.
+    const long least = 4 * batch * threads, most = std::max(64L / batch, 4L) * batch * threads;
     if (!(mean_job_seconds > 0.0)) return least;
     const double want = static_cast<double>(threads) * batch_seconds / mean_job_seconds;
     return want >= static_cast<double>(most) ? most : std::max(least, static_cast<long>(want) / batch * batch);

@@ -59,9 +59,5 @@ struct classified_run {
 // The protocol, then the classification of its points.
 classified_run run_and_classify(const model& m, const Eigen::VectorXd& x0, const protocol_options& o, double tol);
 
-// The same for several jobs (simulate_many: in SIMD lanes with batch > 1 where the model allows).
-std::vector<classified_run> run_and_classify_many(const std::vector<model>& models,
-                                                  const std::vector<Eigen::VectorXd>& x0s, const protocol_options& o,
-                                                  double tol, int batch);
 
 }  // namespace vimpact

@@ -8,6 +8,7 @@
 // 2000 time units, is about 318 wake periods of the paper's model and far longer than the
 // gaps between impacts of any impacting orbit we have seen (< 100).
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -105,9 +106,27 @@ struct simulation {
 // inadmissible initial state; numerical trouble is reported in result.status.
 simulation simulate(const model& m, const Eigen::VectorXd& x0, const protocol_options& o);
 
-// The protocol for several jobs: models[j] (one model with other parameter values) from
-// x0s[j]. With batch > 1 and a model that runs in SIMD lanes (runs_in_lanes) the jobs share
-// the lanes; each result is the one simulate() gives, bit for bit. Otherwise one at a time.
+// One job of a protocol stream: a model, its initial state and the caller's key for it.
+struct protocol_job {
+    long key = 0;
+    model m;
+    Eigen::VectorXd x0;
+};
+// Gives the next job, or none for now (a later call may give more).
+using protocol_source = std::function<std::optional<protocol_job>()>;
+// Receives each job with its run, as the run ends.
+using protocol_sink = std::function<void(protocol_job&&, simulation&&)>;
+
+// The protocol for every job `next` gives, until it gives none while no job is running;
+// each result goes to `done` as its run ends (not in the order given). Jobs whose model is
+// `kind` with other parameter values share SIMD lanes, up to `width` at once (at most
+// lane_width), when the model runs in lanes (runs_in_lanes); a lane whose run ends takes the
+// next job. Every result is the one simulate() gives, bit for bit. Other jobs, and every job
+// when width is 1, run one at a time. Throws input_error as simulate() does.
+void simulate_stream(const model& kind, const protocol_options& o, int width, const protocol_source& next,
+                     const protocol_sink& done);
+
+// The protocol for several jobs, models[j] from x0s[j] (simulate_stream), results in order.
 std::vector<simulation> simulate_many(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
                                       const protocol_options& o, int batch);
 

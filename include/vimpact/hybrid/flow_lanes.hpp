@@ -7,8 +7,9 @@
 // Whatever follows an accepted step (events, impacts, resets, the chattering rule, the
 // observer) is the scalar hybrid flow of that lane, unchanged: the lane hands the step to its
 // flow's integrator (accept_external) and the flow goes on from there. A lane in a contact
-// phase steps on its own until it is released. A lane whose job ends takes the next job, so
-// lanes stay busy when jobs differ in length.
+// phase steps on its own until it is released. A lane whose job ends takes the next job from
+// its source (in the job loop, the queue all the threads share), so lanes stay busy when jobs
+// differ in length.
 //
 // What a definition needs: D::lanes_definition, the same definition with its parameters held
 // as lanes and constructible from them; its vector field must compile for T = lanes
@@ -96,14 +97,19 @@ lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const
 
 }  // namespace detail
 
-// Runs jobs 0 .. count - 1 of native_model<D> in lanes.
+// Runs the jobs `next` gives, up to `width` of them at once (at most lane_width), in lanes.
+//   next() -> std::optional<long>: the next job, or none for now. A lane whose job ends asks
+//     again, and so do the empty lanes then, so a source that had none may still give more
+//     (jobs handed out while these run); the call returns when every lane is empty after a
+//     none;
 //   start(job) -> std::unique_ptr<Run>: a run set up at its initial state; Run has members
 //     `flow` (hybrid_flow<native_model<D>, Method>), `obs` (its observer) and
 //     finish(outcome) -> Result;
 //   parameters(job) -> the job's parameter values (std::span<const double> or a vector);
 //   done(job, Result&&): called as jobs end, in the order they end.
-template <model_definition D, template <int, class = double> class Method, class Start, class Parameters, class Done>
-void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& done)
+template <model_definition D, template <int, class = double> class Method, class Next, class Start, class Parameters,
+          class Done>
+void run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters, Done&& done)
 {
     constexpr int N = definition_dim<D>;
     constexpr int W = lane_width;
@@ -126,7 +132,7 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
     std::optional<typename D::lanes_definition> def;
     bool params_changed = true;
     lane_method method;
-    long next = 0;
+    const int used = std::clamp(width, 1, W);
     int active = 0;
 
     // The stages of lane j, for its interpolant (adaptive_integrator::stage_source).
@@ -174,10 +180,13 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
         s.job = -1;
         --active;
     };
+    // Gives lane j the next job that does not end at once; false when the source has none.
     auto fill = [&](int j) {
         auto& s = slots[static_cast<std::size_t>(j)];
-        while (next < count) {
-            const long job = next++;
+        for (;;) {
+            const std::optional<long> taken = next();
+            if (!taken) return false;
+            const long job = *taken;
             s.run = start(job);
             s.job = job;
             s.rejected_before = false;
@@ -189,12 +198,47 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
             }
             set_parameters(j, job);
             load(j);
-            return;
+            return true;
         }
     };
-    for (int j = 0; j < W; ++j) fill(j);
+    // After a job ends: its lane, and any lane a source without jobs left empty before.
+    bool dry = false;  // the source had no job for an empty lane
+    auto refill = [&] {
+        dry = false;
+        for (int j = 0; j < used; ++j)
+            if (!slots[static_cast<std::size_t>(j)].run && !fill(j)) {
+                dry = true;
+                return;
+            }
+    };
+    // One step of lane j by its own flow; the outcome when the run ends.
+    auto step_alone = [&](int j) {
+        auto& r = *slots[static_cast<std::size_t>(j)].run;
+        const step_status st = r.flow.step(r.obs);
+        std::optional<outcome> o = r.flow.step_taken(st, r.obs);
+        if (!o) o = r.flow.limit_reached();
+        return o;
+    };
+    refill();
 
     while (active > 0) {
+        // Fewer than half the lanes busy and no job for the others: a trial of all the lanes
+        // then costs more than the busy ones' trials alone (8 lanes of AVX-512 cost about 3.6
+        // scalar trials, 4 of AVX2 2.6: bench/lanes_bench.cpp's speed-ups), so each lane
+        // finishes on its own, between two steps (not after a rejected trial, whose step the
+        // lanes' controller finishes), with the bits it has in lanes.
+        if (dry && 2 * active < W) {
+            for (int j = 0; j < W; ++j) {
+                if (!slots[static_cast<std::size_t>(j)].run || RB[j] != 0.0) continue;
+                std::optional<outcome> o;
+                while (!(o = step_alone(j))) {
+                }
+                finish(j, *o);
+            }
+            refill();
+            // What is left is lanes after a rejected trial: one more trial below.
+            if (active == 0) break;
+        }
         // Lanes in a contact phase step on their own; the others take a free step together.
         unsigned free_lanes = 0;
         for (int j = 0; j < W; ++j) {
@@ -202,12 +246,9 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
             if (!s.run) continue;
             auto& flow = s.run->flow;
             if (flow.mode() != flow_mode::free) {
-                const step_status st = flow.step(s.run->obs);
-                std::optional<outcome> o = flow.step_taken(st, s.run->obs);
-                if (!o) o = flow.limit_reached();
-                if (o) {
+                if (const std::optional<outcome> o = step_alone(j)) {
                     finish(j, *o);
-                    fill(j);
+                    refill();
                 }
                 continue;
             }
@@ -306,7 +347,7 @@ void run_in_lanes(long count, Start&& start, Parameters&& parameters, Done&& don
             if (o) {
                 finish(j, *o);
                 RB[j] = 0.0;
-                fill(j);
+                refill();
             }
         }
     }

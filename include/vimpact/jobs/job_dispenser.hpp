@@ -17,10 +17,10 @@ namespace vimpact {
 // The jobs a rank of `threads` threads holds at most (running and queued; it asks for more
 // when it holds half): four per thread, or, when its jobs are short, enough for about
 // `batch_seconds` of work, so that its requests and reports (which carry its results) stay
-// few per second whatever the job's length; at most 64 per thread. Threads that take `batch`
-// jobs at a time (SIMD lanes) hold at least two batches each, and the capacity is a whole
-// number of batches: what the rank asks for then fills its lanes (a batch short of a job
-// costs a lanes run as much as a full one). mean_job_seconds <= 0: not known yet.
+// few per second whatever the job's length; at most 64 per thread. Threads that run `batch`
+// jobs at a time (SIMD lanes) hold at least four batches each, so that when the rank asks
+// (holding half) a batch still waits behind full lanes and no lane idles for the answer; the
+// capacity is a whole number of batches. mean_job_seconds <= 0: not known yet.
 long rank_capacity(long threads, double mean_job_seconds, long batch = 1, double batch_seconds = 0.1);
 
 // The window of a run on several ranks, per computing thread of all ranks: room for every

@@ -56,12 +56,12 @@ namespace vimpact {
 struct job_loop_options {
     int threads = 0;   // per rank; 0: this machine's cores shared among its ranks
     shard_spec shard{};
-    long window = 0;   // 0: 8 per computing thread (ranks_window_per_thread with several ranks)
+    long window = 0;   // 0: 8 per computing thread (ranks_window_per_thread with several ranks; 16 batches with lanes)
     const std::atomic<bool>* stop = nullptr;
     std::function<void(long done, long total)> progress;  // called after each delivery
     std::shared_ptr<job_ranks> ranks;                      // null: this process alone
-    // Jobs a thread takes at once (independent jobs only), for a Run with a `many` member
-    // (job_runners): several jobs integrated together in SIMD lanes. 1: one at a time.
+    // Jobs a thread runs at once in its SIMD lanes (a Run with a `stream` member, job_runners,
+    // independent jobs only): the unit in which jobs are handed out and held. 1: one at a time.
     long batch = 1;
     // Each job's cost: the CPU time of the thread that ran it, which a busy machine does not
     // inflate as it does the wall time (called from the computing threads).
@@ -117,25 +117,97 @@ job_loop_io<Record> finished_in(const std::unordered_map<long, Record>& done)
     return io;
 }
 
-// A Run that can also take several independent jobs at once:
-//   single(job, const Record* predecessor_or_null) -> Record;
-//   many(std::span<const long> jobs) -> std::vector<Record> (in the order of `jobs`).
-template <class Single, class Many>
+// Where a stream runner takes its jobs and leaves its results: next() gives the next job,
+// or none for now (a later call may give more); done(job, record) as each job ends.
+using job_source = std::function<std::optional<long>()>;
+template <class Record>
+using job_sink = std::function<void(long, Record&&)>;
+
+// A Run that takes independent jobs as its SIMD lanes free up, from the queue all the threads
+// of a rank share (so no lane waits for the slowest job of a fixed batch):
+//   stream(const job_source&, const job_sink<Record>&): takes jobs until the source gives
+//     none while it has none running, and hands each result over as it ends;
+//   single(job, const Record* predecessor_or_null) -> Record: jobs that continue from
+//     another (chains), one at a time.
+template <class Single, class Stream>
 struct job_runners {
     Single single;
-    Many many;
+    Stream stream;
 };
-template <class Single, class Many>
-job_runners(Single, Many) -> job_runners<Single, Many>;
+template <class Single, class Stream>
+job_runners(Single, Stream) -> job_runners<Single, Stream>;
+
+// A stream runner for lists without chains.
+template <class Stream>
+struct job_streamer {
+    Stream stream;
+};
+template <class Stream>
+job_streamer(Stream) -> job_streamer<Stream>;
+
+// One job through a stream runner's stream(source, sink).
+template <class Record, class Stream>
+Record run_alone(Stream&& stream, long job)
+{
+    bool given = false;
+    std::optional<Record> r;
+    stream(job_source([&]() -> std::optional<long> {
+               if (given) return std::nullopt;
+               given = true;
+               return job;
+           }),
+           job_sink<Record>([&](long, Record&& x) { r.emplace(std::move(x)); }));
+    if (!r) throw std::logic_error("a stream runner ended without its job's result");
+    return std::move(*r);
+}
 
 namespace detail {
 
 template <class Record, class Run>
 Record run_one(Run& run, long job, const Record* pred)
 {
-    if constexpr (requires { run.single; }) return run.single(job, pred);
-    else return run(job, pred);
+    if constexpr (requires { run.single; }) {
+        return run.single(job, pred);
+    } else if constexpr (requires { run.stream; }) {
+        if (pred) throw std::logic_error("a stream runner was given a chained job");
+        return run_alone<Record>(run.stream, job);
+    } else {
+        return run(job, pred);
+    }
 }
+
+// The share of a thread's time each of its running jobs gets: the time between two events
+// (a job taken or ended) split evenly among the jobs running then, so that jobs sharing SIMD
+// lanes are each charged for their part, CPU and wall clock.
+class job_shares {
+public:
+    void begin(long job)
+    {
+        advance();
+        m_open.push_back({job, 0.0, 0.0});
+    }
+    // The job's CPU and wall seconds.
+    std::pair<double, double> end(long job)
+    {
+        advance();
+        const auto it = std::find_if(m_open.begin(), m_open.end(), [job](const open_job& o) { return o.job == job; });
+        if (it == m_open.end()) throw std::logic_error("a stream runner ended a job it was not given");
+        const std::pair<double, double> r(it->cpu, it->wall);
+        m_open.erase(it);
+        return r;
+    }
+    [[nodiscard]] long open() const { return static_cast<long>(m_open.size()); }
+
+private:
+    struct open_job {
+        long job;
+        double cpu, wall;
+    };
+    void advance();
+
+    std::vector<open_job> m_open;
+    double m_cpu = 0.0, m_wall = 0.0;
+};
 
 // The messages between ranks (tags of job_ranks::send).
 enum rank_tag : int {
@@ -189,6 +261,21 @@ inline double thread_seconds()
     return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+inline void job_shares::advance()
+{
+    const double cpu = thread_seconds();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    if (!m_open.empty()) {
+        const double n = static_cast<double>(m_open.size());
+        for (open_job& o : m_open) {
+            o.cpu += (cpu - m_cpu) / n;
+            o.wall += (wall - m_wall) / n;
+        }
+    }
+    m_cpu = cpu;
+    m_wall = wall;
+}
+
 template <class Record, class Run>
 class job_pool {
 public:
@@ -239,7 +326,7 @@ public:
         const std::lock_guard lock(m_mutex);
         return m_failure;
     }
-    // Jobs a thread takes at once (to share its SIMD lanes).
+    // Jobs a thread runs at once (in its SIMD lanes).
     [[nodiscard]] long batch() const { return m_batch; }
     // Queued and running jobs.
     [[nodiscard]] long held() const
@@ -270,17 +357,9 @@ private:
             // The stop flag is set from a signal handler, which cannot notify: poll it.
             while (!stopping() && m_queue.empty() && !m_closing) m_changed.wait_for(lock, std::chrono::milliseconds(50));
             if (stopping() || m_queue.empty()) break;
-            if constexpr (requires(Run& r, std::span<const long> js) { r.many(js); }) {
-                // Several jobs without predecessors at once, in lanes.
-                std::vector<long> jobs;
-                while (static_cast<long>(jobs.size()) < m_batch && !m_queue.empty() && !m_queue.front().predecessor) {
-                    jobs.push_back(m_queue.front().job);
-                    m_queue.pop_front();
-                }
-                if (jobs.size() == 1) {
-                    m_queue.push_front(item{jobs.front(), std::nullopt});
-                } else if (!jobs.empty()) {
-                    run_many(lock, jobs);
+            if constexpr (requires { m_run.stream; }) {
+                if (!m_queue.front().predecessor) {
+                    run_stream(lock);
                     continue;
                 }
             }
@@ -314,33 +393,42 @@ private:
         m_changed.notify_all();
     }
 
-    // Jobs in lanes (called and returning with the lock held); each job's time is its share.
-    void run_many(std::unique_lock<std::mutex>& lock, const std::vector<long>& jobs)
+    // Independent jobs from the queue, as the runner's lanes free up (called and returning
+    // with the lock held); each job's time is its share of the thread's (job_shares).
+    void run_stream(std::unique_lock<std::mutex>& lock)
     {
-        const auto n = static_cast<long>(jobs.size());
-        m_busy += n;
         lock.unlock();
-        std::vector<Record> results;
+        job_shares shares;
+        auto next = [&]() -> std::optional<long> {
+            const std::lock_guard g(m_mutex);
+            if (stopping() || m_queue.empty() || m_queue.front().predecessor) return std::nullopt;
+            const long job = m_queue.front().job;
+            m_queue.pop_front();
+            ++m_busy;
+            shares.begin(job);
+            return job;
+        };
+        auto done = [&](long job, Record&& r) {
+            const auto [cpu, wall] = shares.end(job);
+            if (m_timed) m_timed(job, cpu);
+            const std::lock_guard g(m_mutex);
+            --m_busy;
+            m_wall += wall;
+            ++m_done;
+            // As for a job alone (work): a job running when the stop flag was set may have
+            // been cut short, and is not a result.
+            if (!stopping()) m_inbox.emplace_back(job, std::move(r));
+            m_changed.notify_all();
+        };
         std::exception_ptr failure;
-        const double t0 = m_timed ? thread_seconds() : 0.0;
-        const auto w0 = std::chrono::steady_clock::now();
         try {
-            results = m_run.many(std::span<const long>(jobs));
+            m_run.stream(job_source(next), job_sink<Record>(done));
         } catch (...) {
             failure = std::current_exception();
         }
-        if (m_timed && !failure) {
-            const double each = (thread_seconds() - t0) / static_cast<double>(n);
-            for (const long j : jobs) m_timed(j, each);
-        }
-        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
         lock.lock();
-        m_busy -= n;
-        m_wall += wall;
-        m_done += n;
+        m_busy -= shares.open();  // taken, never ended: the runner failed
         if (failure && !m_failure) m_failure = failure;
-        if (!failure && !stopping())
-            for (long k = 0; k < n; ++k) m_inbox.emplace_back(jobs[static_cast<std::size_t>(k)], std::move(results[static_cast<std::size_t>(k)]));
         m_changed.notify_all();
     }
 
@@ -533,9 +621,13 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
     long all_threads = 0;
     for (const long t : rank_threads) all_threads += t;
     const long batch = schedule.chained() ? 1L : std::max(1L, opt.batch);
-    // Room for every thread's batch twice over.
-    const long window = std::max(opt.window > 0 ? opt.window : (nranks > 1 ? ranks_window_per_thread : 8L) * all_threads,
-                                 2L * batch * all_threads);
+    // The own threads hold `hold` batches each: with lanes, three, so that a batch still waits
+    // behind full lanes when they are topped up. The window has room for that, and by default,
+    // with lanes, for 16 batches per thread: a lane's slow job (near grazing, 8 times the mean)
+    // must not hold the others back while they run a hundred jobs past it.
+    const long hold = batch > 1 ? 3 : 2;
+    const long per_thread = std::max(nranks > 1 ? ranks_window_per_thread : 8L, batch > 1 ? 16 * batch : 0L);
+    const long window = std::max(opt.window > 0 ? opt.window : per_thread * all_threads, hold * batch * all_threads);
     // With shards a window of jobs spans fewer of this shard's: widen it by the shard count.
     job_dispenser dispenser(schedule, todo, todo_count, window * opt.shard.count, all_threads, 2, batch);
 
@@ -655,9 +747,9 @@ job_loop_summary run_jobs(const job_schedule& schedule, const job_loop_options& 
             if (remote_left == 0 || std::chrono::steady_clock::now() > *stop_deadline) break;
         } else {
             // Hand out: the own threads first (no message), then the ranks that asked. The
-            // own threads hold two batches each (a batch: the jobs a thread runs together in
+            // own threads hold `hold` batches each (a batch: the jobs a thread runs together in
             // its SIMD lanes), and are topped up a whole batch at a time.
-            const long own_want = 2L * batch * own_threads - pool.held();
+            const long own_want = hold * batch * own_threads - pool.held();
             if (own_want >= std::max(batch, static_cast<long>(own_threads))) {
                 auto jobs = dispenser.grant(own_want);
                 if (!jobs.empty()) {
