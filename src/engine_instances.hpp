@@ -34,7 +34,8 @@ inline constexpr bool lanes_engine = lanes_engine_t<EM>::value;
 // The protocol for the jobs `next` gives (models of the engine model EM, differing in their
 // parameters), up to `width` at once in SIMD lanes (simulate_stream).
 template <class EM>
-void run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next, const protocol_sink& done);
+lanes_counts run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next,
+                                const protocol_sink& done);
 
 template <class EM>
 grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazing_options& o);

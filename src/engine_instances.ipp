@@ -33,14 +33,15 @@ simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_
 }
 
 template <class EM>
-void run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next, const protocol_sink& done)
+lanes_counts run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next,
+                                const protocol_sink& done)
 {
     using D = typename EM::definition_type;
     // The jobs in the lanes, by the number run_in_lanes knows them by.
     std::unordered_map<long, protocol_job> running;
     long taken = 0;
     auto run = [&]<template <int, class = double> class M>() {
-        run_in_lanes<D, M>(
+        return run_in_lanes<D, M>(
             width,
             [&]() -> std::optional<long> {
                 std::optional<protocol_job> j = next();
@@ -58,8 +59,8 @@ void run_simulate_lanes(const protocol_options& o, int width, const protocol_sou
                 done(std::move(node.mapped()), std::move(s));
             });
     };
-    if (o.method == integration_method::dopri5) run.template operator()<dopri5>();
-    else run.template operator()<dop853>();
+    if (o.method == integration_method::dopri5) return run.template operator()<dopri5>();
+    return run.template operator()<dop853>();
 }
 
 template <class EM>
@@ -110,9 +111,8 @@ lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyap
 
 // For an engine model that runs in SIMD lanes (lanes_engine<EM>), besides the above.
 #define VIMPACT_INSTANTIATE_LANES(EM)                                                                            \
-    template void vimpact::detail::run_simulate_lanes<EM>(const vimpact::protocol_options&, int,                   \
-                                                          const vimpact::protocol_source&,                       \
-                                                          const vimpact::protocol_sink&);
+    template vimpact::lanes_counts vimpact::detail::run_simulate_lanes<EM>(                                      \
+        const vimpact::protocol_options&, int, const vimpact::protocol_source&, const vimpact::protocol_sink&);
 
 #define VIMPACT_INSTANTIATE_ENGINE(EM)                                                                           \
     template vimpact::simulation vimpact::detail::run_simulate<EM>(const EM&, const Eigen::VectorXd&,            \

@@ -349,6 +349,68 @@ TEST(JobLoopRanks, StreamRunnersRefillTheirLanesFromTheSharedQueue)
     }
 }
 
+// A stream runner's failure, on rank 0's threads or another rank's, ends the run with its
+// error on every rank; a stop takes no new job into the lanes and delivers, in order, only
+// what ended before it.
+TEST(JobLoopRanks, AStreamRunnersFailureOrStopEndsTheRun)
+{
+    constexpr long batch = 8;
+    const job_schedule s{300, 0};
+    for (const int ranks : {1, 2}) {
+        job_loop_options o;
+        o.threads = 1;
+        o.batch = batch;
+        lanes_log log;
+        auto lanes = lanes_stream(batch, log);
+        const vimpact::job_streamer failing{[&](const vimpact::job_source& next, const vimpact::job_sink<double>& done) {
+            lanes(
+                [&]() -> std::optional<long> {
+                    const std::optional<long> j = next();
+                    if (j && *j == 137) throw vimpact::input_error("job 137 failed");
+                    return j;
+                },
+                done);
+        }};
+        if (ranks == 1) {
+            EXPECT_THROW(run_jobs<double>(s, o, {}, failing, [](long, double&&) {}), vimpact::input_error);
+        } else {
+            const auto r = run_ranks(ranks, s, o, failing);
+            EXPECT_NE(r.errors[0].find("job 137 failed"), std::string::npos) << r.errors[0];
+        }
+    }
+    std::atomic<bool> stop{false};
+    job_loop_options o;
+    o.threads = 2;
+    o.batch = batch;
+    o.stop = &stop;
+    lanes_log log;
+    auto lanes = lanes_stream(batch, log);
+    std::mutex mutex;
+    std::set<long> ended_before_stop;
+    const vimpact::job_streamer stopping{[&](const vimpact::job_source& next, const vimpact::job_sink<double>& done) {
+        lanes(
+            [&]() -> std::optional<long> {
+                const std::optional<long> j = next();
+                if (j && *j == 100) stop.store(true);
+                return j;
+            },
+            [&](long j, double&& v) {
+                if (!stop.load()) {
+                    const std::lock_guard lock(mutex);
+                    ended_before_stop.insert(j);
+                }
+                done(j, std::move(v));
+            });
+    }};
+    std::vector<long> got;
+    const auto summary = run_jobs<double>(s, o, {}, stopping, [&](long j, double&&) { got.push_back(j); });
+    EXPECT_TRUE(summary.stopped);
+    EXPECT_GE(got.size(), 40u);
+    EXPECT_LT(got.size(), 100u);
+    EXPECT_TRUE(std::is_sorted(got.begin(), got.end()));
+    for (const long j : got) EXPECT_TRUE(ended_before_stop.count(j)) << "job " << j << " ended after the stop";
+}
+
 // A job that continues from another goes to the runner's `single`, the others to its stream.
 TEST(JobLoop, ChainedJobsOfAStreamRunnerRunAlone)
 {
@@ -455,9 +517,8 @@ TEST(JobLoopRanks, AJobsFailureOnAnyRankReachesRankZeroAndEveryRankEnds)
 }
 
 // ---- the dispenser's grants and a rank's capacity --------------------------------------
-// A thread running SIMD lanes takes `batch` jobs at a time and a lanes run costs as much one
-// job short as full: grants and capacities come in whole batches, and only the end of the
-// list is handed out in a smaller piece.
+// Jobs for SIMD lanes are handed out and held in whole batches (a rank's request then keeps
+// its lanes full with a batch to spare), and only the end of the list in a smaller piece.
 
 TEST(JobDispenser, GrantsWholeGranulesUntilTheListEndsAndEveryJobOnce)
 {

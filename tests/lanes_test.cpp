@@ -153,9 +153,9 @@ TEST(Lanes, PaperModelJobsEqualTheirScalarRunsBitForBit)
 
 // The job loop's queue can be empty for a moment (between two top-ups): a source that then
 // has no job leaves lanes empty, and when fewer than half the lanes are busy the jobs left
-// finish on their own, from wherever they are (between two steps). This source fills six
-// lanes, then gives nothing until three are left, so that the three finish on their own
-// mid-run, over and over; every job still gets the bits it gets alone.
+// step on their own, from wherever they are (between two steps). This source fills three
+// quarters of the lanes, then gives nothing until fewer than half are busy, so that those
+// step on their own mid-run, over and over; every job still gets the bits it gets alone.
 TEST(Lanes, JobsThatFinishOnTheirOwnWhenTheSourceRunsDryKeepTheirBits)
 {
     if (!runs_in_lanes(model::builtin("wake_impact"))) GTEST_SKIP() << "this build has no SIMD lanes";
@@ -176,19 +176,20 @@ TEST(Lanes, JobsThatFinishOnTheirOwnWhenTheSourceRunsDryKeepTheirBits)
         std::size_t given = 0, ended = 0;
         bool draining = false;
         long cycles = 0;
-        simulate_stream(
+        constexpr std::size_t fill_to = 3 * lane_width / 4, drain_to = lane_width / 2 - 1;
+        const lanes_counts counts = simulate_stream(
             m, po, lane_width,
             [&]() -> std::optional<protocol_job> {
                 const std::size_t running = given - ended;
                 if (given == models.size()) return std::nullopt;
                 if (draining) {
-                    if (running <= 3) {
+                    if (running <= drain_to) {
                         draining = false;
                         ++cycles;
                     }
                     return std::nullopt;
                 }
-                if (running >= 6) {
+                if (running >= fill_to) {
                     draining = true;
                     return std::nullopt;
                 }
@@ -201,6 +202,8 @@ TEST(Lanes, JobsThatFinishOnTheirOwnWhenTheSourceRunsDryKeepTheirBits)
             });
         ASSERT_EQ(given, models.size()) << "the stream ended before its source did";
         EXPECT_GT(cycles, 5);
+        EXPECT_GT(counts.steps_alone, 0) << "no lane stepped on its own";
+        EXPECT_GT(counts.lane_trials, 0);
         for (std::size_t j = 0; j < models.size(); ++j)
             expect_same_run(simulate(models[j], m.initial_state(), po), got[j], "job " + std::to_string(j));
     }

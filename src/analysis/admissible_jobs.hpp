@@ -11,11 +11,11 @@
 namespace vimpact::detail {
 
 // make(job) -> protocol_job; inadmissible(protocol_job&&): the job whose initial state lies
-// beyond a surface. `next` must outlive the source.
+// beyond a surface.
 template <class Make, class Inadmissible>
-protocol_source admissible_jobs(const job_source& next, Make make, Inadmissible inadmissible)
+protocol_source admissible_jobs(job_source next, Make make, Inadmissible inadmissible)
 {
-    return [&next, make, inadmissible]() -> std::optional<protocol_job> {
+    return [next = std::move(next), make, inadmissible]() -> std::optional<protocol_job> {
         for (;;) {
             const std::optional<long> job = next();
             if (!job) return std::nullopt;

@@ -105,8 +105,8 @@ int resolve_batch(const model& m, int requested)
     return requested == 0 ? lane_width : requested;
 }
 
-void simulate_stream(const model& kind, const protocol_options& o, int width, const protocol_source& next,
-                     const protocol_sink& done)
+lanes_counts simulate_stream(const model& kind, const protocol_options& o, int width, const protocol_source& next,
+                             const protocol_sink& done)
 {
     validate(o);
     validate(kind, o.section);
@@ -123,21 +123,22 @@ void simulate_stream(const model& kind, const protocol_options& o, int width, co
         }
     };
     if (width > 1 && runs_in_lanes(kind)) {
-        detail::with_engine(kind, [&](const auto& em) {  // with_engine needs a value: 0
+        std::optional<lanes_counts> counts = detail::with_engine(kind, [&](const auto& em) -> std::optional<lanes_counts> {
             using EM = std::decay_t<decltype(em)>;
             if constexpr (detail::lanes_engine<EM>)
-                detail::run_simulate_lanes<EM>(o, width, lanes_job, [&](protocol_job&& j, simulation&& s) {
+                return detail::run_simulate_lanes<EM>(o, width, lanes_job, [&](protocol_job&& j, simulation&& s) {
                     s.statistics = compute_impact_statistics(j.m, s);
                     done(std::move(j), std::move(s));
                 });
-            return 0;
+            else return std::nullopt;  // runs_in_lanes says it cannot happen; one at a time below
         });
-        return;
+        if (counts) return *counts;
     }
     while (std::optional<protocol_job> j = next()) {
         simulation s = simulate(j->m, j->x0, o);
         done(std::move(*j), std::move(s));
     }
+    return {};
 }
 
 std::vector<simulation> simulate_many(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
@@ -146,6 +147,7 @@ std::vector<simulation> simulate_many(const std::vector<model>& models, const st
     if (models.size() != x0s.size()) throw std::invalid_argument("simulate_many: one initial state per model");
     std::vector<simulation> out(models.size());
     if (models.empty()) return out;
+    for (std::size_t k = 0; k < models.size(); ++k) check_state_size(models[k], x0s[k].size(), "the initial state");
     std::size_t given = 0;
     simulate_stream(
         models[0], o, models.size() > 1 ? batch : 1,

@@ -172,7 +172,7 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
             detail::admissible_jobs(
                 next,
                 [&](long job) {
-                    model mv = m.with_parameter(o.parameter, point_at(job).value);
+                    model mv = m.with_parameter(o.parameter, o.values[static_cast<std::size_t>(plan.at(job).second)]);
                     Eigen::VectorXd x0 = prev ? continue_from(mv, prev->final_state) : ic;
                     return protocol_job{job, std::move(mv), std::move(x0)};
                 },

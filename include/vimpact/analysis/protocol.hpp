@@ -20,6 +20,7 @@
 #include "vimpact/core/outcome.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/flow.hpp"
+#include "vimpact/hybrid/lanes_counts.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/model/model.hpp"
 
@@ -122,8 +123,9 @@ using protocol_sink = std::function<void(protocol_job&&, simulation&&)>;
 // `kind` with other parameter values share SIMD lanes, up to `width` at once (at most
 // lane_width), when the model runs in lanes (runs_in_lanes); a lane whose run ends takes the
 // next job. Every result is the one simulate() gives, bit for bit. Other jobs, and every job
-// when width is 1, run one at a time. Throws input_error as simulate() does.
-void simulate_stream(const model& kind, const protocol_options& o, int width, const protocol_source& next,
+// when width is 1, run one at a time. Returns how the lanes were used (zero without lanes).
+// Throws input_error as simulate() does.
+lanes_counts simulate_stream(const model& kind, const protocol_options& o, int width, const protocol_source& next,
                      const protocol_sink& done);
 
 // The protocol for several jobs, models[j] from x0s[j] (simulate_stream), results in order.

@@ -25,6 +25,7 @@
 
 #include "vimpact/core/lanes.hpp"
 #include "vimpact/hybrid/flow.hpp"
+#include "vimpact/hybrid/lanes_counts.hpp"
 #include "vimpact/model/native_model.hpp"
 
 namespace vimpact {
@@ -109,7 +110,7 @@ lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const
 //   done(job, Result&&): called as jobs end, in the order they end.
 template <model_definition D, template <int, class = double> class Method, class Next, class Start, class Parameters,
           class Done>
-void run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters, Done&& done)
+lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters, Done&& done)
 {
     constexpr int N = definition_dim<D>;
     constexpr int W = lane_width;
@@ -134,6 +135,7 @@ void run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters
     lane_method method;
     const int used = std::clamp(width, 1, W);
     int active = 0;
+    lanes_counts counts;
 
     // The stages of lane j, for its interpolant (adaptive_integrator::stage_source).
     struct stage_context {
@@ -223,20 +225,29 @@ void run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters
 
     while (active > 0) {
         // Fewer than half the lanes busy and no job for the others: a trial of all the lanes
-        // then costs more than the busy ones' trials alone (8 lanes of AVX-512 cost about 3.6
-        // scalar trials, 4 of AVX2 2.6: bench/lanes_bench.cpp's speed-ups), so each lane
-        // finishes on its own, between two steps (not after a rejected trial, whose step the
-        // lanes' controller finishes), with the bits it has in lanes.
+        // then costs more than the busy ones' trials alone (a trial of 8 AVX-512 lanes costs
+        // about 3.9 scalar trials, of 4 AVX2 lanes 2.4: bench/output/lanes_isa.jsonl's
+        // speed-ups), so each lane between two steps (not after a rejected trial, whose step the
+        // lanes' controller finishes) steps on its own, with the bits it has in lanes, for a
+        // slice of steps; then the source is asked again, and the lanes go on together from
+        // where their flows are, with the jobs that came meanwhile if any.
         if (dry && 2 * active < W) {
+            constexpr int slice = 256;
+            std::array<bool, W> alone{};
             for (int j = 0; j < W; ++j) {
                 if (!slots[static_cast<std::size_t>(j)].run || RB[j] != 0.0) continue;
-                std::optional<outcome> o;
-                while (!(o = step_alone(j))) {
+                for (int k = 0; k < slice; ++k) {
+                    ++counts.steps_alone;
+                    if (const std::optional<outcome> o = step_alone(j)) {
+                        finish(j, *o);
+                        break;
+                    }
                 }
-                finish(j, *o);
+                alone[static_cast<std::size_t>(j)] = slots[static_cast<std::size_t>(j)].run != nullptr;
             }
             refill();
-            // What is left is lanes after a rejected trial: one more trial below.
+            for (int j = 0; j < W; ++j)
+                if (alone[static_cast<std::size_t>(j)] && slots[static_cast<std::size_t>(j)].run) load(j);
             if (active == 0) break;
         }
         // Lanes in a contact phase step on their own; the others take a free step together.
@@ -279,6 +290,7 @@ void run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters
             f[i] = lanes::load(F[i]);
         }
         const auto& field = *def;
+        ++counts.lane_trials;
         const lanes err2 = method.attempt([&field](const lvec& y) { return lvec(field.derivatives(y)); }, x, f, plan.h,
                                          io.rtol, io.atol, xn, fn);
         lane_mask finite = is_finite(err2);
@@ -351,6 +363,7 @@ void run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters
             }
         }
     }
+    return counts;
 }
 
 }  // namespace vimpact

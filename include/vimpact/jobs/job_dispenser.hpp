@@ -17,7 +17,7 @@ namespace vimpact {
 // The jobs a rank of `threads` threads holds at most (running and queued; it asks for more
 // when it holds half): four per thread, or, when its jobs are short, enough for about
 // `batch_seconds` of work, so that its requests and reports (which carry its results) stay
-// few per second whatever the job's length; at most 64 per thread. Threads that run `batch`
+// few per second whatever the job's length; at most 64 (or four batches) per thread. Threads that run `batch`
 // jobs at a time (SIMD lanes) hold at least four batches each, so that when the rank asks
 // (holding half) a batch still waits behind full lanes and no lane idles for the answer; the
 // capacity is a whole number of batches. mean_job_seconds <= 0: not known yet.

@@ -56,15 +56,19 @@ namespace vimpact {
 struct job_loop_options {
     int threads = 0;   // per rank; 0: this machine's cores shared among its ranks
     shard_spec shard{};
-    long window = 0;   // 0: 8 per computing thread (ranks_window_per_thread with several ranks; 16 batches with lanes)
+    // 0: 8 per computing thread (ranks_window_per_thread with several ranks; 16 batches with
+    // lanes). The results waiting for in-order delivery are at most this many: with lanes and
+    // large records (a sweep's recorded points) that is what bounds rank 0's memory.
+    long window = 0;
     const std::atomic<bool>* stop = nullptr;
     std::function<void(long done, long total)> progress;  // called after each delivery
     std::shared_ptr<job_ranks> ranks;                      // null: this process alone
     // Jobs a thread runs at once in its SIMD lanes (a Run with a `stream` member, job_runners,
     // independent jobs only): the unit in which jobs are handed out and held. 1: one at a time.
     long batch = 1;
-    // Each job's cost: the CPU time of the thread that ran it, which a busy machine does not
-    // inflate as it does the wall time (called from the computing threads).
+    // Each job's cost: the CPU time of the thread that ran it (its share of it, for jobs that
+    // shared SIMD lanes), which a busy machine does not inflate as it does the wall time
+    // (called from the computing threads).
     std::function<void(long job, double seconds)> timed;
 };
 
@@ -181,6 +185,8 @@ Record run_one(Run& run, long job, const Record* pred)
 // lanes are each charged for their part, CPU and wall clock.
 class job_shares {
 public:
+    // cpu: also the CPU time (a system call per event); the wall time always.
+    explicit job_shares(bool cpu) : m_with_cpu(cpu) { m_open.reserve(64); }
     void begin(long job)
     {
         advance();
@@ -206,6 +212,7 @@ private:
     void advance();
 
     std::vector<open_job> m_open;
+    bool m_with_cpu;
     double m_cpu = 0.0, m_wall = 0.0;
 };
 
@@ -263,7 +270,7 @@ inline double thread_seconds()
 
 inline void job_shares::advance()
 {
-    const double cpu = thread_seconds();
+    const double cpu = m_with_cpu ? thread_seconds() : 0.0;
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     if (!m_open.empty()) {
         const double n = static_cast<double>(m_open.size());
@@ -398,31 +405,37 @@ private:
     void run_stream(std::unique_lock<std::mutex>& lock)
     {
         lock.unlock();
-        job_shares shares;
+        job_shares shares(static_cast<bool>(m_timed));
         auto next = [&]() -> std::optional<long> {
-            const std::lock_guard g(m_mutex);
-            if (stopping() || m_queue.empty() || m_queue.front().predecessor) return std::nullopt;
-            const long job = m_queue.front().job;
-            m_queue.pop_front();
-            ++m_busy;
-            shares.begin(job);
+            long job = 0;
+            {
+                const std::lock_guard g(m_mutex);
+                if (stopping() || m_queue.empty() || m_queue.front().predecessor) return std::nullopt;
+                job = m_queue.front().job;
+                m_queue.pop_front();
+                ++m_busy;
+            }
+            shares.begin(job);  // the clocks outside the lock; no allocation (reserved)
             return job;
         };
         auto done = [&](long job, Record&& r) {
             const auto [cpu, wall] = shares.end(job);
+            {
+                const std::lock_guard g(m_mutex);
+                --m_busy;
+                m_wall += wall;
+                ++m_done;
+                // As for a job alone (work): a job running when the stop flag was set may have
+                // been cut short, and is not a result.
+                if (!stopping()) m_inbox.emplace_back(job, std::move(r));
+                m_changed.notify_all();
+            }
             if (m_timed) m_timed(job, cpu);
-            const std::lock_guard g(m_mutex);
-            --m_busy;
-            m_wall += wall;
-            ++m_done;
-            // As for a job alone (work): a job running when the stop flag was set may have
-            // been cut short, and is not a result.
-            if (!stopping()) m_inbox.emplace_back(job, std::move(r));
-            m_changed.notify_all();
         };
         std::exception_ptr failure;
         try {
             m_run.stream(job_source(next), job_sink<Record>(done));
+            if (shares.open() > 0) throw std::logic_error("a stream runner returned with jobs it had not finished");
         } catch (...) {
             failure = std::current_exception();
         }

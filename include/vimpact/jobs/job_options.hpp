@@ -46,7 +46,7 @@ struct job_options {
     const std::atomic<bool>* stop = nullptr;  // set: no new job starts, the run returns what finished
     std::function<void(long done, long total)> progress;  // called in job order as jobs finish
     std::shared_ptr<job_ranks> ranks;  // several processes (MPI); null: this one alone
-    std::function<void(long job, double seconds)> timed;  // each job's CPU time (from its thread)
+    std::function<void(long job, double seconds)> timed;  // each job's CPU time (its share of its thread's)
 };
 
 // Receives each job's result in job order (see Streaming above).
