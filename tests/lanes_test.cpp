@@ -65,6 +65,22 @@ std::vector<model> paper_models(const std::vector<double>& urs, const std::vecto
     return models;
 }
 
+// f(po) for a protocol of `transient` impacts and `record` points (and, with hold_band > 0,
+// that hold band), once with each integration method.
+template <class F>
+void for_each_method(long transient, long record, double hold_band, F&& f)
+{
+    protocol_options po;
+    po.transient_impacts = transient;
+    po.record_points = record;
+    po.flow.integration.hold_band = hold_band;
+    for (const auto method : all_integration_methods) {
+        po.method = method;
+        SCOPED_TRACE(std::string(to_string(method)));
+        f(po);
+    }
+}
+
 // Every job of simulate_many equals simulate of that job alone, bit for bit.
 void expect_lanes_equal_scalar(const std::vector<model>& models, const std::vector<Eigen::VectorXd>& x0s,
                                const protocol_options& po)
@@ -141,14 +157,9 @@ TEST(Lanes, PaperModelJobsEqualTheirScalarRunsBitForBit)
     const model m = model::builtin("wake_impact");
     const auto models = paper_models({12.0, 14.9, 16.0, 18.5, 22.5, 23.3, 24.1, 25.0, 13.7, 20.0, 21.2},
                                      {-0.2, -0.150298, -0.05});
-    protocol_options po;
-    po.transient_impacts = 100;
-    po.record_points = 60;
-    for (const auto method : all_integration_methods) {
-        po.method = method;
-        SCOPED_TRACE(std::string(to_string(method)));
+    for_each_method(100, 60, 0.0, [&](const protocol_options& po) {
         expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
-    }
+    });
 }
 
 // The job loop's queue can be empty for a moment (between two top-ups): a source that then
@@ -166,12 +177,7 @@ TEST(Lanes, JobsThatFinishOnTheirOwnWhenTheSourceRunsDryKeepTheirBits)
         sigmas.push_back(-0.2 + 0.2 * i / 7.0);
     }
     const auto models = paper_models(urs, sigmas);
-    protocol_options po;
-    po.transient_impacts = 50;
-    po.record_points = 30;
-    for (const auto method : all_integration_methods) {
-        po.method = method;
-        SCOPED_TRACE(std::string(to_string(method)));
+    for_each_method(50, 30, 0.0, [&](const protocol_options& po) {
         std::vector<simulation> got(models.size());
         std::size_t given = 0, ended = 0;
         bool draining = false;
@@ -206,7 +212,7 @@ TEST(Lanes, JobsThatFinishOnTheirOwnWhenTheSourceRunsDryKeepTheirBits)
         EXPECT_GT(counts.lane_trials, 0);
         for (std::size_t j = 0; j < models.size(); ++j)
             expect_same_run(simulate(models[j], m.initial_state(), po), got[j], "job " + std::to_string(j));
-    }
+    });
 }
 
 // With a hold band (integrator_options::hold_band) the scalar integrator skips the
@@ -216,15 +222,9 @@ TEST(Lanes, HoldBandJobsEqualTheirScalarRunsBitForBit)
     if (!runs_in_lanes(model::builtin("wake_impact"))) GTEST_SKIP() << "this build has no SIMD lanes";
     const model m = model::builtin("wake_impact");
     const auto models = paper_models({12.0, 16.0, 22.5, 24.1, 13.7}, {-0.2, -0.150298});
-    protocol_options po;
-    po.transient_impacts = 100;
-    po.record_points = 60;
-    po.flow.integration.hold_band = 0.3;
-    for (const auto method : all_integration_methods) {
-        po.method = method;
-        SCOPED_TRACE(std::string(to_string(method)));
+    for_each_method(100, 60, 0.3, [&](const protocol_options& po) {
         expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
-    }
+    });
 }
 
 // Fewer jobs than lanes, and contact phases: a soft restitution and a barrier near the rest
