@@ -104,17 +104,19 @@ inline State combine(const std::array<State, S>& k)
 }
 
 // x + sum_{j < Count} (h coef[j]) k_j, the stage inputs and the new state of both methods,
-// added one stage at a time from the oldest to the newest, as Odeint's steppers do: a stage's
-// input then waits for the newest stage by one multiply and one add, the older terms by one
-// add each after it. (Summed in two accumulators, then scaled by h and added to x, the older
-// stages stood five dependent operations before the next input: DOP853's step took 1.2x the
-// time of this form, DOPRI5's trial 1.3x.) For a small double state
-// the sum runs component by component in scalar registers, so that each component of the
-// next input waits only for the same component of the newest stage (and the vector field's
-// components, computed one by one, are not packed into a vector register and unpacked again
-// between the stages); the empty asm keeps GCC's vectoriser from packing them back. Larger
-// states and SIMD lanes take the same operations as whole-vector Eigen sums: the same
-// rounding, element by element.
+// added one stage at a time from the oldest to the newest, as Odeint's steppers do, each term
+// by one fused multiply-add: a stage's input then waits for the newest stage by one operation,
+// the older terms by one each before it. (Summed in two accumulators, then scaled by h and
+// added to x, the older stages stood five dependent operations before the next input: DOP853's
+// step took 1.2x the time of the ordered sum, DOPRI5's trial 1.3x; with a multiply and an add
+// per term instead of one fused operation, DOP853's trial took 1.25x, DOPRI5's 1.09x:
+// docs/performance.md.) For a small double state the sum runs component by component in
+// scalar registers, so that each component of the next input waits only for the same component
+// of the newest stage (and the vector field's components, computed one by one, are not packed
+// into a vector register and unpacked again between the stages); the empty asm keeps GCC's
+// vectoriser from packing them back. Larger states and SIMD lanes take the same operations
+// component by component: the same rounding, element by element (std::fma rounds once on every
+// machine, so a SIMD lane, a job alone and a model file's fused step agree to the bit).
 template <int Count, const auto& Coef, class State, std::size_t S, class H>
 inline State stage_input_ordered(const std::array<State, S>& k, const State& x, H h)
 {
@@ -125,7 +127,7 @@ inline State stage_input_ordered(const std::array<State, S>& k, const State& x, 
             State out;
             for (int i = 0; i < State::RowsAtCompileTime; ++i) {
                 double acc = x[i];
-                ((Coef[J] != 0.0 ? (void)(acc = acc + hc[J] * k[J][i]) : (void)0), ...);
+                ((Coef[J] != 0.0 ? (void)(acc = std::fma(hc[J], k[J][i], acc)) : (void)0), ...);
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
                 asm("" : "+v"(acc));
 #endif
@@ -133,8 +135,10 @@ inline State stage_input_ordered(const std::array<State, S>& k, const State& x, 
             }
             return out;
         } else {
+            using std::fma;
             State acc = x;
-            ((Coef[J] != 0.0 ? (void)(acc = State(acc + hc[J] * k[J])) : (void)0), ...);
+            for (Eigen::Index i = 0; i < acc.size(); ++i)
+                ((Coef[J] != 0.0 ? (void)(acc[i] = fma(hc[J], k[J][i], acc[i])) : (void)0), ...);
             return acc;
         }
     }(std::make_integer_sequence<int, Count>{});
