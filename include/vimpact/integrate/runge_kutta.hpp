@@ -115,32 +115,27 @@ inline State combine(const std::array<State, S>& k)
 // of the newest stage (and the vector field's components, computed one by one, are not packed
 // into a vector register and unpacked again between the stages); the empty asm keeps GCC's
 // vectoriser from packing them back. Larger states and SIMD lanes take the same operations
-// component by component: the same rounding, element by element (std::fma rounds once on every
-// machine, so a SIMD lane, a job alone and a model file's fused step agree to the bit).
+// in the same loop (std::fma rounds once on every machine, so a SIMD lane, a job alone and a
+// model file's fused step agree to the bit). Each component accumulates in a local value, not
+// in the result vector: for lanes, a sum kept in the vector went through memory at every term
+// and made a trial of 8 lanes 1.4x slower (bench/lanes_bench.cpp).
 template <int Count, const auto& Coef, class State, std::size_t S, class H>
 inline State stage_input_ordered(const std::array<State, S>& k, const State& x, H h)
 {
     using T = typename State::Scalar;
+    using std::fma;
     return [&]<int... J>(std::integer_sequence<int, J...>) {
         const H hc[] = {H(h * Coef[J])...};
-        if constexpr (std::is_same_v<T, double> && State::RowsAtCompileTime <= 4) {
-            State out;
-            for (int i = 0; i < State::RowsAtCompileTime; ++i) {
-                double acc = x[i];
-                ((Coef[J] != 0.0 ? (void)(acc = std::fma(hc[J], k[J][i], acc)) : (void)0), ...);
+        State out;
+        for (Eigen::Index i = 0; i < out.size(); ++i) {
+            T acc = x[i];
+            ((Coef[J] != 0.0 ? (void)(acc = fma(hc[J], k[J][i], acc)) : (void)0), ...);
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
-                asm("" : "+v"(acc));
+            if constexpr (std::is_same_v<T, double> && State::RowsAtCompileTime <= 4) asm("" : "+v"(acc));
 #endif
-                out[i] = acc;
-            }
-            return out;
-        } else {
-            using std::fma;
-            State acc = x;
-            for (Eigen::Index i = 0; i < acc.size(); ++i)
-                ((Coef[J] != 0.0 ? (void)(acc[i] = fma(hc[J], k[J][i], acc[i])) : (void)0), ...);
-            return acc;
+            out[i] = acc;
         }
+        return out;
     }(std::make_integer_sequence<int, Count>{});
 }
 
