@@ -39,7 +39,7 @@ for a in "$@"; do
   esac
 done
 mkdir -p "$out"
-targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain baseline_odeint_fma baseline_plain_fma controller_bench job_costs lanes_bench lanes_bench_avx2 trial_bench"
+targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench job_costs lanes_bench lanes_bench_avx2 trial_bench"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build" -j2 --target $targets > /dev/null
 [ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true

@@ -153,9 +153,10 @@ TEST(IntegratorOrder, Dop853IsEighthOrderOnNonlinearProblem)
     EXPECT_NEAR(p, 8.0, 0.3);
 }
 
-// A state of more than 4 doubles takes the stage sums as whole-vector Eigen expressions, a
-// state of up to 4 (the paper's model) component by component in scalar registers
-// (runge_kutta.hpp, stage_input_ordered). Each component's arithmetic is the same whichever
+// A state of more than 4 doubles takes the stage sums in a loop the compiler may vectorise, a
+// state of up to 4 (the paper's model) component by component in scalar registers held apart
+// (runge_kutta.hpp, stage_input_ordered), and the other sums (error estimates, the
+// interpolant) as whole-vector Eigen expressions. Each component's arithmetic is the same whichever
 // path runs it, so with three reference problems stacked into one 6-dimensional system, each
 // block of the stacked run must equal the 2-dimensional run of its problem bit for bit (whose
 // order the tests above check).

@@ -103,33 +103,48 @@ inline State combine(const std::array<State, S>& k)
     }(std::make_integer_sequence<int, Count>{});
 }
 
+// acc + c k, one term of a stage input: one rounding (std::fma, or the lanes' fused
+// operation) where the processor fuses multiply and add (FP_FAST_FMA: FMA3 on x86-64, every
+// AArch64); a build for a processor without it (-march=x86-64) would call the library's fma
+// for every term (a DOP853 trial took 4.6x as long), so there it multiplies and adds. A
+// SIMD lane and a job alone of one build take the same branch, so they agree to the bit.
+template <class T>
+inline T stage_term(const T& acc, const T& c, const T& k)
+{
+#ifdef FP_FAST_FMA
+    using std::fma;
+    return fma(c, k, acc);
+#else
+    return acc + c * k;
+#endif
+}
+
 // x + sum_{j < Count} (h coef[j]) k_j, the stage inputs and the new state of both methods,
 // added one stage at a time from the oldest to the newest, as Odeint's steppers do, each term
-// by one fused multiply-add: a stage's input then waits for the newest stage by one operation,
-// the older terms by one each before it. (Summed in two accumulators, then scaled by h and
-// added to x, the older stages stood five dependent operations before the next input: DOP853's
-// step took 1.2x the time of the ordered sum, DOPRI5's trial 1.3x; with a multiply and an add
-// per term instead of one fused operation, DOP853's trial took 1.25x, DOPRI5's 1.09x:
-// docs/performance.md.) For a small double state the sum runs component by component in
-// scalar registers, so that each component of the next input waits only for the same component
-// of the newest stage (and the vector field's components, computed one by one, are not packed
-// into a vector register and unpacked again between the stages); the empty asm keeps GCC's
-// vectoriser from packing them back. Larger states and SIMD lanes take the same operations
-// in the same loop (std::fma rounds once on every machine, so a SIMD lane, a job alone and a
-// model file's fused step agree to the bit). Each component accumulates in a local value, not
-// in the result vector: for lanes, a sum kept in the vector went through memory at every term
-// and made a trial of 8 lanes 1.4x slower (bench/lanes_bench.cpp).
+// by one fused multiply-add (stage_term): a stage's input then waits for the newest stage by
+// one operation, the older terms by one each before it. (Summed in two accumulators, then
+// scaled by h and added to x, the older stages stood five dependent operations before the
+// next input: DOP853's step took 1.2x the time of the ordered sum, DOPRI5's trial 1.3x; with a
+// multiply and an add per term instead of one fused operation, DOP853's trial took 1.26x,
+// DOPRI5's 1.10x: docs/performance.md.) For a small double state the sum runs component by
+// component in scalar registers, so that each component of the next input waits only for the
+// same component of the newest stage (and the vector field's components, computed one by one,
+// are not packed into a vector register and unpacked again between the stages); the empty asm
+// keeps GCC's vectoriser from packing them back. Larger states and SIMD lanes take the same
+// operations in the same loop. Each component accumulates in a local value, not in the result
+// vector: for lanes, a sum kept in the vector went through memory at every term, and the
+// lanes' engine (bench/lanes_bench.cpp) took 1.4x as long.
 template <int Count, const auto& Coef, class State, std::size_t S, class H>
 inline State stage_input_ordered(const std::array<State, S>& k, const State& x, H h)
 {
     using T = typename State::Scalar;
-    using std::fma;
+    static_assert(State::RowsAtCompileTime > 0, "stage sums are written for fixed-size states");
     return [&]<int... J>(std::integer_sequence<int, J...>) {
         const H hc[] = {H(h * Coef[J])...};
         State out;
-        for (Eigen::Index i = 0; i < out.size(); ++i) {
+        for (int i = 0; i < State::RowsAtCompileTime; ++i) {
             T acc = x[i];
-            ((Coef[J] != 0.0 ? (void)(acc = fma(hc[J], k[J][i], acc)) : (void)0), ...);
+            ((Coef[J] != 0.0 ? (void)(acc = stage_term<T>(acc, hc[J], k[J][i])) : (void)0), ...);
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
             if constexpr (std::is_same_v<T, double> && State::RowsAtCompileTime <= 4) asm("" : "+v"(acc));
 #endif
@@ -166,12 +181,13 @@ inline constexpr std::array<double, 7> D = {-12715105075.0 / 11282082432.0, 0.0,
 }  // namespace dopri5_tableau
 
 // The methods are written once for a scalar type T: double, or lanes (core/lanes.hpp), where
-// each lane is another job's step with its own step size. Eigen evaluates the stage sums
-// element by element as written (vectorised across the state for double), and the reductions
-// (error norms) are spelled out in one order, so a lane computes exactly what a scalar step
-// computes, provided the compiler does not fuse multiplications and additions differently in
-// the two: the translation units that run lanes are compiled with -ffp-contract=off
-// (CMakeLists.txt).
+// each lane is another job's step with its own step size. The stage inputs are summed
+// component by component with explicit multiply-adds (stage_input_ordered), Eigen evaluates
+// the other stage sums element by element as written (vectorised across the state for
+// double), and the reductions (error norms) are spelled out in one order, so a lane computes
+// exactly what a scalar step computes, provided the compiler does not fuse multiplications
+// and additions differently in the two: the translation units that run lanes are compiled
+// with -ffp-contract=off (CMakeLists.txt).
 template <int N, class T = double>
 class dopri5 {
 public:
