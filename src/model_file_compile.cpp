@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -49,38 +50,78 @@ std::string hex64(std::uint64_t h)
     return buf;
 }
 
+namespace fs = std::filesystem;
+
 namespace {
 
-namespace fs = std::filesystem;
+std::optional<std::string> read_file(const fs::path& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The "vimpact/..." names of a header's #include "..." lines (a commented-out or
+// conditional one too: hashing a header too many costs nothing).
+std::vector<std::string> quoted_vimpact_includes(const std::string& text)
+{
+    std::vector<std::string> names;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        std::size_t i = line.find_first_not_of(" \t");
+        if (i == std::string::npos || line[i] != '#') continue;
+        i = line.find_first_not_of(" \t", i + 1);
+        if (i == std::string::npos || line.compare(i, 7, "include") != 0) continue;
+        const std::size_t open = line.find('"', i + 7);
+        if (open == std::string::npos) continue;
+        const std::size_t close = line.find('"', open + 1);
+        if (close == std::string::npos) continue;
+        std::string name = line.substr(open + 1, close - open - 1);
+        if (name.rfind("vimpact/", 0) == 0) names.push_back(std::move(name));
+    }
+    return names;
+}
+
+}  // namespace
+
+std::optional<std::vector<std::string>> vimpact_includes(const fs::path& include_dir, const std::string& root)
+{
+    std::vector<std::string> found;
+    std::vector<std::string> pending{root};
+    while (!pending.empty()) {
+        std::string name = std::move(pending.back());
+        pending.pop_back();
+        if (std::find(found.begin(), found.end(), name) != found.end()) continue;
+        const auto text = read_file(include_dir / name);
+        if (!text) return std::nullopt;
+        found.push_back(std::move(name));
+        auto next = quoted_vimpact_includes(*text);
+        pending.insert(pending.end(), next.rbegin(), next.rend());  // the first include is taken next
+    }
+    return found;
+}
+
+namespace {
 
 // The headers the generated code includes for its fused Runge-Kutta steps (the library's own
 // stage code): the installed copy of vimpact's headers, else the source tree's; none found,
 // the model is compiled without fused steps (correct, about twice as slow per step).
 struct fused_headers {
     std::string vimpact, eigen;
-    std::string text;  // their content, part of the cache key: changed stage code, new entry
+    std::string text;  // their names and content, part of the cache key: changed stage code, new entry
 };
 
 const std::optional<fused_headers>& find_fused_headers()
 {
     static const std::optional<fused_headers> found = []() -> std::optional<fused_headers> {
-        static const char* const files[] = {"vimpact/integrate/fused_step.hpp", "vimpact/integrate/runge_kutta.hpp",
-                                            "vimpact/integrate/dop853_tableau.hpp",
-                                            "vimpact/integrate/dense_output.hpp", "vimpact/core/state.hpp"};
         const std::string eigen(vimpact::eigen_include_dir());
         if (eigen.empty() || !fs::exists(fs::path(eigen) / "Eigen" / "Core")) return std::nullopt;
         for (const std::string_view dir : {vimpact::installed_include_dir(), vimpact::source_include_dir()}) {
+            const auto files = vimpact_includes(fs::path(dir), "vimpact/integrate/fused_step.hpp");
+            if (!files) continue;
             fused_headers h{std::string(dir), eigen, {}};
-            bool complete = true;
-            for (const char* f : files) {
-                std::ifstream in(fs::path(h.vimpact) / f, std::ios::binary);
-                if (!in) {
-                    complete = false;
-                    break;
-                }
-                h.text += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-            }
-            if (complete) return h;
+            for (const auto& f : *files) h.text += f + "\n" + read_file(fs::path(dir) / f).value_or("") + "\n";
+            return h;
         }
         return std::nullopt;
     }();

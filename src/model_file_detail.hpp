@@ -104,6 +104,13 @@ struct loaded_library {
 // Compiles `source` into the cache (or finds it there) and loads it.
 loaded_library compile_cached(const std::string& source, const std::string& model_name, const std::string& where);
 
+// The headers of include_dir that `root` (a path relative to it) brings into a compilation:
+// root, then each header it includes as "vimpact/...", depth first, each once, in the order
+// met. Their content is part of the cache key, so a changed header (stage code, the lanes'
+// bit operations) compiles a new entry. nullopt when one of them is missing.
+std::optional<std::vector<std::string>> vimpact_includes(const std::filesystem::path& include_dir,
+                                                         const std::string& root);
+
 // dlopen + vimpact_model() + ABI check; `what` names the library in messages.
 loaded_library open_library(const std::filesystem::path& path, const std::string& what);
 

@@ -14,13 +14,16 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <set>
 #include <sstream>
 #include <thread>
 
 #include <ginac/ginac.h>
 
+#include "model_file_detail.hpp"
 #include "test_support.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/io/build_info.hpp"
 #include "vimpact/model/abi.h"
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
@@ -785,6 +788,34 @@ when = "(a - b)*(d - c)"
 direction = "up"
 )toml";
 }  // namespace
+
+// The cache key hashes the headers the generated code's fused steps include (a changed stage
+// code must compile a new entry): the list it hashes against the compiler's own account of that
+// #include (-MM: every header but the system ones).
+TEST(ModelFile, CacheKeyCoversEveryHeaderOfTheFusedSteps)
+{
+    const fs::path dir = cache_environment::dir / "includes";
+    fs::create_directories(dir);
+    const fs::path src = dir / "fused.cpp", deps = dir / "fused.d";
+    std::ofstream(src) << "#include \"vimpact/integrate/fused_step.hpp\"\n";
+    const fs::path include = fs::path(std::string(vimpact::source_include_dir()));
+    const std::string command = "c++ -std=c++20 -MM -I'" + include.string() + "' -isystem '" +
+                                std::string(vimpact::eigen_include_dir()) + "' -MF '" + deps.string() + "' '" +
+                                src.string() + "'";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    std::set<std::string> compiler;
+    std::ifstream in(deps);
+    for (std::string word; in >> word;) {
+        const fs::path p = fs::path(word).lexically_normal();
+        const std::string relative = p.lexically_relative(include).generic_string();
+        if (p.is_absolute() && relative.starts_with("vimpact/")) compiler.insert(relative);
+    }
+    const auto hashed = model_file_detail::vimpact_includes(include, "vimpact/integrate/fused_step.hpp");
+    ASSERT_TRUE(hashed.has_value());
+    EXPECT_EQ(std::set<std::string>(hashed->begin(), hashed->end()), compiler);
+    EXPECT_GE(compiler.size(), 6U);  // fused_step, runge_kutta, lane_ops, state, dense_output, dop853_tableau
+    EXPECT_FALSE(model_file_detail::vimpact_includes(include, "vimpact/no_such_header.hpp").has_value());
+}
 
 // GiNaC's internal order changes with the addresses of a process: the test runs itself in
 // fresh processes (as a child, with VIMPACT_TEST_CHILD_CACHE set, it only compiles).
