@@ -214,11 +214,17 @@ public:
         [&]<int... S>(std::integer_sequence<int, S...>) {
             ((m_k[S + 1] = rhs(rk_detail::stage_input_ordered<S + 1, Tab::A[S + 1]>(m_k, x, h))), ...);
         }(std::make_integer_sequence<int, Tab::stages - 1>{});
-        x_new = rk_detail::stage_input_ordered<Tab::stages, Tab::B>(m_k, x, h);
-        f_new = rhs(x_new);
-        m_k[Tab::stages] = f_new;
-        const state w = error_weights<N, T>(x, x_new, h, rtol, atol);
-        return T(weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E>(m_k), w) * (1.0 / N));
+        // The new state and its field are locals, written to x_new and f_new last: computed in
+        // x_new, the state went through memory before its field was (GCC packs the stored
+        // vector and reads the components back), and the protocol point took 1.06x as long.
+        const state xn = rk_detail::stage_input_ordered<Tab::stages, Tab::B>(m_k, x, h);
+        const state fn = rhs(xn);
+        m_k[Tab::stages] = fn;
+        const state w = error_weights<N, T>(x, xn, h, rtol, atol);
+        const T err2 = T(weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E>(m_k), w) * (1.0 / N));
+        x_new = xn;
+        f_new = fn;
+        return err2;
     }
 
     // Interpolant of the last accepted step (no extra right-hand side calls).
@@ -271,15 +277,18 @@ public:
         [&]<int... S>(std::integer_sequence<int, S...>) {
             ((m_k[S + 1] = rhs(rk_detail::stage_input_ordered<S + 1, Tab::A[S + 1]>(m_k, x, h))), ...);
         }(std::make_integer_sequence<int, Tab::stages - 1>{});
-        x_new = rk_detail::stage_input_ordered<Tab::stages, Tab::B>(m_k, x, h);
-        f_new = rhs(x_new);
-        m_k[Tab::stages] = f_new;
+        // Locals first, as in dopri5::attempt.
+        const state xn = rk_detail::stage_input_ordered<Tab::stages, Tab::B>(m_k, x, h);
+        const state fn = rhs(xn);
+        m_k[Tab::stages] = fn;
         // Hairer's error of DOP853, err = |h| s5 / sqrt(N (s5 + 0.01 s3)) with s5 and s3 the
         // squared sums of its 5th- and 3rd-order estimates over sc, squared: with the weights'
         // h folded into them (n5 = h^2 s5, n3 = h^2 s3), err^2 = n5^2 / (N (n5 + 0.01 n3)).
-        const state w = error_weights<N, T>(x, x_new, h, rtol, atol);
+        const state w = error_weights<N, T>(x, xn, h, rtol, atol);
         const T n5 = weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E5>(m_k), w);
         const T n3 = weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E3>(m_k), w);
+        x_new = xn;
+        f_new = fn;
         // n5 = n3 = 0 (a field that vanishes): error 0, not 0/0.
         return select(n5 == T(0.0) && n3 == T(0.0), T(0.0), T(n5 * n5 / ((n5 + 0.01 * n3) * double(N))));
     }
