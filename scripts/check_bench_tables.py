@@ -34,8 +34,8 @@ def tables(text):
 def main():
     failures = 0
     for doc, output, positions in PAIRS:
-        in_doc = set(tables(open(doc).read()))
-        produced = tables(open(output).read())
+        in_doc = set(tables(open(doc, encoding="utf-8").read()))
+        produced = tables(open(output, encoding="utf-8").read())
         if not produced:
             print(f"{output}: no table")
             failures += 1

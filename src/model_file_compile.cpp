@@ -61,8 +61,9 @@ std::optional<std::string> read_file(const fs::path& path)
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// The "vimpact/..." names of a header's #include "..." lines (a commented-out or
-// conditional one too: hashing a header too many costs nothing).
+// The "vimpact/..." names of a header's #include "..." lines, a conditional one too (its
+// header is hashed even where the compiler skips it: a key that changes too often costs a
+// compilation, one that changes too rarely loads stale code).
 std::vector<std::string> quoted_vimpact_includes(const std::string& text)
 {
     std::vector<std::string> names;
@@ -72,8 +73,8 @@ std::vector<std::string> quoted_vimpact_includes(const std::string& text)
         if (i == std::string::npos || line[i] != '#') continue;
         i = line.find_first_not_of(" \t", i + 1);
         if (i == std::string::npos || line.compare(i, 7, "include") != 0) continue;
-        const std::size_t open = line.find('"', i + 7);
-        if (open == std::string::npos) continue;
+        const std::size_t open = line.find_first_not_of(" \t", i + 7);
+        if (open == std::string::npos || line[open] != '"') continue;
         const std::size_t close = line.find('"', open + 1);
         if (close == std::string::npos) continue;
         std::string name = line.substr(open + 1, close - open - 1);
@@ -84,19 +85,19 @@ std::vector<std::string> quoted_vimpact_includes(const std::string& text)
 
 }  // namespace
 
-std::optional<std::vector<std::string>> vimpact_includes(const fs::path& include_dir, const std::string& root)
+std::optional<std::vector<header_text>> vimpact_includes(const fs::path& include_dir, const std::string& root)
 {
-    std::vector<std::string> found;
+    std::vector<header_text> found;
     std::vector<std::string> pending{root};
     while (!pending.empty()) {
         std::string name = std::move(pending.back());
         pending.pop_back();
-        if (std::find(found.begin(), found.end(), name) != found.end()) continue;
-        const auto text = read_file(include_dir / name);
+        if (std::any_of(found.begin(), found.end(), [&](const header_text& h) { return h.name == name; })) continue;
+        auto text = read_file(include_dir / name);
         if (!text) return std::nullopt;
-        found.push_back(std::move(name));
         auto next = quoted_vimpact_includes(*text);
         pending.insert(pending.end(), next.rbegin(), next.rend());  // the first include is taken next
+        found.push_back({std::move(name), std::move(*text)});
     }
     return found;
 }
@@ -104,8 +105,9 @@ std::optional<std::vector<std::string>> vimpact_includes(const fs::path& include
 namespace {
 
 // The headers the generated code includes for its fused Runge-Kutta steps (the library's own
-// stage code): the installed copy of vimpact's headers, else the source tree's; none found,
-// the model is compiled without fused steps (correct, about twice as slow per step).
+// stage code): the installed copy of vimpact's headers, else the source tree's; none found
+// complete (a header one of them names is missing), the model is compiled without fused steps
+// (correct, about twice as slow per step).
 struct fused_headers {
     std::string vimpact, eigen;
     std::string text;  // their names and content, part of the cache key: changed stage code, new entry
@@ -120,7 +122,7 @@ const std::optional<fused_headers>& find_fused_headers()
             const auto files = vimpact_includes(fs::path(dir), "vimpact/integrate/fused_step.hpp");
             if (!files) continue;
             fused_headers h{std::string(dir), eigen, {}};
-            for (const auto& f : *files) h.text += f + "\n" + read_file(fs::path(dir) / f).value_or("") + "\n";
+            for (const auto& f : *files) h.text += f.name + "\n" + f.text + "\n";
             return h;
         }
         return std::nullopt;

@@ -106,9 +106,13 @@ loaded_library compile_cached(const std::string& source, const std::string& mode
 
 // The headers of include_dir that `root` (a path relative to it) brings into a compilation:
 // root, then each header it includes as "vimpact/...", depth first, each once, in the order
-// met. Their content is part of the cache key, so a changed header (stage code, the lanes'
-// bit operations) compiles a new entry. nullopt when one of them is missing.
-std::optional<std::vector<std::string>> vimpact_includes(const std::filesystem::path& include_dir,
+// met, with their text. Their names and text are part of the cache key, so a changed header
+// (stage code, the lanes' bit operations) compiles a new entry. nullopt when one is missing.
+struct header_text {
+    std::string name;  // relative to the include directory: "vimpact/core/state.hpp"
+    std::string text;
+};
+std::optional<std::vector<header_text>> vimpact_includes(const std::filesystem::path& include_dir,
                                                          const std::string& root);
 
 // dlopen + vimpact_model() + ABI check; `what` names the library in messages.

@@ -790,8 +790,9 @@ direction = "up"
 }  // namespace
 
 // The cache key hashes the headers the generated code's fused steps include (a changed stage
-// code must compile a new entry): the list it hashes against the compiler's own account of that
-// #include (-MM: every header but the system ones).
+// code must compile a new entry): every header the compiler reads for that #include (-MM: all
+// but the system ones) must be in the list it hashes. (The list may hold more: a header named
+// under an #if the compiler skips.)
 TEST(ModelFile, CacheKeyCoversEveryHeaderOfTheFusedSteps)
 {
     const fs::path dir = cache_environment::dir / "includes";
@@ -799,7 +800,8 @@ TEST(ModelFile, CacheKeyCoversEveryHeaderOfTheFusedSteps)
     const fs::path src = dir / "fused.cpp", deps = dir / "fused.d";
     std::ofstream(src) << "#include \"vimpact/integrate/fused_step.hpp\"\n";
     const fs::path include = fs::path(std::string(vimpact::source_include_dir()));
-    const std::string command = "c++ -std=c++20 -MM -I'" + include.string() + "' -isystem '" +
+    const char* cxx = std::getenv("CXX");  // the compiler model files are built with
+    const std::string command = std::string(cxx && *cxx ? cxx : "c++") + " -std=c++20 -MM -I'" + include.string() + "' -isystem '" +
                                 std::string(vimpact::eigen_include_dir()) + "' -MF '" + deps.string() + "' '" +
                                 src.string() + "'";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
@@ -812,9 +814,36 @@ TEST(ModelFile, CacheKeyCoversEveryHeaderOfTheFusedSteps)
     }
     const auto hashed = model_file_detail::vimpact_includes(include, "vimpact/integrate/fused_step.hpp");
     ASSERT_TRUE(hashed.has_value());
-    EXPECT_EQ(std::set<std::string>(hashed->begin(), hashed->end()), compiler);
+    std::set<std::string> names;
+    for (const auto& h : *hashed) {
+        names.insert(h.name);
+        EXPECT_FALSE(h.text.empty()) << h.name;
+    }
+    for (const auto& c : compiler) EXPECT_TRUE(names.count(c)) << c << " is read by the compiler but not hashed";
     EXPECT_GE(compiler.size(), 6U);  // fused_step, runge_kutta, lane_ops, state, dense_output, dop853_tableau
     EXPECT_FALSE(model_file_detail::vimpact_includes(include, "vimpact/no_such_header.hpp").has_value());
+}
+
+// The scanner behind that list: quoted "vimpact/..." includes, with any spacing, depth first in
+// the order written, each once (b.hpp includes a.hpp back); a name in a comment after an
+// angle-bracket include is not one; a named header that is missing makes the list unusable.
+TEST(ModelFile, IncludeScannerFollowsQuotedVimpactIncludesOnly)
+{
+    const fs::path dir = cache_environment::dir / "scanner";
+    fs::create_directories(dir / "vimpact");
+    std::ofstream(dir / "vimpact/a.hpp") << "#pragma once\n#include <vector> // \"vimpact/none.hpp\"\n"
+                                            "#include \"vimpact/b.hpp\"\n  #  include   \"vimpact/c.hpp\"\n"
+                                            "#include \"other/d.hpp\"\n";
+    std::ofstream(dir / "vimpact/b.hpp") << "#include \"vimpact/a.hpp\"\n#include \"vimpact/c.hpp\"\n";
+    std::ofstream(dir / "vimpact/c.hpp") << "int c;\n";
+    const auto found = model_file_detail::vimpact_includes(dir, "vimpact/a.hpp");
+    ASSERT_TRUE(found.has_value());
+    std::vector<std::string> names;
+    for (const auto& h : *found) names.push_back(h.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"vimpact/a.hpp", "vimpact/b.hpp", "vimpact/c.hpp"}));
+    EXPECT_EQ(found->back().text, "int c;\n");
+    std::ofstream(dir / "vimpact/c.hpp") << "#include \"vimpact/missing.hpp\"\n";
+    EXPECT_FALSE(model_file_detail::vimpact_includes(dir, "vimpact/a.hpp").has_value());
 }
 
 // GiNaC's internal order changes with the addresses of a process: the test runs itself in

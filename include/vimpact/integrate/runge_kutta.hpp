@@ -217,6 +217,7 @@ public:
         // The new state and its field are locals, written to x_new and f_new last: computed in
         // x_new, the state went through memory before its field was (GCC packs the stored
         // vector and reads the components back), and the protocol point took 1.06x as long.
+        // Written last, x_new and f_new may also be x and f themselves.
         const state xn = rk_detail::stage_input_ordered<Tab::stages, Tab::B>(m_k, x, h);
         const state fn = rhs(xn);
         m_k[Tab::stages] = fn;
