@@ -6,8 +6,9 @@
 // Process CPU time (what a loaded machine does not inflate), one thread.
 //
 // Usage: build/lanes_bench [N]   (default 16)
-// Built twice by bench/CMakeLists.txt: lanes_bench (the build's instruction set) and
-// lanes_bench_avx2 (-march=haswell), both without fp contraction, as the library's built-ins.
+// Built three times by bench/CMakeLists.txt: lanes_bench (the build's instruction set and lane
+// width), lanes_bench_512 (the same with 512-bit lanes where AVX-512 is available) and
+// lanes_bench_avx2 (-march=haswell), all without fp contraction, as the library's built-ins.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>

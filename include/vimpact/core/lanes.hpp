@@ -1,6 +1,6 @@
 #pragma once
-// SIMD lanes: `lanes` holds one double per job of a batch (as many as the widest vector
-// register the library is compiled for holds: 8 with AVX-512, 4 with AVX2), so that the same
+// SIMD lanes: `lanes` holds one double per job of a batch (as many as the lanes' vector
+// register holds: 4 with AVX2 and, by default, with AVX-512, below), so that the same
 // arithmetic runs for several jobs at once. Generic code is written once for a scalar type T,
 // double or lanes, with the helpers below (select, any_of, lane_max...): every lane then goes
 // through exactly the operations the scalar code does, in the same order, and gets the same
@@ -28,14 +28,26 @@
 
 namespace vimpact {
 
-using lane_batch = xsimd::batch<double>;
+// The registers the lanes use: the widest the library is compiled for, except that on a
+// processor with AVX-512 they are 256-bit registers (4 lanes) unless VIMPACT_LANES_512 is
+// defined (CMake -DVIMPACT_LANES_512=ON: 8 lanes of 512 bits). Measured on the development
+// machine (docs/performance.md): the lanes' engine ran 2.17x the speed of one job at a time
+// with 4 lanes and 1.94x with 8, although its 512-bit multiply-adds deliver twice the
+// arithmetic per double of 256-bit ones (bench/fma_throughput.cpp); the cause is not
+// established, and another processor may favour 8 lanes, hence the option.
+#if defined(__AVX512F__) && !defined(VIMPACT_LANES_512)
+using lane_arch = xsimd::avx2;
+#else
+using lane_arch = xsimd::default_arch;
+#endif
+using lane_batch = xsimd::batch<double, lane_arch>;
 // The number of lanes: 1 means no SIMD wider than one double, and the job commands run scalar.
 inline constexpr int lane_width = static_cast<int>(lane_batch::size);
 // Lanes are worth their bookkeeping from 4 doubles a register on (AVX2 and wider).
 inline constexpr bool wide_lanes = lane_width >= 4;
 
 struct lane_mask {
-    xsimd::batch_bool<double> m;
+    xsimd::batch_bool<double, lane_arch> m;
     friend lane_mask operator&&(lane_mask a, lane_mask b) { return {a.m && b.m}; }
     friend lane_mask operator||(lane_mask a, lane_mask b) { return {a.m || b.m}; }
     friend lane_mask operator!(lane_mask a) { return {!a.m}; }
@@ -93,7 +105,7 @@ inline lane_mask is_finite(const lanes& l) { return {xsimd::isfinite(l.v)}; }
 
 template <>
 struct lane_bits_ops<lanes> {
-    using ints = xsimd::batch<std::int64_t>;
+    using ints = xsimd::batch<std::int64_t, lane_arch>;
     static ints bits(const lanes& x) { return xsimd::bitwise_cast<ints>(x.v); }
     static lanes from_bits(const ints& b) { return {xsimd::bitwise_cast<lane_batch>(b)}; }
     static lanes to_double(const ints& i) { return {xsimd::batch_cast<double>(i)}; }
@@ -107,7 +119,7 @@ inline lanes fabs(const lanes& a) { return {xsimd::abs(a.v)}; }
 // then adds), so the instruction is named here.
 inline lanes fma(const lanes& a, const lanes& b, const lanes& c)
 {
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) && defined(VIMPACT_LANES_512)
     static_assert(lane_width == 8);
     return {lane_batch(_mm512_fmadd_pd(a.v, b.v, c.v))};
 #elif defined(__AVX__) && defined(__FMA__)
