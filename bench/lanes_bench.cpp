@@ -6,9 +6,10 @@
 // Process CPU time (what a loaded machine does not inflate), one thread.
 //
 // Usage: build/lanes_bench [N]   (default 16)
-// Built three times by bench/CMakeLists.txt: lanes_bench (the build's instruction set and lane
-// width), lanes_bench_512 (the same with 512-bit lanes where AVX-512 is available) and
-// lanes_bench_avx2 (-march=haswell), all without fp contraction, as the library's built-ins.
+// Built four times by bench/CMakeLists.txt: lanes_bench (the build's instruction set and lane
+// width), lanes_bench_256 (256-bit lanes) and lanes_bench_512_split (512-bit lanes moved in
+// 32-byte halves) where AVX-512 is available, and lanes_bench_avx2 (-march=haswell), all
+// without fp contraction, as the library's built-ins; each names its build in the output.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -23,6 +24,10 @@
 #include "vimpact/integrate/runge_kutta.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
 #include "vimpact/model/native_model.hpp"
+
+#ifndef VIMPACT_BENCH_BUILD
+#define VIMPACT_BENCH_BUILD "default"
+#endif
 
 using namespace vimpact;
 using wake = native_model<wake_impact>;
@@ -77,8 +82,8 @@ int main(int argc, char** argv)
         differ += same ? 0 : 1;
     }
     const double scalar = static_cast<double>(c1 - c0) / CLOCKS_PER_SEC, lanes_s = static_cast<double>(c2 - c1) / CLOCKS_PER_SEC;
-    std::printf("{\"isa_lanes\": %d, \"jobs\": %ld, \"steps\": %ld, \"scalar_cpu_s\": %.3f, \"lanes_cpu_s\": %.3f, "
+    std::printf("{\"build\": \"%s\", \"isa_lanes\": %d, \"jobs\": %ld, \"steps\": %ld, \"scalar_cpu_s\": %.3f, \"lanes_cpu_s\": %.3f, "
                 "\"speedup\": %.2f, \"jobs_differing\": %ld}\n",
-                lane_width, jobs, steps, scalar, lanes_s, scalar / lanes_s, differ);
+                VIMPACT_BENCH_BUILD, lane_width, jobs, steps, scalar, lanes_s, scalar / lanes_s, differ);
     return differ == 0 ? 0 : 1;
 }

@@ -4,8 +4,9 @@
 #      DOP853 and DOPRI5 beside Boost.Odeint's DOPRI5 and RKF78, the plain DOPRI5 loop,
 #      SUNDIALS' CVODE (Adams) and ARKODE (ERK), medians of 7 runs each, side by side; then
 #      one trial step alone, ours against Odeint's (bench/trial_bench.cpp);
-#   2. the SIMD lanes: the engine on a 16 x 16 grid built for this machine's instruction set
-#      with 512-bit lanes where AVX-512 is available, and for AVX2 (bench/lanes_bench.cpp), and a 64 x 64 map (Ur 12..25 x sigma -0.2..0, the
+#   2. the SIMD lanes: the engine on a 16 x 16 grid (bench/lanes_bench.cpp) built as the
+#      library's lanes are, and where AVX-512 is available also with 256-bit lanes and with
+#      512-bit lanes moved in halves (GCC's tuning), and for AVX2; and a 64 x 64 map (Ur 12..25 x sigma -0.2..0, the
 #      full protocol) on one core, --batch 1 against the default batch (with AVX2_BUILD_DIR
 #      set, also a whole build for AVX2, -march=haswell);
 #   3. the work-precision diagram (bench/work_precision.py, with scipy unless --no-scipy);
@@ -39,7 +40,7 @@ for a in "$@"; do
   esac
 done
 mkdir -p "$out"
-targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench job_costs lanes_bench lanes_bench_512 lanes_bench_avx2 fma_throughput trial_bench"
+targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench job_costs lanes_bench lanes_bench_256 lanes_bench_512_split lanes_bench_avx2 fma_throughput trial_bench"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build" -j2 --target $targets > /dev/null
 [ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true
@@ -79,7 +80,10 @@ echo "-- multiply-add throughput per register width (bench/fma_throughput.cpp)"
 "$build"/fma_throughput | tee "$out/fma_throughput.json"
 echo "-- the engine alone, per instruction set (bench/lanes_bench.cpp, a 16 x 16 grid)"
 "$build"/lanes_bench 16 | tee "$out/lanes_isa.jsonl"
-if grep -q avx512f /proc/cpuinfo; then "$build"/lanes_bench_512 16 | tee -a "$out/lanes_isa.jsonl"; fi
+if grep -q avx512f /proc/cpuinfo; then
+  "$build"/lanes_bench_256 16 | tee -a "$out/lanes_isa.jsonl"
+  "$build"/lanes_bench_512_split 16 | tee -a "$out/lanes_isa.jsonl"
+fi
 if grep -q avx2 /proc/cpuinfo; then "$build"/lanes_bench_avx2 16 | tee -a "$out/lanes_isa.jsonl"; fi
 echo "-- vimpact map, --batch 1 against the default"
 echo "build,batch_asked,batch_used,jobs,wall_s,cpu_s" > "$out/lanes.csv"

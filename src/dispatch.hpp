@@ -4,8 +4,9 @@
 // native definitions (everything inlined); model files and plugins on table_model<N> for
 // their dimension N (one indirect call per model function).
 //
-// The analyses' templates are instantiated once per engine model, each model in a source
-// file of its own (src/instances/), so that the build spreads over the cores; the analysis
+// The analyses' templates are instantiated once per engine model, each model in source
+// files of its own (src/instances/: a built-in model's SIMD lanes in a second one,
+// MODEL_lanes.cpp, compiled with their own options), so that the build spreads over the cores; the analysis
 // sources call the instantiations declared in engine_instances.hpp through with_engine.
 #include <optional>
 #include <utility>

@@ -1,6 +1,7 @@
 #pragma once
 // The analyses on one engine model: declared here, defined in engine_instances.ipp, and
-// instantiated for every engine model in src/instances/ (one source file per model).
+// instantiated for every engine model in src/instances/ (one source file per model, and one
+// more for a built-in model's SIMD lanes).
 #include <Eigen/Core>
 
 #include "vimpact/analysis/floquet.hpp"

@@ -1,5 +1,6 @@
 // The definitions of engine_instances.hpp: included by the source files of src/instances/,
-// each of which instantiates them for one engine model with VIMPACT_INSTANTIATE_ENGINE.
+// each of which instantiates them for one engine model with VIMPACT_INSTANTIATE_ENGINE, or
+// (MODEL_lanes.cpp) its SIMD lanes with VIMPACT_INSTANTIATE_LANES.
 #include "engine_instances.hpp"
 #include "vimpact/engine/floquet.hpp"
 #include "vimpact/engine/grazing.hpp"
@@ -109,7 +110,9 @@ lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyap
 
 }  // namespace vimpact::detail
 
-// For an engine model that runs in SIMD lanes (lanes_engine<EM>), besides the above.
+// For an engine model that runs in SIMD lanes (lanes_engine<EM>), besides the above, in a
+// source file of its own (src/instances/MODEL_lanes.cpp: CMakeLists.txt gives it the options
+// of the lanes' moves, which would slow the other analyses' tangent runs).
 #define VIMPACT_INSTANTIATE_LANES(EM)                                                                            \
     template vimpact::lanes_counts vimpact::detail::run_simulate_lanes<EM>(                                      \
         const vimpact::protocol_options&, int, const vimpact::protocol_source&, const vimpact::protocol_sink&);

@@ -1,5 +1,5 @@
-// Every analysis on the built-in model two_sided_impact_oscillator, compiled natively (see src/dispatch.hpp).
+// Every analysis on the built-in model two_sided_impact_oscillator, compiled natively (see src/dispatch.hpp); its
+// SIMD lanes are in two_sided_impact_oscillator_lanes.cpp.
 #include "engine_instances.ipp"
 
 VIMPACT_INSTANTIATE_ENGINE(vimpact::native_model<vimpact::two_sided_impact_oscillator>)
-VIMPACT_INSTANTIATE_LANES(vimpact::native_model<vimpact::two_sided_impact_oscillator>)

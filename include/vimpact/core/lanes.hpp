@@ -1,6 +1,6 @@
 #pragma once
 // SIMD lanes: `lanes` holds one double per job of a batch (as many as the lanes' vector
-// register holds: 4 with AVX2 and, by default, with AVX-512, below), so that the same
+// register holds: 8 with AVX-512 in the default build, 4 with AVX2, below), so that the same
 // arithmetic runs for several jobs at once. Generic code is written once for a scalar type T,
 // double or lanes, with the helpers below (select, any_of, lane_max...): every lane then goes
 // through exactly the operations the scalar code does, in the same order, and gets the same
@@ -30,11 +30,15 @@ namespace vimpact {
 
 // The registers the lanes use: the widest the library is compiled for, except that on a
 // processor with AVX-512 they are 256-bit registers (4 lanes) unless VIMPACT_LANES_512 is
-// defined (CMake -DVIMPACT_LANES_512=ON: 8 lanes of 512 bits). Measured on the development
-// machine (docs/performance.md): the lanes' engine ran 2.17x the speed of one job at a time
-// with 4 lanes and 1.94x with 8, although its 512-bit multiply-adds deliver twice the
-// arithmetic per double of 256-bit ones (bench/fma_throughput.cpp); the cause is not
-// established, and another processor may favour 8 lanes, hence the option.
+// defined (CMake's VIMPACT_LANES_512, on by default where the compiler is GCC 12 or later,
+// which has -mmove-max: 8 lanes of 512 bits). The 512-bit lanes pay only when the compiler moves a 64-byte value in one
+// piece: GCC's tuning for these processors copies it as two 32-byte halves, the upper half read
+// back from the 512-bit store that wrote it, which waits for that store (a failed store
+// forward) in every stage of a trial. Measured on the development machine
+// (docs/performance.md): 8 lanes moved whole ran the lanes' engine 2.5x the speed of one job at
+// a time, 4 lanes 2.0x to 2.2x, 8 lanes moved in halves 1.9x. CMake compiles the library's
+// lanes (src/instances/*_lanes.cpp) with -mmove-max=512 -mstore-max=512; a program running its
+// own definition in lanes should too (docs/own-model.md).
 #if defined(__AVX512F__) && !defined(VIMPACT_LANES_512)
 using lane_arch = xsimd::avx2;
 #else

@@ -225,11 +225,9 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
 
     while (active > 0) {
         // Fewer than half the lanes busy and no job for the others: a trial of all the lanes
-        // then costs more than the busy ones' trials alone (a trial of 4 lanes of 256 bits costs
-        // about 1.8 scalar trials on an AVX-512 machine, of 8 lanes of 512 bits 4.1, of 4 AVX2
-        // lanes 2.8: bench/output/lanes_isa.jsonl's speed-ups; by the last two, exactly half the
-        // lanes busy would also step alone more cheaply, which this rule, set when a lanes trial
-        // cost 3.9 and 2.4, leaves in lanes), so each
+        // then costs more than the busy ones' trials alone (a trial of 8 lanes of 512 bits costs
+        // about 3.1 scalar trials on an AVX-512 machine, of 4 lanes of 256 bits 2.0, of 4 AVX2
+        // lanes 2.0: the lane count over bench/output/lanes_isa.jsonl's speed-ups), so each
         // lane between two steps (not after a rejected trial, whose step the
         // lanes' controller finishes) steps on its own, with the bits it has in lanes, for a
         // slice of steps; then the source is asked again, and the lanes go on together from

@@ -37,7 +37,7 @@ namespace vimpact {
 struct job_options {
     int threads = 0;  // 0: every core; results never depend on it
     // Jobs integrated together in SIMD lanes (hybrid/flow_lanes.hpp): 0 the SIMD width of the
-    // build's lanes (4 with AVX2 and, by default, AVX-512: core/lanes.hpp), 1 one at a time. Results never depend on it; a model
+    // build's lanes (8 with AVX-512 in the default build, 4 with AVX2: core/lanes.hpp), 1 one at a time. Results never depend on it; a model
     // that cannot run in lanes (a model file) runs one at a time whatever is asked.
     int batch = 0;
     shard_spec shard{};
