@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <random>
 
 #include "example_models.hpp"
@@ -18,6 +19,7 @@
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/analysis/sweep.hpp"
+#include "vimpact/core/first_beyond.hpp"
 #include "vimpact/core/lanes.hpp"
 #include "vimpact/integrate/step_control.hpp"
 
@@ -46,8 +48,18 @@ void expect_same_run(const simulation& alone, const simulation& lane, const std:
     EXPECT_EQ(alone.stats.rhs_calls, lane.stats.rhs_calls) << what;
     EXPECT_EQ(alone.stats.impacts, lane.stats.impacts) << what;
     EXPECT_EQ(alone.stats.sticking_phases, lane.stats.sticking_phases) << what;
+    EXPECT_EQ(alone.stats.sections, lane.stats.sections) << what;
     EXPECT_TRUE(same_bits(alone.stats.t_final, lane.stats.t_final)) << what;
+    EXPECT_TRUE(same_bits(alone.stats.h_min, lane.stats.h_min)) << what;
+    EXPECT_TRUE(same_bits(alone.stats.h_max, lane.stats.h_max)) << what;
     EXPECT_EQ(alone.impacting, lane.impacting) << what;
+    EXPECT_EQ(alone.transient_impacts, lane.transient_impacts) << what;
+    EXPECT_TRUE(same_bits(alone.t_record_start, lane.t_record_start)) << what;
+    EXPECT_TRUE(same_bits(alone.t_record_end, lane.t_record_end)) << what;
+    EXPECT_TRUE(same_bits(alone.contact_time, lane.contact_time)) << what;
+    ASSERT_EQ(alone.max_gap.size(), lane.max_gap.size()) << what;
+    for (std::size_t i = 0; i < alone.max_gap.size(); ++i)
+        EXPECT_TRUE(same_bits(alone.max_gap[i], lane.max_gap[i])) << what << " largest gap " << i;
     expect_same_series(alone.points, lane.points, what + " section points");
     expect_same_series(alone.impacts.post, lane.impacts.post, what + " impacts");
     for (Eigen::Index i = 0; i < alone.final_state.size(); ++i)
@@ -89,6 +101,26 @@ void expect_lanes_equal_scalar(const std::vector<model>& models, const std::vect
     ASSERT_EQ(together.size(), models.size());
     for (std::size_t j = 0; j < models.size(); ++j)
         expect_same_run(simulate(models[j], x0s[j], po), together[j], "job " + std::to_string(j));
+}
+
+// first_beyond(from, span) is the least double t with t - from > span, the test the driver
+// replaces by one comparison: true there, false one step below, over magnitudes from 1e-3 to
+// 1e6 of either sign (times, quiet times) and spans below the resolution of `from`.
+TEST(Lanes, FirstBeyondIsTheLeastTimeWhoseDifferenceExceedsTheSpan)
+{
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> mant(1.0, 10.0), expo(-3.0, 6.0);
+    const double inf = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 20000; ++k) {
+        const double from = (k % 2 ? -1.0 : 1.0) * mant(rng) * std::pow(10.0, expo(rng));
+        const double span = k % 7 == 0 ? 1e-9 * std::abs(from) * mant(rng) : mant(rng) * std::pow(10.0, expo(rng));
+        const double b = first_beyond(from, span);
+        ASSERT_TRUE(b - from > span) << from << " " << span;
+        ASSERT_FALSE(std::nextafter(b, -inf) - from > span) << from << " " << span;
+    }
+    EXPECT_EQ(first_beyond(0.0, inf), -inf);
+    EXPECT_EQ(first_beyond(std::numeric_limits<double>::quiet_NaN(), 1.0), -inf);
+    EXPECT_EQ(first_beyond(1e308, 1e308), -inf);
 }
 
 // The bounds are those scripts/gen_controller_polynomials.py reports for the polynomials
@@ -247,6 +279,47 @@ TEST(Lanes, ContactPhasesAndFewJobsEqualTheScalarRuns)
     for (const auto& s : simulate_many(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po, 8))
         sticking += s.stats.sticking_phases;
     EXPECT_GT(sticking, 0) << "the case must go through contact phases";
+}
+
+// Most steps are quiet (no crossing possible) and stay in the lanes until the run needs them:
+// a step limit, a time limit or the quiet-time rule that falls inside such a stretch must end
+// the run, or begin the recording, at the step where it does alone. Limits of a few hundred
+// steps or time units end runs mid-orbit; a short quiet_time makes the jobs that stop
+// impacting (Ur = 12, 25 at sigma = -0.2) end by the quiet-time rule at whatever step its
+// time falls in.
+TEST(Lanes, LimitsAndTheQuietTimeRuleInsideQuietStretchesEqualTheScalarRuns)
+{
+    if (!runs_in_lanes(model::builtin("wake_impact"))) GTEST_SKIP() << "this build has no SIMD lanes";
+    const model m = model::builtin("wake_impact");
+    const auto models = paper_models({12.0, 16.0, 22.5, 25.0}, {-0.2, -0.05});
+    const std::vector<Eigen::VectorXd> x0s(models.size(), m.initial_state());
+    std::map<outcome, int> seen;
+    int quiet_ended = 0;
+    auto check = [&](const protocol_options& po) {
+        expect_lanes_equal_scalar(models, x0s, po);
+        for (const auto& s : simulate_many(models, x0s, po, lane_width)) {
+            ++seen[s.status];
+            quiet_ended += s.impacting ? 0 : 1;
+        }
+    };
+    for_each_method(50, 30, 0.0, [&](protocol_options po) {
+        for (const long max_steps : {333L, 1001L, 4567L}) {
+            po.flow.max_steps = max_steps;
+            check(po);
+        }
+        po.flow.max_steps = protocol_options{}.flow.max_steps;
+        for (const double t_max : {77.7, 512.3}) {
+            po.flow.t_max = t_max;
+            check(po);
+        }
+        po.flow.t_max = protocol_options{}.flow.t_max;
+        po.quiet_time = 37.5;
+        check(po);
+    });
+    EXPECT_GT(quiet_ended, 0) << "no job met the quiet-time rule";
+    EXPECT_GT(seen[outcome::step_limit], 0);
+    EXPECT_GT(seen[outcome::time_limit], 0);
+    EXPECT_GT(seen[outcome::ok], 0);
 }
 
 // Different initial states of one model (a basin's jobs), with a time series sampled.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "vimpact/core/first_beyond.hpp"
 #include "vimpact/hybrid/flow.hpp"
 
 namespace vimpact::engine {
@@ -32,6 +33,14 @@ public:
             if (m_opt.section.type == section_choice::kind::impacts) m_done = true;
         }
         return m_done || m_sample_limit ? flow_control::stop : flow_control::proceed;
+    }
+    // A time before which on_step_end returns proceed and changes nothing (core/first_beyond.hpp):
+    // the SIMD lanes' driver leaves the steps that end before it in its lanes.
+    [[nodiscard]] double step_end_acts_from() const
+    {
+        if (m_done || m_sample_limit) return -std::numeric_limits<double>::infinity();
+        if (!m_res.impacting) return std::numeric_limits<double>::infinity();
+        return first_beyond(m_last_impact, m_opt.quiet_time);
     }
     // The series reached protocol_options::max_samples (the run stops at the step's end).
     [[nodiscard]] bool sample_limit() const { return m_sample_limit; }

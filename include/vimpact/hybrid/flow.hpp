@@ -230,6 +230,22 @@ public:
             for (int i = 0; i < m_model.surface_count(); ++i) obs.on_gap_maximum(i, t_end, m_model.gap(i, m_x));
         }
     }
+    // Several quiet free steps the driver kept in its lanes and the integrator has just taken
+    // over (accept_external_steps), each of which quiet_free_step and step_taken would have
+    // followed. The driver let them pass only where those calls could change nothing but the
+    // gaps' largest values (Observer::step_end_acts_from, no time series, no limit reached), so
+    // the observer hears of each gap once, with the largest of its end values, gap_max(i)
+    // (>= as on_gap_maximum compares, the first one taken), at the last step's end time.
+    template <class Observer, class GapMax>
+    void quiet_free_steps(Observer& obs, double step_max, GapMax&& gap_max)
+    {
+        m_free_step_max = std::max(m_free_step_max, step_max);
+        m_t = m_integ.t();
+        m_x = m_integ.x();
+        m_ends_valid = false;
+        if (m_opt.gap_maxima && m_opt.surfaces && !m_stop)
+            for (int i = 0; i < m_model.surface_count(); ++i) obs.on_gap_maximum(i, m_t, gap_max(i));
+    }
     template <class Observer>
     std::optional<outcome> step_taken(step_status st, Observer& obs)
     {
@@ -539,7 +555,7 @@ private:
     }
 
     // Whether the free step just taken (end samples taken) is quiet: find_crossings' screening
-    // finds no possible crossing of any surface (each gap positive at the start) or watched
+    // finds no possible crossing of any surface (each gap positive at one end at least) or watched
     // event, and no gap's rate turns from rising to falling (report_gap_maxima's test for a
     // maximum inside the step). The general path of after_free_step would then find nothing;
     // deciding it from the samples alone skips that path's setup on most steps (about a tenth
@@ -550,7 +566,11 @@ private:
             for (int i = 0; i < m_model.surface_count(); ++i) {
                 const scalar_sample s0 = m_start.gaps[static_cast<std::size_t>(i)].at(h);
                 const scalar_sample s1 = m_end.gaps[static_cast<std::size_t>(i)].at(h);
-                if (!absent(i) && (!(s0.value > 0.0) || down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)))
+                // A step from a gap <= 0 to a positive one (the step after an impact starts on
+                // the surface) is only screened: the general path's crossing search and its
+                // unresolved-hop rule (which needs a negative end) then find nothing either.
+                if (!absent(i) && ((!(s0.value > 0.0) && !(s1.value > 0.0)) ||
+                                   down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)))
                     return false;
                 if (m_opt.gap_maxima && s0.slope > 0.0 && s1.slope <= 0.0) return false;
             }

@@ -17,7 +17,9 @@
 // do not, and their jobs run one at a time.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -69,8 +71,8 @@ lanes rate(const vec_t<lanes, N>& grad, const vec_t<lanes, N>& f, lane_mask& sur
     return r;
 }
 
-// Where the step from (x0, f0) to (x1, f1) is quiet: every gap positive at both ends and
-// not crossed, every watched section not crossed in its directions, by the flow's own rule
+// Where the step from (x0, f0) to (x1, f1) is quiet: every gap positive at one end at least
+// and not crossed, every watched section not crossed in its directions, by the flow's own rule
 // (hybrid_flow::after_free_step) with rates of certain sign.
 template <int N, class L>
 lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const vec_t<lanes, N>& x0,
@@ -82,7 +84,7 @@ lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const
         for (int i = 0; i < surfaces; ++i) {
             const lanes v0 = def.gap(i, x0), v1 = def.gap(i, x1);
             const lanes r0 = rate<N>(def.gap_gradient(i, x0), f0, quiet), r1 = rate<N>(def.gap_gradient(i, x1), f1, quiet);
-            quiet = quiet && v0 > zero && no_down_crossing(v0, v1, r0, r1);
+            quiet = quiet && (v0 > zero || v1 > zero) && no_down_crossing(v0, v1, r0, r1);
             // The flow's rule for a gap maximum inside the step (report_gap_maxima).
             if (opt.gap_maxima) quiet = quiet && !(r0 > zero && r1 <= zero);
         }
@@ -116,19 +118,44 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
     constexpr int W = lane_width;
     using run_ptr = std::decay_t<decltype(start(0L))>;
     using flow_type = std::decay_t<decltype(start(0L)->flow)>;
-    using method_type = typename flow_type::integrator_type::method_type;
+    using integrator_type = typename flow_type::integrator_type;
+    using method_type = typename integrator_type::method_type;
+    using observer_type = std::decay_t<decltype(start(0L)->obs)>;
     using lane_method = Method<N, lanes>;
     using lvec = vec_t<lanes, N>;
+    // A quiet step (no crossing possible, see detail::quiet_steps) after which the lane's run
+    // would only move its state on, count it, note its gaps and ask its observer whether to go
+    // on, is left in the lane's arrays: the run takes over all such steps at once when the lane
+    // next needs it (integrator's accept_external_steps, flow's quiet_free_steps). The observer
+    // says from what time its step-end call can act (step_end_acts_from); before that, and below
+    // the step limit, the steps need nothing from the run. About 95 % of the steps of the
+    // paper's protocol are quiet.
+    constexpr bool keeps_quiet = lanes_screenable<typename D::lanes_definition, N> &&
+                                 requires(const observer_type& o) { { o.step_end_acts_from() } -> std::convertible_to<double>; };
+    constexpr double inf = std::numeric_limits<double>::infinity();
 
     struct slot {
         long job = -1;
         run_ptr run;
         long starts = -1;
         bool rejected_before = false;
+        const std::atomic<bool>* cancel = nullptr;
     };
     std::array<slot, W> slots;
     alignas(64) double X[N][W] = {}, F[N][W] = {}, XN[N][W], FN[N][W];
     alignas(64) double Tt[W] = {}, H[W] = {}, LE[W] = {}, RB[W] = {};
+    // The steps a lane keeps (keeps_quiet): how many (PEND), the state after the last one (DT,
+    // DX, DF, DH, DLE), the last one's start and size (PT, XP, FP, PHT), the extremes of their
+    // sizes (HMN, HMX) and each surface's largest gap at their ends (GB); what lets a step be
+    // kept: the time from which the observer acts (QT, -infinity: keep none), the run's step
+    // count and limit (ST, MS), and whether the lane took part in the trial (FR).
+    alignas(64) double PEND[W] = {}, DT[W] = {}, DX[N][W] = {}, DF[N][W] = {}, DH[W] = {}, DLE[W] = {};
+    alignas(64) double PT[W] = {}, XP[N][W] = {}, FP[N][W] = {}, PHT[W] = {}, HMN[W], HMX[W];
+    alignas(64) double QT[W], ST[W] = {}, MS[W] = {}, FR[W] = {};
+    std::fill(std::begin(HMN), std::end(HMN), inf);
+    std::fill(std::begin(HMX), std::end(HMX), -inf);
+    std::fill(std::begin(QT), std::end(QT), -inf);
+    std::vector<std::array<double, W>> GB;
     std::vector<std::array<double, W>> par;
     std::optional<typename D::lanes_definition> def;
     bool params_changed = true;
@@ -152,7 +179,39 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
             for (int i = 0; i < N; ++i) dst[k][i] = src[k][i].lane(sc->lane);
     };
 
+    // Lane j's run takes over the steps the lane kept; before any other call on the run.
+    auto sync = [&](int j) {
+        if constexpr (keeps_quiet) {
+            if (PEND[j] == 0.0) return;
+            auto& r = *slots[static_cast<std::size_t>(j)].run;
+            typename integrator_type::external_steps e{static_cast<long>(PEND[j]), PT[j], PHT[j], DT[j], HMN[j], HMX[j],
+                                                       DH[j], DLE[j], {}, {}, {}, {}};
+            for (int i = 0; i < N; ++i) {
+                e.x_prev[i] = XP[i][j];
+                e.f_prev[i] = FP[i][j];
+                e.x[i] = DX[i][j];
+                e.f[i] = DF[i][j];
+            }
+            r.flow.integrator().accept_external_steps(e);
+            r.flow.quiet_free_steps(r.obs, HMX[j], [&](int i) { return GB[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]; });
+            PEND[j] = 0.0;
+            HMN[j] = inf;
+            HMX[j] = -inf;
+            for (auto& g : GB) g[static_cast<std::size_t>(j)] = std::numeric_limits<double>::quiet_NaN();
+        }
+    };
+    // What lets lane j keep its next steps, read from its run (after any call on it).
+    auto refresh = [&](int j) {
+        if constexpr (keeps_quiet) {
+            const auto& r = *slots[static_cast<std::size_t>(j)].run;
+            QT[j] = r.flow.mode() == flow_mode::free && !r.obs.wants_segments() ? r.obs.step_end_acts_from() : -inf;
+            ST[j] = static_cast<double>(r.flow.integrator().counters().steps);
+            MS[j] = static_cast<double>(r.flow.options().max_steps);
+        }
+    };
     auto load = [&](int j) {
+        sync(j);
+        refresh(j);
         const auto& in = slots[static_cast<std::size_t>(j)].run->flow.integrator();
         Tt[j] = in.t();
         H[j] = in.step_size();
@@ -177,6 +236,8 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
     // Ends lane j's job with outcome o and takes the next job, if any.
     auto finish = [&](int j, outcome o) {
         auto& s = slots[static_cast<std::size_t>(j)];
+        sync(j);
+        QT[j] = -inf;
         done(s.job, s.run->finish(o));
         s.run.reset();
         s.job = -1;
@@ -192,7 +253,16 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
             s.run = start(job);
             s.job = job;
             s.rejected_before = false;
+            s.cancel = s.run->flow.options().cancel;
             ++active;
+            if constexpr (keeps_quiet)
+                if (GB.empty())
+                    GB.assign(static_cast<std::size_t>(s.run->flow.model().surface_count()),
+                              [] {
+                                  std::array<double, W> a;
+                                  a.fill(std::numeric_limits<double>::quiet_NaN());
+                                  return a;
+                              }());
             s.run->flow.begin_run();
             if (const auto o = s.run->flow.limit_reached()) {
                 finish(j, *o);
@@ -215,10 +285,12 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
     };
     // One step of lane j by its own flow; the outcome when the run ends.
     auto step_alone = [&](int j) {
+        sync(j);
         auto& r = *slots[static_cast<std::size_t>(j)].run;
         const step_status st = r.flow.step(r.obs);
         std::optional<outcome> o = r.flow.step_taken(st, r.obs);
         if (!o) o = r.flow.limit_reached();
+        if (!o) refresh(j);
         return o;
     };
     refill();
@@ -265,8 +337,11 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
                 continue;
             }
             if (flow.integrator().starts() != s.starts) load(j);
+            // A cancelled run's next step goes through its flow, which ends it.
+            if (s.cancel && s.cancel->load(std::memory_order_relaxed)) QT[j] = -inf;
             free_lanes |= 1U << static_cast<unsigned>(j);
         }
+        for (int j = 0; j < W; ++j) FR[j] = ((free_lanes >> static_cast<unsigned>(j)) & 1U) ? 1.0 : 0.0;
         if (!free_lanes) continue;
         if (params_changed) {
             std::vector<lanes> p(par.size());
@@ -316,17 +391,52 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
         plan.h_floor.store(PF);
         const unsigned clipped = lane_bits(plan.clipped), underflow = lane_bits(plan.underflow),
                        accepted = lane_bits(accepted_mask), finite_bits = lane_bits(finite);
-        unsigned quiet = 0;
+        unsigned quiet = 0, kept = 0;
         if constexpr (lanes_screenable<typename D::lanes_definition, N>) {
             const bool sections_only = std::all_of(opt.events.begin(), opt.events.end(), [](const flow_event& e) {
                 return e.kind == flow_event::source::section;
             });
-            if (sections_only)
-                quiet = lane_bits(detail::quiet_steps<N>(field, opt, first.flow.model().surface_count(), x, f, xn, fn));
+            if (sections_only) {
+                const int surfaces = first.flow.model().surface_count();
+                const lane_mask quiet_mask = detail::quiet_steps<N>(field, opt, surfaces, x, f, xn, fn);
+                quiet = lane_bits(quiet_mask);
+                if constexpr (keeps_quiet) {
+                    const lanes one(1.0);
+                    const lane_mask keep = quiet_mask && accepted_mask && !plan.clipped && !plan.underflow &&
+                                           lanes::load(FR) == one && t_new < lanes::load(QT) &&
+                                           lanes::load(ST) + one < lanes::load(MS);
+                    kept = lane_bits(keep);
+                    if (kept) {
+                        const auto keep_new = [&keep](const lanes& v, double* a) { select(keep, v, lanes::load(a)).store(a); };
+                        keep_new(lanes::load(PEND) + one, PEND);
+                        keep_new(lanes::load(ST) + one, ST);
+                        keep_new(t_new, DT);
+                        keep_new(t, PT);
+                        keep_new(plan.h, PHT);
+                        keep_new(out.h_next, DH);
+                        keep_new(out.log2_err_old, DLE);
+                        keep_new(lane_min(lanes::load(HMN), plan.h), HMN);
+                        keep_new(lane_max(lanes::load(HMX), plan.h), HMX);
+                        for (int i = 0; i < N; ++i) {
+                            keep_new(xn[i], DX[i]);
+                            keep_new(fn[i], DF[i]);
+                            keep_new(x[i], XP[i]);
+                            keep_new(f[i], FP[i]);
+                        }
+                        if (opt.gap_maxima && opt.surfaces)
+                            for (int i = 0; i < surfaces; ++i) {
+                                const lanes g = field.gap(i, xn), b = lanes::load(GB[static_cast<std::size_t>(i)].data());
+                                // on_gap_maximum's rule, which takes the first value over a NaN.
+                                select(keep && !(g <= b), g, b).store(GB[static_cast<std::size_t>(i)].data());
+                            }
+                    }
+                }
+            }
         }
 
-        for (int j = 0; j < W; ++j) {
-            if (!((free_lanes >> static_cast<unsigned>(j)) & 1U)) continue;
+        for (unsigned todo = free_lanes & ~kept; todo; todo &= todo - 1) {
+            const int j = std::countr_zero(todo);
+            sync(j);
             auto& s = slots[static_cast<std::size_t>(j)];
             auto& flow = s.run->flow;
             auto& in = flow.integrator();
@@ -347,6 +457,7 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
                     flow.quiet_free_step(s.run->obs);
                     o = flow.step_taken(step_status::ok, s.run->obs);
                     if (!o) o = flow.limit_reached();
+                    if (!o) refresh(j);
                 } else {
                     const step_status st = flow.free_step_taken(s.run->obs);
                     o = flow.step_taken(st, s.run->obs);

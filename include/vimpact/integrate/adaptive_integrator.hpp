@@ -121,6 +121,35 @@ public:
         accept(plan.h, plan.clipped ? t_stop : m_t + plan.h, x_new, f_new, h_next, log2_err_old);
         m_stage_source = stages;
     }
+    // Several steps accepted outside and left there (hybrid/flow_lanes.hpp keeps the quiet
+    // steps of a lane in its arrays), taken over at once: as many accept_external calls,
+    // without the interpolants (no caller asks for a step's interpolant once the next one is
+    // taken). The step counters move by `steps`; the last step went from (t_prev, x_prev,
+    // f_prev) by h_taken to (t, x, f); h_min and h_max are the extremes of all their sizes;
+    // h_next and log2_err_old the controller's state after the last trial.
+    struct external_steps {
+        long steps;
+        double t_prev, h_taken, t, h_min, h_max, h_next, log2_err_old;
+        vec<N> x_prev, f_prev, x, f;
+    };
+    void accept_external_steps(const external_steps& s)
+    {
+        m_count.rhs_calls += s.steps * method_type::stages_per_step;
+        m_count.steps += s.steps;
+        m_count.h_min = std::min(m_count.h_min, s.h_min);
+        m_count.h_max = std::max(m_count.h_max, s.h_max);
+        m_log_err_old = s.log2_err_old;
+        m_t_prev = s.t_prev;
+        m_x_prev = s.x_prev;
+        m_f_prev = s.f_prev;
+        m_h_taken = s.h_taken;
+        m_t = s.t;
+        m_x = s.x;
+        m_f = s.f;
+        m_h = s.h_next;
+        m_dense_ready = false;
+        m_stage_source = {};
+    }
     // A rejected trial taken outside; true when the step ends in non-finite numbers.
     bool reject_external(const trial_plan<double, bool>& plan, double h_next, bool finite)
     {
