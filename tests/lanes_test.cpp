@@ -6,6 +6,7 @@
 // --batch 1 against the default batch; a model file runs one job at a time.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -101,6 +102,17 @@ void expect_lanes_equal_scalar(const std::vector<model>& models, const std::vect
     ASSERT_EQ(together.size(), models.size());
     for (std::size_t j = 0; j < models.size(); ++j)
         expect_same_run(simulate(models[j], x0s[j], po), together[j], "job " + std::to_string(j));
+}
+
+// lane_bits reads the mask register where the instruction set has one: every pattern of true
+// lanes gives its bits.
+TEST(Lanes, LaneBitsNameTheTrueLanes)
+{
+    for (unsigned p = 0; p < (1U << lane_width); ++p) {
+        alignas(64) std::array<double, lane_width> a{};
+        for (int i = 0; i < lane_width; ++i) a[static_cast<std::size_t>(i)] = ((p >> static_cast<unsigned>(i)) & 1U) ? 2.5 : -1.0;
+        EXPECT_EQ(lane_bits(lanes::load(a.data()) > lanes(0.0)), p);
+    }
 }
 
 // first_beyond(from, span) is the least double t with t - from > span, the test the driver

@@ -93,9 +93,14 @@ struct lanes {
 inline lanes select(lane_mask m, const lanes& a, const lanes& b) { return {xsimd::select(m.m, a.v, b.v)}; }
 inline bool any_of(lane_mask m) { return xsimd::any(m.m); }
 inline bool all_of(lane_mask m) { return xsimd::all(m.m); }
-// Bit i set when lane i is true.
+// Bit i set when lane i is true: the mask register itself where the instruction set has one.
 inline unsigned lane_bits(lane_mask m)
 {
+#if defined(__AVX512F__) && defined(VIMPACT_LANES_512)
+    return static_cast<unsigned>(static_cast<__mmask8>(m.m));
+#elif defined(__AVX__)
+    if constexpr (lane_width == 4) return static_cast<unsigned>(_mm256_movemask_pd(m.m));
+#endif
     alignas(64) std::array<double, lane_width> a;
     xsimd::select(m.m, lane_batch(1.0), lane_batch(0.0)).store_aligned(a.data());
     unsigned bits = 0;
