@@ -6,7 +6,8 @@
 // same arithmetic the scalar integrator does, so every lane gets the bits it would get alone.
 // Whatever follows an accepted step (events, impacts, resets, the chattering rule, the
 // observer) is the scalar hybrid flow of that lane, unchanged: the lane hands the step to its
-// flow's integrator (accept_external) and the flow goes on from there. A lane in a contact
+// flow's integrator (accept_external) and the flow goes on from there; a step with nothing to
+// follow it (keeps_quiet below) waits in the lane until the flow next needs it. A lane in a contact
 // phase steps on its own until it is released. A lane whose job ends takes the next job from
 // its source (in the job loop, the queue all the threads share), so lanes stay busy when jobs
 // differ in length.
