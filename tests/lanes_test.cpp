@@ -130,7 +130,8 @@ TEST(Lanes, FirstBeyondIsTheLeastTimeWhoseDifferenceExceedsTheSpan)
         ASSERT_TRUE(b - from > span) << from << " " << span;
         ASSERT_FALSE(std::nextafter(b, -inf) - from > span) << from << " " << span;
     }
-    EXPECT_EQ(first_beyond(0.0, inf), -inf);
+    EXPECT_EQ(first_beyond(0.0, inf), inf);
+    EXPECT_EQ(first_beyond(-inf, 1.0), -inf);
     EXPECT_EQ(first_beyond(std::numeric_limits<double>::quiet_NaN(), 1.0), -inf);
     EXPECT_EQ(first_beyond(1e308, 1e308), -inf);
 }

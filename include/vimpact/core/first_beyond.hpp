@@ -26,12 +26,14 @@ inline double ordered_double(std::int64_t k)
 }  // namespace detail
 
 // A time b such that t - from > span (rounded as doubles) is false for every t < b: the least
-// t for which it is true when from, span and from + span are finite, otherwise -infinity
-// (which claims nothing). Rounding is monotone in t, so the test is true for every t >= b.
+// t for which it is true when from, span and from + span are finite; +infinity for a finite
+// from and span = +infinity (never true); otherwise -infinity (which claims nothing).
+// Rounding is monotone in t, so the test is true for every t >= b.
 inline double first_beyond(double from, double span)
 {
     constexpr double inf = std::numeric_limits<double>::infinity();
     const double guess = from + span;
+    if (std::isfinite(from) && span == inf) return inf;
     if (!std::isfinite(from) || !std::isfinite(span) || !std::isfinite(guess)) return -inf;
     const auto beyond = [&](double t) { return t - from > span; };
     // from + span is usually within an ulp or two of the answer.

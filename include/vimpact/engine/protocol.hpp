@@ -35,7 +35,10 @@ public:
         return m_done || m_sample_limit ? flow_control::stop : flow_control::proceed;
     }
     // A time before which on_step_end returns proceed and changes nothing (core/first_beyond.hpp):
-    // the SIMD lanes' driver leaves the steps that end before it in its lanes.
+    // the SIMD lanes' driver leaves the steps that end before it in its lanes, and then reports
+    // their gaps' largest values in one on_gap_maximum call at the last step's end time (an
+    // observer offering this must not need the time of each step's gap; this one compares it
+    // with the start of its recording only, which every such step ends after).
     [[nodiscard]] double step_end_acts_from() const
     {
         if (m_done || m_sample_limit) return -std::numeric_limits<double>::infinity();

@@ -403,9 +403,13 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
                 quiet = lane_bits(quiet_mask);
                 if constexpr (keeps_quiet) {
                     const lanes one(1.0);
-                    const lane_mask keep = quiet_mask && accepted_mask && !plan.clipped && !plan.underflow &&
-                                           lanes::load(FR) == one && t_new < lanes::load(QT) &&
-                                           lanes::load(ST) + one < lanes::load(MS);
+                    lane_mask keep = quiet_mask && accepted_mask && !plan.clipped && !plan.underflow &&
+                                     lanes::load(FR) == one && t_new < lanes::load(QT) &&
+                                     lanes::load(ST) + one < lanes::load(MS);
+                    // A gap that is not a number would not merge as the observer's calls one by
+                    // one do: such a step goes through the run.
+                    if (opt.gap_maxima && opt.surfaces)
+                        for (int i = 0; i < surfaces; ++i) keep = keep && is_finite(field.gap(i, xn));
                     kept = lane_bits(keep);
                     if (kept) {
                         const auto keep_new = [&keep](const lanes& v, double* a) { select(keep, v, lanes::load(a)).store(a); };
