@@ -43,13 +43,13 @@ public:
     {
         if (m_done || m_sample_limit) return -std::numeric_limits<double>::infinity();
         if (!m_res.impacting) return std::numeric_limits<double>::infinity();
-        return first_beyond(m_last_impact, m_opt.quiet_time);
+        return m_acts_from;
     }
     // The series reached protocol_options::max_samples (the run stops at the step's end).
     [[nodiscard]] bool sample_limit() const { return m_sample_limit; }
     void set_start(double t)
     {
-        m_last_impact = t;
+        set_last_impact(t);
         if (m_recording) begin_recording(t);
     }
 
@@ -90,7 +90,7 @@ public:
     flow_control on_impact(int surface, double t, const vec<N>& pre, const vec<N>& post)
     {
         ++m_impacts;
-        m_last_impact = t;
+        set_last_impact(t);
         if (!m_recording) {
             if (m_impacts >= m_opt.transient_impacts) {
                 m_res.transient_impacts = m_impacts;
@@ -148,6 +148,12 @@ private:
         if (m_recording) m_res.contact_time += std::max(0.0, t - std::max(m_contact_since, m_res.t_record_start));
     }
 
+    void set_last_impact(double t)
+    {
+        m_last_impact = t;
+        m_acts_from = first_beyond(t, m_opt.quiet_time);
+    }
+
     const protocol_options& m_opt;
     simulation& m_res;
     bool m_recording = false;
@@ -158,6 +164,9 @@ private:
     double m_contact_since = 0.0;
     long m_impacts = 0;
     double m_last_impact = 0.0;
+    // first_beyond(m_last_impact, quiet_time), computed once per impact: the lanes' driver asks
+    // for it after every step that goes back through the run.
+    double m_acts_from = first_beyond(0.0, m_opt.quiet_time);
     double m_next_sample = 0.0;
     long m_sample_index = 0;
 };
