@@ -427,7 +427,7 @@ private:
             int event;
             crossing direction;
         };
-        std::array<found_event, 16> found{};
+        std::array<found_event, 16> found;  // only the first nfound are read
         int nfound = 0;
         for (int e = 0; e < static_cast<int>(m_opt.events.size()); ++e) {
             const flow_event& ev = m_opt.events[static_cast<std::size_t>(e)];
