@@ -126,10 +126,10 @@ struct lane_bits_ops<lanes> {
     using ints = xsimd::batch<std::int64_t, lane_arch>;
     static ints bits(const lanes& x) { return xsimd::bitwise_cast<ints>(x.v); }
     static lanes from_bits(const ints& b) { return {xsimd::bitwise_cast<lane_batch>(b)}; }
-    // Exact for the exponents fast_log2 converts (|i| < 2^53). With 512-bit lanes, xsimd's
-    // conversion works in two 256-bit halves, stored apart and read back as one 512-bit value,
-    // which waits for both stores (a failed store forward) in every trial's controller: about
-    // 2 % of the lanes' time. AVX-512 DQ converts all eight in one instruction.
+    // Exact for the exponents fast_log2 converts (|i| < 2^53). xsimd 8.1 has no AVX-512 DQ
+    // conversion: its fallback copies through memory, which GCC vectorises as two 256-bit
+    // halves read back as one 512-bit value, waiting for both stores (a failed store forward)
+    // in every trial's controller. AVX-512 DQ converts all eight in one instruction.
     static lanes to_double(const ints& i)
     {
 #if defined(__AVX512DQ__) && defined(VIMPACT_LANES_512)
