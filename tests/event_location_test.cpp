@@ -258,3 +258,72 @@ TEST(EventLocation, ScreeningNeverRulesOutACrossingOfAQuadratic)
     EXPECT_GT(crossing_cases, 2000);
     EXPECT_GT(screened_out, 2000);
 }
+
+// The root search's first point is the inverse cubic Hermite interpolant at g = 0: exact
+// when theta is a cubic function of g. Here theta(g) = 0.5 - 0.3 g + 0.1 g^2 - 0.05 g^3
+// (falling for every g in [-0.3, 0.4]), so the root is theta(0) = 0.5; the end samples are
+// the values g = 0.4 and -0.3 at theta(0.4) and theta(-0.3), with slopes 1 / theta'(g).
+TEST(EventLocation, InverseHermiteStartIsExactForACubicInverse)
+{
+    const auto theta = [](double g) { return 0.5 + g * (-0.3 + g * (0.1 - 0.05 * g)); };
+    const auto dtheta = [](double g) { return -0.3 + g * (0.2 - 0.15 * g); };
+    const double ga = 0.4, gb = -0.3;
+    const double x = vimpact::detail::inverse_hermite_root(theta(ga), {ga, 1.0 / dtheta(ga)}, theta(gb), {gb, 1.0 / dtheta(gb)});
+    EXPECT_NEAR(x, 0.5, 4e-16);
+}
+
+// On an eighth of a step, the start is close enough that Newton lands on the root of a
+// smooth function in at most three evaluations (from the midpoint, as before, up to four), and
+// the result keeps its contract: g <= 0 there, a few ulps from the root.
+TEST(EventLocation, RootSearchFromTheHermiteStartTakesFewEvaluations)
+{
+    std::mt19937_64 rng(20261128);
+    std::uniform_real_distribution<double> where(0.0, 1.0);
+    int worst = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        // g = sin(k (r - theta)) on a piece [a, a + 1/8] that holds r; k up to 6 (a phase of
+        // 0.75 rad over the piece).
+        const double a = 0.875 * where(rng), r = a + 0.125 * (0.02 + 0.96 * where(rng)), k = 0.5 + 5.5 * where(rng);
+        int evaluations = 0;
+        const auto g = [&](double t) {
+            ++evaluations;
+            return scalar_sample{std::sin(k * (r - t)), -k * std::cos(k * (r - t))};
+        };
+        const scalar_sample sa = g(a), sb = g(a + 0.125);
+        evaluations = 0;
+        const double root = vimpact::detail::newton_bracketed(g, a, sa, a + 0.125, sb);
+        worst = std::max(worst, evaluations);
+        EXPECT_LE(std::abs(root - r), theta_tol);
+        EXPECT_LE(std::sin(k * (r - root)), 0.0);
+    }
+    EXPECT_LE(worst, 3);
+}
+
+// The extremum search returns a point whose value is the extremum's to rounding, and is
+// within 1e-12 of it in theta, in at most five evaluations of the slope (Illinois regula
+// falsi to a 4 eps bracket, as before, took four to 29 here): g = -cos(k (theta - c)) + 0.3 (theta - c)^3
+// has its minimum at c, its slope changing sign there.
+TEST(EventLocation, ExtremumSearchIsAccurateInFewEvaluations)
+{
+    std::mt19937_64 rng(28112026);
+    std::uniform_real_distribution<double> where(0.0, 1.0);
+    int worst = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const double a = 0.875 * where(rng), c = a + 0.125 * (0.02 + 0.96 * where(rng)), k = 0.5 + 5.5 * where(rng);
+        int evaluations = 0;
+        const auto g = [&](double t) {
+            ++evaluations;
+            const double u = t - c;
+            return scalar_sample{-std::cos(k * u) + 0.3 * u * u * u, k * std::sin(k * u) + 0.9 * u * u};
+        };
+        const scalar_sample sa = g(a), sb = g(a + 0.125);
+        ASSERT_LT(sa.slope, 0.0);
+        ASSERT_GT(sb.slope, 0.0);
+        evaluations = 0;
+        const double te = vimpact::detail::extremum_bracketed(g, a, sa, a + 0.125, sb);
+        worst = std::max(worst, evaluations);
+        EXPECT_LE(std::abs(te - c), 1e-12) << "k = " << k;
+        EXPECT_LE(g(te).value - g(c).value, 2.0 * std::numeric_limits<double>::epsilon());
+    }
+    EXPECT_LE(worst, 5);
+}

@@ -586,8 +586,8 @@ private:
 
     // Each gap's largest value on (0, theta_end] of the step just taken (theta_end < 1: an
     // impact on surface `impacting` there, where its gap is 0). A maximum is bracketed by the
-    // gap's rate, known at the step's ends, and located by the Illinois method on its slope
-    // along the interpolant (a few interpolant evaluations per maximum); a step with two
+    // gap's rate, known at the step's ends, and located on its slope along the interpolant by
+    // the event locator's extremum search (a few interpolant evaluations); a step with two
     // interior extrema (longer than half an oscillation of the gap) reports its end value only.
     template <class Observer, class Rhs>
     void report_gap_maxima(Observer& obs, Rhs& rhs, double theta_end, int impacting)
@@ -606,29 +606,15 @@ private:
                 slope_end = gap_derivative(m_model, i, p, dp);
             }
             double best = value, theta_best = theta_end;
-            if (slope_start > 0.0 && slope_end <= 0.0) {
-                const auto& d = m_integ.dense(rhs);
-                double a = 0.0, b = theta_end, fa = slope_start, fb = slope_end, c = b;
-                for (int it = 0, side = 0; it < 60 && fb < 0.0 && b - a > 1e-13; ++it) {
-                    c = (a * fb - b * fa) / (fb - fa);
-                    if (!(c > a && c < b)) c = 0.5 * (a + b);
-                    d.value_and_slope(c, p, dp);
-                    const double fc = gap_derivative(m_model, i, p, dp);
-                    if (fc > 0.0) {
-                        a = c;
-                        fa = fc;
-                        if (side == 1) fb *= 0.5;
-                        side = 1;
-                    } else {
-                        b = c;
-                        fb = fc;
-                        if (side == -1) fa *= 0.5;
-                        side = -1;
-                    }
-                }
-                const double g = m_model.gap(i, d.value_at(c));
-                if (g > best) {
-                    best = g;
+            if (slope_start > 0.0 && slope_end < 0.0) {
+                auto g = on_dense(
+                    rhs, [this, i](const state& x) { return m_model.gap(i, x); },
+                    [this, i](const state& x, const state& v) { return gap_derivative(m_model, i, x, v); });
+                const double c =
+                    detail::extremum_bracketed(g, 0.0, m_start.gaps[static_cast<std::size_t>(i)].at(h), theta_end, {value, slope_end});
+                const double gc = m_model.gap(i, m_integ.dense(rhs).value_at(c));
+                if (gc > best) {
+                    best = gc;
                     theta_best = c;
                 }
             }
