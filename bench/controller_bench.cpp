@@ -26,7 +26,7 @@ int main()
     };
     const integrator_options d;
     const std::vector<candidate> cands{
-        {"default", d.safety, d.pi_beta, d.factor_max, d.factor_min},
+        {"PI, no band (DOP853's default)", d.safety, d.pi_beta, d.factor_max, d.factor_min},
         {"proportional (beta 0)", 0.9, 0.0, 10.0, 0.2},
         {"Hairer DOP853 (0.9, beta 0, [1/3, 6])", 0.9, 0.0, 6.0, 1.0 / 3.0},
         {"beta 0.04, growth <= 5", 0.9, 0.04, 5.0, 0.2},
@@ -35,7 +35,7 @@ int main()
         {"safety 0.8", 0.8, 0.04, 10.0, 0.2},
         {"safety 0.95", 0.95, 0.04, 10.0, 0.2},
         {"hold band 0.05", 0.9, 0.04, 10.0, 0.2, 0.05},
-        {"hold band 0.1", 0.9, 0.04, 10.0, 0.2, 0.1},
+        {"hold band 0.1 (DOPRI5's default)", 0.9, 0.04, 10.0, 0.2, 0.1},
         {"hold band 0.2", 0.9, 0.04, 10.0, 0.2, 0.2},
         {"hold band 0.3", 0.9, 0.04, 10.0, 0.2, 0.3},
         {"hold band 0.5", 0.9, 0.04, 10.0, 0.2, 0.5},

@@ -35,7 +35,7 @@ def programs(build, scipy):
     p = [("vimpact DOP853", [f"{build}/wp_vimpact", "--method", "dop853"]),
          ("vimpact DOPRI5", [f"{build}/wp_vimpact", "--method", "dopri5"]),
          ("vimpact DOP853, hold 0.1", [f"{build}/wp_vimpact", "--method", "dop853", "--hold", "0.1"]),
-         ("vimpact DOPRI5, hold 0.1", [f"{build}/wp_vimpact", "--method", "dopri5", "--hold", "0.1"]),
+         ("vimpact DOPRI5, hold 0 (off)", [f"{build}/wp_vimpact", "--method", "dopri5", "--hold", "0"]),
          ("Odeint DOPRI5", [f"{build}/baseline_odeint", "--method", "dopri5"]),
          ("Odeint RKF78", [f"{build}/baseline_odeint", "--method", "rkf78"]),
          ("plain DOPRI5 loop", [f"{build}/baseline_plain"])]

@@ -37,9 +37,9 @@ void add_common_options(CLI::App& app, common_args& a)
     a.rtol_option = app.add_option("--rtol", a.rtol, "Relative tolerance (default 1e-10)");
     a.atol_option = app.add_option("--atol", a.atol, "Absolute tolerance (default 1e-10)");
     a.hold_band_option = app.add_option("--hold-band", a.hold_band,
-                                        "Step sizes held while the error norm lies in [B, 1], in [0, 1) (default 0: "
-                                        "the controller acts on every step); faster steps, more rejections "
-                                        "(docs/performance.md)");
+                                        "Step sizes held while the error norm lies in [B, 1], in [0, 1); 0: the "
+                                        "controller acts on every step (default 0.1 with dopri5, 0 with dop853); faster "
+                                        "steps, more rejections (docs/performance.md)");
     a.transient_option = app.add_option("--transient", a.transient, "Impacts discarded before recording (default 500)");
     a.record_option = app.add_option("--record", a.record, "Section points kept (default " + std::to_string(a.record) + ")");
     a.method_option = app.add_option("--method", a.method, "Integrator: dop853 (default) or dopri5");
@@ -246,7 +246,6 @@ run_config resolve(const common_args& a)
     c.protocol.record_points = a.record;
     c.protocol.flow.integration.rtol = a.rtol;
     c.protocol.flow.integration.atol = a.atol;
-    c.protocol.flow.integration.hold_band = a.hold_band;
     c.protocol.flow.cancel = &interrupt_flag();  // Ctrl-C ends a run with the outcome `interrupted`
     std::string method = a.method;
     std::string section;
@@ -375,7 +374,7 @@ nlohmann::json run_config::to_json() const
     j["ic"] = std::vector<double>(ic.data(), ic.data() + ic.size());
     j["rtol"] = protocol.flow.integration.rtol;
     j["atol"] = protocol.flow.integration.atol;
-    if (protocol.flow.integration.hold_band > 0.0) j["hold_band"] = protocol.flow.integration.hold_band;
+    if (protocol.flow.integration.hold_band) j["hold_band"] = *protocol.flow.integration.hold_band;
     j["method"] = std::string(to_string(protocol.method));
     j["transient"] = protocol.transient_impacts;
     j["record"] = protocol.record_points;

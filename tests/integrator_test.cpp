@@ -19,6 +19,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "vimpact/integrate/adaptive_integrator.hpp"
@@ -387,7 +388,7 @@ TEST(AdaptiveIntegrator, ErrorProportionalToToleranceWithAHoldBand)
 // for DOPRI5 (k = 5) and 0.15 for DOP853 (k = 8), so most steps of a smooth problem lie inside
 // a band from 0.3 (DOPRI5) or 0.1 (DOP853) to 1, and few of DOP853's inside [0.3, 1].
 template <template <int> class Method>
-double held_fraction(double hold_band)
+double held_fraction(std::optional<double> hold_band)
 {
     vimpact::integrator_options opt;
     opt.rtol = opt.atol = 1e-9;
@@ -415,6 +416,18 @@ TEST(AdaptiveIntegrator, HoldBandKeepsTheStepSizeOfMostSteps)
     EXPECT_GT(held_fraction<vimpact::dopri5>(0.3), 0.5);
     EXPECT_GT(held_fraction<vimpact::dop853>(0.1), 0.5);
     EXPECT_LT(held_fraction<vimpact::dop853>(0.3), 0.2);
+}
+
+// Without a band in the options each method takes its own: DOPRI5 0.1, whose steps settle
+// near err = 0.44 and are mostly held, DOP853 none.
+TEST(AdaptiveIntegrator, EachMethodHasItsDefaultHoldBand)
+{
+    const double dopri5_default = held_fraction<vimpact::dopri5>(std::nullopt);
+    EXPECT_GT(dopri5_default, 0.5);
+    EXPECT_EQ(dopri5_default, held_fraction<vimpact::dopri5>(0.1));
+    const double dop853_default = held_fraction<vimpact::dop853>(std::nullopt);
+    EXPECT_LT(dop853_default, 0.01);
+    EXPECT_EQ(dop853_default, held_fraction<vimpact::dop853>(0.0));
 }
 
 // control_step with a hold band: inside [band, 1] the step size and the controller's memory

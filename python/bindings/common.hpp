@@ -337,7 +337,8 @@ inline void read_integration(options& o, integrator_options& in, integration_met
 {
     in.rtol = o.get<double>("rtol", in.rtol);
     in.atol = o.get<double>("atol", in.atol);
-    in.hold_band = o.get<double>("hold_band", in.hold_band);
+    // None: the method's hold band.
+    if (const double band = o.get<double>("hold_band", 0.0); o.has("hold_band")) in.hold_band = band;
     method = parse_name(o.get<std::string>("method", std::string(to_string(method))), all_integration_methods,
                         "method");
 }

@@ -32,7 +32,7 @@ py::dict defaults()
     d["record"] = po.record_points;
     d["rtol"] = po.flow.integration.rtol;
     d["atol"] = po.flow.integration.atol;
-    d["hold_band"] = po.flow.integration.hold_band;
+    d["hold_band"] = py::none();  // the method's (integrator_options::hold_band)
     d["method"] = std::string(to_string(po.method));
     d["sample_dt"] = po.sample_dt;
     d["quiet_time"] = po.quiet_time;

@@ -47,9 +47,10 @@ _PROTOCOL_DOC = """    transient : int, default $transient
         section, or the impacts if it declares none.
     rtol, atol : float, default $rtol, $atol
         Relative and absolute tolerances of the adaptive integrator.
-    hold_band : float, default $hold_band
+    hold_band : float, optional
         In [0, 1): an accepted step whose error norm lies in [hold_band, 1] keeps its step
         size (faster steps, more rejections; docs/performance.md, "The hold band"). 0: off.
+        Default (None): the method's, 0.1 for DOPRI5 and 0 (off) for DOP853.
     method : {"dop853", "dopri5"}, default $method
         Runge-Kutta pair: DOP853 (8th order, 7th-order interpolant) or DOPRI5.
     quiet_time : float, default $quiet_time

@@ -70,8 +70,8 @@ void validate(const integrator_options& in)
         throw input_error("atol = " + format_double(in.atol) + " is outside its valid range (0, 1)");
     if (in.rtol < 1e-15) throw input_error("rtol must be >= 1e-15 (double precision cannot do better)");
     if (in.atol < 1e-300) throw input_error("atol must be >= 1e-300");
-    if (!(in.hold_band >= 0.0 && in.hold_band < 1.0))
-        throw input_error("hold_band = " + format_double(in.hold_band) + " is outside its valid range [0, 1)");
+    if (in.hold_band && !(*in.hold_band >= 0.0 && *in.hold_band < 1.0))
+        throw input_error("hold_band = " + format_double(*in.hold_band) + " is outside its valid range [0, 1)");
 }
 
 void validate(const protocol_options& o)

@@ -72,8 +72,9 @@ json to_json(const integrator_options& o)
               {"h_max", number(o.h_max)},     {"h_init", number(o.h_init)},
               {"safety", number(o.safety)},   {"factor_min", number(o.factor_min)},
               {"factor_max", number(o.factor_max)}, {"pi_beta", number(o.pi_beta)}};
-    // Only when set: a job journal's spec written before the option existed still matches.
-    if (o.hold_band > 0.0) j["hold_band"] = number(o.hold_band);
+    // Only when given (none: the method's default): a job journal's spec written before the
+    // option existed still matches.
+    if (o.hold_band) j["hold_band"] = number(*o.hold_band);
     return j;
 }
 

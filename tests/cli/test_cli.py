@@ -108,6 +108,15 @@ def test_hold_band_reaches_the_integrator(vimpact, tmp_path):
     assert "hold_band = 0.1" in (out / "config.toml").read_text()
 
 
+def test_each_method_has_its_default_hold_band(vimpact):
+    # Without --hold-band, DOPRI5 holds from 0.1 and DOP853 not at all (docs/performance.md).
+    q = ("simulate", "--transient", "20", "--record", "10")
+    for method, band, other in (("dopri5", "0.1", "0"), ("dop853", "0", "0.1")):
+        d = run_json(vimpact, *q, "--method", method)
+        assert d["stats"] == run_json(vimpact, *q, "--method", method, "--hold-band", band)["stats"]
+        assert d["stats"]["steps"] != run_json(vimpact, *q, "--method", method, "--hold-band", other)["stats"]["steps"]
+
+
 def test_results_are_deterministic(vimpact):
     a = run(vimpact, "period", "--json", "--set", "Ur=21.5")
     b = run(vimpact, "period", "--json", "--set", "Ur=21.5")

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "vimpact/core/state.hpp"
 #include "vimpact/integrate/runge_kutta.hpp"
@@ -26,9 +27,10 @@ struct integrator_options {
     // 0: proportional.
     double pi_beta = 0.04;
     // Hold band: an accepted step whose error norm lies in [hold_band, 1] keeps the step size
-    // (integrate/step_control.hpp). In [0, 1); 0: off, the controller acts on every step.
-    // Its cost and accuracy against the default: docs/performance.md, "The hold band".
-    double hold_band = 0.0;
+    // (integrate/step_control.hpp). In [0, 1); 0: off, the controller acts on every step;
+    // none: the method's default_hold_band (DOPRI5 0.1, DOP853 0). Its cost and accuracy:
+    // docs/performance.md, "The hold band".
+    std::optional<double> hold_band = std::nullopt;
 };
 
 enum class step_status { ok, step_underflow, non_finite };
@@ -40,6 +42,14 @@ struct integrator_counters {
     double h_min = std::numeric_limits<double>::infinity();
     double h_max = 0.0;
 };
+
+// A method's hold band when the options give none; 0 (off) for a stepper that names none.
+template <class MethodType>
+constexpr double default_hold_band()
+{
+    if constexpr (requires { MethodType::default_hold_band; }) return MethodType::default_hold_band;
+    else return 0.0;
+}
 
 // MethodType: the stepper, Method<N> unless a caller substitutes one with the same interface
 // (hybrid/stepper.hpp).
@@ -158,8 +168,9 @@ public:
     [[nodiscard]] double log2_err_old() const { return m_log_err_old; }
     [[nodiscard]] controller_constants constants() const
     {
+        const double band = m_opt.hold_band.value_or(default_hold_band<method_type>());
         return {m_opt.safety,  m_opt.factor_min, m_opt.factor_max, m_opt.pi_beta, method_type::error_exponent_order,
-                m_opt.hold_band > 0.0 ? m_opt.hold_band * m_opt.hold_band : std::numeric_limits<double>::infinity()};
+                band > 0.0 ? band * band : std::numeric_limits<double>::infinity()};
     }
 
     // Interpolant of the last accepted step [t_prev(), t()].
