@@ -374,7 +374,9 @@ nlohmann::json run_config::to_json() const
     j["ic"] = std::vector<double>(ic.data(), ic.data() + ic.size());
     j["rtol"] = protocol.flow.integration.rtol;
     j["atol"] = protocol.flow.integration.atol;
-    if (protocol.flow.integration.hold_band) j["hold_band"] = *protocol.flow.integration.hold_band;
+    // The band the run used: given, or its method's when that holds.
+    const double band = effective_hold_band(protocol.flow.integration, protocol.method);
+    if (protocol.flow.integration.hold_band || band > 0.0) j["hold_band"] = band;
     j["method"] = std::string(to_string(protocol.method));
     j["transient"] = protocol.transient_impacts;
     j["record"] = protocol.record_points;

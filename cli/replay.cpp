@@ -209,7 +209,9 @@ void write_replay_config(const fs::path& path, const run_config& c)
         line("ic", std::vector<double>(c.ic.data(), c.ic.data() + c.ic.size()));
         line("rtol", c.protocol.flow.integration.rtol);
         line("atol", c.protocol.flow.integration.atol);
-        if (c.protocol.flow.integration.hold_band) line("hold_band", *c.protocol.flow.integration.hold_band);
+        // The band the run used, so the replay holds alike whatever the default then.
+        const double band = effective_hold_band(c.protocol.flow.integration, c.protocol.method);
+        if (c.protocol.flow.integration.hold_band || band > 0.0) line("hold_band", band);
         line("method", std::string(to_string(c.protocol.method)));
         line("section", c.section_name());
         line("transient", static_cast<int64_t>(c.protocol.transient_impacts));

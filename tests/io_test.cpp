@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "io/json_codec.hpp"
 #include "io/json_line.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/io/csv_writer.hpp"
@@ -95,4 +97,28 @@ TEST(JsonLine, ReadsWhatNlohmannReads)
         EXPECT_FALSE(vimpact::detail::try_parse_json_line(bad).has_value()) << bad;
         EXPECT_THROW((void)vimpact::detail::parse_json_line(bad), std::runtime_error) << bad;
     }
+}
+
+// A job journal's spec records the hold band the run uses (integrator_options::hold_band):
+// DOPRI5's default band appears, so a journal written before DOPRI5 held by default (no band
+// in its spec) is not resumed with it; a band of 0 is not written, as before the option.
+TEST(JsonCodec, ProtocolSpecRecordsTheHoldBandTheRunUses)
+{
+    using vimpact::integration_method;
+    vimpact::protocol_options o;
+    const auto band = [&o]() -> std::optional<double> {
+        const auto j = vimpact::detail::to_json(o)["flow"]["integration"];
+        if (!j.contains("hold_band")) return std::nullopt;
+        return j["hold_band"].get<double>();
+    };
+    o.method = integration_method::dopri5;
+    EXPECT_EQ(band(), 0.1);
+    o.flow.integration.hold_band = 0.0;
+    EXPECT_EQ(band(), std::nullopt);
+    o.flow.integration.hold_band = 0.3;
+    EXPECT_EQ(band(), 0.3);
+    o.method = integration_method::dop853;
+    EXPECT_EQ(band(), 0.3);
+    o.flow.integration.hold_band.reset();
+    EXPECT_EQ(band(), std::nullopt);
 }

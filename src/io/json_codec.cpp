@@ -72,11 +72,33 @@ json to_json(const integrator_options& o)
               {"h_max", number(o.h_max)},     {"h_init", number(o.h_init)},
               {"safety", number(o.safety)},   {"factor_min", number(o.factor_min)},
               {"factor_max", number(o.factor_max)}, {"pi_beta", number(o.pi_beta)}};
-    // Only when given (none: the method's default): a job journal's spec written before the
-    // option existed still matches.
-    if (o.hold_band) j["hold_band"] = number(*o.hold_band);
+    // Only a band that holds (here without a method: the tangent runs' DOP853, whose default is
+    // none): a job journal's spec written before the option existed still matches.
+    if (o.hold_band.value_or(0.0) > 0.0) j["hold_band"] = number(*o.hold_band);
     return j;
 }
+
+namespace {
+
+// The options of a run of `method`, with the band it uses: a DOPRI5 journal written before
+// DOPRI5 held by default (its spec has no band) is then not resumed with the band, and one
+// with --hold-band 0 matches it.
+json run_json(const integrator_options& o, integration_method method)
+{
+    json j = to_json(o);
+    j.erase("hold_band");
+    if (const double band = effective_hold_band(o, method); band > 0.0) j["hold_band"] = number(band);
+    return j;
+}
+
+json run_json(const flow_options& o, integration_method method)
+{
+    json j = to_json(o);
+    j["integration"] = run_json(o.integration, method);
+    return j;
+}
+
+}  // namespace
 
 json to_json(const flow_options& o)
 {
@@ -97,13 +119,13 @@ json to_json(const section_choice& s)
 json to_json(const protocol_options& o)
 {
     return {{"transient", o.transient_impacts}, {"record", o.record_points}, {"section", to_json(o.section)},
-            {"quiet_time", number(o.quiet_time)}, {"sample_dt", number(o.sample_dt)}, {"flow", to_json(o.flow)},
+            {"quiet_time", number(o.quiet_time)}, {"sample_dt", number(o.sample_dt)}, {"flow", run_json(o.flow, o.method)},
             {"method", std::string(to_string(o.method))}};
 }
 
 json to_json(const grazing_options& o)
 {
-    return {{"integration", to_json(o.integration)}, {"method", std::string(to_string(o.method))},
+    return {{"integration", run_json(o.integration, o.method)}, {"method", std::string(to_string(o.method))},
             {"transient_time", number(o.transient_time)}, {"block", o.block},
             {"tolerance", number(o.tolerance)},         {"t_max", number(o.t_max)},
             {"parameter", o.parameter},                 {"response_variable", o.response_variable}};
@@ -123,7 +145,7 @@ json to_json(const floquet_options& o)
 json to_json(const lyapunov_options& o)
 {
     return {{"transient", o.transient_impacts}, {"quiet_time", number(o.quiet_time)},
-            {"flow", to_json(o.flow)},          {"method", std::string(to_string(o.method))},
+            {"flow", run_json(o.flow, o.method)}, {"method", std::string(to_string(o.method))},
             {"tdm", std::string(to_string(o.tdm))}, {"r0", number(o.r0)},
             {"t0", number(o.t0)},               {"warmup", o.warmup_intervals},
             {"impacts", o.impacts},             {"time", number(o.time)},

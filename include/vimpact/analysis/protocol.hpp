@@ -35,6 +35,14 @@ constexpr std::string_view to_string(integration_method m)
 inline constexpr std::array<integration_method, 2> all_integration_methods{integration_method::dop853,
                                                                          integration_method::dopri5};
 
+// The step-size controller's hold band a run of `method` with these options uses: the one
+// given, else the method's default (integrator_options::hold_band).
+constexpr double effective_hold_band(const integrator_options& o, integration_method method)
+{
+    return o.hold_band.value_or(method == integration_method::dopri5 ? dopri5<1>::default_hold_band
+                                                                     : dop853<1>::default_hold_band);
+}
+
 // Where the protocol records its points: the crossings of one of the model's sections, or
 // the states just after impacts (on one surface, or on every surface).
 struct section_choice {

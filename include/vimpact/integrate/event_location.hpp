@@ -36,7 +36,7 @@ namespace detail {
 // slopes), at g = 0. On the short monotone pieces the locator searches (an eighth of a step,
 // split at extrema) it lies within about (b - a)^4 of the root, so Newton on g then needs one
 // or two evaluations where a midpoint start needs four. Where the piece is not seen to fall
-// at both ends, the secant point.
+// at both ends, the secant point; where rounding puts either outside the piece, its midpoint.
 inline double inverse_hermite_root(double a, scalar_sample ga, double b, scalar_sample gb)
 {
     const double d = gb.value - ga.value, s = ga.value / -d;
