@@ -3,7 +3,9 @@
 // g <= 0 and belongs to the left-open interval (0, 1]; upward crossings are those of -g.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <random>
@@ -272,30 +274,55 @@ TEST(EventLocation, InverseHermiteStartIsExactForACubicInverse)
     EXPECT_NEAR(x, 0.5, 4e-16);
 }
 
-// On an eighth of a step, the start is close enough that Newton lands on the root of a
-// smooth function in at most three evaluations (from the midpoint, as before, up to four), and
-// the result keeps its contract: g <= 0 there, a few ulps from the root.
-TEST(EventLocation, RootSearchFromTheHermiteStartTakesFewEvaluations)
+namespace {
+
+// Runs `search` (g, a, g(a), b, g(b)) -> theta on 200 pieces [a, b = a + 1/8] of [0, 1], each
+// holding a point p (the root or the extremum, 1 % of the piece or more from its ends) with a
+// rate k in [0.5, 6] (a phase of up to 0.75 rad over the piece): make(p, k) gives the
+// function, check(p, k, theta, g(a), g(b)) tests the result. Returns the most evaluations of
+// g any search took (the end samples, which the caller of a search has, not counted).
+template <class Make, class Search, class Check>
+int worst_evaluations_on_pieces(std::uint64_t seed, Make&& make, Search&& search, Check&& check)
 {
-    std::mt19937_64 rng(20261128);
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> where(0.0, 1.0);
     int worst = 0;
     for (int trial = 0; trial < 200; ++trial) {
-        // g = sin(k (r - theta)) on a piece [a, a + 1/8] that holds r; k up to 6 (a phase of
-        // 0.75 rad over the piece).
-        const double a = 0.875 * where(rng), r = a + 0.125 * (0.02 + 0.96 * where(rng)), k = 0.5 + 5.5 * where(rng);
+        const double a = 0.875 * where(rng), p = a + 0.125 * (0.02 + 0.96 * where(rng)), k = 0.5 + 5.5 * where(rng);
+        const scalar_fn f = make(p, k);
         int evaluations = 0;
         const auto g = [&](double t) {
             ++evaluations;
-            return scalar_sample{std::sin(k * (r - t)), -k * std::cos(k * (r - t))};
+            return f(t);
         };
-        const scalar_sample sa = g(a), sb = g(a + 0.125);
-        evaluations = 0;
-        const double root = vimpact::detail::newton_bracketed(g, a, sa, a + 0.125, sb);
+        const scalar_sample sa = f(a), sb = f(a + 0.125);
+        const double theta = search(g, a, sa, a + 0.125, sb);
         worst = std::max(worst, evaluations);
-        EXPECT_LE(std::abs(root - r), theta_tol);
-        EXPECT_LE(std::sin(k * (r - root)), 0.0);
+        check(p, k, theta, sa, sb);
     }
+    return worst;
+}
+
+}  // namespace
+
+// On an eighth of a step, the start is close enough that Newton lands on the root of a
+// smooth function, g = sin(k (r - theta)), in at most three evaluations (from the midpoint,
+// as before, up to four), and the result keeps its contract: g <= 0 there, a few ulps from
+// the root.
+TEST(EventLocation, RootSearchFromTheHermiteStartTakesFewEvaluations)
+{
+    const int worst = worst_evaluations_on_pieces(
+        20261128,
+        [](double r, double k) {
+            return scalar_fn([r, k](double t) { return scalar_sample{std::sin(k * (r - t)), -k * std::cos(k * (r - t))}; });
+        },
+        [](const auto& g, double a, scalar_sample sa, double b, scalar_sample sb) {
+            return vimpact::detail::newton_bracketed(g, a, sa, b, sb);
+        },
+        [](double r, double k, double root, scalar_sample, scalar_sample) {
+            EXPECT_LE(std::abs(root - r), theta_tol);
+            EXPECT_LE(std::sin(k * (r - root)), 0.0);
+        });
     EXPECT_LE(worst, 3);
 }
 
@@ -305,25 +332,23 @@ TEST(EventLocation, RootSearchFromTheHermiteStartTakesFewEvaluations)
 // has its minimum at c, its slope changing sign there.
 TEST(EventLocation, ExtremumSearchIsAccurateInFewEvaluations)
 {
-    std::mt19937_64 rng(28112026);
-    std::uniform_real_distribution<double> where(0.0, 1.0);
-    int worst = 0;
-    for (int trial = 0; trial < 200; ++trial) {
-        const double a = 0.875 * where(rng), c = a + 0.125 * (0.02 + 0.96 * where(rng)), k = 0.5 + 5.5 * where(rng);
-        int evaluations = 0;
-        const auto g = [&](double t) {
-            ++evaluations;
+    const auto dip = [](double c, double k) {
+        return scalar_fn([c, k](double t) {
             const double u = t - c;
             return scalar_sample{-std::cos(k * u) + 0.3 * u * u * u, k * std::sin(k * u) + 0.9 * u * u};
-        };
-        const scalar_sample sa = g(a), sb = g(a + 0.125);
-        ASSERT_LT(sa.slope, 0.0);
-        ASSERT_GT(sb.slope, 0.0);
-        evaluations = 0;
-        const double te = vimpact::detail::extremum_bracketed(g, a, sa, a + 0.125, sb);
-        worst = std::max(worst, evaluations);
-        EXPECT_LE(std::abs(te - c), 1e-12) << "k = " << k;
-        EXPECT_LE(g(te).value - g(c).value, 2.0 * std::numeric_limits<double>::epsilon());
-    }
+        });
+    };
+    const int worst = worst_evaluations_on_pieces(
+        28112026, dip,
+        [](const auto& g, double a, scalar_sample sa, double b, scalar_sample sb) {
+            return vimpact::detail::extremum_bracketed(g, a, sa, b, sb);
+        },
+        [&dip](double c, double k, double te, scalar_sample sa, scalar_sample sb) {
+            ASSERT_LT(sa.slope, 0.0);
+            ASSERT_GT(sb.slope, 0.0);
+            EXPECT_LE(std::abs(te - c), 1e-12) << "k = " << k;
+            const scalar_fn g = dip(c, k);
+            EXPECT_LE(g(te).value - g(c).value, 2.0 * std::numeric_limits<double>::epsilon());
+        });
     EXPECT_LE(worst, 5);
 }
