@@ -352,3 +352,76 @@ TEST(EventLocation, ExtremumSearchIsAccurateInFewEvaluations)
         });
     EXPECT_LE(worst, 5);
 }
+
+// A step that starts on the surface just after an impact (g a rounding below zero, rising),
+// flies above it, falls through it and turns up again below it before the step ends: both end
+// slopes are positive and both ends are at or below zero, so no sign change and no turn of
+// the slope shows at the ends. g = theta (theta - 1/2)(theta - 13/10) - 1e-15: the crossing is
+// at 1/2 (to rounding), found from the two turns of the cubic through the end samples.
+TEST(EventLocation, FlightThatEndsBelowTheSurfaceWithTheSlopeTurnedUp)
+{
+    scalar_fn g = [](double t) {
+        return scalar_sample{t * (t - 0.5) * (t - 1.3) - 1e-15, (t - 0.5) * (t - 1.3) + t * (t - 1.3) + t * (t - 0.5)};
+    };
+    ASSERT_LT(g(0.0).value, 0.0);
+    ASSERT_GT(g(0.0).slope, 0.0);
+    ASSERT_LT(g(1.0).value, 0.0);
+    ASSERT_GT(g(1.0).slope, 0.0);
+    const auto roots = crossings(crossing_direction::down, g);
+    ASSERT_EQ(roots.size(), 1u);
+    EXPECT_NEAR(roots[0], 0.5, 1e-12);
+}
+
+// Both turns inside one of the eight sampled pieces, [3/8, 1/2]: g = (theta - 0.40)(theta -
+// 0.44)(theta - 0.49) rises through the piece's ends and dips below zero between them; the
+// piece is split where its cubic's slope is least, so that each half shows its turn.
+TEST(EventLocation, TwoTurnsInsideOneSampledPiece)
+{
+    scalar_fn g = [](double t) {
+        const double a = t - 0.40, b = t - 0.44, c = t - 0.49;
+        return scalar_sample{a * b * c, b * c + a * c + a * b};
+    };
+    const auto roots = crossings(crossing_direction::down, g);
+    ASSERT_EQ(roots.size(), 1u);
+    EXPECT_NEAR(roots[0], 0.44, 1e-12);
+    const auto up = crossings(crossing_direction::up, g);
+    ASSERT_EQ(up.size(), 2u);
+    EXPECT_NEAR(up[0], 0.40, 1e-12);
+    EXPECT_NEAR(up[1], 0.49, 1e-12);
+}
+
+// The locator finds the first downward crossing of every cubic on the step, as a dense scan of
+// its values does (a cubic has two extrema at most: the most an event function resolved on
+// the step shows, integrate/event_resolution.hpp).
+TEST(EventLocation, FindsTheFirstCrossingOfEveryCubic)
+{
+    std::mt19937_64 rng(20261128);
+    std::uniform_real_distribution<double> coef(-1.0, 1.0), root(-0.3, 1.3);
+    int crossing_cases = 0, two_turn_cases = 0;
+    for (int trial = 0; trial < 6000; ++trial) {
+        const double r1 = root(rng), r2 = root(rng), r3 = root(rng), k = coef(rng), off = 0.05 * coef(rng);
+        scalar_fn g = [=](double t) {
+            const double a = t - r1, b = t - r2, c = t - r3;
+            return scalar_sample{k * a * b * c + off, k * (b * c + a * c + a * b)};
+        };
+        const scalar_sample s0 = g(0.0), s1 = g(1.0);
+        double first = -1.0;
+        bool seen_positive = s0.value > 0.0;
+        for (int i = 1; i <= 8000 && first < 0.0; ++i) {
+            const double v = g(i / 8000.0).value;
+            if (seen_positive && v <= 0.0) first = i / 8000.0;
+            seen_positive = seen_positive || v > 0.0;
+        }
+        // A dip shallower than the scan resolves is left out: the scan cannot say.
+        if (first < 0.0) continue;
+        ++crossing_cases;
+        // Both extrema inside: the roots of g' = k (3 t^2 - 2 S1 t + S2) in (0, 1).
+        const double S1 = r1 + r2 + r3, S2 = r1 * r2 + r1 * r3 + r2 * r3, disc = S1 * S1 - 3.0 * S2;
+        if (disc > 0.0 && (S1 - std::sqrt(disc)) / 3.0 > 0.0 && (S1 + std::sqrt(disc)) / 3.0 < 1.0) ++two_turn_cases;
+        double found = -1.0;
+        find_down_crossings(g, s0, s1, [&](double th) { found = th; return false; });
+        EXPECT_NEAR(found, first, 1.0 / 8000.0) << "roots " << r1 << " " << r2 << " " << r3 << " k " << k << " off " << off;
+    }
+    EXPECT_GT(crossing_cases, 1500);
+    EXPECT_GT(two_turn_cases, 300);
+}

@@ -10,11 +10,14 @@
 // Grazing safety: g may dip below zero and come back between two samples that are both
 // positive. Every interior extremum is therefore located (as a root of g', which the
 // interpolant gives exactly) and the dip is split there, so such a crossing is found.
-// The screening uses the exact values and slopes at the step ends: an interior extremum
-// shows as a sign change of the slope. An event function whose slope changes sign twice
-// within one step (two extrema in one step) can escape the screening; the steps of a
-// tolerance-controlled integrator are far shorter than the oscillation periods where this
-// could happen.
+// The screening uses the exact values and slopes at the step ends: one interior extremum
+// shows as a sign change of the slope; two (a maximum and a minimum, the slope of one sign at
+// both ends) show as the two turns of the slope of the cubic Hermite interpolant through the
+// end samples. The same test splits each sampled piece of a step. What it relies on is that g
+// is resolved on the step: close to that cubic. The hybrid flow makes sure of it for every
+// event function that is not an affine function of the state (those are resolved by the
+// integrator's own error control), by a check on each step (integrate/event_resolution.hpp)
+// that takes back a step too long for the function.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -123,11 +126,28 @@ double extremum_bracketed(G&& g, double a, scalar_sample ga, double b, scalar_sa
 
 }  // namespace detail
 
+// Whether the cubic Hermite interpolant through end samples (values v, slopes r per unit of
+// the piece, r0 and r1 of one sign) has two interior extrema: its slope
+// p'(u) = r0 + 2 b u + 3 c u^2, with b = 3 (v1 - v0) - 2 r0 - r1 and c = r0 + r1 - 2 (v1 - v0),
+// turns at u* = -b / (3 c) inside (0, 1) to the other sign there, p'(u*) = r0 - b^2 / (3 c).
+// No division by zero reaches a comparison as true: c = 0 gives an infinite or NaN u*.
+template <class T>
+auto two_interior_extrema(const T& v0, const T& v1, const T& r0, const T& r1)
+{
+    const T zero(0.0), d = v1 - v0;
+    const T b = 3.0 * d - 2.0 * r0 - r1, c = r0 + r1 - 2.0 * d;
+    const T u = -b / (3.0 * c), turn = r0 - b * b / (3.0 * c);
+    return ((r0 > zero && r1 > zero && turn < zero) || (r0 < zero && r1 < zero && turn > zero)) && u > zero &&
+           u < T(1.0);
+}
+
 // find_down_crossings' screening from the end samples alone (values v, slopes or rates r of
 // the same signs): false when no downward crossing can lie on the step. No crossing without a
 // sign change to <= 0, and no dip without an interior minimum (slope from negative to
-// positive) or maximum (from the g <= 0 side). T: double, or lanes (hybrid/flow_lanes.hpp),
-// whose comparisons give masks.
+// positive), a maximum (from the g <= 0 side), or, in the second form, two interior extrema.
+// T: double, or lanes (hybrid/flow_lanes.hpp), whose comparisons give masks. The first form's
+// tests read only signs, so r may be rates per unit of time; the second's cubic needs slopes
+// per unit of the step: r h (h = 1 for slopes per unit of theta).
 template <class T>
 auto down_crossing_possible(const T& v0, const T& v1, const T& r0, const T& r1)
 {
@@ -136,6 +156,11 @@ auto down_crossing_possible(const T& v0, const T& v1, const T& r0, const T& r1)
     const auto interior_min = r0 < zero && r1 > zero;
     const auto interior_max = r0 > zero && r1 < zero;
     return ends_down || (interior_min && v1 > zero) || (interior_max && v1 <= zero && v0 <= zero);
+}
+template <class T>
+auto down_crossing_possible(const T& v0, const T& v1, const T& r0, const T& r1, const T& h)
+{
+    return down_crossing_possible(v0, v1, r0, r1) || two_interior_extrema(v0, v1, r0 * h, r1 * h);
 }
 
 // Finds the downward crossings of g on (0, 1] in increasing order and calls on_root(theta)
@@ -146,32 +171,53 @@ template <class G, class OnRoot>
 int find_down_crossings(G&& g, scalar_sample s0, scalar_sample s1, OnRoot&& on_root,
                         int subdivisions = 8)
 {
-    if (!down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)) return 0;
+    if (!down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope, 1.0)) return 0;
 
-    // Sample the interpolant; split at every extremum so each piece is monotone.
-    constexpr int max_points = 2 * 32 + 2;
+    // Sample the interpolant; split at every extremum so each piece is monotone. A piece whose
+    // end slopes have one sign but whose cubic turns twice is split first where the cubic's
+    // slope is extreme, so that each half shows its extremum as a change of sign.
+    constexpr int max_points = 4 * 32 + 2;
     subdivisions = std::clamp(subdivisions, 1, 32);
     // Not value-initialised: every entry read was written first, and zeroing 1.5 kB on each
     // call was about 1 % of a map's time.
     std::array<double, max_points> th;
     std::array<scalar_sample, max_points> gs;
     int n = 0;
-    double prev_t = 0.0;
-    scalar_sample prev = s0;
     th[n] = 0.0;
     gs[n++] = s0;
-    for (int k = 1; k <= subdivisions; ++k) {
-        const double t = static_cast<double>(k) / subdivisions;
-        const scalar_sample cur = (k == subdivisions) ? s1 : g(t);
-        if ((prev.slope < 0.0 && cur.slope > 0.0) || (prev.slope > 0.0 && cur.slope < 0.0)) {
-            const double te = detail::extremum_bracketed(g, prev_t, prev, t, cur);
-            if (te > prev_t && te < t) {
+    // Appends the piece (a, ga] .. (b, gb]: its interior extremum, if the slope changes sign,
+    // then b.
+    const auto monotone_piece = [&](double a, scalar_sample ga, double b, scalar_sample gb) {
+        if ((ga.slope < 0.0 && gb.slope > 0.0) || (ga.slope > 0.0 && gb.slope < 0.0)) {
+            const double te = detail::extremum_bracketed(g, a, ga, b, gb);
+            if (te > a && te < b) {
                 th[n] = te;
                 gs[n++] = g(te);
             }
         }
-        th[n] = t;
-        gs[n++] = cur;
+        th[n] = b;
+        gs[n++] = gb;
+    };
+    double prev_t = 0.0;
+    scalar_sample prev = s0;
+    for (int k = 1; k <= subdivisions; ++k) {
+        const double t = static_cast<double>(k) / subdivisions;
+        const scalar_sample cur = (k == subdivisions) ? s1 : g(t);
+        const double w = t - prev_t;
+        if (two_interior_extrema(prev.value, cur.value, prev.slope * w, cur.slope * w)) {
+            const double d = cur.value - prev.value, r0 = prev.slope * w, r1 = cur.slope * w;
+            const double u = -(3.0 * d - 2.0 * r0 - r1) / (3.0 * (r0 + r1 - 2.0 * d));
+            const double tm = prev_t + u * w;
+            if (tm > prev_t && tm < t) {
+                const scalar_sample mid = g(tm);
+                monotone_piece(prev_t, prev, tm, mid);
+                monotone_piece(tm, mid, t, cur);
+            } else {
+                monotone_piece(prev_t, prev, t, cur);
+            }
+        } else {
+            monotone_piece(prev_t, prev, t, cur);
+        }
         prev_t = t;
         prev = cur;
     }
