@@ -1224,6 +1224,17 @@ private:
             km.push_back(x.meaning);
             dirs.push_back(static_cast<int>(x.direction));
         }
+        // A function whose gradient holds no state variable is affine in the state: the flow
+        // trusts the integrator to resolve it (abi.h, surface_affine).
+        const auto affine = [this](const scalar_function& f) {
+            for (const ex& d : f.gradient)
+                for (int j = 0; j < m_n; ++j)
+                    if (d.has(sym(j))) return 0;
+            return 1;
+        };
+        std::vector<int> surface_affine, section_affine;
+        for (const auto& g : m_gaps) surface_affine.push_back(affine(g));
+        for (const auto& k : m_sections) section_affine.push_back(affine(k));
         for (const auto& x : m_d.presets) {
             rn.push_back(x.name);
             rm.push_back(x.meaning);
@@ -1287,6 +1298,8 @@ private:
             "VIMPACT_STEP",
             "VIMPACT_DENSE",
             "vimpact_samples",
+            array("const int", "vimpact_surface_affine", surface_affine, integer, s),
+            array("const int", "vimpact_section_affine", section_affine, integer, s),
         };
         // Positional, in the order of the fields of vimpact_model_table (abi.h), so that the
         // table is a constant in read-only memory, valid C and C++.
@@ -1299,8 +1312,8 @@ private:
             "preset_sizes", "preset_parameters", "preset_values", "create", "destroy", "rhs", "jacobian",
             "second_derivative", "divergence", "gap", "gap_gradient", "gap_hessian", "reset", "reset_jacobian",
             "reset_second_derivative", "section", "section_gradient", "sticking_rhs", "release",
-            "release_gradient", "rest", "step", "dense", "samples"};
-        static_assert(std::size(field_names) == 52);
+            "release_gradient", "rest", "step", "dense", "samples", "surface_affine", "section_affine"};
+        static_assert(std::size(field_names) == 54);
         if (fields.size() != std::size(field_names)) throw std::logic_error("model file: table fields out of step");
         // The fused Runge-Kutta step (integrate/fused_step.hpp): the library's own stage code
         // compiled here with the field inlined, when the compiler is given vimpact's headers

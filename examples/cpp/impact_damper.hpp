@@ -42,8 +42,9 @@ struct impact_damper {
         {"r", 0.6, "coefficient of restitution", vimpact::between(0.0, 1.0)},
     }};
     static constexpr std::array<vimpact::impact_surface, 2> surfaces{{
-        {"right", "the ball hits the cavity's right wall"},
-        {"left", "the ball hits the cavity's left wall"},
+        // affine: each gap is linear in the state, so the integrator resolves it on every step
+        {"right", "the ball hits the cavity's right wall", false, true},
+        {"left", "the ball hits the cavity's left wall", false, true},
     }};
     static constexpr std::array<vimpact::poincare_section, 1> sections{{
         {"strobe", vimpact::crossing::up, "once per forcing period (phi = 0 mod 2 pi)"},

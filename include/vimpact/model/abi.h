@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define VIMPACT_MODEL_ABI_VERSION 3
+#define VIMPACT_MODEL_ABI_VERSION 4
 
 enum vimpact_crossing { VIMPACT_CROSSING_DOWN = 0, VIMPACT_CROSSING_UP = 1, VIMPACT_CROSSING_BOTH = 2 };
 
@@ -97,6 +97,12 @@ typedef struct vimpact_model_table {
      * given field value f: gaps[2 i], gaps[2 i + 1] and sections[2 k], sections[2 k + 1]. The
      * flow samples each step end with it. */
     void (*samples)(const void* c, const double* x, const double* f, double* gaps, double* sections);
+
+    /* Nonzero: the gap (section function) is affine in the state, so the integrator's error
+     * control resolves it on every step; the flow checks every other one on each step (ABI
+     * version 4). NULL: none is. */
+    const int* surface_affine;
+    const int* section_affine;
 } vimpact_model_table;
 
 /* The one symbol a model library exports. */

@@ -87,6 +87,21 @@ vec<M::dim> state_rate_gradient(const M& m, int j, const vec<M::dim>& x)
     else return m.jacobian(x).row(j).transpose();
 }
 
+// Whether gap i (section k) is an affine function of the state, as the model declares
+// (model/spec.hpp, impact_surface::affine); a model that says nothing declares none.
+template <engine_model M>
+bool gap_is_affine(const M& m, int i)
+{
+    if constexpr (requires { { m.gap_affine(i) } -> std::convertible_to<bool>; }) return m.gap_affine(i);
+    else return false;
+}
+template <engine_model M>
+bool section_is_affine(const M& m, int k)
+{
+    if constexpr (requires { { m.section_affine(k) } -> std::convertible_to<bool>; }) return m.section_affine(k);
+    else return false;
+}
+
 // A state is admissible when every gap is positive, or zero and not decreasing.
 template <engine_model M>
 bool admissible(const M& m, const vec<M::dim>& x)

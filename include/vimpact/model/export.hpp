@@ -62,11 +62,13 @@ public:
             m_surface_names.push_back(keep(s.name));
             m_surface_meanings.push_back(keep(s.meaning));
             m_sticks.push_back(s.sticks ? 1 : 0);
+            m_surface_affine.push_back(s.affine ? 1 : 0);
         }
         for (const auto& s : D::sections) {
             m_section_names.push_back(keep(s.name));
             m_section_meanings.push_back(keep(s.meaning));
             m_directions.push_back(static_cast<int>(s.direction));
+            m_section_affine.push_back(s.affine ? 1 : 0);
         }
         if constexpr (requires { D::presets; }) {
             for (const auto& pr : D::presets) {
@@ -104,6 +106,8 @@ public:
         m_table.section_names = m_section_names.data();
         m_table.section_meanings = m_section_meanings.data();
         m_table.section_directions = m_directions.data();
+        m_table.surface_affine = m_surface_affine.data();
+        m_table.section_affine = m_section_affine.data();
         m_table.preset_names = m_preset_names.data();
         m_table.preset_meanings = m_preset_meanings.data();
         m_table.preset_sizes = m_preset_sizes.data();
@@ -197,7 +201,8 @@ private:
     std::vector<const char*> m_surface_names, m_surface_meanings, m_section_names, m_section_meanings;
     std::vector<const char*> m_preset_names, m_preset_meanings;
     std::vector<double> m_state_periods, m_initial, m_defaults, m_lower, m_upper, m_preset_values;
-    std::vector<int> m_closed, m_sticks, m_directions, m_preset_sizes, m_preset_parameters;
+    std::vector<int> m_closed, m_sticks, m_directions, m_surface_affine, m_section_affine, m_preset_sizes,
+        m_preset_parameters;
 };
 
 }  // namespace detail

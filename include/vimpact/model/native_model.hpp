@@ -31,6 +31,8 @@ public:
     [[nodiscard]] static constexpr int section_count() { return sections; }
     [[nodiscard]] static constexpr crossing section_direction(int k) { return D::sections[k].direction; }
     [[nodiscard]] static constexpr bool sticks(int i) { return D::surfaces[i].sticks; }
+    [[nodiscard]] static constexpr bool gap_affine(int i) { return D::surfaces[i].affine; }
+    [[nodiscard]] static constexpr bool section_affine(int k) { return D::sections[k].affine; }
 
     [[nodiscard]] state rhs(const state& x) const { return m_def.derivatives(x); }
 

@@ -72,10 +72,15 @@ struct parameter {
 // through 0 and the surface's reset maps the state. A surface that `sticks` also declares a
 // contact phase (see docs/own-model.md): when a chatter sequence accumulates, the state rests on
 // it and follows a constrained vector field until a release function turns positive.
+// `affine`: the gap is an affine function of the state (a wall at a coordinate, a tilted
+// plane). The hybrid flow then trusts the integrator's error control to resolve it on every
+// step; any other gap is checked on each step and a step too long for it is taken again
+// shorter (integrate/event_resolution.hpp). Declaring a gap affine that is not can miss impacts.
 struct impact_surface {
     std::string_view name;
     std::string_view meaning = "";
     bool sticks = false;
+    bool affine = false;
 };
 
 // Which crossings of a section function count: from positive to non-positive (down), the
@@ -93,10 +98,13 @@ constexpr std::string_view to_string(crossing c)
 }
 
 // A Poincare section: the zero crossings of a scalar function of the state in a direction.
+// `affine` as for impact_surface: a section function affine in the state is not checked for
+// resolution on each step.
 struct poincare_section {
     std::string_view name;
     crossing direction = crossing::down;
     std::string_view meaning = "";
+    bool affine = false;
 };
 
 // A named set of parameter values (those not listed keep their defaults).

@@ -36,6 +36,8 @@ public:
     [[nodiscard]] int section_count() const { return m_t->section_count; }
     [[nodiscard]] crossing section_direction(int k) const { return static_cast<crossing>(m_t->section_directions[k]); }
     [[nodiscard]] bool sticks(int i) const { return m_t->surface_sticks[i] != 0; }
+    [[nodiscard]] bool gap_affine(int i) const { return m_t->surface_affine && m_t->surface_affine[i] != 0; }
+    [[nodiscard]] bool section_affine(int k) const { return m_t->section_affine && m_t->section_affine[k] != 0; }
 
     [[nodiscard]] state rhs(const state& x) const
     {

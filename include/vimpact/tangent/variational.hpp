@@ -138,6 +138,8 @@ public:
     [[nodiscard]] double divergence(const state& X) const { return m_model.divergence(point(X)); }
 
     [[nodiscard]] double gap(int i, const state& X) const { return m_model.gap(i, point(X)); }
+    [[nodiscard]] bool gap_affine(int i) const { return gap_is_affine(m_model, i); }
+    [[nodiscard]] bool section_affine(int k) const { return section_is_affine(m_model, k); }
     [[nodiscard]] state gap_gradient(int i, const state& X) const { return embed(m_model.gap_gradient(i, point(X))); }
     [[nodiscard]] mat<dim> gap_hessian(int i, const state& X) const;  // not defined: see above
 

@@ -40,10 +40,10 @@ public:
         {"sigma", -1.0, "barrier position", any_value()},
         {"r", 0.8, "coefficient of restitution", between(0.0, 1.0)},
     }};
-    static constexpr std::array<impact_surface, 1> surfaces{{{"barrier", "rigid barrier at y = sigma", true}}};
+    static constexpr std::array<impact_surface, 1> surfaces{{{"barrier", "rigid barrier at y = sigma", true, true}}};
     static constexpr std::array<poincare_section, 3> sections{{
-        {"maxima", crossing::down, "maxima of y: ydot = 0, ydot decreasing"},
-        {"minima", crossing::up, "minima of y: ydot = 0, ydot increasing"},
+        {"maxima", crossing::down, "maxima of y: ydot = 0, ydot decreasing", true},
+        {"minima", crossing::up, "minima of y: ydot = 0, ydot increasing", true},
         {"strobe", crossing::up, "once per forcing period: sin(theta) = 0, increasing (theta = 0 mod 2 pi)"},
     }};
     static constexpr std::array<double, 3> initial_state{0.0, 0.0, 0.0};

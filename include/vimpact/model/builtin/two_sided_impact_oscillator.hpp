@@ -41,8 +41,8 @@ public:
         {"r", 0.8, "coefficient of restitution", between(0.0, 1.0)},
     }};
     static constexpr std::array<impact_surface, 2> surfaces{{
-        {"right", "stop at x = d"},
-        {"left", "stop at x = -d"},
+        {"right", "stop at x = d", false, true},
+        {"left", "stop at x = -d", false, true},
     }};
     static constexpr std::array<poincare_section, 1> sections{{
         {"strobe", crossing::up, "once per forcing period: sin(phi) = 0, increasing (phi = 0 mod 2 pi)"},

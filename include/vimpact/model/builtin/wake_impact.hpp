@@ -53,10 +53,10 @@ public:
         {"mu", 1.19381, "mass ratio (m* + C_m) pi/4", above(0.0)},
         {"CL0", paper_CL0, "lift coefficient of the fixed cylinder", at_least(0.0)},
     }};
-    static constexpr std::array<impact_surface, 1> surfaces{{{"barrier", "rigid barrier at y = sigma", true}}};
+    static constexpr std::array<impact_surface, 1> surfaces{{{"barrier", "rigid barrier at y = sigma", true, true}}};
     static constexpr std::array<poincare_section, 2> sections{{
-        {"maxima", crossing::down, "maxima of y: ydot = 0, ydot decreasing (the paper's Sigma)"},
-        {"minima", crossing::up, "minima of y: ydot = 0, ydot increasing"},
+        {"maxima", crossing::down, "maxima of y: ydot = 0, ydot decreasing (the paper's Sigma)", true},
+        {"minima", crossing::up, "minima of y: ydot = 0, ydot increasing", true},
     }};
     static constexpr std::array<double, 4> initial_state{0.0, 0.0, 0.0, 0.1};
     // Named parameter sets: the defaults are the "paper" preset.
