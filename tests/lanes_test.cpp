@@ -440,3 +440,41 @@ TEST(Lanes, ForcedOscillatorsEqualTheirScalarRuns)
 }
 
 }  // namespace
+
+namespace {
+
+// The strobe section sin(theta) of a forced oscillator with no forcing and a fast phase
+// (omega = 6 ... 15 times the natural frequency): nothing in the vector field limits the step
+// to the phase's time scale, so the flow takes back the steps on which sin(theta) is not
+// resolved (hybrid/flow.hpp, integrate/event_resolution.hpp), in lanes as alone. Every
+// crossing is where it must be, t = 2 pi k / omega, and every lane equals its run alone.
+TEST(Lanes, StepsTakenBackForAnUnresolvedSectionEqualTheScalarRuns)
+{
+    const model m = model::builtin("forced_impact_oscillator");
+    if (!runs_in_lanes(m)) GTEST_SKIP() << "this build has no SIMD lanes";
+    const int omega = m.info().parameter_index("omega"), force = m.info().parameter_index("F");
+    std::vector<model> models;
+    std::vector<double> omegas;
+    for (int k = 0; k < lane_width + 2; ++k) {
+        omegas.push_back(6.0 + 9.0 * k / (lane_width + 1));
+        models.push_back(m.with_parameter(omega, omegas.back()).with_parameter(force, 0.0));
+    }
+    Eigen::VectorXd x0(3);
+    x0 << 0.9, -2.0, 0.0;
+    protocol_options po;
+    po.transient_impacts = 0;
+    po.record_points = 30;
+    po.section = section_choice::crossings(2);
+    expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), x0), po);
+    for (std::size_t j = 0; j < models.size(); ++j) {
+        const simulation s = simulate(models[j], x0, po);
+        ASSERT_EQ(s.points.size(), 30u);
+        EXPECT_GT(s.stats.rejected, 0) << "no step was taken back at omega = " << omegas[j];
+        const double first = std::round(s.points.t(0) * omegas[j] / (2.0 * M_PI));
+        for (std::size_t k = 0; k < s.points.size(); ++k)
+            EXPECT_NEAR(s.points.t(k), 2.0 * M_PI * (first + static_cast<double>(k)) / omegas[j], 1e-9)
+                << "omega = " << omegas[j] << ", crossing " << k;
+    }
+}
+
+}  // namespace

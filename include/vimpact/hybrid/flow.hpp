@@ -10,6 +10,22 @@
 // positive step ends is found by splitting the step at the interior minimum
 // (integrate/event_location.hpp). The reset R_i maps the state at the crossing.
 //
+// Resolution. The crossing search reads each event function from its values and slopes at a
+// step's ends (integrate/event_location.hpp); a gap or section that is not affine in the state
+// (model/spec.hpp) is also checked on every step at one interior point of the state's cubic
+// interpolant, and a step on which it strays from its own cubic is taken back and tried
+// again shorter (integrate/event_resolution.hpp), so that no crossing hides inside a step
+// however long the integrator's error control would let it be. After a few such retries in a
+// row the step is kept (a function with a kink never looks like a cubic near it).
+// A step that ends beyond a present surface without a located crossing ends the run with the
+// outcome `inadmissible`, rather than going on in the forbidden region.
+//
+// Resets. A reset whose image is not finite ends the run with `non_finite`; one that puts the
+// state beyond a surface (a gap below minus its resolution), or leaves it on the impacting
+// surface moving into it, with `inadmissible`. The chattering rule below applies only where
+// the reset leaves the state on the surface: a reset that moves the state away from it (a
+// drop to a height) starts a new flight.
+//
 // Events. Besides the surfaces the flow watches a list of scalar event functions, each with
 // a direction: a model section s_k, or the rate of a gap g_i' = grad g_i . F (its upward
 // zeros are the minima of the gap, its downward zeros the maxima: grazing). Crossings before
@@ -48,6 +64,7 @@
 #include "vimpact/hybrid/stepper.hpp"
 #include "vimpact/integrate/adaptive_integrator.hpp"
 #include "vimpact/integrate/event_location.hpp"
+#include "vimpact/integrate/event_resolution.hpp"
 #include "vimpact/model/engine_model.hpp"
 
 namespace vimpact {
@@ -134,6 +151,10 @@ public:
         }
         m_batch_gaps.resize(2 * static_cast<std::size_t>(m_model.surface_count()));
         m_batch_sections.resize(2 * static_cast<std::size_t>(m_model.section_count()));
+        for (int i = 0; i < m_model.surface_count(); ++i) m_check_gap.push_back(!gap_is_affine(m_model, i));
+        for (const flow_event& e : m_opt.events) m_check_event.push_back(!resolved_by_integrator(e));
+        m_check_any = std::any_of(m_check_event.begin(), m_check_event.end(), [](char c) { return c != 0; }) ||
+                      (m_opt.surfaces && std::any_of(m_check_gap.begin(), m_check_gap.end(), [](char c) { return c != 0; }));
     }
 
     // Starts at (t, x). Throws input_error if x is not admissible (beyond a surface). A state
@@ -221,6 +242,7 @@ public:
     template <class Observer>
     void quiet_free_step(Observer& obs)
     {
+        m_retractions = 0;
         m_free_step_max = std::max(m_free_step_max, m_integ.last_step());
         m_t = m_integ.t();
         m_x = m_integ.x();
@@ -239,6 +261,7 @@ public:
     template <class Observer, class GapMax>
     void quiet_free_steps(Observer& obs, double step_max, GapMax&& gap_max)
     {
+        m_retractions = 0;
         m_free_step_max = std::max(m_free_step_max, step_max);
         m_t = m_integ.t();
         m_x = m_integ.x();
@@ -251,6 +274,7 @@ public:
     {
         if (st == step_status::step_underflow) return outcome::step_underflow;
         if (st == step_status::non_finite) return outcome::non_finite;
+        if (st == step_status::retracted) return std::nullopt;  // no time passed: nothing to tell
         if (m_finished) return *m_finished;
         if (!m_stop && obs.on_step_end(m_t) == flow_control::stop) m_stop = true;
         if (m_stop) return outcome::ok;
@@ -479,12 +503,22 @@ private:
     template <class Observer, class Rhs>
     step_status after_free_step(Observer& obs, Rhs& rhs)
     {
-        m_free_step_max = std::max(m_free_step_max, m_integ.last_step());
         const double h = m_integ.last_step();
+        sample_step_ends(m_opt.surfaces);
+        if (m_check_any && m_retractions < max_retractions) {
+            const auto d = worst_deviation(h);
+            if (d.error > d.allowed) {
+                ++m_retractions;
+                m_integ.retract(h * event_resolution::step_factor(d));
+                m_ends_valid = false;
+                return step_status::retracted;
+            }
+        }
+        m_retractions = 0;
+        m_free_step_max = std::max(m_free_step_max, h);
         const double t0 = m_integ.t_prev();
         const state& x0 = m_integ.x_prev();
         const state& x1 = m_integ.x();
-        sample_step_ends(m_opt.surfaces);
         if (quiet_step(h)) {
             // What the general path below does when it finds nothing.
             m_stop_theta = 2.0;
@@ -524,6 +558,18 @@ private:
             }
         }
 
+        // No crossing found, yet a present gap ends beyond its surface: the motion crossed it
+        // unseen (or a hop below resolution pushed away from the surface). Going on would
+        // continue in the forbidden region; the run ends at the step's start instead.
+        if (theta_impact > 1.0 && m_opt.surfaces)
+            for (int i = 0; i < m_model.surface_count(); ++i)
+                if (!absent(i) && m_end.gaps[static_cast<std::size_t>(i)].value < -hop_resolution(i, x1)) {
+                    m_t = t0;
+                    m_x = x0;
+                    m_finished = outcome::inadmissible;
+                    return step_status::ok;
+                }
+
         const bool stopped_before = m_stop;
         m_stop_theta = 2.0;
         report_events(obs, rhs, theta_impact);
@@ -545,6 +591,15 @@ private:
         state pre = (theta_impact >= 1.0) ? x1 : d.value_at(theta_impact);
         polish([&](const state& y) { return m_model.gap(surface, y); }, m_model.gap_gradient(surface, pre), pre);
         const state post = m_model.reset(surface, pre);
+        if (const auto fault = !pre.allFinite() ? std::optional<outcome>(outcome::non_finite) : reset_fault(surface, post)) {
+            // The run ends at the last finite state: the impact's, else the step's start (the
+            // interpolant of a step near overflow can overflow where its ends did not).
+            const bool at_impact = pre.allFinite();
+            m_t = at_impact ? t_impact : t0;
+            m_x = at_impact ? pre : x0;
+            m_finished = *fault;
+            return step_status::ok;
+        }
         ++m_stats.impacts;
         ++m_stats.impacts_by_surface[static_cast<std::size_t>(surface)];
         if (!m_stop && obs.on_impact(surface, t_impact, pre, post) == flow_control::stop) m_stop = true;
@@ -552,6 +607,55 @@ private:
         m_x = post;
         after_impact(obs, surface);
         return step_status::ok;
+    }
+
+    // Event functions the integrator's error control resolves: affine functions of the state
+    // and the rates of state variables (the derivatives of such functions along the flow).
+    [[nodiscard]] bool resolved_by_integrator(const flow_event& e) const
+    {
+        switch (e.kind) {
+            case flow_event::source::section: return section_is_affine(m_model, e.index);
+            case flow_event::source::gap_rate: return gap_is_affine(m_model, e.index);
+            case flow_event::source::state_rate: break;
+        }
+        return true;
+    }
+
+    // The largest deviation from its cubic, relative to what is tolerated, of the event
+    // functions checked on the step just taken (end samples taken): error <= allowed when all
+    // are resolved.
+    [[nodiscard]] event_resolution::deviation<double> worst_deviation(double h) const
+    {
+        event_resolution::deviation<double> worst{0.0, 1.0};
+        for (int point = 0; point < 2; ++point) {
+            state xc;
+            event_resolution::hermite_state<N>(point, m_integ.x_prev(), m_integ.f_prev(), m_integ.x(), m_integ.f(), h, xc);
+            const auto consider = [&](const end_sample& a, const end_sample& b, double vc) {
+                const scalar_sample s0 = a.at(h), s1 = b.at(h);
+                const auto d = event_resolution::deviation_at(point, s0.value, s0.slope, s1.value, s1.slope, vc);
+                // Compared as error / allowed without dividing (allowed may be 0).
+                if (d.error * worst.allowed > worst.error * d.allowed) worst = d;
+            };
+            if (m_opt.surfaces)
+                for (int i = 0; i < m_model.surface_count(); ++i)
+                    if (m_check_gap[static_cast<std::size_t>(i)] && !absent(i))
+                        consider(m_start.gaps[static_cast<std::size_t>(i)], m_end.gaps[static_cast<std::size_t>(i)],
+                                 m_model.gap(i, xc));
+            for (std::size_t e = 0; e < m_opt.events.size(); ++e)
+                if (m_check_event[e]) consider(m_start.events[e], m_end.events[e], event_value(m_opt.events[e], xc));
+        }
+        return worst;
+    }
+
+    // What is wrong with the state a reset of surface i gave, if anything (see the header).
+    [[nodiscard]] std::optional<outcome> reset_fault(int i, const state& post) const
+    {
+        if (!post.allFinite()) return outcome::non_finite;
+        for (int j = 0; j < m_model.surface_count(); ++j)
+            if (!absent(j) && m_model.gap(j, post) < -hop_resolution(j, post)) return outcome::inadmissible;
+        if (m_model.gap(i, post) <= hop_resolution(i, post) && gap_rate(m_model, i, post) < -m_opt.sticking_velocity)
+            return outcome::inadmissible;
+        return std::nullopt;
     }
 
     // Whether the free step just taken (end samples taken) is quiet: find_crossings' screening
@@ -570,15 +674,15 @@ private:
                 // the surface) is only screened: the general path's crossing search and its
                 // unresolved-hop rule (which needs a negative end) then find nothing either.
                 if (!absent(i) && ((!(s0.value > 0.0) && !(s1.value > 0.0)) ||
-                                   down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)))
+                                   down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope, 1.0)))
                     return false;
                 if (m_opt.gap_maxima && s0.slope > 0.0 && s1.slope <= 0.0) return false;
             }
         for (std::size_t e = 0; e < m_opt.events.size(); ++e) {
             const scalar_sample s0 = m_start.events[e].at(h), s1 = m_end.events[e].at(h);
             const crossing dir = m_opt.events[e].direction;
-            if (dir != crossing::up && down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope)) return false;
-            if (dir != crossing::down && down_crossing_possible(-s0.value, -s1.value, -s0.slope, -s1.slope))
+            if (dir != crossing::up && down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope, 1.0)) return false;
+            if (dir != crossing::down && down_crossing_possible(-s0.value, -s1.value, -s0.slope, -s1.slope, 1.0))
                 return false;
         }
         return true;
@@ -626,6 +730,11 @@ private:
     template <class Observer>
     void after_impact(Observer& obs, int i)
     {
+        // A reset that moved the state off the surface: a new flight, whatever its speed.
+        if (m_model.gap(i, m_x) > hop_resolution(i, m_x)) {
+            restart(m_integ.step_size());
+            return;
+        }
         const double u = gap_rate(m_model, i, m_x);
         if (m_model.sticks(i)) {
             const state rest = m_model.rest(i, m_x);
@@ -755,6 +864,12 @@ private:
     double m_stop_theta = 2.0;  // where in the current step the observer stopped the run
     double m_free_step_max = 0.0;  // the longest free-flight step so far
     std::optional<outcome> m_finished;
+    // Which gaps and watched events are checked for resolution on each step (not affine in the
+    // state), and how many steps in a row were taken back for it.
+    static constexpr int max_retractions = 8;
+    std::vector<char> m_check_gap, m_check_event;
+    bool m_check_any = false;
+    int m_retractions = 0;
 };
 
 }  // namespace vimpact

@@ -28,6 +28,7 @@
 
 #include "vimpact/core/lanes.hpp"
 #include "vimpact/hybrid/flow.hpp"
+#include "vimpact/integrate/event_resolution.hpp"
 #include "vimpact/hybrid/lanes_counts.hpp"
 #include "vimpact/model/native_model.hpp"
 
@@ -51,12 +52,6 @@ concept lanes_screenable = requires(const L& d, const vec_t<lanes, N>& x) {
 
 namespace detail {
 
-// find_down_crossings' screening in lanes: true where it finds no possible crossing.
-inline lane_mask no_down_crossing(const lanes& v0, const lanes& v1, const lanes& r0, const lanes& r1)
-{
-    return !down_crossing_possible(v0, v1, r0, r1);
-}
-
 // grad . f, and whether its sign is beyond doubt: the flow computes the same rate with
 // another order of the sum, so a rate within rounding of zero is not trusted.
 template <int N>
@@ -72,29 +67,71 @@ lanes rate(const vec_t<lanes, N>& grad, const vec_t<lanes, N>& f, lane_mask& sur
     return r;
 }
 
-// Where the step from (x0, f0) to (x1, f1) is quiet: every gap positive at one end at least
-// and not crossed, every watched section not crossed in its directions, by the flow's own rule
-// (hybrid_flow::after_free_step) with rates of certain sign.
+// two_interior_extrema (integrate/event_location.hpp) with a margin: also true where the flow's
+// own test, on rates summed in another order, could be true. Such a step goes through the flow.
+inline lane_mask maybe_two_interior_extrema(const lanes& v0, const lanes& v1, const lanes& r0, const lanes& r1)
+{
+    const lanes zero(0.0), d = v1 - v0;
+    const lanes b = 3.0 * d - 2.0 * r0 - r1, c = r0 + r1 - 2.0 * d;
+    const lanes u = -b / (3.0 * c), turn = r0 - b * b / (3.0 * c);
+    const lanes margin = 1e-9 * (abs(r0) + abs(turn - r0));
+    const lane_mask near_turn = (r0 > zero && r1 > zero && turn < margin) || (r0 < zero && r1 < zero && turn > -margin);
+    // c = 0 (no turn at all) gives no NaN here: b^2 / 0 is infinite, and so is u unless b = 0.
+    return near_turn && !(u <= lanes(-1e-9)) && !(u >= lanes(1.0 + 1e-9));
+}
+
+// Where the step of size h from (x0, f0) to (x1, f1) is quiet: every gap positive at one end
+// at least and not crossed, every watched section not crossed in its directions, by the
+// flow's own rule (hybrid_flow::after_free_step) with rates of certain sign; and every gap or
+// section the flow checks for resolution (not declared affine: model/spec.hpp) resolved on the
+// step, by the flow's own check (integrate/event_resolution.hpp), which takes the other steps
+// back.
 template <int N, class L>
 lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const vec_t<lanes, N>& x0,
-                      const vec_t<lanes, N>& f0, const vec_t<lanes, N>& x1, const vec_t<lanes, N>& f1)
+                      const vec_t<lanes, N>& f0, const vec_t<lanes, N>& x1, const vec_t<lanes, N>& f1, const lanes& h)
 {
     const lanes zero(0.0);
     lane_mask quiet = zero == zero;
+    std::array<std::optional<vec_t<lanes, N>>, 2> xc;
+    const auto hermite = [&](int point) -> const vec_t<lanes, N>& {
+        auto& p = xc[static_cast<std::size_t>(point)];
+        if (!p) {
+            p.emplace();
+            event_resolution::hermite_state<N>(point, x0, f0, x1, f1, h, *p);
+        }
+        return *p;
+    };
+    // With half the tolerance: the flow's own check, on rates summed in another order, then
+    // finds the step resolved too; a lane nearer the limit goes through the flow, which decides.
+    const auto resolved = [&](const lanes& v0, const lanes& r0, const lanes& v1, const lanes& r1, auto&& value) {
+        lane_mask ok = v0 == v0 || v0 != v0;
+        for (int point = 0; point < 2; ++point) {
+            const auto d = event_resolution::deviation_at(point, v0, r0 * h, v1, r1 * h, value(hermite(point)));
+            ok = ok && d.error <= 0.5 * d.allowed;
+        }
+        return ok;
+    };
+    const auto no_crossing = [&](const lanes& v0, const lanes& v1, const lanes& r0, const lanes& r1) {
+        return !down_crossing_possible(v0, v1, r0, r1) && !maybe_two_interior_extrema(v0, v1, r0 * h, r1 * h);
+    };
     if (opt.surfaces)
         for (int i = 0; i < surfaces; ++i) {
             const lanes v0 = def.gap(i, x0), v1 = def.gap(i, x1);
             const lanes r0 = rate<N>(def.gap_gradient(i, x0), f0, quiet), r1 = rate<N>(def.gap_gradient(i, x1), f1, quiet);
-            quiet = quiet && (v0 > zero || v1 > zero) && no_down_crossing(v0, v1, r0, r1);
+            quiet = quiet && (v0 > zero || v1 > zero) && no_crossing(v0, v1, r0, r1);
             // The flow's rule for a gap maximum inside the step (report_gap_maxima).
             if (opt.gap_maxima) quiet = quiet && !(r0 > zero && r1 <= zero);
+            if (!L::surfaces[static_cast<std::size_t>(i)].affine)
+                quiet = quiet && resolved(v0, r0, v1, r1, [&](const vec_t<lanes, N>& y) { return def.gap(i, y); });
         }
     for (const flow_event& e : opt.events) {
         const lanes v0 = def.section(e.index, x0), v1 = def.section(e.index, x1);
         const lanes r0 = rate<N>(def.section_gradient(e.index, x0), f0, quiet),
                     r1 = rate<N>(def.section_gradient(e.index, x1), f1, quiet);
-        if (e.direction != crossing::up) quiet = quiet && no_down_crossing(v0, v1, r0, r1);
-        if (e.direction != crossing::down) quiet = quiet && no_down_crossing(-v0, -v1, -r0, -r1);
+        if (e.direction != crossing::up) quiet = quiet && no_crossing(v0, v1, r0, r1);
+        if (e.direction != crossing::down) quiet = quiet && no_crossing(-v0, -v1, -r0, -r1);
+        if (!L::sections[static_cast<std::size_t>(e.index)].affine)
+            quiet = quiet && resolved(v0, r0, v1, r1, [&](const vec_t<lanes, N>& y) { return def.section(e.index, y); });
     }
     return quiet;
 }
@@ -399,7 +436,7 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
             });
             if (sections_only) {
                 const int surfaces = first.flow.model().surface_count();
-                const lane_mask quiet_mask = detail::quiet_steps<N>(field, opt, surfaces, x, f, xn, fn);
+                const lane_mask quiet_mask = detail::quiet_steps<N>(field, opt, surfaces, x, f, xn, fn, plan.h);
                 quiet = lane_bits(quiet_mask);
                 if constexpr (keeps_quiet) {
                     const lanes one(1.0);

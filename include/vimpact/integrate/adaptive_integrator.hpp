@@ -33,7 +33,9 @@ struct integrator_options {
     std::optional<double> hold_band = std::nullopt;
 };
 
-enum class step_status { ok, step_underflow, non_finite };
+// retracted: the caller took the step back (hybrid/flow.hpp: too long for an event function
+// to be resolved on it); the integrator never returns it itself.
+enum class step_status { ok, step_underflow, non_finite, retracted };
 
 struct integrator_counters {
     long steps = 0;
@@ -160,6 +162,25 @@ public:
         m_dense_ready = false;
         m_stage_source = {};
     }
+    // Takes the last accepted step (of advance() or accept_external()) back, as if its trial
+    // had been rejected: the state, time
+    // and counters are those before it, and the next trial has size h_next. For a caller that
+    // finds the step too long for something the error estimate does not see (an event
+    // function that turns inside it). Counts as a start, so that a driver keeping a copy of
+    // the state (hybrid/flow_lanes.hpp) reads it again.
+    void retract(double h_next)
+    {
+        m_count = m_count_before_accept;
+        m_count.rhs_calls += method_type::stages_per_step;
+        ++m_count.rejected;
+        m_t = m_t_prev;
+        m_x = m_x_prev;
+        m_f = m_f_prev;
+        m_h = h_next;
+        m_dense_ready = false;
+        m_stage_source = {};
+        ++m_starts;
+    }
     // A rejected trial taken outside; true when the step ends in non-finite numbers.
     bool reject_external(const trial_plan<double, bool>& plan, double h_next, bool finite)
     {
@@ -201,6 +222,7 @@ public:
 private:
     void accept(double h, double t_new, const vec<N>& x_new, const vec<N>& f_new, double h_next, double log2_err)
     {
+        m_count_before_accept = m_count;
         m_count.rhs_calls += method_type::stages_per_step;
         m_log_err_old = log2_err;
         m_t_prev = m_t;
@@ -243,7 +265,7 @@ private:
     }
 
     integrator_options m_opt;
-    integrator_counters m_count;
+    integrator_counters m_count, m_count_before_accept;
     method_type m_method;
     dense_type m_dense;
     bool m_dense_ready = false;
