@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <map>
 #include <toml++/toml.h>
@@ -40,6 +41,9 @@ void add_common_options(CLI::App& app, common_args& a)
                                         "Step sizes held while the error norm lies in [B, 1], in [0, 1); 0: the "
                                         "controller acts on every step (default 0.1 with dopri5, 0 with dop853); faster "
                                         "steps, more rejections (docs/performance.md)");
+    a.max_step_option = app.add_option("--max-step", a.max_step,
+                                       "Longest integration step, > 0 (default none: the error control and the "
+                                       "resolution of the model's gaps and sections set it; docs/model.md)");
     a.transient_option = app.add_option("--transient", a.transient, "Impacts discarded before recording (default 500)");
     a.record_option = app.add_option("--record", a.record, "Section points kept (default " + std::to_string(a.record) + ")");
     a.method_option = app.add_option("--method", a.method, "Integrator: dop853 (default) or dopri5");
@@ -144,7 +148,7 @@ std::string toml_string(const toml::node& node, const std::string& key, const st
 const std::vector<std::string>& setting_keys()
 {
     static const std::vector<std::string> keys{"model",     "model_identity", "preset",  "ic",
-                                               "rtol",      "atol",           "hold_band", "method", "transient",
+                                               "rtol",      "atol",           "hold_band", "max_step", "method", "transient",
                                                "record",    "section",        "[parameters]"};
     return keys;
 }
@@ -283,6 +287,8 @@ run_config resolve(const common_args& a)
                 c.protocol.flow.integration.atol = toml_number(node, key, file);
             } else if (key == "hold_band") {
                 c.protocol.flow.integration.hold_band = toml_number(node, key, file);
+            } else if (key == "max_step") {
+                c.protocol.flow.integration.h_max = toml_number(node, key, file);
             } else if (key == "transient") {
                 c.protocol.transient_impacts = toml_integer(node, key, file);
             } else if (key == "record") {
@@ -302,6 +308,7 @@ run_config resolve(const common_args& a)
     if (a.rtol_option->count()) c.protocol.flow.integration.rtol = a.rtol;
     if (a.atol_option->count()) c.protocol.flow.integration.atol = a.atol;
     if (a.hold_band_option->count()) c.protocol.flow.integration.hold_band = a.hold_band;
+    if (a.max_step_option->count()) c.protocol.flow.integration.h_max = a.max_step;
     if (a.transient_option->count()) c.protocol.transient_impacts = a.transient;
     if (a.record_option->count()) c.protocol.record_points = a.record;
     if (a.method_option->count()) method = a.method;
@@ -377,6 +384,7 @@ nlohmann::json run_config::to_json() const
     // The band the run used: given, or its method's when that holds.
     const double band = effective_hold_band(protocol.flow.integration, protocol.method);
     if (protocol.flow.integration.hold_band || band > 0.0) j["hold_band"] = band;
+    if (std::isfinite(protocol.flow.integration.h_max)) j["max_step"] = protocol.flow.integration.h_max;
     j["method"] = std::string(to_string(protocol.method));
     j["transient"] = protocol.transient_impacts;
     j["record"] = protocol.record_points;

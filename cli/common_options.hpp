@@ -30,6 +30,7 @@ struct common_args {
     double rtol = 1e-10;
     double atol = 1e-10;
     double hold_band = 0.0;
+    double max_step = 0.0;
     long transient = 500;
     long record = 200;
     std::string out;
@@ -42,6 +43,7 @@ struct common_args {
     CLI::Option* rtol_option = nullptr;
     CLI::Option* atol_option = nullptr;
     CLI::Option* hold_band_option = nullptr;
+    CLI::Option* max_step_option = nullptr;
     CLI::Option* transient_option = nullptr;
     CLI::Option* record_option = nullptr;
     CLI::Option* method_option = nullptr;

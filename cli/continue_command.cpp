@@ -148,6 +148,7 @@ int run_continue(const continue_args& a)
     o.arclength.integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
     o.arclength.integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
     o.arclength.integration.hold_band = c.protocol.flow.integration.hold_band;
+    o.arclength.integration.h_max = c.protocol.flow.integration.h_max;
     o.cancel = &interrupt_flag();
     const model m0 = m.with_parameter(o.parameter, o.start);
     warn_validity(c, {m0, m.with_parameter(o.parameter, o.end)});
@@ -471,9 +472,10 @@ cli_command add_continue_command(CLI::App& app)
     s->add_option("--range2", a->range2, "c:d: the range of --param2 (the model's value of it must lie inside)");
     s->add_option("--curves", a->curve_types,
                   "With --param2: the bifurcation types followed, comma-separated (default fold,period_doubling,grazing)");
-    s->add_option("--step", a->step, "First arclength step (default: range / 100)");
-    s->add_option("--min-step", a->min_step, "Smallest arclength step (default: range * 1e-9)");
-    s->add_option("--max-step", a->max_step, "Largest arclength step (default: range / 20)");
+    // ds, as AUTO names the arclength step; --max-step is the integrator's, as in every command.
+    s->add_option("--ds", a->step, "First arclength step (default: range / 100)");
+    s->add_option("--ds-min", a->min_step, "Smallest arclength step (default: range * 1e-9)");
+    s->add_option("--ds-max", a->max_step, "Largest arclength step (default: range / 20)");
     s->add_option("--max-points", a->max_points, "Points per branch at most (default 2000)");
     s->add_option("--closure-tol", a->closure_tol, "Closure |P^k(z) - z| of every point (default 1e-10)");
     s->add_option("--locate-tol", a->locate_tol, "Parameter accuracy of located bifurcations (default 1e-10)");

@@ -127,7 +127,7 @@ dimension_options make_options(const dimension_args& a)
 // The model's options make no sense with --points: say so rather than ignore them.
 void reject_model_options(const CLI::App& app)
 {
-    for (const char* name : {"--model", "--preset", "--set", "--ic", "--rtol", "--atol", "--hold-band", "--transient",
+    for (const char* name : {"--model", "--preset", "--set", "--ic", "--rtol", "--atol", "--hold-band", "--max-step", "--transient",
                              "--record", "--method", "--section", "--tol"})
         if (app.get_option(name)->count() > 0)
             throw input_error(std::string(name) + " configures a run of the model; it cannot be combined with --points");

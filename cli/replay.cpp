@@ -32,7 +32,7 @@ const CLI::App* subcommand_named(const CLI::App& app, const std::string& name)
 bool is_unrecorded(const std::string& name)
 {
     static const std::set<std::string> names{"--model", "--preset", "--set",   "--ic",     "--config", "--rtol",
-                                             "--atol",  "--hold-band", "--transient", "--record", "--method", "--section",
+                                             "--atol",  "--hold-band", "--max-step", "--transient", "--record", "--method", "--section",
                                              "--out",   "--json",   "--threads", "--shard",  "--resume", "--help"};
     return names.count(name) > 0;
 }
@@ -212,6 +212,7 @@ void write_replay_config(const fs::path& path, const run_config& c)
         // The band the run used, so the replay holds alike whatever the default then.
         const double band = effective_hold_band(c.protocol.flow.integration, c.protocol.method);
         if (c.protocol.flow.integration.hold_band || band > 0.0) line("hold_band", band);
+        if (std::isfinite(c.protocol.flow.integration.h_max)) line("max_step", c.protocol.flow.integration.h_max);
         line("method", std::string(to_string(c.protocol.method)));
         line("section", c.section_name());
         line("transient", static_cast<int64_t>(c.protocol.transient_impacts));

@@ -235,6 +235,7 @@ int run_floquet(const floquet_args& a)
     fo.tangent_integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
     fo.tangent_integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
     fo.tangent_integration.hold_band = c.protocol.flow.integration.hold_band;
+    fo.tangent_integration.h_max = c.protocol.flow.integration.h_max;
     fo.jump = parse_name(a.impact_map, monodromy_jumps, "--impact-map");
     validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);

@@ -34,9 +34,9 @@ std::string continuation_run(const model& m, const py::list& starts, const py::d
     co.detect = o.get<bool>("detect", co.detect);
     co.locate_tolerance = o.get<double>("locate_tol", co.locate_tolerance);
     arclength_options& a = co.arclength;
-    a.step = o.get<double>("step", a.step);
-    a.min_step = o.get<double>("min_step", a.min_step);
-    a.max_step = o.get<double>("max_step", a.max_step);
+    a.step = o.get<double>("ds", a.step);
+    a.min_step = o.get<double>("ds_min", a.min_step);
+    a.max_step = o.get<double>("ds_max", a.max_step);
     a.max_points = o.get<long>("max_points", a.max_points);
     a.tolerance = o.get<double>("closure_tol", a.tolerance);
     a.newton_iterations = o.get<int>("newton_iterations", a.newton_iterations);

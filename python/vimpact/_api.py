@@ -1150,7 +1150,7 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
 
 @_with_defaults
 def continuation(model, param, range, ic=None, *, period=None, starts=None, switch=0, param2=None, range2=None,
-                 curves=("fold", "period_doubling", "grazing"), step=0.0, min_step=0.0, max_step=0.0,
+                 curves=("fold", "period_doubling", "grazing"), ds=0.0, ds_min=0.0, ds_max=0.0,
                  max_points=_D["max_points"], closure_tol=_D["closure_tol"], locate_tol=_D["locate_tol"],
                  newton_iterations=_D["continuation_newton_iterations"], detect=True, tol=_D["period_tol"],
                  threads=_D["threads"], transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
@@ -1195,7 +1195,7 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
     range2 : (float, float)
         The range of ``param2``; the model's value of it must lie inside.
     curves : sequence of str, default ("fold", "period_doubling", "grazing")
-    step, min_step, max_step : float, default 0
+    ds, ds_min, ds_max : float, default 0
         Arclength steps; 0: range / 100, range * 1e-9 and range / 20.
     max_points : int, default $max_points
         Points per branch at most.
@@ -1233,7 +1233,7 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
     o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
                   param=str(param), start=a,
                   end=b, tol=tol, period=0 if period is None else int(period), switch=int(switch), detect=bool(detect),
-                  locate_tol=locate_tol, step=step, min_step=min_step, max_step=max_step, max_points=int(max_points),
+                  locate_tol=locate_tol, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=int(max_points),
                   closure_tol=closure_tol, newton_iterations=int(newton_iterations), threads=int(threads))
     if param2 is not None or range2 is not None:
         if param2 is None or range2 is None:

@@ -45,12 +45,12 @@ double multiplier_test(const std::vector<std::complex<double>>& mu, bifurcation_
 
 void validate(const arclength_options& a)
 {
-    for (const auto& [name, v] : {std::pair{"step", a.step}, {"min_step", a.min_step}, {"max_step", a.max_step}})
+    for (const auto& [name, v] : {std::pair{"ds", a.step}, {"ds_min", a.min_step}, {"ds_max", a.max_step}})
         if (!(v >= 0.0) || !std::isfinite(v))
             throw input_error(std::string(name) + " must be >= 0 and finite (0: from the range; got " + format_double(v) +
                               ")");
     if (a.min_step > 0.0 && a.max_step > 0.0 && a.min_step > a.max_step)
-        throw input_error("min_step (" + format_double(a.min_step) + ") exceeds max_step (" + format_double(a.max_step) + ")");
+        throw input_error("ds_min (" + format_double(a.min_step) + ") exceeds ds_max (" + format_double(a.max_step) + ")");
     if (a.max_points < 2 || a.max_points > 1'000'000)
         throw input_error("max_points must be in [2, 1000000] (got " + std::to_string(a.max_points) + ")");
     if (!(a.tolerance > 0.0) || !(a.tolerance <= 1e-4))

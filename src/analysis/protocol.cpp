@@ -72,6 +72,8 @@ void validate(const integrator_options& in)
     if (in.atol < 1e-300) throw input_error("atol must be >= 1e-300");
     if (in.hold_band && !(*in.hold_band >= 0.0 && *in.hold_band < 1.0))
         throw input_error("hold_band = " + format_double(*in.hold_band) + " is outside its valid range [0, 1)");
+    if (!(in.h_max > 0.0))
+        throw input_error("max_step = " + format_double(in.h_max) + " is outside its valid range (0, inf]");
 }
 
 void validate(const protocol_options& o)

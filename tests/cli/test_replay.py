@@ -31,7 +31,7 @@ CASES = {
     "dimension": ["dimension", "--record", "400", "--transient", "40", "--set", "Ur=22.5", "--theiler", "2"],
     "continue": ["continue", "--param", "Ur", "--range", "14.5:15.2", "--switch", "1", "--diagram", "3", *SHORT],
     "continue-curves": ["continue", "--param", "Ur", "--range", "14.3:15.1", "--param2", "sigma", "--range2",
-                        "-0.16:-0.14", "--map", "2,2", "--max-step", "0.05", *SHORT],
+                        "-0.16:-0.14", "--map", "2,2", "--ds-max", "0.05", *SHORT],
     "model-file": ["sweep", "--model", TWO_SIDED_TOML, "--param", "w", "--range", "0.9:1.1:2", *SHORT],
     "clearance": ["clearance", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000", "--speeds", "4:5:2", "--fractions",
                   "0.6:1.2:2", *SHORT],

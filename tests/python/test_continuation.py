@@ -52,12 +52,12 @@ def test_the_paper_p1_p2_story_and_the_command_line(cli, tmp_path):
 
 
 def test_curves_against_the_command_line(cli, tmp_path):
-    kw = dict(param2="sigma", range2=(-0.16, -0.14), max_step=0.05)
+    kw = dict(param2="sigma", range2=(-0.16, -0.14), ds_max=0.05)
     c = vimpact.continuation(vimpact.WakeImpact(), "Ur", (14.3, 15.1), **kw, **Q)
     assert len(c.curves) == 1 and c.curves[0].type == "period_doubling"
     out = tmp_path / "c2"
     p = cli("continue", "--param", "Ur", "--range", "14.3:15.1", "--param2", "sigma", "--range2", "-0.16:-0.14",
-            "--max-step", "0.05", "--map", "2,2", *QA, "--out", out, "--no-plot")
+            "--ds-max", "0.05", "--map", "2,2", *QA, "--out", out, "--no-plot")
     assert p.returncode == 0, p.stderr
     loaded = vimpact.Continuation.load(out)
     assert_same_result(c, loaded)
