@@ -391,10 +391,10 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
 staged_output* streamed_output::get()
 {
     if (!m_config.out) return nullptr;
-    if (!m_out) {
-        throw_if_interrupted();  // before anything is written
-        m_out.emplace(*m_config.out);
-    }
+    // Also after Ctrl-C or SIGTERM: a stopped run still hands over the results that finished
+    // before it stopped (the job loop delivers them), and the command then reports the stop
+    // with the journal that keeps them; the staging directory goes without a commit.
+    if (!m_out) m_out.emplace(*m_config.out);
     return &*m_out;
 }
 

@@ -6,9 +6,13 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <system_error>
+#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -23,7 +27,20 @@ fs::path journal_beside(const fs::path& out)
 
 void remove_journal(const fs::path& dir)
 {
+    // The test hook's removal fault strikes after the first entry has gone; otherwise the same
+    // as fs::remove_all.
+    detail::journal_fault fault;
+    try {
+        fault = detail::journal_fault::from_environment();
+    } catch (const input_error&) {  // refused when the journal was opened
+    }
     std::error_code ec;
+    bool first = true;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        fs::remove_all(e.path(), ec);
+        if (first && fault.at == detail::journal_fault::point::removal) fault.fire(nullptr);
+        first = false;
+    }
     fs::remove_all(dir, ec);
 }
 
@@ -74,7 +91,57 @@ std::string read_line(int fd, std::uint64_t offset, const fs::path& file)
 
 std::string journal_line(long job, const json& record) { return json{{"job", job}, {"record", record}}.dump(); }
 
-journal::journal(const fs::path& dir, const json& spec, const job_options& o, long jobs) : m_dir(dir), m_jobs(jobs)
+journal_fault journal_fault::from_environment()
+{
+    constexpr const char* name = "VIMPACT_TEST_JOURNAL_FAULT";
+    const char* v = std::getenv(name);
+    journal_fault f;
+    if (!v || !*v) return f;
+    const std::string text(v);
+    const auto colon = text.find(':');
+    const std::string when = text.substr(0, colon), what = colon == std::string::npos ? "" : text.substr(colon + 1);
+    auto refuse = [&]() -> journal_fault {
+        throw input_error(std::string(name) + " = '" + text +
+                          "' is not a journal fault (a test hook): K:term, K:int, K:kill, K:torn or K:pause with "
+                          "K >= 1 lines, or remove:kill or remove:term");
+    };
+    if (when == "remove") {
+        f.at = point::removal;
+        if (what == "kill") f.act = action::kill;
+        else if (what == "term") f.act = action::term;
+        else return refuse();
+        return f;
+    }
+    char* end = nullptr;
+    const long k = std::strtol(when.c_str(), &end, 10);
+    if (when.empty() || *end != '\0' || k < 1) return refuse();
+    f.at = point::line;
+    f.line = k;
+    if (what == "term") f.act = action::term;
+    else if (what == "int") f.act = action::interrupt;
+    else if (what == "kill") f.act = action::kill;
+    else if (what == "torn") f.act = action::torn;
+    else if (what == "pause") f.act = action::pause;
+    else return refuse();
+    return f;
+}
+
+void journal_fault::fire(const std::atomic<bool>* stop) const
+{
+    switch (act) {
+    case action::term: std::raise(SIGTERM); break;
+    case action::interrupt: std::raise(SIGINT); break;
+    case action::kill:
+    case action::torn: std::raise(SIGKILL); break;
+    case action::pause:
+        // Polled: the flag is set from a signal handler, which may run on any thread.
+        while (!(stop && stop->load())) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        break;
+    }
+}
+
+journal::journal(const fs::path& dir, const json& spec, const job_options& o, long jobs)
+    : m_dir(dir), m_jobs(jobs), m_fault(journal_fault::from_environment()), m_stop(o.stop)
 {
     std::error_code ec;
     const fs::path spec_file = dir / "spec.json";
@@ -205,7 +272,7 @@ json journal::load(long job) const
     return r["record"];
 }
 
-void journal::flush() const
+void journal::write_unwritten() const
 {
     std::size_t done = 0;
     while (done < m_unwritten.size()) {
@@ -214,7 +281,26 @@ void journal::flush() const
         if (n < 0) throw std::runtime_error("cannot write the journal in " + m_dir.string() + ": " + std::strerror(errno));
         done += static_cast<std::size_t>(n);
     }
+}
+
+void journal::flush() const
+{
+    const long lines = static_cast<long>(std::count(m_unwritten.begin(), m_unwritten.end(), '\n'));
+    const bool strikes = m_fault.at == journal_fault::point::line && m_written_lines < m_fault.line &&
+                         m_written_lines + lines >= m_fault.line;
+    if (strikes && m_fault.act == journal_fault::action::torn) {
+        // The lines before the K-th whole, the K-th cut in its middle.
+        std::size_t start = 0;
+        for (long k = m_written_lines + 1; k < m_fault.line; ++k) start = m_unwritten.find('\n', start) + 1;
+        const std::size_t end = m_unwritten.find('\n', start);
+        m_unwritten.resize(start + (end - start) / 2);
+        write_unwritten();
+        m_fault.fire(m_stop);
+    }
+    write_unwritten();
     m_unwritten.clear();
+    m_written_lines += lines;
+    if (strikes) m_fault.fire(m_stop);
 }
 
 void journal::append(long job, const std::string& line)
