@@ -416,7 +416,11 @@ json label_tally::counts() const
 
 void print(const run_config& c, const json& summary, const std::string& text)
 {
-    throw_if_interrupted();  // a run cut short by Ctrl-C has no result to report
+    // Without --out a run cut short by Ctrl-C has no result to report. With --out, DIR was
+    // committed before this report (and a many-job run's journal removed): a Ctrl-C or SIGTERM
+    // from then on came too late to stop anything, and "interrupted; nothing written" with
+    // exit 130 would send the user to resume a run whose journal is gone.
+    if (!c.out) throw_if_interrupted();
     if (c.json) std::cout << summary.dump() << '\n';
     else std::cout << text;
 }

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 #include <system_error>
 #include <thread>
 
@@ -25,23 +26,47 @@ fs::path journal_beside(const fs::path& out)
     return p.parent_path() / (p.filename().string() + ".jobs");
 }
 
+namespace {
+
+// A journal being removed: renamed to this name first (journal_beside's name and this suffix).
+constexpr std::string_view removed_suffix = ".removed-";
+
+// Directories left by removals that a kill cut short: nothing reads them, whoever removes them.
+void remove_removed(const fs::path& dir)
+{
+    const std::string stem = dir.filename().string() + std::string(removed_suffix);
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir.parent_path().empty() ? "." : dir.parent_path(), ec))
+        if (e.path().filename().string().starts_with(stem)) fs::remove_all(e.path(), ec);
+}
+
+}  // namespace
+
 void remove_journal(const fs::path& dir)
 {
-    // The test hook's removal fault strikes after the first entry has gone; otherwise the same
-    // as fs::remove_all.
+    // One rename takes the journal away whole, then its files go: a process killed in between
+    // (Open MPI's SIGKILL a second after its SIGTERM, a second Ctrl-C) leaves either the whole
+    // journal, which a resume reads, or a directory that no run reads and the next removes -
+    // never a journal that lost some of its files (its lines, or the spec.json without which
+    // every later run of DIR is refused).
+    const fs::path gone = dir.parent_path() / (dir.filename().string() + std::string(removed_suffix) +
+                                               std::to_string(::getpid()));
+    remove_removed(dir);  // what removals cut short left (one of them may bear this pid)
+    std::error_code ec;
+    fs::rename(dir, gone, ec);
+    if (ec) return;  // no journal; or one that cannot be moved, and stays whole
     detail::journal_fault fault;
     try {
         fault = detail::journal_fault::from_environment();
     } catch (const input_error&) {  // refused when the journal was opened
     }
-    std::error_code ec;
     bool first = true;
-    for (const auto& e : fs::directory_iterator(dir, ec)) {
+    for (const auto& e : fs::directory_iterator(gone, ec)) {
         fs::remove_all(e.path(), ec);
         if (first && fault.at == detail::journal_fault::point::removal) fault.fire(nullptr);
         first = false;
     }
-    fs::remove_all(dir, ec);
+    fs::remove_all(gone, ec);
 }
 
 namespace detail {
@@ -176,11 +201,29 @@ journal::journal(const fs::path& dir, const json& spec, const job_options& o, lo
             throw input_error(dir.string() + " holds an unfinished run of this analysis: resume it, or remove it");
         if (!fs::exists(dir / "lock", ec)) std::ofstream(dir / "lock", std::ios::app);  // a journal of an older version
     }
+    remove_removed(dir);
     m_own = dir / shard_file_name(o.shard);
-    index_all(true);
-    m_fd = ::open(m_own.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    m_fd = ::open(m_own.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (m_fd < 0) throw std::runtime_error("cannot write " + m_own.string() + ": " + std::strerror(errno));
-    m_own_size = static_cast<std::uint64_t>(::lseek(m_fd, 0, SEEK_END));
+    try {
+        // One process at a time appends to a shard's file (an flock, released by the kernel when
+        // the holder ends): a second one, say a resume started while the interrupted run is still
+        // ending, would cut the first one's newest lines as a torn tail and misplace its own.
+        while (::flock(m_fd, LOCK_EX | LOCK_NB) != 0) {
+            if (errno == EINTR) continue;
+            if (errno == EWOULDBLOCK)
+                throw input_error(m_own.string() + " is being written by another process (the same run started " +
+                                  "twice, or an interrupted one still ending): let it end, then resume");
+            throw std::runtime_error("cannot lock " + m_own.string() + ": " + std::strerror(errno));
+        }
+        index_all(true);
+        m_own_size = static_cast<std::uint64_t>(::lseek(m_fd, 0, SEEK_END));
+    } catch (...) {
+        ::close(m_fd);  // the destructor does not run: the lock goes with the file
+        for (const int fd : m_read_fds)
+            if (fd >= 0) ::close(fd);
+        throw;
+    }
 }
 
 journal::~journal()
@@ -214,8 +257,10 @@ void journal::index_all(bool repair_own)
 }
 
 // Indexes the complete lines of a journal file. A torn last line (killed while writing) is
-// skipped and, with `repair`, cut from the file so appends start on a fresh line. A complete
-// line that is not a record of this run is damage nobody should resume over: an input_error.
+// skipped and, with `repair` (this process's own file, locked), cut from the file so appends
+// start on a fresh line; nothing else is ever cut: a file that cannot be read to its end is an
+// error, not a shorter journal. A complete line that is not a record of this run is damage
+// nobody should resume over: an input_error.
 void journal::index_file(const fs::path& file, bool repair)
 {
     std::size_t number = 0;
@@ -224,12 +269,12 @@ void journal::index_file(const fs::path& file, bool repair)
         m_files.push_back(file);
         m_read_fds.push_back(-1);
     }
-    std::ifstream in(file, std::ios::binary);
-    std::string text;
-    std::uint64_t pos = 0, good_end = 0;
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw std::runtime_error("cannot read the journal file " + file.string() + ": " + std::strerror(errno));
+    std::string text;  // the line being read
+    std::uint64_t pos = 0;  // where it starts
     long line = 0;
-    while (std::getline(in, text)) {
-        if (in.eof()) break;  // no newline: a torn last line
+    auto index_line = [&] {
         ++line;
         const auto parsed = try_parse_json_line(text);
         const json r = parsed ? *parsed : json();
@@ -241,10 +286,31 @@ void journal::index_file(const fs::path& file, bool repair)
         if (pos > offset_mask) throw input_error("the journal file " + file.string() + " is too large");
         note(r["job"].get<long>(), number, pos, false);
         pos += text.size() + 1;
-        good_end = pos;
+        text.clear();
+    };
+    try {
+        char buf[1 << 16];
+        for (;;) {
+            const ssize_t n = ::read(fd, buf, sizeof buf);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) throw std::runtime_error("cannot read the journal file " + file.string() + ": " + std::strerror(errno));
+            if (n == 0) break;
+            const char* at = buf;
+            const char* const end = buf + n;
+            while (const char* nl = static_cast<const char*>(std::memchr(at, '\n', static_cast<std::size_t>(end - at)))) {
+                text.append(at, static_cast<std::size_t>(nl - at));
+                index_line();
+                at = nl + 1;
+            }
+            text.append(at, static_cast<std::size_t>(end - at));
+        }
+    } catch (...) {
+        ::close(fd);
+        throw;
     }
-    std::error_code ec;
-    if (repair && fs::exists(file, ec) && good_end < fs::file_size(file, ec)) fs::resize_file(file, good_end);
+    ::close(fd);
+    if (repair && !text.empty() && ::ftruncate(m_fd, static_cast<off_t>(pos)) != 0)
+        throw std::runtime_error("cannot cut the torn last line of " + file.string() + ": " + std::strerror(errno));
 }
 
 bool journal::has(long job) const { return !m_where.empty() && m_where[static_cast<std::size_t>(job)] != 0; }

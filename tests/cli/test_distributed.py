@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from test_sweeps import MAP, journal_file_lines, journal_lines, read, started_paused
+from test_sweeps import MAP, journal_file_lines, journal_lines, read, started_paused, with_fault
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 MPIRUN = ["mpirun", "--allow-run-as-root", "--oversubscribe"]
@@ -187,6 +187,26 @@ def test_the_whole_job_killed_then_resumed_by_one_process(vimpact, mpi, tmp_path
                        timeout=TIMEOUT)
     assert p.returncode == 0, p.stderr
     same_files(long_whole, out)
+
+
+@pytest.mark.parametrize("fault", ["remove:term", "remove:kill"])
+def test_a_signal_after_rank_0_wrote_dir(vimpact, mpi, tmp_path, long_whole, fault):
+    # Open MPI passes mpirun's SIGTERM on a second late, and its SIGKILL a second after that:
+    # a run may complete meanwhile, write DIR and remove its journal (what failed the timed
+    # version of the test above once: "0 lines" left, DIR written). Here rank 0 is signalled
+    # at that point itself. SIGTERM: the run is done, exit 0, one report. SIGKILL: DIR is whole
+    # and the journal gone, not half removed.
+    out = tmp_path / "run"
+    p = subprocess.run(MPIRUN + ["-n", "2", vimpact, *LONG_MAP, "--out", str(out)], capture_output=True, text=True,
+                       timeout=TIMEOUT, env=with_fault(fault))
+    if fault == "remove:term":
+        assert p.returncode == 0, p.stderr
+        assert p.stdout.count("output written to") == 1 and "interrupted" not in p.stderr
+        assert not [f for f in os.listdir(tmp_path) if ".removed-" in f]
+    else:
+        assert p.returncode != 0
+    same_files(long_whole, out)
+    assert not os.path.exists(str(out) + ".jobs")
 
 
 def test_mpi_runs_as_shards_of_one_run(vimpact, mpi, tmp_path, tmp_path_factory):

@@ -260,6 +260,70 @@ def test_a_kill_inside_or_after_a_journal_write_keeps_every_whole_line(vimpact, 
     assert not os.path.exists(str(out) + ".jobs")
 
 
+def journal_state(out):
+    """The journal beside DIR: None when gone, else (has spec.json, whole lines, torn tails)."""
+    jdir = str(out) + ".jobs"
+    if not os.path.exists(jdir):
+        return None
+    complete, torn = journal_file_lines(out)
+    return os.path.exists(os.path.join(jdir, "spec.json")), len(complete), len(torn)
+
+
+def left_aside(out):
+    return [f for f in os.listdir(os.path.dirname(str(out))) if ".removed-" in f or ".new-" in f]
+
+
+def test_a_kill_while_a_complete_run_removes_its_journal_leaves_it_whole_or_gone(vimpact, tmp_path, kill_whole):
+    # DIR is written, then the journal removed; SIGKILL in the middle of the removal (Open MPI's
+    # SIGKILL a second after its SIGTERM, a second Ctrl-C) must not leave part of a journal: one
+    # without its lines, or without the spec.json that every later run of DIR then stops at.
+    out = tmp_path / "run"
+    p = subprocess.run([vimpact, *KILL_ARGS, "--out", str(out)], capture_output=True, text=True, timeout=600,
+                       env=with_fault("remove:kill"))
+    assert p.returncode == -signal.SIGKILL, p.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert journal_state(out) is None, journal_state(out)  # (killed before the removal began: whole)
+    # The same command again, without --resume: nothing stands in its way, nothing is left aside.
+    r = run(vimpact, *KILL_ARGS, "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert journal_state(out) is None and not left_aside(out)
+
+
+def test_a_signal_after_dir_is_written_is_not_an_interruption(vimpact, tmp_path, kill_whole):
+    # SIGTERM once DIR is committed (while the journal is removed): the run is complete and its
+    # journal gone, so the command reports what it wrote, exit 0, not "interrupted; nothing
+    # written" (exit 130), which would send the user to resume a run that has no journal.
+    out = tmp_path / "run"
+    p = subprocess.run([vimpact, *KILL_ARGS, "--out", str(out)], capture_output=True, text=True, timeout=600,
+                       env=with_fault("remove:term"))
+    assert p.returncode == 0, p.stderr
+    assert f"output written to {out}" in p.stdout and "interrupted" not in p.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert journal_state(out) is None and not left_aside(out)
+
+
+def test_one_process_at_a_time_writes_a_shard_of_the_journal(vimpact, tmp_path, kill_whole):
+    # A resume started while the interrupted run still runs (or the same command started twice)
+    # is refused before it touches the journal: it would cut the other's newest lines as a
+    # torn tail and append among its lines.
+    out = tmp_path / "run"
+    first, before = started_paused(vimpact, KILL_ARGS, out, 10)
+    lines = journal_file_lines(out)
+    try:
+        p = run(vimpact, *KILL_ARGS, "--out", str(out), "--resume")
+        assert p.returncode == 2, p.stderr
+        assert "is being written by another process" in p.stderr and "shard-0-of-1.jsonl" in p.stderr, p.stderr
+        assert journal_file_lines(out) == lines and not os.path.exists(out)
+    finally:
+        first.send_signal(signal.SIGINT)
+        _, err = first.communicate(timeout=120)
+    assert first.returncode == 130, err
+    r = run(vimpact, *KILL_ARGS, "--out", str(out), "--resume")
+    assert r.returncode == 0, r.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+
+
 def test_a_malformed_journal_fault_is_refused(vimpact, tmp_path):
     p = subprocess.run([vimpact, *MAP, "--no-plot", "--out", str(tmp_path / "o")], capture_output=True, text=True,
                        timeout=600, env=with_fault("10:explode"))
