@@ -391,10 +391,10 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
 staged_output* streamed_output::get()
 {
     if (!m_config.out) return nullptr;
-    if (!m_out) {
-        throw_if_interrupted();  // before anything is written
-        m_out.emplace(*m_config.out);
-    }
+    // Also after Ctrl-C or SIGTERM: a stopped run still hands over the results that finished
+    // before it stopped (the job loop delivers them), and the command then reports the stop
+    // with the journal that keeps them; the staging directory goes without a commit.
+    if (!m_out) m_out.emplace(*m_config.out);
     return &*m_out;
 }
 
@@ -416,7 +416,11 @@ json label_tally::counts() const
 
 void print(const run_config& c, const json& summary, const std::string& text)
 {
-    throw_if_interrupted();  // a run cut short by Ctrl-C has no result to report
+    // Without --out a run cut short by Ctrl-C has no result to report. With --out, DIR was
+    // committed before this report (and a many-job run's journal removed): a Ctrl-C or SIGTERM
+    // from then on came too late to stop anything, and "interrupted; nothing written" with
+    // exit 130 would send the user to resume a run whose journal is gone.
+    if (!c.out) throw_if_interrupted();
     if (c.json) std::cout << summary.dump() << '\n';
     else std::cout << text;
 }

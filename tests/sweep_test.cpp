@@ -10,6 +10,8 @@
 #include <fstream>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "test_support.hpp"
 #include "vimpact/analysis/attractor.hpp"
 #include "vimpact/analysis/basins.hpp"
@@ -155,6 +157,21 @@ void expect_same(const sweep_result& a, const sweep_result& b)
     }
 }
 
+// The short sweep journaled in `j.journal` and stopped once 7 jobs are done (then `j` has no
+// stop flag or progress sink again).
+sweep_result stopped_after_seven(const model& m, job_options& j)
+{
+    std::atomic<bool> stop{false};
+    j.stop = &stop;
+    j.progress = [&](long done, long) {
+        if (done >= 7) stop.store(true);
+    };
+    auto r = sweep(m, short_sweep(), j);
+    j.stop = nullptr;
+    j.progress = nullptr;
+    return r;
+}
+
 TEST(Journal, AStoppedRunResumedEqualsAnUninterruptedOne)
 {
     const model m;
@@ -163,18 +180,11 @@ TEST(Journal, AStoppedRunResumedEqualsAnUninterruptedOne)
     temp_dir dir;
     job_options j;
     j.journal = dir.path / "run.jobs";
-    std::atomic<bool> stop{false};
-    j.stop = &stop;
-    j.progress = [&](long done, long) {
-        if (done >= 7) stop.store(true);
-    };
-    const auto first = sweep(m, short_sweep(), j);
+    const auto first = stopped_after_seven(m, j);
     EXPECT_TRUE(first.jobs.stopped);
     EXPECT_FALSE(first.jobs.complete());
     EXPECT_GE(first.jobs.done, 7);
     // Without resume a journal of a whole run is refused (it would be resumed by mistake).
-    j.stop = nullptr;
-    j.progress = nullptr;
     EXPECT_THROW((void)sweep(m, short_sweep(), j), input_error);
     j.resume = true;
     const auto rest = sweep(m, short_sweep(), j);
@@ -232,6 +242,69 @@ TEST(Journal, AnotherRunsOrADamagedJournalIsRefused)
     } catch (const input_error& e) {
         EXPECT_NE(std::string(e.what()).find("has no spec.json"), std::string::npos) << e.what();
     }
+}
+
+// A process killed inside a journal write leaves a torn last line: a resume drops it, cuts it
+// from the file before appending (so no line of the file is glued to it), and loses no whole line.
+TEST(Journal, ATornLastLineIsCutAndEveryWholeLineKept)
+{
+    const model m;
+    const auto whole = sweep(m, short_sweep());
+    temp_dir dir;
+    job_options j;
+    j.journal = dir.path / "run.jobs";
+    ASSERT_TRUE(stopped_after_seven(m, j).jobs.stopped);
+    const fs::path file = *j.journal / "shard-0-of-1.jsonl";
+    auto lines_of = [&] {
+        std::ifstream in(file);
+        std::vector<std::string> v;
+        for (std::string l; std::getline(in, l);) v.push_back(l);
+        return v;
+    };
+    const auto before = lines_of();
+    ASSERT_GE(before.size(), 7u);
+    std::ofstream(file, std::ios::app) << before[1].substr(0, before[1].size() / 2);  // torn
+    j.resume = true;
+    const auto rest = sweep(m, short_sweep(), j);
+    ASSERT_TRUE(rest.jobs.complete());
+    EXPECT_EQ(rest.jobs.resumed, static_cast<long>(before.size()));
+    expect_same(rest, whole);
+    const auto after = lines_of();
+    ASSERT_EQ(after.size(), static_cast<std::size_t>(rest.jobs.jobs));
+    EXPECT_TRUE(std::equal(before.begin(), before.end(), after.begin()));
+    for (const auto& l : after) EXPECT_FALSE(nlohmann::json::parse(l, nullptr, false).is_discarded()) << l;
+}
+
+// One process at a time appends to a shard's file: a second one (a resume started while the
+// interrupted run still ends) is refused before it reads or cuts anything.
+TEST(Journal, ASecondWriterOfAShardIsRefusedWhileTheFirstRuns)
+{
+    const model m;
+    const auto whole = sweep(m, short_sweep());
+    temp_dir dir;
+    job_options j;
+    j.journal = dir.path / "run.jobs";
+    j.threads = 1;
+    std::string refusal;
+    bool tried = false;
+    j.progress = [&](long done, long) {
+        if (done < 3 || tried) return;
+        tried = true;
+        job_options again;
+        again.journal = j.journal;
+        again.resume = true;
+        try {
+            (void)sweep(m, short_sweep(), again);
+            refusal = "(accepted)";
+        } catch (const input_error& e) {
+            refusal = e.what();
+        }
+    };
+    const auto first = sweep(m, short_sweep(), j);
+    ASSERT_TRUE(tried);
+    EXPECT_NE(refusal.find("shard-0-of-1.jsonl is being written by another process"), std::string::npos) << refusal;
+    ASSERT_TRUE(first.jobs.complete());
+    expect_same(first, whole);
 }
 
 // The result of a many-job analysis does not depend on the thread count (maps and basins too).

@@ -6,9 +6,14 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 #include <system_error>
+#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -21,10 +26,47 @@ fs::path journal_beside(const fs::path& out)
     return p.parent_path() / (p.filename().string() + ".jobs");
 }
 
+namespace {
+
+// A journal being removed: renamed to this name first (journal_beside's name and this suffix).
+constexpr std::string_view removed_suffix = ".removed-";
+
+// Directories left by removals that a kill cut short: nothing reads them, whoever removes them.
+void remove_removed(const fs::path& dir)
+{
+    const std::string stem = dir.filename().string() + std::string(removed_suffix);
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir.parent_path().empty() ? "." : dir.parent_path(), ec))
+        if (e.path().filename().string().starts_with(stem)) fs::remove_all(e.path(), ec);
+}
+
+}  // namespace
+
 void remove_journal(const fs::path& dir)
 {
+    // One rename takes the journal away whole, then its files go: a process killed in between
+    // (Open MPI's SIGKILL a second after its SIGTERM, a second Ctrl-C) leaves either the whole
+    // journal, which a resume reads, or a directory that no run reads and the next removes -
+    // never a journal that lost some of its files (its lines, or the spec.json without which
+    // every later run of DIR is refused).
+    const fs::path gone = dir.parent_path() / (dir.filename().string() + std::string(removed_suffix) +
+                                               std::to_string(::getpid()));
+    remove_removed(dir);  // what removals cut short left (one of them may bear this pid)
     std::error_code ec;
-    fs::remove_all(dir, ec);
+    fs::rename(dir, gone, ec);
+    if (ec) return;  // no journal; or one that cannot be moved, and stays whole
+    detail::journal_fault fault;
+    try {
+        fault = detail::journal_fault::from_environment();
+    } catch (const input_error&) {  // refused when the journal was opened
+    }
+    bool first = true;
+    for (const auto& e : fs::directory_iterator(gone, ec)) {
+        fs::remove_all(e.path(), ec);
+        if (first && fault.at == detail::journal_fault::point::removal) fault.fire(nullptr);
+        first = false;
+    }
+    fs::remove_all(gone, ec);
 }
 
 namespace detail {
@@ -74,7 +116,57 @@ std::string read_line(int fd, std::uint64_t offset, const fs::path& file)
 
 std::string journal_line(long job, const json& record) { return json{{"job", job}, {"record", record}}.dump(); }
 
-journal::journal(const fs::path& dir, const json& spec, const job_options& o, long jobs) : m_dir(dir), m_jobs(jobs)
+journal_fault journal_fault::from_environment()
+{
+    constexpr const char* name = "VIMPACT_TEST_JOURNAL_FAULT";
+    const char* v = std::getenv(name);
+    journal_fault f;
+    if (!v || !*v) return f;
+    const std::string text(v);
+    const auto colon = text.find(':');
+    const std::string when = text.substr(0, colon), what = colon == std::string::npos ? "" : text.substr(colon + 1);
+    auto refuse = [&]() -> journal_fault {
+        throw input_error(std::string(name) + " = '" + text +
+                          "' is not a journal fault (a test hook): K:term, K:int, K:kill, K:torn or K:pause with "
+                          "K >= 1 lines, or remove:kill or remove:term");
+    };
+    if (when == "remove") {
+        f.at = point::removal;
+        if (what == "kill") f.act = action::kill;
+        else if (what == "term") f.act = action::term;
+        else return refuse();
+        return f;
+    }
+    char* end = nullptr;
+    const long k = std::strtol(when.c_str(), &end, 10);
+    if (when.empty() || *end != '\0' || k < 1) return refuse();
+    f.at = point::line;
+    f.line = k;
+    if (what == "term") f.act = action::term;
+    else if (what == "int") f.act = action::interrupt;
+    else if (what == "kill") f.act = action::kill;
+    else if (what == "torn") f.act = action::torn;
+    else if (what == "pause") f.act = action::pause;
+    else return refuse();
+    return f;
+}
+
+void journal_fault::fire(const std::atomic<bool>* stop) const
+{
+    switch (act) {
+    case action::term: std::raise(SIGTERM); break;
+    case action::interrupt: std::raise(SIGINT); break;
+    case action::kill:
+    case action::torn: std::raise(SIGKILL); break;
+    case action::pause:
+        // Polled: the flag is set from a signal handler, which may run on any thread.
+        while (!(stop && stop->load())) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        break;
+    }
+}
+
+journal::journal(const fs::path& dir, const json& spec, const job_options& o, long jobs)
+    : m_dir(dir), m_jobs(jobs), m_fault(journal_fault::from_environment()), m_stop(o.stop)
 {
     std::error_code ec;
     const fs::path spec_file = dir / "spec.json";
@@ -109,11 +201,30 @@ journal::journal(const fs::path& dir, const json& spec, const job_options& o, lo
             throw input_error(dir.string() + " holds an unfinished run of this analysis: resume it, or remove it");
         if (!fs::exists(dir / "lock", ec)) std::ofstream(dir / "lock", std::ios::app);  // a journal of an older version
     }
+    remove_removed(dir);
     m_own = dir / shard_file_name(o.shard);
-    index_all(true);
-    m_fd = ::open(m_own.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    m_fd = ::open(m_own.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (m_fd < 0) throw std::runtime_error("cannot write " + m_own.string() + ": " + std::strerror(errno));
-    m_own_size = static_cast<std::uint64_t>(::lseek(m_fd, 0, SEEK_END));
+    try {
+        // One process at a time appends to a shard's file (an flock, released by the kernel when
+        // the holder ends): a second one, say a resume started while the interrupted run is still
+        // ending, would cut the first one's newest lines as a torn tail and misplace its own.
+        // A file system without locks (ENOLCK, EOPNOTSUPP) goes on unguarded, as before.
+        while (::flock(m_fd, LOCK_EX | LOCK_NB) != 0 && errno != ENOLCK && errno != EOPNOTSUPP) {
+            if (errno == EINTR) continue;
+            if (errno == EWOULDBLOCK)
+                throw input_error(m_own.string() + " is being written by another process (the same run started " +
+                                  "twice, or an interrupted one still ending): let it end, then resume");
+            throw std::runtime_error("cannot lock " + m_own.string() + ": " + std::strerror(errno));
+        }
+        index_all(true);
+        m_own_size = static_cast<std::uint64_t>(::lseek(m_fd, 0, SEEK_END));
+    } catch (...) {
+        ::close(m_fd);  // the destructor does not run: the lock goes with the file
+        for (const int fd : m_read_fds)
+            if (fd >= 0) ::close(fd);
+        throw;
+    }
 }
 
 journal::~journal()
@@ -147,8 +258,10 @@ void journal::index_all(bool repair_own)
 }
 
 // Indexes the complete lines of a journal file. A torn last line (killed while writing) is
-// skipped and, with `repair`, cut from the file so appends start on a fresh line. A complete
-// line that is not a record of this run is damage nobody should resume over: an input_error.
+// skipped and, with `repair` (this process's own file, locked), cut from the file so appends
+// start on a fresh line; nothing else is ever cut: a file that cannot be read to its end is an
+// error, not a shorter journal. A complete line that is not a record of this run is damage
+// nobody should resume over: an input_error.
 void journal::index_file(const fs::path& file, bool repair)
 {
     std::size_t number = 0;
@@ -157,12 +270,12 @@ void journal::index_file(const fs::path& file, bool repair)
         m_files.push_back(file);
         m_read_fds.push_back(-1);
     }
-    std::ifstream in(file, std::ios::binary);
-    std::string text;
-    std::uint64_t pos = 0, good_end = 0;
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw std::runtime_error("cannot read the journal file " + file.string() + ": " + std::strerror(errno));
+    std::string text;  // the line being read
+    std::uint64_t pos = 0;  // where it starts
     long line = 0;
-    while (std::getline(in, text)) {
-        if (in.eof()) break;  // no newline: a torn last line
+    auto index_line = [&] {
         ++line;
         const auto parsed = try_parse_json_line(text);
         const json r = parsed ? *parsed : json();
@@ -174,10 +287,31 @@ void journal::index_file(const fs::path& file, bool repair)
         if (pos > offset_mask) throw input_error("the journal file " + file.string() + " is too large");
         note(r["job"].get<long>(), number, pos, false);
         pos += text.size() + 1;
-        good_end = pos;
+        text.clear();
+    };
+    try {
+        char buf[1 << 16];
+        for (;;) {
+            const ssize_t n = ::read(fd, buf, sizeof buf);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) throw std::runtime_error("cannot read the journal file " + file.string() + ": " + std::strerror(errno));
+            if (n == 0) break;
+            const char* at = buf;
+            const char* const end = buf + n;
+            while (const char* nl = static_cast<const char*>(std::memchr(at, '\n', static_cast<std::size_t>(end - at)))) {
+                text.append(at, static_cast<std::size_t>(nl - at));
+                index_line();
+                at = nl + 1;
+            }
+            text.append(at, static_cast<std::size_t>(end - at));
+        }
+    } catch (...) {
+        ::close(fd);
+        throw;
     }
-    std::error_code ec;
-    if (repair && fs::exists(file, ec) && good_end < fs::file_size(file, ec)) fs::resize_file(file, good_end);
+    ::close(fd);
+    if (repair && !text.empty() && ::ftruncate(m_fd, static_cast<off_t>(pos)) != 0)
+        throw std::runtime_error("cannot cut the torn last line of " + file.string() + ": " + std::strerror(errno));
 }
 
 bool journal::has(long job) const { return !m_where.empty() && m_where[static_cast<std::size_t>(job)] != 0; }
@@ -205,7 +339,7 @@ json journal::load(long job) const
     return r["record"];
 }
 
-void journal::flush() const
+void journal::write_unwritten() const
 {
     std::size_t done = 0;
     while (done < m_unwritten.size()) {
@@ -214,7 +348,26 @@ void journal::flush() const
         if (n < 0) throw std::runtime_error("cannot write the journal in " + m_dir.string() + ": " + std::strerror(errno));
         done += static_cast<std::size_t>(n);
     }
+}
+
+void journal::flush() const
+{
+    const bool counts = m_fault.at == journal_fault::point::line;  // only the test hook needs the count
+    const long lines = counts ? static_cast<long>(std::count(m_unwritten.begin(), m_unwritten.end(), '\n')) : 0;
+    const bool strikes = counts && m_written_lines < m_fault.line && m_written_lines + lines >= m_fault.line;
+    if (strikes && m_fault.act == journal_fault::action::torn) {
+        // The lines before the K-th whole, the K-th cut in its middle.
+        std::size_t start = 0;
+        for (long k = m_written_lines + 1; k < m_fault.line; ++k) start = m_unwritten.find('\n', start) + 1;
+        const std::size_t end = m_unwritten.find('\n', start);
+        m_unwritten.resize(start + (end - start) / 2);
+        write_unwritten();
+        m_fault.fire(m_stop);
+    }
+    write_unwritten();
     m_unwritten.clear();
+    m_written_lines += lines;
+    if (strikes) m_fault.fire(m_stop);
 }
 
 void journal::append(long job, const std::string& line)

@@ -1,6 +1,7 @@
 #pragma once
 // The journal of a many-job run (jobs/job_options.hpp states the contract) and the one
 // function every many-job analysis runs its jobs through: run_journaled.
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -22,6 +23,30 @@ using json = nlohmann::json;
 
 // A job's line in a journal, and on the wire between ranks: {"job":J,"record":{...}}.
 std::string journal_line(long job, const json& record);
+
+// A test hook: the environment variable VIMPACT_TEST_JOURNAL_FAULT makes the process that
+// keeps a journal interrupt itself at a chosen point of its writing, so that tests of kills
+// and resumes do not depend on timing (docs/sweeps.md, "Testing interruptions"):
+//   K:term, K:int, K:kill  SIGTERM, SIGINT or SIGKILL right after the write that holds the
+//                          K-th line this process journals;
+//   K:torn                 that write cut in the middle of the K-th line, then SIGKILL (a
+//                          process killed inside a write);
+//   K:pause                after that write, no further step until the run's stop flag is set
+//                          (by the signal the test sends), so the run cannot end before it;
+//   remove:kill, remove:term  SIGKILL or SIGTERM while the journal of a complete run is being
+//                          removed (its outputs written).
+struct journal_fault {
+    enum class point { none, line, removal };
+    enum class action { term, interrupt, kill, torn, pause };
+    point at = point::none;
+    long line = 0;
+    action act = action::kill;
+
+    // The variable's fault; none when it is unset. Throws input_error naming it when malformed.
+    static journal_fault from_environment();
+    // Acts (a signal on this process, or the pause); `stop` is the run's stop flag (may be null).
+    void fire(const std::atomic<bool>* stop) const;
+};
 
 class journal {
 public:
@@ -56,6 +81,7 @@ private:
     void index_all(bool repair_own);
     void index_file(const std::filesystem::path& file, bool repair);
     void note(long job, std::size_t file, std::uint64_t offset, bool appended);
+    void write_unwritten() const;
 
     std::filesystem::path m_dir;
     long m_jobs;
@@ -67,6 +93,9 @@ private:
     std::uint64_t m_own_size = 0;
     mutable std::vector<int> m_read_fds;        // per indexed file, opened when first read
     mutable std::string m_unwritten;            // appended lines not yet written
+    mutable long m_written_lines = 0;           // by this process
+    journal_fault m_fault;                      // the test hook's, if any
+    const std::atomic<bool>* m_stop = nullptr;  // the run's stop flag (the hook's pause)
 };
 
 // A journal record decoded, or an input_error naming the job when the line is not a record

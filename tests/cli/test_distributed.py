@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from test_sweeps import MAP, journal_lines, read
+from test_sweeps import MAP, journal_file_lines, journal_lines, read, started_paused, with_fault
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 MPIRUN = ["mpirun", "--allow-run-as-root", "--oversubscribe"]
@@ -119,24 +119,23 @@ def rank_pids(launcher_pid):
 
 
 LONG_MAP = MAP[:] + ["--no-plot", "--threads", "1"]
-LONG_MAP[2] = "Ur:16:25:40"  # 240 cells, each 80 times longer: long enough to stop in the middle
-# (2 ranks take about 3 s: the SIMD lanes run 8 cells at once, and Open MPI passes a SIGTERM
-# on to the ranks up to a second late)
-LONG_MAP[LONG_MAP.index("--transient") + 1] = "8000"
+LONG_MAP[2] = "Ur:16:25:40"  # 240 cells: no flush of rank 0's journal holds them all
+LONG_MAP[LONG_MAP.index("--transient") + 1] = "400"
 
 
 def start_and_wait(mpi, n, vimpact, out, lines):
-    """mpirun started, its n ranks found, and `lines` results in the journal: (process, ranks)."""
-    proc = subprocess.Popen(mpi + ["-n", str(n), vimpact, *LONG_MAP, "--out", str(out)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, start_new_session=True)
-    deadline = time.time() + 120
+    """mpirun started with rank 0's journal pausing after `lines` lines (the library's test hook),
+    its n ranks found, and the pause reached: (process, ranks, lines in the journal). The run
+    cannot end before the test's signal, however loaded the machine; the journal holds what
+    it held at the pause until then."""
+    proc, before = started_paused(vimpact, LONG_MAP, out, lines, launcher=[*mpi, "-n", str(n)])
     ranks = {}
+    deadline = time.time() + 120
     while len(ranks) < n and proc.poll() is None and time.time() < deadline:
-        ranks = rank_pids(proc.pid)  # before the results: the interruption follows them at once
-    while journal_lines(out) < lines and proc.poll() is None and time.time() < deadline:
-        time.sleep(0.01)
-    assert proc.poll() is None, "the run finished before it could be interrupted"
-    return proc, ranks
+        ranks = rank_pids(proc.pid)
+    assert proc.poll() is None and len(ranks) == n, ranks
+    assert journal_lines(out) == before, "the journal grew during the pause"
+    return proc, ranks, before
 
 
 @pytest.fixture(scope="module")
@@ -149,9 +148,8 @@ def long_whole(vimpact, tmp_path_factory):
 
 def test_a_rank_killed_mid_run_loses_only_unfinished_jobs(vimpact, mpi, tmp_path, long_whole):
     out = tmp_path / "run"
-    proc, ranks = start_and_wait(mpi, 2, vimpact, out, 10)
+    proc, ranks, before = start_and_wait(mpi, 2, vimpact, out, 10)
     assert sorted(ranks) == [0, 1]
-    before = journal_lines(out)
     os.kill(ranks[1], signal.SIGKILL)
     proc.communicate(timeout=120)
     assert proc.returncode != 0
@@ -167,8 +165,7 @@ def test_a_rank_killed_mid_run_loses_only_unfinished_jobs(vimpact, mpi, tmp_path
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL])
 def test_the_whole_job_killed_then_resumed_by_one_process(vimpact, mpi, tmp_path, long_whole, sig):
     out = tmp_path / "run"
-    proc, ranks = start_and_wait(mpi, 2, vimpact, out, 10)
-    before = journal_lines(out)
+    proc, ranks, before = start_and_wait(mpi, 2, vimpact, out, 10)
     if sig == signal.SIGKILL:
         for pid in ranks.values():
             os.kill(pid, signal.SIGKILL)
@@ -184,10 +181,32 @@ def test_the_whole_job_killed_then_resumed_by_one_process(vimpact, mpi, tmp_path
         # the journal and the resume below are what a SIGTERM must leave.
         assert "interrupted" in err and "--resume" in err, err
     assert journal_lines(out) >= before and not os.path.exists(out)
+    complete, torn = journal_file_lines(out)
+    assert all(json.loads(line)["job"] >= 0 for line in complete) and len(torn) <= 1
     p = subprocess.run([vimpact, *LONG_MAP, "--out", str(out), "--resume"], capture_output=True, text=True,
                        timeout=TIMEOUT)
     assert p.returncode == 0, p.stderr
     same_files(long_whole, out)
+
+
+@pytest.mark.parametrize("fault", ["remove:term", "remove:kill"])
+def test_a_signal_after_rank_0_wrote_dir(vimpact, mpi, tmp_path, long_whole, fault):
+    # Open MPI passes mpirun's SIGTERM on a second late, and its SIGKILL a second after that:
+    # a run may complete meanwhile, write DIR and remove its journal (what failed the timed
+    # version of the test above once: "0 lines" left, DIR written). Here rank 0 is signalled
+    # at that point itself. SIGTERM: the run is done, exit 0, one report. SIGKILL: DIR is whole
+    # and the journal gone, not half removed.
+    out = tmp_path / "run"
+    p = subprocess.run(MPIRUN + ["-n", "2", vimpact, *LONG_MAP, "--out", str(out)], capture_output=True, text=True,
+                       timeout=TIMEOUT, env=with_fault(fault))
+    if fault == "remove:term":
+        assert p.returncode == 0, p.stderr
+        assert p.stdout.count("output written to") == 1 and "interrupted" not in p.stderr
+        assert not [f for f in os.listdir(tmp_path) if ".removed-" in f]
+    else:
+        assert p.returncode != 0
+    same_files(long_whole, out)
+    assert not os.path.exists(str(out) + ".jobs")
 
 
 def test_mpi_runs_as_shards_of_one_run(vimpact, mpi, tmp_path, tmp_path_factory):

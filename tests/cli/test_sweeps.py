@@ -157,40 +157,177 @@ def journal_lines(out):
     return total
 
 
-def interrupt_after(vimpact, args, out, lines, sig):
-    proc = subprocess.Popen([vimpact, *args, "--out", str(out)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-    deadline = time.time() + 120
+FAULT = "VIMPACT_TEST_JOURNAL_FAULT"
+
+
+def with_fault(fault):
+    """The environment of a run that interrupts itself at a chosen point of its journal's writing
+    (the library's test hook, docs/sweeps.md "Testing interruptions"): "K:pause" waits after
+    the K-th line until a signal stops the run, "K:torn" dies by SIGKILL inside the K-th line's
+    write, "remove:kill" and "remove:term" strike while a complete run removes its journal."""
+    return dict(os.environ, **{FAULT: fault})
+
+
+def journal_file_lines(out):
+    """Every journal file's text split at its newlines: (complete lines, torn tails)."""
+    jdir = str(out) + ".jobs"
+    complete, torn = [], []
+    for f in sorted(os.listdir(jdir)):
+        if f.endswith(".jsonl"):
+            *whole, tail = read(os.path.join(jdir, f)).split("\n")
+            complete += whole
+            if tail:
+                torn.append(tail)
+    return complete, torn
+
+
+def started_paused(vimpact, args, out, lines, launcher=()):
+    """A run started with the journal's pause after `lines` lines, once it waits there: its
+    journal holds them and it cannot end before the signal the test sends. (process, lines)"""
+    proc = subprocess.Popen([*launcher, vimpact, *args, "--out", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=with_fault(f"{lines}:pause"),
+                            start_new_session=bool(launcher))
+    deadline = time.time() + 300
     while journal_lines(out) < lines and proc.poll() is None and time.time() < deadline:
         time.sleep(0.01)
-    assert proc.poll() is None, "the run finished before it could be interrupted"
+    assert proc.poll() is None, proc.communicate()
+    return proc, journal_lines(out)
+
+
+def interrupt_after(vimpact, args, out, lines, sig):
+    proc, before = started_paused(vimpact, args, out, lines)
+    assert journal_lines(out) == before, "the journal grew during the pause"
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=120)
     return proc.returncode, err
 
 
-@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT])
-def test_resume_after_interruption_equals_an_uninterrupted_run(vimpact, tmp_path, sig):
-    args = MAP[:] + ["--no-plot", "--threads", "2"]
-    args[2] = "Ur:16:25:20"  # 120 cells, long enough to interrupt
-    whole = tmp_path / "whole"
-    assert run(vimpact, *args, "--out", str(whole)).returncode == 0
+KILL_ARGS = MAP[:] + ["--no-plot", "--threads", "2"]
+KILL_ARGS[2] = "Ur:16:25:20"  # 120 cells
+
+
+@pytest.fixture(scope="module")
+def kill_whole(vimpact, tmp_path_factory):
+    whole = tmp_path_factory.mktemp("kill") / "whole"
+    assert run(vimpact, *KILL_ARGS, "--out", str(whole)).returncode == 0
+    return whole
+
+
+# Stopped after the first line (before any result reached the command: its stop message must
+# still name the journal) and after the tenth.
+@pytest.mark.parametrize("lines", [1, 10])
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT, signal.SIGTERM])
+def test_resume_after_interruption_equals_an_uninterrupted_run(vimpact, tmp_path, kill_whole, sig, lines):
+    args = KILL_ARGS
     out = tmp_path / "run"
-    code, err = interrupt_after(vimpact, args, out, 10, sig)
+    code, err = interrupt_after(vimpact, args, out, lines, sig)
     kept = journal_lines(out)
-    assert kept >= 10
+    assert kept >= lines
     assert not os.path.exists(out), "nothing is written to --out before the run is complete"
-    if sig == signal.SIGINT:
-        assert code == 130
-        assert "--resume" in err
-    else:
+    if sig == signal.SIGKILL:
         assert code == -signal.SIGKILL
+    else:
+        assert code == 130
+        assert f"jobs done and kept in {out}.jobs" in err and "--resume" in err, err
     # Without --resume the unfinished run is protected.
     p = run(vimpact, *args, "--out", str(out))
     assert p.returncode == 2 and "--resume" in p.stderr
     r = run(vimpact, *args, "--out", str(out), "--resume")
     assert r.returncode == 0, r.stderr
-    assert read(whole / "labels.csv") == read(out / "labels.csv")
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert not os.path.exists(str(out) + ".jobs")
+
+
+@pytest.mark.parametrize("fault", ["10:kill", "10:torn"])
+def test_a_kill_inside_or_after_a_journal_write_keeps_every_whole_line(vimpact, tmp_path, kill_whole, fault):
+    # SIGKILL right after the write of the 10th line, or inside it: the lines before stay whole
+    # and readable, a torn line is the last, and the resume drops it and finishes the run.
+    out = tmp_path / "run"
+    p = subprocess.run([vimpact, *KILL_ARGS, "--out", str(out)], capture_output=True, text=True, timeout=600,
+                       env=with_fault(fault))
+    assert p.returncode == -signal.SIGKILL, p.stderr
+    complete, torn = journal_file_lines(out)
+    if fault.endswith("torn"):
+        assert len(complete) == 9 and len(torn) == 1
+        assert 0 < len(torn[0]) and torn[0].startswith('{"job":')
+    else:
+        assert len(complete) >= 10 and not torn
+    jobs = [json.loads(line)["job"] for line in complete]
+    assert len(set(jobs)) == len(jobs) and all(0 <= j < 120 for j in jobs)
+    r = run(vimpact, *KILL_ARGS, "--out", str(out), "--resume")
+    assert r.returncode == 0, r.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert not os.path.exists(str(out) + ".jobs")
+
+
+def journal_state(out):
+    """The journal beside DIR: None when gone, else (has spec.json, whole lines, torn tails)."""
+    jdir = str(out) + ".jobs"
+    if not os.path.exists(jdir):
+        return None
+    complete, torn = journal_file_lines(out)
+    return os.path.exists(os.path.join(jdir, "spec.json")), len(complete), len(torn)
+
+
+def left_aside(out):
+    return [f for f in os.listdir(os.path.dirname(str(out))) if ".removed-" in f or ".new-" in f]
+
+
+def test_a_kill_while_a_complete_run_removes_its_journal_leaves_it_whole_or_gone(vimpact, tmp_path, kill_whole):
+    # DIR is written, then the journal removed; SIGKILL in the middle of the removal (Open MPI's
+    # SIGKILL a second after its SIGTERM, a second Ctrl-C) must not leave part of a journal: one
+    # without its lines, or without the spec.json that every later run of DIR then stops at.
+    out = tmp_path / "run"
+    p = subprocess.run([vimpact, *KILL_ARGS, "--out", str(out)], capture_output=True, text=True, timeout=600,
+                       env=with_fault("remove:kill"))
+    assert p.returncode == -signal.SIGKILL, p.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert journal_state(out) is None, journal_state(out)  # (killed before the removal began: whole)
+    # The same command again, without --resume: nothing stands in its way, nothing is left aside.
+    r = run(vimpact, *KILL_ARGS, "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert journal_state(out) is None and not left_aside(out)
+
+
+def test_a_signal_after_dir_is_written_is_not_an_interruption(vimpact, tmp_path, kill_whole):
+    # SIGTERM once DIR is committed (while the journal is removed): the run is complete and its
+    # journal gone, so the command reports what it wrote, exit 0, not "interrupted; nothing
+    # written" (exit 130), which would send the user to resume a run that has no journal.
+    out = tmp_path / "run"
+    p = subprocess.run([vimpact, *KILL_ARGS, "--out", str(out)], capture_output=True, text=True, timeout=600,
+                       env=with_fault("remove:term"))
+    assert p.returncode == 0, p.stderr
+    assert f"output written to {out}" in p.stdout and "interrupted" not in p.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+    assert journal_state(out) is None and not left_aside(out)
+
+
+def test_one_process_at_a_time_writes_a_shard_of_the_journal(vimpact, tmp_path, kill_whole):
+    # A resume started while the interrupted run still runs (or the same command started twice)
+    # is refused before it touches the journal: it would cut the other's newest lines as a
+    # torn tail and append among its lines.
+    out = tmp_path / "run"
+    first, before = started_paused(vimpact, KILL_ARGS, out, 10)
+    lines = journal_file_lines(out)
+    try:
+        p = run(vimpact, *KILL_ARGS, "--out", str(out), "--resume")
+        assert p.returncode == 2, p.stderr
+        assert "is being written by another process" in p.stderr and "shard-0-of-1.jsonl" in p.stderr, p.stderr
+        assert journal_file_lines(out) == lines and not os.path.exists(out)
+    finally:
+        first.send_signal(signal.SIGINT)
+        _, err = first.communicate(timeout=120)
+    assert first.returncode == 130, err
+    r = run(vimpact, *KILL_ARGS, "--out", str(out), "--resume")
+    assert r.returncode == 0, r.stderr
+    assert read(kill_whole / "labels.csv") == read(out / "labels.csv")
+
+
+def test_a_malformed_journal_fault_is_refused(vimpact, tmp_path):
+    p = subprocess.run([vimpact, *MAP, "--no-plot", "--out", str(tmp_path / "o")], capture_output=True, text=True,
+                       timeout=600, env=with_fault("10:explode"))
+    assert p.returncode == 2 and FAULT in p.stderr and "K:pause" in p.stderr, p.stderr
 
 
 def test_resume_refuses_a_different_run(vimpact, tmp_path):

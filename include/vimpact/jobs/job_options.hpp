@@ -2,12 +2,12 @@
 // What every many-job analysis (sweep, map, basins, response, and the stability sweeps) takes
 // besides its own options, and what it reports about its jobs.
 //
-// Journal: with `journal` set, every finished job is appended to a journal directory as one
-// JSON line as soon as its result reaches the process that keeps the journal (in any order),
-// so a run killed at any moment keeps every finished job.
-// The directory holds spec.json (what is being computed: the analysis, the model and every
-// option that changes a result) and one file per shard, shard-I-of-N.jsonl. A run finds the
-// jobs already in the journal (of any shard) and computes only the others; with `resume`
+// Journal: with `journal` set, every finished job is appended to a journal directory as one JSON line as soon
+// as its result reaches the process that keeps the journal (in any order), so a run killed at any moment keeps
+// every finished job; a torn last line (killed inside a write) is skipped, and cut by the file's next writer.
+// The directory holds spec.json (what is being computed: the analysis, the model and every option that changes
+// a result) and one file per shard, shard-I-of-N.jsonl, which one process at a time appends to (an flock). A
+// run finds the jobs already in the journal (of any shard) and computes only the others; with `resume`
 // false a journal of a whole run that already exists is refused (it would be resumed by
 // mistake), while shards of one run meet in it. When every job of the run is done, the
 // result is complete; the caller writes its outputs from it and then removes the journal
@@ -77,7 +77,7 @@ struct job_report {
 // The journal directory beside an output directory: DIR.jobs for DIR.
 std::filesystem::path journal_beside(const std::filesystem::path& out);
 
-// Removes a journal directory (after the caller has written its outputs).
+// Removes a journal (after the caller wrote its outputs): renamed aside, then deleted; killed midway, whole or gone.
 void remove_journal(const std::filesystem::path& journal);
 
 }  // namespace vimpact
