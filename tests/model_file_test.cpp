@@ -1042,3 +1042,13 @@ TEST(ModelFile, LibraryExportingACppDefinitionLoads)
                                              std::to_string(VIMPACT_MODEL_ABI_VERSION) + " (rebuild it)");
     }
 }
+
+// A NUL in a string ended the C string the generated code holds: the meaning was cut short.
+TEST(ModelFile, NulInAStringIsRefused)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "state = [\"x\", \"v\", \"phi\"]",
+                                "state = [{ name = \"x\", meaning = \"dis\\u0000placement\" }, \"v\", \"phi\"]")),
+              "model file bad.toml: state[0].meaning: the string contains a NUL character (\\u0000)");
+    EXPECT_EQ(error_of(replaced(two_sided, "name = \"two_sided\"", "name = \"two_sided\"\ndescription = \"a\\u0000b\"")),
+              "model file bad.toml: description: the string contains a NUL character (\\u0000)");
+}
