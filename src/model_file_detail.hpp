@@ -4,7 +4,9 @@
 //   generate_source() the description -> C++ source of a function table (GiNaC: parsing,
 //                     symbolic derivatives, printing)
 //   compile_cached()  the source -> a loaded shared library (compiler run, cache, dlopen)
-// Every stage throws input_error("<where>: ...") for a problem of the file.
+// Every stage throws input_error("<where>: ...") for a problem of the file, and `cancelled`
+// once the caller's cancel flag is set (polled between symbolic steps).
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -92,8 +94,17 @@ description describe(const nlohmann::ordered_json& tree, const std::string& wher
 // spelling of the input (TOML or JSON, integer or float literals, order of optional keys).
 nlohmann::ordered_json canonical_json(const description& d);
 
-// The C++ source of the model's function table, prefixed with the ABI header.
-std::string generate_source(const description& d, const std::string& where);
+// The C++ source of the model's function table, prefixed with the ABI header. Refuses a file
+// whose expressions nest deeper than max_nesting, whose exact constants grow beyond
+// max_constant_bits, or whose generated code (the expressions and their derivatives, written
+// out) would exceed max_code_terms, naming the key, before the work grows.
+std::string generate_source(const description& d, const std::string& where,
+                            const std::atomic<bool>* cancel = nullptr);
+
+// The bounds generate_source enforces (docs/model-files.md states them).
+inline constexpr int max_nesting = 250;              // parentheses, calls and named expressions
+inline constexpr long max_constant_bits = 65536;     // numerator and denominator of an exact constant
+inline constexpr double max_code_terms = 5.0e5;      // operations in all the printed expressions
 
 // A loaded model library and its table.
 struct loaded_library {

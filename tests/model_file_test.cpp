@@ -1,11 +1,13 @@
 // Model files: the example files against the built-ins they restate, symbolic derivatives
 // against finite differences, exact constants, one message per class of bad file, the cache,
-// the compiler requirement, the JSON path, and model libraries.
+// the compiler requirement, the JSON path, model libraries, and the bounds on what a file can
+// make the symbolic stage and the compiler do.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -1041,6 +1043,123 @@ TEST(ModelFile, LibraryExportingACppDefinitionLoads)
                                              "; this vimpact loads version " +
                                              std::to_string(VIMPACT_MODEL_ABI_VERSION) + " (rebuild it)");
     }
+}
+
+// ---- (h) bounds on what a file can make the compiler do
+
+namespace {
+
+// The two-sided oscillator under another name (a model of its own in the cache), with its
+// forcing shifted by `shift`: rhs at the origin (phase 0) is (0, a + shift, w) = (0, 1 + shift, 1.2).
+std::string shifted_model(const std::string& name, int shift)
+{
+    return replaced(replaced(two_sided, "name = \"two_sided\"", "name = \"" + name + "\""),
+                    "v = \"-2*zeta*v - x + a*cos(phi)\"", "v = \"-2*zeta*v - x + a*cos(phi) + " + std::to_string(shift) + "\"");
+}
+
+// The error of `text` and how long it took to come.
+std::pair<std::string, double> timed_error(const std::string& text)
+{
+    const auto start = std::chrono::steady_clock::now();
+    std::string e = error_of(text);
+    return {e, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+}
+
+std::string nested(int depth, const std::string& inside)
+{
+    return std::string(static_cast<std::size_t>(depth), '(') + inside + std::string(static_cast<std::size_t>(depth), ')');
+}
+
+}  // namespace
+
+// 8000 parentheses overflowed the stack of GiNaC's parser (SIGSEGV); the depth is bounded on
+// the text, a named expression counting with its own depth where it is used.
+TEST(ModelFile, NestingIsBoundedBeforeGinacReadsIt)
+{
+    const std::string deep = replaced(two_sided, "x = \"v\"", "x = \"" + nested(8000, "v") + "\"");
+    const auto [e, seconds] = timed_error(deep);
+    EXPECT_EQ(e, "model file bad.toml: derivatives.x: the expression nests more than " + std::to_string(model_file_detail::max_nesting) +
+                     " levels deep (parentheses and calls); GiNaC reads and differentiates by recursion");
+    EXPECT_LT(seconds, 1.0);
+    // At the bound it is read: x' = v.
+    const int limit = model_file_detail::max_nesting;
+    const model at_limit = model::from_toml(replaced(shifted_model("nested", 0), "x = \"v\"", "x = \"" + nested(limit, "v") + "\""));
+    EXPECT_EQ(table_model<3>(at_limit.table(), at_limit.context()).rhs(vec<3>(0.0, 2.5, 0.0))[0], 2.5);
+    EXPECT_EQ(error_of(replaced(two_sided, "x = \"v\"", "x = \"" + nested(limit + 1, "v") + "\"")),
+              "model file bad.toml: derivatives.x: the expression nests more than " + std::to_string(limit) +
+                  " levels deep (parentheses and calls); GiNaC reads and differentiates by recursion");
+    // A chain e1 = (e0 + x), e2 = (e1 + x), ...: each link 2 levels deeper, and its use in
+    // x' = eN one more. At the bound (2 N + 1 = 249), x' = v + N x; with one link more x' is
+    // refused, with two the link that crosses the bound.
+    const auto chain = [&](int links) {
+        std::string s = "[expressions]\ne0 = \"v\"\n";
+        for (int i = 1; i <= links; ++i) s.append("e").append(std::to_string(i)).append(" = \"(e").append(std::to_string(i - 1)).append(" + x)\"\n");
+        return replaced(replaced(shifted_model("chained", 0), "x = \"v\"", "x = \"e" + std::to_string(links) + "\""),
+                        "[derivatives]", s + "[derivatives]");
+    };
+    const int links = (limit - 1) / 2;
+    const model linked = model::from_toml(chain(links));
+    EXPECT_EQ(table_model<3>(linked.table(), linked.context()).rhs(vec<3>(1.0, 0.5, 0.0))[0], 0.5 + links);
+    const std::string deeper = ": the expression nests more than " + std::to_string(limit) +
+                               " levels deep (with the named expressions it uses); GiNaC reads and differentiates by "
+                               "recursion";
+    EXPECT_EQ(error_of(chain(links + 1)), "model file bad.toml: derivatives.x" + deeper);
+    EXPECT_EQ(error_of(chain(links + 2)), "model file bad.toml: expressions.e" + std::to_string(links + 2) + deeper);
+}
+
+// 2^(2^40)*x made GiNaC compute a number of 2^40 bits (memory grew to 6.5 GB); a constant's
+// size is checked before GiNaC computes it, however it is reached.
+TEST(ModelFile, ExactConstantsAreBoundedBeforeTheyAreComputed)
+{
+    const std::string message = ": an exact constant of the expression would have more than " +
+                                std::to_string(model_file_detail::max_constant_bits) +
+                                " bits (such as 2^(2^40)); constants are computed exactly before they are rounded to "
+                                "doubles";
+    for (const std::string& v : {std::string("2^(2^40)*x"), std::string("(sqrt(2)*v)^(2^40)"), std::string("((3/2)^(1/3))^(2^50)"),
+                                 "x*1" + std::string(30000, '0')}) {
+        const auto [e, seconds] = timed_error(replaced(two_sided, "x = \"v\"", "x = \"" + v + "\""));
+        EXPECT_EQ(e, "model file bad.toml: derivatives.x" + message) << v;
+        EXPECT_LT(seconds, 1.0) << v;
+    }
+    // Doubling through named expressions: c0 = (1 + 2^-1000)^30, about 1 as a double, is
+    // exactly (2^1000 + 1)^30 / 2^30000, 60,031 bits; its square is refused.
+    const std::string doubling = replaced(
+        two_sided, "[derivatives]",
+        "[expressions]\nc0 = \"(1 + 2^(-1000))^30\"\nc1 = \"c0*c0\"\nc2 = \"c1*c1\"\n[derivatives]");
+    EXPECT_EQ(error_of(replaced(doubling, "x = \"v\"", "x = \"c2*v\"")), "model file bad.toml: expressions.c1" + message);
+    // Constants as large as a double holds are fine: 2^1000 = 1.0715...e301.
+    const model big = model::from_toml(replaced(shifted_model("big_constant", 0), "x = \"v\"", "x = \"2^1000*v/2^999\""));
+    EXPECT_EQ(table_model<3>(big.table(), big.context()).rhs(vec<3>(0.0, 1.5, 0.0))[0], 3.0);
+}
+
+// A chain of named expressions that uses each link twice doubles the written-out code at each
+// link (at 14 links the compiler was given 118 MB); the size of the code is bounded before
+// the derivatives are taken.
+TEST(ModelFile, GeneratedCodeIsBoundedBeforeItGrows)
+{
+    const auto chain = [&](int links) {
+        std::string s = "[expressions]\ne0 = \"v + x\"\n";
+        for (int i = 1; i <= links; ++i) {
+            const std::string p = std::string("e").append(std::to_string(i - 1));
+            s.append("e").append(std::to_string(i)).append(" = \"").append(p).append("^2 + sin(").append(p).append(") - x\"\n");
+        }
+        return replaced(replaced(two_sided, "x = \"v\"", "x = \"e" + std::to_string(links) + "\""), "[derivatives]",
+                        s + "[derivatives]");
+    };
+    std::ostringstream limit;
+    limit << model_file_detail::max_code_terms;
+    for (const int links : {14, 40}) {
+        const auto [e, seconds] = timed_error(chain(links));
+        EXPECT_TRUE(e.starts_with("model file bad.toml: ")) << e;
+        EXPECT_NE(e.find(" would make the generated code too large: more than " + limit.str() + " operations written out"),
+                  std::string::npos)
+            << e;
+        EXPECT_LT(seconds, 10.0) << links;
+    }
+    // Far past the bound, the link that crosses it is named, as soon as it is read.
+    EXPECT_TRUE(timed_error(chain(40)).first.starts_with("model file bad.toml: expressions.e"));
+    // A short chain compiles.
+    (void)compile_model_text(replaced(chain(3), "name = \"two_sided\"", "name = \"short_chain\""), "short.toml");
 }
 
 // A NUL in a string ended the C string the generated code holds: the meaning was cut short.
