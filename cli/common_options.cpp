@@ -15,6 +15,7 @@
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/staged_output.hpp"
+#include "vimpact/model/model_file.hpp"
 #include "vimpact/model/model_phrases.hpp"
 
 namespace fs = std::filesystem;
@@ -175,7 +176,8 @@ model load_model(const std::string& spec, const fs::path& base)
     const bool file_like = spec.find('/') != std::string::npos || path.has_extension() || fs::exists(path, ec);
     if (!file_like) return model::builtin(spec);  // the message lists the built-ins
     if (path.is_relative() && !base.empty()) path = base / path;
-    return model::from_file(path);
+    // Ctrl-C stops a model file's compilation at once (exit 130, nothing left in the cache).
+    return model::with_defaults(load_model_code(path, &interrupt_flag()));
 }
 
 int parameter_index(const model& m, const std::string& name, const std::string& what)
