@@ -1084,7 +1084,7 @@ TEST(ModelFile, NestingIsBoundedBeforeGinacReadsIt)
     const auto [e, seconds] = timed_error(deep);
     EXPECT_EQ(e, "model file bad.toml: derivatives.x: the expression nests more than " + std::to_string(model_file_detail::max_nesting) +
                      " levels deep (parentheses and calls); GiNaC reads and differentiates by recursion");
-    EXPECT_LT(seconds, 1.0);
+    EXPECT_LT(seconds, 3.0);
     // At the bound it is read: x' = v.
     const int limit = model_file_detail::max_nesting;
     const model at_limit = model::from_toml(replaced(shifted_model("nested", 0), "x = \"v\"", "x = \"" + nested(limit, "v") + "\""));
@@ -1123,7 +1123,7 @@ TEST(ModelFile, ExactConstantsAreBoundedBeforeTheyAreComputed)
                                  "x*1" + std::string(30000, '0')}) {
         const auto [e, seconds] = timed_error(replaced(two_sided, "x = \"v\"", "x = \"" + v + "\""));
         EXPECT_EQ(e, "model file bad.toml: derivatives.x" + message) << v;
-        EXPECT_LT(seconds, 1.0) << v;
+        EXPECT_LT(seconds, 3.0) << v;
     }
     // Doubling through named expressions: c0 = (1 + 2^-1000)^30, about 1 as a double, is
     // exactly (2^1000 + 1)^30 / 2^30000, 60,031 bits; its square is refused.
@@ -1523,7 +1523,7 @@ TEST(ModelCache, CancelStopsTheCompilerAtOnce)
     work.join();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(outcome, "cancelled");
-    EXPECT_LT(seconds, 1.0);
+    EXPECT_LT(seconds, 2.0);
     EXPECT_FALSE(process_runs(compiler));
     std::vector<std::string> left;
     for (const auto& e : fs::directory_iterator(cache.dir())) left.push_back(e.path().filename().string());
