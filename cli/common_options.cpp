@@ -16,6 +16,8 @@
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/staged_output.hpp"
+#include "vimpact/model/model_file.hpp"
+#include "vimpact/model/model_phrases.hpp"
 
 namespace fs = std::filesystem;
 
@@ -178,15 +180,15 @@ model load_model(const std::string& spec, const fs::path& base)
     const bool file_like = spec.find('/') != std::string::npos || path.has_extension() || fs::exists(path, ec);
     if (!file_like) return model::builtin(spec);  // the message lists the built-ins
     if (path.is_relative() && !base.empty()) path = base / path;
-    return model::from_file(path);
+    // Ctrl-C stops a model file's compilation at once (exit 130, nothing left in the cache).
+    return model::with_defaults(load_model_code(path, &interrupt_flag()));
 }
 
 int parameter_index(const model& m, const std::string& name, const std::string& what)
 {
     const int i = m.info().parameter_index(name);
     if (i < 0)
-        throw input_error("unknown parameter '" + name + "' for " + what + " (model " + m.name() + " has " +
-                          m.info().parameter_names() + ")");
+        throw input_error("unknown parameter '" + name + "' for " + what + " (" + parameters_it_has(m.info()) + ")");
     return i;
 }
 
@@ -270,8 +272,7 @@ run_config resolve(const common_args& a)
                 for (const auto& [pk, pnode] : *node.as_table())
                     if (!set_parameter(std::string(pk.str()), pnode))
                         throw input_error(config_where(file) + ": unknown parameter '" + std::string(pk.str()) +
-                                          "' in [parameters] (model " + m.name() + " has " + info.parameter_names() +
-                                          ")");
+                                          "' in [parameters] (" + parameters_it_has(info) + ")");
             } else if (key == "model" || key == "preset" || key == "model_identity") {
                 (void)toml_string(node, key, file);
             } else if (key == "ic") {
@@ -299,8 +300,8 @@ run_config resolve(const common_args& a)
                 section = toml_string(node, key, file);
             } else if (set_parameter(key, node)) {
             } else {
-                throw input_error(config_where(file) + ": unknown key '" + key + "' (valid: the parameters of model " +
-                                  m.name() + ", " + info.parameter_names() + ", and " + joined(setting_keys()) + ")");
+                throw input_error(config_where(file) + ": unknown key '" + key + "' (valid: " + joined(setting_keys()) +
+                                  ", and the parameters: " + parameters_it_has(info) + ")");
             }
         }
     }
@@ -321,8 +322,7 @@ run_config resolve(const common_args& a)
         const std::string key = s.substr(0, eq);
         const int i = info.parameter_index(key);
         if (i < 0)
-            throw input_error("unknown parameter '" + key + "' in --set (model " + m.name() + " has " +
-                              info.parameter_names() + ")");
+            throw input_error("unknown parameter '" + key + "' in --set (" + parameters_it_has(info) + ")");
         if (const auto [it, fresh] = set_by.emplace(i, s); !fresh)
             throw input_error("--set " + key + " is given twice (" + it->second + " and " + s + ")");
         values[static_cast<std::size_t>(i)] = parse_number(s.substr(eq + 1), "--set " + key);

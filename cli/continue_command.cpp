@@ -19,6 +19,7 @@
 #include "vimpact/io/continuation_json.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
+#include "vimpact/model/model_phrases.hpp"
 #include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
@@ -127,8 +128,8 @@ int run_continue(const continue_args& a)
     o.end = axis.values.back();
     o.protocol = c.protocol;
     if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": continuation needs a section crossing (model " + m.name() +
-                          " has " + info.section_names() + ")");
+        throw input_error("--section " + c.section_name() + ": continuation needs a section crossing (" +
+                          sections_it_has(info) + ")");
     check_period_tolerance(a.tol);
     o.period_tolerance = a.tol;
     if (a.period < 0 || a.period > 1000)

@@ -5,7 +5,8 @@
 // nothing half-written; a second one ends the program at once (for work that does not poll,
 // such as a long correlation sum).
 #include <atomic>
-#include <stdexcept>
+
+#include "vimpact/core/cancelled.hpp"
 
 namespace vimpact::cli {
 
@@ -21,10 +22,9 @@ public:
 // Set by the first SIGINT or SIGTERM; a lock-free atomic, so the handler may set it.
 const std::atomic<bool>& interrupt_flag();
 
-// Thrown where the work stops for an interruption; main reports it and exits 130.
-struct interrupted : std::runtime_error {
-    interrupted() : std::runtime_error("interrupted") {}
-};
+// Thrown where the work stops for an interruption; main reports it, as the library's own
+// `cancelled` (a model file's compilation stopped by the flag), and exits 130.
+struct interrupted : vimpact::cancelled {};
 
 // Throws `interrupted` once the flag is set.
 void throw_if_interrupted();

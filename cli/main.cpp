@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "interrupts.hpp"
 #include "replay.hpp"
+#include "vimpact/core/cancelled.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/jobs/job_ranks.hpp"
@@ -112,7 +113,7 @@ int main(int argc, char** argv)
                 refuse_silent_values(*c.app);
                 return c.run();
             }
-    } catch (const interrupted&) {
+    } catch (const vimpact::cancelled&) {  // `interrupted` too
         if (vimpact::launched_rank() == 0) std::cerr << "vimpact: interrupted; nothing written\n";
         return 130;
     } catch (const vimpact::input_error& e) {

@@ -20,6 +20,7 @@
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
+#include "vimpact/model/model_phrases.hpp"
 #include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
@@ -216,8 +217,8 @@ int run_floquet(const floquet_args& a)
 {
     run_config c = resolve(a.common);
     if (c.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": floquet needs a section crossing (model " + c.model.name() +
-                          " has " + c.info().section_names() + ")");
+        throw input_error("--section " + c.section_name() + ": floquet needs a section crossing (" +
+                          sections_it_has(c.info()) + ")");
     if (c.protocol.record_points < 2)
         throw input_error("--record must be >= 2 section points for floquet (got " +
                           std::to_string(c.protocol.record_points) + ")");
@@ -338,8 +339,8 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
     const auto& info = c.info();
     const sweep_values sv = parse_sweep(a.sweep, c);
     if (c.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": a lyapunov sweep records points on a section crossing (model " +
-                          m.name() + " has " + info.section_names() + ")");
+        throw input_error("--section " + c.section_name() + ": a lyapunov sweep records points on a section crossing (" +
+                          sections_it_has(info) + ")");
     lo.record_points = c.protocol.record_points;
     lo.section = c.protocol.section.index;
     std::vector<std::string> h{sv.name};

@@ -10,6 +10,8 @@ packages=(
   # journal lines read fast by a distributed run's coordinator (src/io/json_line.hpp)
   libsimdjson-dev
   libgtest-dev libgmock-dev libbenchmark-dev libboost-dev libnanoflann-dev libginac-dev
+  # SHA-256 of the compiled-model cache (libcrypto; src/model_file_compile.cpp)
+  libssl-dev
   # SIMD lanes of the job commands (include/vimpact/core/lanes.hpp)
   libxsimd-dev
   # bench/ only: the SUNDIALS peer baseline (built when found)

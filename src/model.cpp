@@ -1,4 +1,5 @@
 #include "vimpact/model/model.hpp"
+#include "vimpact/model/model_phrases.hpp"
 
 #include <algorithm>
 #include <array>
@@ -91,6 +92,18 @@ std::string model_info::parameter_names() const { return names_of(parameters); }
 std::string model_info::surface_names() const { return names_of(surfaces); }
 std::string model_info::section_names() const { return names_of(sections); }
 std::string model_info::preset_names() const { return names_of(presets); }
+
+namespace {
+template <class Items>
+std::string it_has(const model_info& m, const Items& items, const char* kind)
+{
+    return "model " + m.name + " has " + (items.empty() ? std::string("no ") + kind : names_of(items));
+}
+}  // namespace
+
+std::string parameters_it_has(const model_info& m) { return it_has(m, m.parameters, "parameters"); }
+std::string sections_it_has(const model_info& m) { return it_has(m, m.sections, "sections"); }
+std::string surfaces_it_has(const model_info& m) { return it_has(m, m.surfaces, "surfaces"); }
 bool model_info::has_angles() const
 {
     return std::any_of(state.begin(), state.end(), [](const auto& s) { return s.period > 0.0; });

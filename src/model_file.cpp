@@ -62,7 +62,8 @@
 //    prints plain C functions and a static table (model_file_symbolic.cpp). The context of
 //    a parameter set is an array: the parameters, then the derived quantities.
 // 4. compile_cached() compiles it with $CXX (else c++) into the cache directory, or finds it
-//    there, and loads it (model_file_compile.cpp).
+//    there, and loads it (model_file_compile.cpp: the cache's rules; model_file_process.cpp:
+//    the compiler's process). A cancel flag given by the caller is polled by 3 and 4.
 // The model's identity is a hash of its canonical description (canonical_json), so two
 // files that say the same thing give equal models whatever their path or spelling.
 #include "vimpact/model/model_file.hpp"
@@ -161,18 +162,20 @@ std::shared_ptr<const model_code> make_code(const mf::loaded_library& lib, std::
 
 }  // namespace
 
-std::shared_ptr<const model_code> compile_model_json(const json& description, std::string_view source)
+std::shared_ptr<const model_code> compile_model_json(const json& description, std::string_view source,
+                                                     const std::atomic<bool>* cancel)
 {
     const std::string where = "model file " + std::string(source);
     const mf::description d = mf::describe(description, where);
     const std::string identity = d.name + "-" + mf::hex64(mf::fnv1a(mf::canonical_json(d).dump()));
-    const std::string code = mf::generate_source(d, where);
-    const mf::loaded_library lib = mf::compile_cached(code, d.name, where);
+    const std::string code = mf::generate_source(d, where, cancel);
+    const mf::loaded_library lib = mf::compile_cached(code, d.name, where, cancel);
     check_engine_dimension(lib.table->dim, where);
     return make_code(lib, std::string(source), identity);
 }
 
-std::shared_ptr<const model_code> compile_model_text(std::string_view text, std::string_view source)
+std::shared_ptr<const model_code> compile_model_text(std::string_view text, std::string_view source,
+                                                     const std::atomic<bool>* cancel)
 {
     const std::string where = "model file " + std::string(source);
     toml::table table;
@@ -182,7 +185,7 @@ std::shared_ptr<const model_code> compile_model_text(std::string_view text, std:
         throw input_error(where + ": line " + std::to_string(e.source().begin.line) + ": " +
                           std::string(e.description()));
     }
-    return compile_model_json(to_json(table, "", where), source);
+    return compile_model_json(to_json(table, "", where), source, cancel);
 }
 
 std::shared_ptr<const model_code> load_model_library(const fs::path& path)
@@ -195,13 +198,13 @@ std::shared_ptr<const model_code> load_model_library(const fs::path& path)
     return make_code(lib, path.string(), name + "-" + mf::hex64(mf::fnv1a(bytes)));
 }
 
-std::shared_ptr<const model_code> load_model_code(const fs::path& path)
+std::shared_ptr<const model_code> load_model_code(const fs::path& path, const std::atomic<bool>* cancel)
 {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw input_error("model file " + path.string() + " does not exist");
     if (fs::is_directory(path, ec)) throw input_error("model file " + path.string() + " is a directory");
     const std::string ext = path.extension().string();
-    if (ext == ".toml") return compile_model_text(read_file(path, "model file"), path.string());
+    if (ext == ".toml") return compile_model_text(read_file(path, "model file"), path.string(), cancel);
     if (ext == ".json") {
         json tree;
         try {
@@ -209,7 +212,7 @@ std::shared_ptr<const model_code> load_model_code(const fs::path& path)
         } catch (const json::parse_error& e) {
             throw input_error("model file " + path.string() + ": " + e.what());
         }
-        return compile_model_json(tree, path.string());
+        return compile_model_json(tree, path.string(), cancel);
     }
     if (ext == ".so" || is_elf(path)) return load_model_library(path);
     throw input_error("cannot load a model from " + path.string() +

@@ -1,20 +1,45 @@
 // Model files, stage 3: generated source -> a loaded shared library, through a cache.
 //
-// The cache entry's name is a hash of everything that determines the binary: the ABI
-// version, the generated source, the compiler command and flags, and the CPU (the code is
-// compiled with -march=native, so it is not portable; a home directory shared by machines
-// of different CPUs keeps one entry per CPU). An existing entry is loaded without running
-// the compiler. A new one is compiled to a unique temporary name in the cache directory and
-// renamed into place: rename is atomic, so processes compiling the same model at the same
-// moment each produce a complete file and the last one wins with identical content, and a
-// process that has already loaded the old file keeps its mapping.
+// The cache holds native code that this process will run, so it is trusted only as far as
+// it is checked:
+// - The directory is private: created 0700, and refused (one line naming it) when it is not
+//   owned by the effective user or is writable by its group or others, where anyone could
+//   plant a library. Everything in it is reached through the opened directory (openat,
+//   renameat), so a path swapped after the check leads nowhere else.
+// - An entry is NAME-KEY.so with NAME-KEY.sha256 beside it. KEY is the SHA-256 of
+//   everything that determines the binary: the ABI version, the generated source, the
+//   compiler (its command, the program it resolves to, and that program's size and
+//   modification time, which an upgrade changes), the flags, the headers the fused steps
+//   include, and the CPU (-march=native code is not portable; machines sharing a home keep
+//   one entry each). The .sha256 record, written when the library is compiled, holds KEY and
+//   the SHA-256 of the library's bytes.
+// - An entry is loaded only if the file opened without following links (O_NOFOLLOW) is a
+//   regular file of the user's, not writable by others, and the bytes read from that very
+//   descriptor hash to the record's value under this KEY; the library is then loaded from the
+//   same descriptor (/proc/self/fd/N), so nothing can be swapped between check and load. A
+//   damaged entry (truncated, or another model's library copied over it, with or without its
+//   record) fails the check and is compiled again; an entry of another user, a link or a
+//   writable file is refused. No constructor of an unchecked file ever runs.
+// - A new entry is compiled under unique temporary names (the source written 0600 with
+//   O_EXCL | O_NOFOLLOW), checked and loaded from its descriptor, then renamed into place:
+//   rename is atomic, so processes compiling the same model at the same moment all succeed
+//   and each has loaded what it checked. Temporaries of a process that was killed are
+//   removed by the next compilation on the same host.
+// The compiler runs in the cache directory and is given names relative to it ("./..."): no
+// path it sees can start with '-'.
+#include <dirent.h>
 #include <dlfcn.h>
 #include <fcntl.h>
-#include <spawn.h>
+#include <link.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <openssl/evp.h>
+
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -27,10 +52,8 @@
 #include <sstream>
 
 #include "model_file_detail.hpp"
-#include "vimpact/io/build_info.hpp"
 #include "vimpact/core/input_error.hpp"
-
-extern char** environ;
+#include "vimpact/io/build_info.hpp"
 
 namespace vimpact::model_file_detail {
 
@@ -130,6 +153,7 @@ const std::optional<fused_headers>& find_fused_headers()
     return found;
 }
 
+
 // No -ffast-math: the results must be IEEE arithmetic, as in the library's own code. The
 // Eigen alignment is the library's (its stage code runs here).
 const std::vector<std::string>& compile_flags()
@@ -144,21 +168,6 @@ const std::vector<std::string>& compile_flags()
         return f;
     }();
     return flags;
-}
-
-fs::path cache_directory(const std::string& where)
-{
-    fs::path dir;
-    if (const char* v = std::getenv("VIMPACT_CACHE_DIR"); v && *v) dir = v;
-    else if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) dir = fs::path(x) / "vimpact";
-    else if (const char* h = std::getenv("HOME"); h && *h) dir = fs::path(h) / ".cache" / "vimpact";
-    else throw input_error(where + ": no directory for the compiled model (set VIMPACT_CACHE_DIR; HOME is not set)");
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir))
-        throw input_error(where + ": cannot create the model cache directory " + dir.string() + ": " +
-                          (ec ? ec.message() : std::string("not a directory")) + " (set VIMPACT_CACHE_DIR)");
-    return dir;
 }
 
 std::string cpu_identity()
@@ -188,10 +197,11 @@ bool is_executable_file(const fs::path& p)
     return fs::is_regular_file(p, ec) && ::access(p.c_str(), X_OK) == 0;
 }
 
-// The program as execvp would find it, or empty.
+// The program as execvp would find it, as an absolute path (the compiler runs in the cache
+// directory), or empty.
 std::string find_program(const std::string& name)
 {
-    if (name.find('/') != std::string::npos) return is_executable_file(name) ? name : std::string();
+    if (name.find('/') != std::string::npos) return is_executable_file(name) ? fs::absolute(name).string() : std::string();
     const char* path = std::getenv("PATH");
     std::string dirs = path && *path ? path : "/usr/local/bin:/usr/bin:/bin";
     std::size_t start = 0;
@@ -199,10 +209,31 @@ std::string find_program(const std::string& name)
         const std::size_t end = std::min(dirs.find(':', start), dirs.size());
         const std::string dir = dirs.substr(start, end - start);
         const fs::path candidate = fs::path(dir.empty() ? "." : dir) / name;
-        if (is_executable_file(candidate)) return candidate.string();
+        if (is_executable_file(candidate)) return fs::absolute(candidate).string();
         start = end + 1;
     }
     return {};
+}
+
+// What identifies the compiler beyond its command: each program the command names (a
+// wrapper such as ccache and the compiler it is given), resolved through links, with its
+// size and modification time, which a package upgrade changes.
+std::string compiler_identity(const std::vector<std::string>& command)
+{
+    std::string id;
+    for (const auto& word : command) {
+        id += "word " + word + "\n";
+        if (word.starts_with('-')) continue;
+        const std::string program = find_program(word);
+        if (program.empty()) continue;
+        std::error_code ec;
+        const fs::path real = fs::canonical(program, ec);
+        struct stat st {};
+        if (ec || ::stat(real.c_str(), &st) != 0) continue;
+        id += "program " + real.string() + " " + std::to_string(st.st_size) + " " + std::to_string(st.st_mtim.tv_sec) +
+              "." + std::to_string(st.st_mtim.tv_nsec) + "\n";
+    }
+    return id;
 }
 
 [[noreturn]] void no_compiler(const std::string& where, const std::string& detail)
@@ -211,41 +242,265 @@ std::string find_program(const std::string& name)
                       "; set CXX or install g++)");
 }
 
-// A name no other process or thread uses.
+// ---- SHA-256 (OpenSSL's libcrypto)
+
+class sha256 {
+public:
+    sha256() : m_ctx(EVP_MD_CTX_new())
+    {
+        if (!m_ctx || EVP_DigestInit_ex(m_ctx, EVP_sha256(), nullptr) != 1) throw std::runtime_error("SHA-256 is not available");
+    }
+    ~sha256() { EVP_MD_CTX_free(m_ctx); }
+    sha256(const sha256&) = delete;
+    sha256& operator=(const sha256&) = delete;
+
+    sha256& add(std::string_view bytes)
+    {
+        if (EVP_DigestUpdate(m_ctx, bytes.data(), bytes.size()) != 1) throw std::runtime_error("SHA-256 failed");
+        return *this;
+    }
+    // A piece with its length, so that no two sequences of pieces hash alike.
+    sha256& field(std::string_view bytes) { return add(std::to_string(bytes.size()) + ":").add(bytes); }
+
+    std::string hex()
+    {
+        std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+        unsigned int n = 0;
+        if (EVP_DigestFinal_ex(m_ctx, digest.data(), &n) != 1) throw std::runtime_error("SHA-256 failed");
+        static const char digits[] = "0123456789abcdef";
+        std::string s;
+        for (unsigned int i = 0; i < n; ++i) {
+            s += digits[digest[i] >> 4];
+            s += digits[digest[i] & 15];
+        }
+        return s;
+    }
+
+private:
+    EVP_MD_CTX* m_ctx;
+};
+
+// The SHA-256 of the bytes of an open file, read from its start; nullopt when a read fails
+// or the file does not hold `size` bytes.
+std::optional<std::string> file_sha256(int fd, off_t size)
+{
+    sha256 h;
+    std::vector<char> buf(1 << 16);
+    off_t at = 0;
+    for (;;) {
+        const ssize_t n = ::pread(fd, buf.data(), buf.size(), at);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return std::nullopt;
+        if (n == 0) break;
+        h.add(std::string_view(buf.data(), static_cast<std::size_t>(n)));
+        at += n;
+    }
+    if (at != size) return std::nullopt;
+    return h.hex();
+}
+
+// ---- the directory
+
+struct cache_directory {
+    fs::path path;  // absolute
+    unique_fd fd;
+};
+
+fs::path cache_path(const std::string& where)
+{
+    fs::path dir;
+    if (const char* v = std::getenv("VIMPACT_CACHE_DIR"); v && *v) dir = v;
+    else if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) dir = fs::path(x) / "vimpact";
+    else if (const char* h = std::getenv("HOME"); h && *h) dir = fs::path(h) / ".cache" / "vimpact";
+    else throw input_error(where + ": no directory for the compiled model (set VIMPACT_CACHE_DIR; HOME is not set)");
+    // Absolute: a relative name (even "-odd") means the same directory wherever it is used.
+    dir = fs::absolute(dir).lexically_normal();
+    return dir.has_filename() ? dir : dir.parent_path();
+}
+
+std::string octal_mode(mode_t m)
+{
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%04o", static_cast<unsigned>(m & 07777));
+    return buf;
+}
+
+// Creates the directory and any missing parent, each 0700 (as a fresh ~/.cache should be),
+// opens it and checks that it is private.
+cache_directory open_cache_directory(const std::string& where)
+{
+    const fs::path dir = cache_path(where);
+    const auto cannot = [&](const std::string& why) {
+        throw input_error(where + ": cannot create the model cache directory " + dir.string() + ": " + why +
+                          " (set VIMPACT_CACHE_DIR)");
+    };
+    fs::path partial;
+    for (const auto& part : dir) {
+        partial /= part;
+        if (partial == partial.root_path()) continue;
+        if (::mkdir(partial.c_str(), 0700) != 0 && errno != EEXIST) cannot(std::strerror(errno));
+    }
+    unique_fd fd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (!fd.valid()) cannot(errno == ENOTDIR ? "not a directory" : std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0) cannot(std::strerror(errno));
+    if (st.st_uid != ::geteuid())
+        throw input_error(where + ": the model cache directory " + dir.string() + " belongs to another user (uid " +
+                          std::to_string(st.st_uid) +
+                          "), who could plant code in it: use a directory of your own (set VIMPACT_CACHE_DIR)");
+    if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0)
+        throw input_error(where + ": the model cache directory " + dir.string() + " is writable by other users (mode " +
+                          octal_mode(st.st_mode) + "), who could plant code in it: make it private (chmod 700 " +
+                          dir.string() + ") or set VIMPACT_CACHE_DIR");
+    return {dir, std::move(fd)};
+}
+
+// ---- entries
+
+// Opens a file of an entry for reading and checks it; nullopt when it does not exist. The
+// checks are of the opened file: no link is followed, and a FIFO does not block the open.
+std::optional<unique_fd> open_entry_file(const cache_directory& dir, const std::string& name, const std::string& where)
+{
+    const std::string path = (dir.path / name).string();
+    unique_fd fd(::openat(dir.fd.get(), name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC));
+    const auto refuse = [&](const std::string& why) {
+        throw input_error(where + ": the model cache entry " + path + " " + why +
+                          ", so it is not loaded: remove it (the cache holds only your own files)");
+    };
+    if (!fd.valid()) {
+        if (errno == ENOENT) return std::nullopt;
+        if (errno == ELOOP) refuse("is a symbolic link");
+        throw input_error(where + ": cannot open the model cache entry " + path + ": " + std::strerror(errno));
+    }
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0) throw input_error(where + ": cannot read " + path + ": " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) refuse("is not a regular file");
+    if (st.st_uid != ::geteuid()) refuse("belongs to another user (uid " + std::to_string(st.st_uid) + ")");
+    if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) refuse("is writable by other users (mode " + octal_mode(st.st_mode) + ")");
+    return fd;
+}
+
+off_t file_size(int fd)
+{
+    struct stat st {};
+    return ::fstat(fd, &st) == 0 ? st.st_size : -1;
+}
+
+std::string record_text(const std::string& key, const std::string& library_sha256)
+{
+    return "vimpact model cache entry\nkey " + key + "\nlibrary sha256 " + library_sha256 + "\n";
+}
+
+// The entry `stem`, loaded if it passes every check; nullopt when it is missing or damaged
+// (to be compiled again).
+std::optional<loaded_library> load_entry(const cache_directory& dir, const std::string& stem, const std::string& key,
+                                         const std::string& where)
+{
+    const auto so = open_entry_file(dir, stem + ".so", where);
+    if (!so) return std::nullopt;
+    const auto record = open_entry_file(dir, stem + ".sha256", where);
+    if (!record) return std::nullopt;
+    std::string text(512, '\0');
+    const ssize_t n = ::pread(record->get(), text.data(), text.size(), 0);
+    if (n <= 0) return std::nullopt;
+    text.resize(static_cast<std::size_t>(n));
+    const auto hash = file_sha256(so->get(), file_size(so->get()));
+    if (!hash || text != record_text(key, *hash)) return std::nullopt;
+    try {
+        return open_library_fd(so->get(), where + ": the compiled model " + (dir.path / (stem + ".so")).string());
+    } catch (const input_error&) {
+        return std::nullopt;  // checked, yet not loadable (a changed system library): compile again
+    }
+}
+
+// A name no other process (on any host sharing the directory) or thread uses:
+// ".tmp-HOST-PID-N-SALT", where HOST is a hash of the host name.
+std::string host_tag()
+{
+    char name[256] = {};
+    ::gethostname(name, sizeof name - 1);
+    return hex64(fnv1a(name)).substr(0, 8);
+}
+
 std::string unique_suffix()
 {
     static std::atomic<unsigned> counter{0};
     static const unsigned salt = std::random_device{}();
-    return ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" + std::to_string(salt);
+    return ".tmp-" + host_tag() + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
+           std::to_string(salt);
 }
 
-void write_atomically(const fs::path& path, const std::string& text, const std::string& where)
+// Removes the temporaries that processes of this host, since ended (killed while compiling),
+// left in the directory. A live process's, another host's and other users' are left alone.
+void remove_stale_temporaries(const cache_directory& dir)
 {
-    const fs::path tmp = path.string() + unique_suffix();
+    const int fd = ::openat(dir.fd.get(), ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;
+    DIR* d = ::fdopendir(fd);
+    if (!d) {
+        ::close(fd);
+        return;
+    }
+    const std::string mark = ".tmp-" + host_tag() + "-";
+    std::vector<std::string> stale;
+    while (const dirent* e = ::readdir(d)) {
+        const std::string name = e->d_name;
+        const std::size_t at = name.find(mark);
+        if (at == std::string::npos) continue;
+        const std::size_t digits = at + mark.size();
+        const std::size_t end = name.find('-', digits);
+        if (end == std::string::npos || end == digits) continue;
+        const std::string pid_text = name.substr(digits, end - digits);
+        if (pid_text.find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9) continue;
+        const auto pid = static_cast<pid_t>(std::stol(pid_text));
+        if (::kill(pid, 0) == 0 || errno != ESRCH) continue;
+        struct stat st {};
+        if (::fstatat(dir.fd.get(), name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && st.st_uid == ::geteuid())
+            stale.push_back(name);
+    }
+    ::closedir(d);
+    for (const auto& name : stale) ::unlinkat(dir.fd.get(), name.c_str(), 0);
+}
+
+// Temporary files of one compilation, removed unless kept.
+class temporaries {
+public:
+    explicit temporaries(int dir_fd) : m_dir(dir_fd) {}
+    temporaries(const temporaries&) = delete;
+    temporaries& operator=(const temporaries&) = delete;
+    ~temporaries()
     {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw input_error(where + ": cannot write " + tmp.string() + ": " + std::strerror(errno));
-        }
+        for (const auto& n : m_names) ::unlinkat(m_dir, n.c_str(), 0);
     }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw input_error(where + ": cannot write " + path.string() + ": " + ec.message());
+    std::string add(std::string name)
+    {
+        m_names.push_back(name);
+        return name;
     }
-}
+    // Renames a temporary into place (it is then no longer removed).
+    bool install(const std::string& name, const std::string& final_name)
+    {
+        if (::renameat(m_dir, name.c_str(), m_dir, final_name.c_str()) != 0) return false;
+        m_names.erase(std::find(m_names.begin(), m_names.end(), name));
+        return true;
+    }
 
-std::string read_text(const fs::path& path)
+private:
+    int m_dir;
+    std::vector<std::string> m_names;
+};
+
+// Writes a new private file (0600; never through a link or over an existing file).
+void write_private(int dir_fd, const std::string& name, std::string_view text, const std::string& what)
 {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+    unique_fd fd(::openat(dir_fd, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600));
+    if (!fd.valid()) throw input_error(what + ": " + std::strerror(errno));
+    while (!text.empty()) {
+        const ssize_t n = ::write(fd.get(), text.data(), text.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw input_error(what + ": " + std::strerror(n < 0 ? errno : EIO));
+        text.remove_prefix(static_cast<std::size_t>(n));
+    }
 }
 
 // The line of the compiler's output that says what went wrong.
@@ -265,75 +520,92 @@ std::string first_error_line(const std::string& log)
     return first;
 }
 
-// Runs argv (argv[0] resolved to `program`) with its output in `log`; returns the wait status.
-int run(const std::string& program, const std::vector<std::string>& args, const fs::path& log,
-        const std::string& where)
+std::string replace_all(std::string s, const std::string& from, const std::string& to)
 {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    pid_t pid = 0;
-    const int rc = ::posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) no_compiler(where, "cannot run " + program + ": " + std::strerror(rc));
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) throw input_error(where + ": lost the compiler process: " + std::strerror(errno));
-    return status;
+    for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+        s.replace(at, from.size(), to);
+    return s;
 }
 
-void compile(const std::vector<std::string>& command, const fs::path& cpp, const fs::path& so,
-             const std::string& source, const std::string& where)
+// Whether an open file starts like a shared library (an ELF file of type ET_DYN).
+bool is_shared_library(int fd)
 {
-    const std::string program = find_program(command[0]);
-    if (program.empty()) {
-        const char* cxx = std::getenv("CXX");
-        no_compiler(where, cxx && *cxx ? "CXX=" + std::string(cxx) + " is not an executable program"
-                                       : std::string("no c++ on PATH"));
-    }
-    write_atomically(cpp, source, where);
-    const fs::path tmp = so.string() + unique_suffix();
-    const fs::path log = tmp.string() + ".log";
+    unsigned char h[18] = {};
+    if (::pread(fd, h, sizeof h, 0) != static_cast<ssize_t>(sizeof h)) return false;
+    if (h[0] != 0x7f || h[1] != 'E' || h[2] != 'L' || h[3] != 'F') return false;
+    const int type = h[5] == 2 ? (h[16] << 8 | h[17]) : (h[17] << 8 | h[16]);  // e_type, in the file's byte order
+    return type == 3;                                                           // ET_DYN
+}
+
+loaded_library compile_entry(const cache_directory& dir, const std::vector<std::string>& command,
+                             const std::string& program, const std::string& stem, const std::string& key,
+                             const std::string& source, const std::string& where, const std::atomic<bool>* cancel)
+{
+    remove_stale_temporaries(dir);
+    temporaries temp(dir.fd.get());
+    const std::string tmp = stem + unique_suffix();
+    const std::string cpp = temp.add(tmp + ".cpp"), so = temp.add(tmp + ".so"), record = temp.add(tmp + ".sha256");
+    write_private(dir.fd.get(), cpp, source, where + ": cannot write " + (dir.path / cpp).string());
+
     std::vector<std::string> args = command;
     args.insert(args.end(), compile_flags().begin(), compile_flags().end());
-    args.insert(args.end(), {"-o", tmp.string(), cpp.string()});
-    const int status = run(program, args, log, where);
-    const std::string output = read_text(log);
-    std::error_code ec;
-    fs::remove(log, ec);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(tmp, ec)) {
-        fs::remove(tmp, ec);
-        const std::string how = WIFEXITED(status) ? "exit code " + std::to_string(WEXITSTATUS(status))
-                                : WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
-                                                      : std::string("no output file");
-        throw input_error(where + ": the C++ compiler " + program + " failed (" + how + "): " + first_error_line(output) +
-                          " (the generated source is kept in " + cpp.string() + ")");
+    args.insert(args.end(), {"-o", "./" + so, "./" + cpp});
+    const compiler_run run = run_compiler(program, args, dir.fd.get(), cancel);
+    if (!WIFEXITED(run.status) || WEXITSTATUS(run.status) != 0) {
+        const std::string kept = stem + ".cpp";
+        temp.install(cpp, kept);
+        const std::string how = WIFEXITED(run.status)     ? "exit code " + std::to_string(WEXITSTATUS(run.status))
+                                : WIFSIGNALED(run.status) ? "signal " + std::to_string(WTERMSIG(run.status))
+                                                          : std::string("no status");
+        throw input_error(where + ": the C++ compiler " + program + " failed (" + how +
+                          "): " + replace_all(first_error_line(run.output), "./" + cpp, kept) +
+                          " (the generated source is kept in " + (dir.path / kept).string() + ")");
     }
-    fs::rename(tmp, so, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw input_error(where + ": cannot store the compiled model in " + so.string() + ": " + ec.message());
+    const std::string not_a_library = where + ": the C++ compiler " + program + " did not produce a loadable shared library";
+    unique_fd lib(::openat(dir.fd.get(), so.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC));
+    struct stat st {};
+    if (!lib.valid() || ::fstat(lib.get(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid())
+        throw input_error(not_a_library + " (it exited with code 0 but wrote no output file; CXX selects the compiler)");
+    if (!is_shared_library(lib.get()))
+        throw input_error(not_a_library + " (it wrote a file that is not an ELF shared object; CXX selects the compiler)");
+    ::fchmod(lib.get(), 0600);  // whatever the umask: a group-writable entry would be refused
+    const auto hash = file_sha256(lib.get(), st.st_size);
+    if (!hash) throw input_error(where + ": cannot read the compiled model " + (dir.path / so).string());
+    loaded_library loaded;
+    try {
+        loaded = open_library_fd(lib.get(), where + ": the compiled model");
+    } catch (const input_error& e) {
+        throw input_error(not_a_library + " (" + e.what() + ")");
     }
+    write_private(dir.fd.get(), record, record_text(key, *hash), where + ": cannot write " + (dir.path / record).string());
+    if (!temp.install(so, stem + ".so") || !temp.install(record, stem + ".sha256"))
+        throw input_error(where + ": cannot store the compiled model in " + (dir.path / (stem + ".so")).string() + ": " +
+                          std::strerror(errno));
+    temp.install(cpp, stem + ".cpp");
+    return loaded;
 }
 
-}  // namespace
-
-loaded_library open_library(const fs::path& path, const std::string& what)
+// The names the dynamic loader has for the objects it has loaded: a name it knows is not
+// opened again (glibc compares names before files), so a /proc/self/fd/N of a closed
+// descriptor that named another library must not be reused.
+bool loader_knows(const std::string& name)
 {
-    // An absolute path: dlopen would search the library path for a bare file name.
-    const std::string file = fs::absolute(path).string();
-    ::dlerror();
-    void* h = ::dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!h) {
-        const char* e = ::dlerror();
-        throw input_error(what + ": cannot load it: " + (e ? e : "unknown error"));
-    }
+    struct search {
+        const std::string* name;
+        bool found = false;
+    } s{&name};
+    ::dl_iterate_phdr(
+        [](dl_phdr_info* info, std::size_t, void* data) {
+            auto* x = static_cast<search*>(data);
+            if (info->dlpi_name && *x->name == info->dlpi_name) x->found = true;
+            return 0;
+        },
+        &s);
+    return s.found;
+}
+
+loaded_library library_table(void* h, const std::string& what)
+{
     std::shared_ptr<void> handle(h, [](void* x) { ::dlclose(x); });
     void* symbol = ::dlsym(h, VIMPACT_MODEL_ENTRY);
     if (!symbol)
@@ -351,30 +623,65 @@ loaded_library open_library(const fs::path& path, const std::string& what)
     return {std::move(handle), table};
 }
 
-loaded_library compile_cached(const std::string& source, const std::string& model_name, const std::string& where)
+}  // namespace
+
+loaded_library open_library(const fs::path& path, const std::string& what)
 {
-    const fs::path dir = cache_directory(where);
-    const std::vector<std::string> command = compiler_command();
-    std::uint64_t h = fnv1a("vimpact model cache\nABI " + std::to_string(VIMPACT_MODEL_ABI_VERSION) + "\n");
-    for (const auto& w : command) h = fnv1a(w + "\n", h);
-    for (const auto& f : compile_flags()) h = fnv1a(f + "\n", h);
-    h = fnv1a(cpu_identity() + "\n", h);
-    if (const auto& fh = find_fused_headers()) h = fnv1a(fh->text, h);
-    h = fnv1a(source, h);
-    // The name only helps a reader of the directory; kept short for the file-name limit.
-    const std::string stem = model_name.substr(0, 64) + "-" + hex64(h);
-    const fs::path so = dir / (stem + ".so");
-    const fs::path cpp = dir / (stem + ".cpp");
-    std::error_code ec;
-    if (fs::exists(so, ec)) {
-        try {
-            return open_library(so, where);
-        } catch (const input_error&) {
-            // A damaged entry (a disk that filled up, a file copied from elsewhere): compile again.
-        }
+    // An absolute path: dlopen would search the library path for a bare file name.
+    const std::string file = fs::absolute(path).string();
+    ::dlerror();
+    void* h = ::dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char* e = ::dlerror();
+        throw input_error(what + ": cannot load it: " + (e ? e : "unknown error"));
     }
-    compile(command, cpp, so, source, where);
-    return open_library(so, where);
+    return library_table(h, what);
+}
+
+loaded_library open_library_fd(int fd, const std::string& what)
+{
+    std::vector<unique_fd> copies;  // held until dlopen has the file
+    int use = fd;
+    while (loader_knows("/proc/self/fd/" + std::to_string(use))) {
+        copies.emplace_back(::fcntl(fd, F_DUPFD_CLOEXEC, 0));
+        if (!copies.back().valid()) throw input_error(what + ": cannot load it: " + std::strerror(errno));
+        use = copies.back().get();
+    }
+    const std::string name = "/proc/self/fd/" + std::to_string(use);
+    ::dlerror();
+    void* h = ::dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char* e = ::dlerror();
+        std::string message = e ? e : "unknown error";
+        if (message.starts_with(name + ": ")) message.erase(0, name.size() + 2);
+        throw input_error(what + ": cannot load it: " + message);
+    }
+    return library_table(h, what);
+}
+
+loaded_library compile_cached(const std::string& source, const std::string& model_name, const std::string& where,
+                              const std::atomic<bool>* cancel)
+{
+    const cache_directory dir = open_cache_directory(where);
+    const std::vector<std::string> command = compiler_command();
+    const std::string program = find_program(command[0]);
+    if (program.empty()) {
+        const char* cxx = std::getenv("CXX");
+        no_compiler(where, cxx && *cxx ? "CXX=" + std::string(cxx) + " is not an executable program"
+                                       : std::string("no c++ on PATH"));
+    }
+    sha256 h;
+    h.field("vimpact model cache entry").field("ABI " + std::to_string(VIMPACT_MODEL_ABI_VERSION));
+    h.field(compiler_identity(command));
+    for (const auto& f : compile_flags()) h.field(f);
+    h.field(cpu_identity());
+    h.field(find_fused_headers() ? find_fused_headers()->text : std::string());
+    h.field(source);
+    const std::string key = h.hex();
+    // The name only helps a reader of the directory; kept short for the file-name limit.
+    const std::string stem = model_name.substr(0, 64) + "-" + key;
+    if (auto lib = load_entry(dir, stem, key, where)) return std::move(*lib);
+    return compile_entry(dir, command, program, stem, key, source, where, cancel);
 }
 
 }  // namespace vimpact::model_file_detail

@@ -79,7 +79,10 @@ public:
     std::string string(const json& v, const std::string& path) const
     {
         if (!v.is_string()) fail(path, "expected a string, got " + type_name(v));
-        return v.get<std::string>();
+        std::string s = v.get<std::string>();
+        // The generated code holds strings as C strings, which would end at the NUL.
+        if (s.find('\0') != std::string::npos) fail(path, "the string contains a NUL character (\\u0000)");
+        return s;
     }
     double number(const json& v, const std::string& path) const
     {
@@ -98,7 +101,7 @@ public:
     expression_text expression(const json& v, const std::string& path) const
     {
         if (v.is_string()) {
-            std::string s = v.get<std::string>();
+            std::string s = string(v, path);
             if (s.find_first_not_of(" \t\r\n") == std::string::npos) fail(path, "empty expression");
             return {path, std::move(s)};
         }

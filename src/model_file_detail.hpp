@@ -4,7 +4,10 @@
 //   generate_source() the description -> C++ source of a function table (GiNaC: parsing,
 //                     symbolic derivatives, printing)
 //   compile_cached()  the source -> a loaded shared library (compiler run, cache, dlopen)
-// Every stage throws input_error("<where>: ...") for a problem of the file.
+// Every stage throws input_error("<where>: ...") for a problem of the file, and `cancelled`
+// once the caller's cancel flag is set (polled between symbolic steps and while the compiler
+// runs).
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -92,8 +95,17 @@ description describe(const nlohmann::ordered_json& tree, const std::string& wher
 // spelling of the input (TOML or JSON, integer or float literals, order of optional keys).
 nlohmann::ordered_json canonical_json(const description& d);
 
-// The C++ source of the model's function table, prefixed with the ABI header.
-std::string generate_source(const description& d, const std::string& where);
+// The C++ source of the model's function table, prefixed with the ABI header. Refuses a file
+// whose expressions nest deeper than max_nesting, whose exact constants grow beyond
+// max_constant_bits, or whose generated code (the expressions and their derivatives, written
+// out) would exceed max_code_terms, naming the key, before the work grows.
+std::string generate_source(const description& d, const std::string& where,
+                            const std::atomic<bool>* cancel = nullptr);
+
+// The bounds generate_source enforces (docs/model-files.md states them).
+inline constexpr int max_nesting = 250;              // parentheses, calls and named expressions
+inline constexpr long max_constant_bits = 65536;     // numerator and denominator of an exact constant
+inline constexpr double max_code_terms = 5.0e5;      // operations in all the printed expressions
 
 // A loaded model library and its table.
 struct loaded_library {
@@ -101,8 +113,45 @@ struct loaded_library {
     const vimpact_model_table* table = nullptr;
 };
 
-// Compiles `source` into the cache (or finds it there) and loads it.
-loaded_library compile_cached(const std::string& source, const std::string& model_name, const std::string& where);
+// Compiles `source` into the cache (or finds it there) and loads it (model_file_cache.cpp has
+// the cache's rules).
+loaded_library compile_cached(const std::string& source, const std::string& model_name, const std::string& where,
+                              const std::atomic<bool>* cancel = nullptr);
+
+// A file descriptor that is closed with its owner.
+class unique_fd {
+public:
+    unique_fd() = default;
+    explicit unique_fd(int fd) : m_fd(fd) {}
+    unique_fd(unique_fd&& o) noexcept : m_fd(o.release()) {}
+    unique_fd& operator=(unique_fd&& o) noexcept;
+    unique_fd(const unique_fd&) = delete;
+    unique_fd& operator=(const unique_fd&) = delete;
+    ~unique_fd();
+    [[nodiscard]] int get() const { return m_fd; }
+    [[nodiscard]] bool valid() const { return m_fd >= 0; }
+    int release()
+    {
+        const int fd = m_fd;
+        m_fd = -1;
+        return fd;
+    }
+
+private:
+    int m_fd = -1;
+};
+
+// The outcome of a compiler run.
+struct compiler_run {
+    int status = 0;      // as waitpid gives it
+    std::string output;  // what it wrote to stdout and stderr (the first MB)
+};
+
+// Runs `program` with `args` (args[0] is its name as given) in the directory `dir_fd`, with
+// /dev/null as input and its output captured, until it ends; once *cancel is set, ends it
+// and everything it started, and throws `cancelled`. The compiler dies with its caller too.
+compiler_run run_compiler(const std::string& program, const std::vector<std::string>& args, int dir_fd,
+                          const std::atomic<bool>* cancel);
 
 // The headers of include_dir that `root` (a path relative to it) brings into a compilation:
 // root, then each header it includes as "vimpact/...", depth first, each once, in the order
@@ -117,6 +166,10 @@ std::optional<std::vector<header_text>> vimpact_includes(const std::filesystem::
 
 // dlopen + vimpact_model() + ABI check; `what` names the library in messages.
 loaded_library open_library(const std::filesystem::path& path, const std::string& what);
+
+// The same for the file open as `fd` (through /proc/self/fd, so that the file loaded is the
+// one checked): the cache's entries.
+loaded_library open_library_fd(int fd, const std::string& what);
 
 // FNV-1a, 64 bits; `h` chains several pieces.
 inline constexpr std::uint64_t fnv_offset = 14695981039346656037ULL;

@@ -13,6 +13,19 @@
 // powers as multiplications, half-integer ones with sqrt, and every constant as the
 // shortest decimal that reads back as the same double.
 //
+// Bounds (a model file is input, and GiNaC would follow it anywhere): GiNaC's parser and
+// algorithms recurse along the nesting of an expression (8000 parentheses overflowed the
+// stack), exact constants grow without limit (2^(2^40) asked for 2^40 bits), and a chain of
+// named expressions that uses each link twice doubles the written-out code at each link
+// (GiNaC shares the links; the printed C does not). So: the nesting depth is counted on the
+// text before GiNaC reads it, a named expression counting with its own depth where it is
+// used (max_nesting); numbers are bound to placeholder symbols while GiNaC parses, then
+// substituted bottom-up, each power of constants checked before GiNaC computes it and each
+// new constant after (max_constant_bits); and the size of every expression, written out, is
+// measured on GiNaC's shared nodes, and that of each derivative bounded from above before it
+// is taken, against one budget for the whole generated code (max_code_terms). Each refusal
+// names the key, before the work that would grow.
+//
 // GiNaC is not thread-safe (reference counts are not atomic): the whole stage runs under
 // one mutex.
 #include <algorithm>
@@ -24,10 +37,12 @@
 #include <mutex>
 #include <set>
 #include <sstream>
+#include <unordered_map>
 
 #include <ginac/ginac.h>
 
 #include "model_file_detail.hpp"
+#include "vimpact/core/cancelled.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 
@@ -340,6 +355,166 @@ struct use_our_abs : GiNaC::map_function {
     }
 };
 
+// ---- bounds
+
+// Sizes of expressions as the printer writes them out: a subexpression counts at each of its
+// uses, since the generated code does not share them. Memoized on GiNaC's nodes, which the
+// expressions share (a named expression used twice is one node), so measuring is linear in
+// the number of distinct nodes however large the written-out size. A measured node is kept
+// alive by the memo, so that its address is not taken by another one.
+class expression_sizes {
+public:
+    double size(const ex& e)
+    {
+        const auto* key = &ex_to<GiNaC::basic>(e);
+        if (const auto it = m_size.find(key); it != m_size.end()) return it->second.value;
+        double n = 1.0;
+        for (std::size_t i = 0; i < e.nops(); ++i) n += size(e.op(i));
+        m_size.emplace(key, memo{e, n});
+        return n;
+    }
+
+    // An upper bound on size(e.diff(x)), from GiNaC's rules (the product rule repeats a
+    // product once per factor that depends on x; a function's derivative holds its argument
+    // a few times), without differentiating.
+    double derivative_size(const ex& e, const GiNaC::symbol& x)
+    {
+        if (!m_variable.is_equal(x)) {
+            m_derivative.clear();
+            m_variable = x;
+        }
+        return derivative(e);
+    }
+
+private:
+    struct memo {
+        ex keep;
+        double value;
+    };
+
+    double derivative(const ex& e)
+    {
+        const auto* key = &ex_to<GiNaC::basic>(e);
+        if (const auto it = m_derivative.find(key); it != m_derivative.end()) return it->second.value;
+        double d = 0.0;
+        if (is_a<GiNaC::symbol>(e)) {
+            d = e.is_equal(m_variable) ? 1.0 : 0.0;
+        } else if (is_a<GiNaC::add>(e)) {
+            for (std::size_t i = 0; i < e.nops(); ++i) d += derivative(e.op(i));
+        } else if (is_a<GiNaC::mul>(e)) {
+            for (std::size_t i = 0; i < e.nops(); ++i) {
+                const ex f = e.op(i);
+                if (const double df = derivative(f); df > 0.0) d += df + size(e) - size(f) + 1.0;
+            }
+        } else if (is_a<GiNaC::power>(e)) {
+            const double db = derivative(e.op(0)), dc = derivative(e.op(1));
+            if (db + dc > 0.0) {
+                const double sb = size(e.op(0)), sc = size(e.op(1));
+                d = is_a<GiNaC::numeric>(e.op(1)) ? db + sb + sc + 4.0 : db + dc + 2.0 * size(e) + sb + sc + 8.0;
+            }
+        } else if (is_a<GiNaC::function>(e)) {
+            double args = 0.0, dargs = 0.0;
+            for (std::size_t i = 0; i < e.nops(); ++i) {
+                args += size(e.op(i));
+                dargs += derivative(e.op(i));
+            }
+            if (dargs > 0.0) d = dargs + 4.0 * args + 8.0;
+        }
+        m_derivative.emplace(key, memo{e, d});
+        return d;
+    }
+
+    std::unordered_map<const GiNaC::basic*, memo> m_size, m_derivative;
+    ex m_variable;
+};
+
+// The bits of an exact constant: numerator and denominator (of both parts, if complex).
+double constant_bits(const GiNaC::numeric& n)
+{
+    if (!n.is_real()) return constant_bits(n.real()) + constant_bits(n.imag());
+    if (!n.is_rational()) return 64.0;
+    const GiNaC::numeric d = n.denom();
+    return static_cast<double>(n.numer().int_length()) + (d.is_equal(GiNaC::numeric(1)) ? 0.0 : d.int_length());
+}
+
+// The bits of the largest constant GiNaC computes when it evaluates b^x (x a number): a
+// number raised, a product's factors raised one by one, a power's exponents multiplied.
+double raised_bits(const ex& b, const GiNaC::numeric& x)
+{
+    if (!x.is_rational() || (x.is_integer() && GiNaC::abs(x) <= GiNaC::numeric(1))) return 0.0;
+    if (is_a<GiNaC::numeric>(b)) {
+        const auto& n = ex_to<GiNaC::numeric>(b);
+        if (n.is_zero() || GiNaC::abs(n).is_equal(GiNaC::numeric(1))) return 0.0;
+        return constant_bits(n) * std::fabs(x.to_double());
+    }
+    double most = 0.0;
+    if (is_a<GiNaC::mul>(b))
+        for (std::size_t i = 0; i < b.nops(); ++i) most = std::max(most, raised_bits(b.op(i), x));
+    if (is_a<GiNaC::power>(b) && is_a<GiNaC::numeric>(b.op(1)))
+        most = raised_bits(b.op(0), ex_to<GiNaC::numeric>(b.op(1)).mul(x));
+    return most;
+}
+
+[[noreturn]] void constant_too_large(const std::string& where, const std::string& key)
+{
+    throw input_error(where + ": " + key + ": an exact constant of the expression would have more than " +
+                      std::to_string(max_constant_bits) +
+                      " bits (such as 2^(2^40)); constants are computed exactly before they are rounded to doubles");
+}
+
+// The new constants of a node just made (its own value, or its operands: a product's
+// coefficient, a sum's constant term).
+void check_constants(const ex& e, const std::string& where, const std::string& key)
+{
+    const auto check = [&](const ex& x) {
+        if (is_a<GiNaC::numeric>(x) && constant_bits(ex_to<GiNaC::numeric>(x)) > static_cast<double>(max_constant_bits))
+            constant_too_large(where, key);
+    };
+    check(e);
+    if (is_a<GiNaC::add>(e) || is_a<GiNaC::mul>(e))
+        for (std::size_t i = 0; i < e.nops(); ++i) check(e.op(i));
+}
+
+// The expression GiNaC parsed over placeholders, with their values put in from the leaves up:
+// the constants' growth is checked at each node, before a power of constants is computed.
+struct bounded_substitution : GiNaC::map_function {
+    bounded_substitution(const std::map<std::string, ex>& v, const std::string& w, const std::string& k)
+        : values(v), where(w), key(k)
+    {
+    }
+    ex operator()(const ex& e) override
+    {
+        if (is_a<GiNaC::symbol>(e)) {
+            const auto it = values.find(ex_to<GiNaC::symbol>(e).get_name());
+            return it != values.end() ? it->second : e;
+        }
+        ex r;
+        if (is_a<GiNaC::power>(e)) {
+            const ex b = (*this)(e.op(0)), x = (*this)(e.op(1));
+            if (is_a<GiNaC::numeric>(x) && raised_bits(b, ex_to<GiNaC::numeric>(x)) > static_cast<double>(max_constant_bits))
+                constant_too_large(where, key);
+            r = GiNaC::pow(b, x);
+        } else {
+            r = e.map(*this);
+        }
+        check_constants(r, where, key);
+        return r;
+    }
+    const std::map<std::string, ex>& values;
+    const std::string& where;
+    const std::string& key;
+};
+
+[[noreturn]] void code_too_large(const std::string& where, const std::string& key, const std::string& what)
+{
+    std::ostringstream limit;
+    limit << max_code_terms;
+    throw input_error(where + ": " + key + ": " + what + " would make the generated code too large: more than " +
+                      limit.str() +
+                      " operations written out (a named expression is written out wherever it is used, with its "
+                      "derivatives); simplify the equations, or write the model in C++ (docs/own-model.md)");
+}
+
 // ---- reading expressions
 
 [[noreturn]] void fail(const std::string& where, const std::string& key, const std::string& message)
@@ -453,18 +628,18 @@ std::size_t closing(const std::vector<token>& tokens, std::size_t open)
 // a power of it), or i if none starts there.
 std::size_t operand_end(const std::vector<token>& tokens, std::size_t i)
 {
-    std::size_t j = i;
-    while (j < tokens.size() && is_sign(tokens[j])) ++j;
-    if (j == tokens.size()) return i;
-    if (tokens[j].kind == token::name && j + 1 < tokens.size() && tokens[j + 1].kind == token::open) ++j;
-    if (tokens[j].kind == token::open) j = closing(tokens, j);
-    else if (tokens[j].kind != token::number && tokens[j].kind != token::name) return i;
-    ++j;
-    if (j < tokens.size() && tokens[j].kind == token::op && tokens[j].text == "^") {
-        const std::size_t k = operand_end(tokens, j + 1);
-        if (k > j + 1) j = k;
+    // A loop, not a recursion, along a^b^...: a written chain may be longer than the stack.
+    std::size_t end = i, j = i;
+    for (;;) {
+        while (j < tokens.size() && is_sign(tokens[j])) ++j;
+        if (j == tokens.size()) return end;
+        if (tokens[j].kind == token::name && j + 1 < tokens.size() && tokens[j + 1].kind == token::open) ++j;
+        if (tokens[j].kind == token::open) j = closing(tokens, j);
+        else if (tokens[j].kind != token::number && tokens[j].kind != token::name) return end;
+        end = ++j;
+        if (j == tokens.size() || tokens[j].kind != token::op || tokens[j].text != "^") return end;
+        ++j;
     }
-    return j;
 }
 
 // The first token of the operand that ends with tokens[last].
@@ -493,7 +668,14 @@ struct named_symbol {
     unsigned kind;
     ex value;  // the symbol, or for a named expression its value once read
     bool ready = true;
+    int nesting = 0;  // of a named expression: its own depth, which it brings where it is used
 };
+
+[[noreturn]] void too_deep(const std::string& where, const std::string& key, const std::string& what)
+{
+    fail(where, key, "the expression nests more than " + std::to_string(max_nesting) + " levels deep (" + what +
+                         "); GiNaC reads and differentiates by recursion");
+}
 
 // What an expression may refer to, and why not when it may not.
 struct expression_rules {
@@ -510,12 +692,31 @@ public:
         m_names[name] = {kind, std::move(value), ready};
         m_order.push_back(name);
     }
-    void set_value(const std::string& name, ex value)
+    void set_value(const std::string& name, ex value, int nesting)
     {
         auto& n = m_names.at(name);
         n.value = std::move(value);
         n.ready = true;
+        n.nesting = nesting;
     }
+
+    // The depth of an expression: its parentheses (a call's too), and at each use of a named
+    // expression 1 + that expression's depth.
+    int nesting(const expression_text& e) const
+    {
+        const auto tokens = tokenize(e, m_where);
+        int depth = 0, most = 0;
+        for (const token& tk : tokens) {
+            if (tk.kind == token::open) most = std::max(most, ++depth);
+            else if (tk.kind == token::close) --depth;
+            else if (tk.kind == token::name)
+                if (const auto it = m_names.find(tk.text); it != m_names.end() && it->second.kind == expression_kind)
+                    most = std::max(most, depth + 1 + it->second.nesting);
+        }
+        return most;
+    }
+
+    expression_sizes& sizes() const { return m_sizes; }
 
     // The names an expression uses, after checking every token.
     std::vector<std::string> names_used(const expression_text& e, const expression_rules& rules) const
@@ -525,7 +726,8 @@ public:
         int depth = 0;
         for (std::size_t t = 0; t < tokens.size(); ++t) {
             const token& tk = tokens[t];
-            if (tk.kind == token::open) ++depth;
+            // Before GiNaC's parser, which recurses once per level, sees the text.
+            if (tk.kind == token::open && ++depth > max_nesting) too_deep(m_where, e.key, "parentheses and calls");
             if (tk.kind == token::close && --depth < 0) fail(m_where, e.key, "unbalanced ')' in '" + e.text + "'");
             if (tk.kind != token::name) continue;
             const bool call = t + 1 < tokens.size() && tokens[t + 1].kind == token::open;
@@ -549,20 +751,29 @@ public:
     ex read(const expression_text& e, const expression_rules& rules) const
     {
         (void)names_used(e, rules);
+        if (nesting(e) > max_nesting) too_deep(m_where, e.key, "with the named expressions it uses");
         const auto tokens = tokenize(e, m_where);
         check_syntax(e, tokens);
         ex result;
         try {
             GiNaC::symtab operands;
-            const std::string text = ginac_text(tokens, operands);
+            std::map<std::string, ex> values;
+            const std::string text = ginac_text(tokens, operands, values, e.key);
+            for (const auto& [name, value] : values) check_constants(value, m_where, e.key);
             GiNaC::parser reader(operands, true, function_readers());
-            use_our_abs ours;
-            result = ours(reader(text));
+            bounded_substitution substitute(values, m_where, e.key);
+            result = substitute(reader(text));
+        } catch (const input_error&) {
+            throw;
         } catch (const GiNaC::parse_error& x) {
             fail(m_where, e.key, "cannot read '" + e.text + "': " + x.what());
         } catch (const std::exception& x) {
             fail(m_where, e.key, "cannot evaluate '" + e.text + "': " + evaluation_message(x.what()));
         }
+        // Measured on the shared nodes first: the walks below follow every use.
+        if (m_sizes.size(result) > max_code_terms) code_too_large(m_where, e.key, "the expression");
+        use_our_abs ours;
+        result = ours(result);
         check_translatable(result, e.key, m_where);
         return result;
     }
@@ -664,7 +875,10 @@ private:
     // the symbol table binds to its value, so GiNaC reads only the structure. Its lexer
     // would make 0.1 a 17-digit float and take the names I, Pi, Euler and Catalan for its
     // own constants.
-    std::string ginac_text(const std::vector<token>& tokens, GiNaC::symtab& operands) const
+    // The placeholders stay symbols while GiNaC parses (`values` holds what they stand for),
+    // so that it computes nothing with the numbers before bounded_substitution checks it.
+    std::string ginac_text(const std::vector<token>& tokens, GiNaC::symtab& operands,
+                           std::map<std::string, ex>& values, const std::string& key) const
     {
         std::string text;
         for (std::size_t t = 0; t < tokens.size(); ++t) {
@@ -672,9 +886,14 @@ private:
             const bool call = t + 1 < tokens.size() && tokens[t + 1].kind == token::open;
             if (tk.kind == token::number || (tk.kind == token::name && !call)) {
                 const std::string placeholder = "a" + std::to_string(t);
-                operands[placeholder] = tk.kind == token::number ? ex(literal_value(tk.text))
-                                        : tk.text == "pi"        ? ex(GiNaC::Pi)
-                                                                 : m_names.at(tk.text).value;
+                operands[placeholder] = GiNaC::symbol(placeholder);
+                // An integer literal is exact: its digits count (log10(2) bits each) before it is read.
+                if (tk.kind == token::number && tk.text.find_first_of(".eE") == std::string::npos &&
+                    static_cast<double>(tk.text.size()) > static_cast<double>(max_constant_bits) * 0.30103 + 1.0)
+                    constant_too_large(m_where, key);
+                values[placeholder] = tk.kind == token::number ? ex(literal_value(tk.text))
+                                      : tk.text == "pi"        ? ex(GiNaC::Pi)
+                                                               : m_names.at(tk.text).value;
                 text += placeholder + " ";
             } else {
                 text += tk.text + " ";
@@ -739,6 +958,7 @@ private:
     const std::string& m_where;
     std::map<std::string, named_symbol> m_names;
     std::vector<std::string> m_order;
+    mutable expression_sizes m_sizes;
 };
 
 // A constant expression (an angle's period) in double arithmetic.
@@ -832,8 +1052,8 @@ std::string c_string(std::string_view s)
 
 class generator {
 public:
-    generator(const description& d, const std::string& where)
-        : m_d(d), m_where(where), m_reader(where), m_n(static_cast<int>(d.state.size())),
+    generator(const description& d, const std::string& where, const std::atomic<bool>* cancel)
+        : m_d(d), m_where(where), m_cancel(cancel), m_reader(where), m_n(static_cast<int>(d.state.size())),
           m_p(static_cast<int>(d.parameters.size())), m_nd(static_cast<int>(d.derived.size()))
     {
         for (int j = 0; j < m_n; ++j) {
@@ -877,8 +1097,11 @@ private:
     {
         std::vector<std::vector<std::string>> uses;
         for (const auto& n : m_d.expressions) uses.push_back(m_reader.names_used(n.expr, state_rules));
-        for (const std::size_t i : dependency_order(m_d.expressions, uses, m_where))
-            m_reader.set_value(m_d.expressions[i].name, m_reader.read(m_d.expressions[i].expr, state_rules));
+        for (const std::size_t i : dependency_order(m_d.expressions, uses, m_where)) {
+            poll_cancel();
+            const auto& e = m_d.expressions[i].expr;
+            m_reader.set_value(m_d.expressions[i].name, m_reader.read(e, state_rules), m_reader.nesting(e));
+        }
     }
 
     void read_periods()
@@ -894,7 +1117,30 @@ private:
         }
     }
 
-    ex read(const expression_text& e) { return m_reader.read(e, state_rules); }
+    ex read(const expression_text& e)
+    {
+        poll_cancel();
+        return m_reader.read(e, state_rules);
+    }
+
+    // Between GiNaC's steps, each bounded in size: a Ctrl-C stops the work at once.
+    void poll_cancel() const
+    {
+        if (m_cancel && m_cancel->load(std::memory_order_relaxed)) throw cancelled();
+    }
+
+    // The derivative of e by x, once its size, bounded before it is taken, fits in what is
+    // left of the code's budget (everything differentiated is printed at least once).
+    ex derivative(const ex& e, int j, const std::string& key)
+    {
+        poll_cancel();
+        expression_sizes& sizes = m_reader.sizes();
+        if (m_terms + sizes.derivative_size(e, sym(j)) > max_code_terms)
+            code_too_large(m_where, key, "the derivative by " + m_d.state[static_cast<std::size_t>(j)].name);
+        ex d = e.diff(sym(j));
+        m_terms += sizes.size(d);
+        return d;
+    }
 
     // The values of an assignment list, defaulting to `otherwise` for unnamed variables.
     std::vector<ex> assigned(const std::vector<assignment>& list, const std::vector<ex>& otherwise)
@@ -922,16 +1168,23 @@ private:
         vector_function f{key, std::move(value), {}, {}};
         try {
             for (const ex& fi : f.value) {
+                m_terms += m_reader.sizes().size(fi);
                 std::vector<ex> row;
-                for (int j = 0; j < m_n; ++j) row.push_back(fi.diff(sym(j)));
+                for (int j = 0; j < m_n; ++j) row.push_back(derivative(fi, j, key));
                 if (second) {
                     std::vector<std::vector<ex>> h(static_cast<std::size_t>(m_n), std::vector<ex>(static_cast<std::size_t>(m_n)));
                     for (int j = 0; j < m_n; ++j)
-                        for (int k = j; k < m_n; ++k) h[static_cast<std::size_t>(j)][static_cast<std::size_t>(k)] = row[static_cast<std::size_t>(j)].diff(sym(k));
+                        for (int k = j; k < m_n; ++k)
+                            h[static_cast<std::size_t>(j)][static_cast<std::size_t>(k)] =
+                                derivative(row[static_cast<std::size_t>(j)], k, key);
                     f.hessian.push_back(std::move(h));
                 }
                 f.jacobian.push_back(std::move(row));
             }
+        } catch (const input_error&) {
+            throw;
+        } catch (const cancelled&) {
+            throw;
         } catch (const std::exception& x) {
             fail(m_where, key, std::string("cannot differentiate: ") + x.what());
         }
@@ -980,6 +1233,9 @@ private:
 
     std::string c(const ex& e, const std::string& key)
     {
+        poll_cancel();
+        m_printed += m_reader.sizes().size(e);
+        if (m_printed > max_code_terms) code_too_large(m_where, key, "the expression with its derivatives");
         expression_reader::check_translatable(e, key, m_where);
         std::ostringstream s;
         e.print(c_printer(s, m_powers));
@@ -1336,7 +1592,10 @@ private:
 
     const description& m_d;
     const std::string& m_where;
+    const std::atomic<bool>* m_cancel;
     expression_reader m_reader;
+    double m_terms = 0.0;    // written-out sizes of what has been differentiated and its derivatives
+    double m_printed = 0.0;  // of what has been printed
     int m_n, m_p, m_nd;
     std::vector<GiNaC::realsymbol> m_x;    // x[j]
     std::vector<GiNaC::realsymbol> m_ctx;  // p[k]: parameters, then derived quantities
@@ -1368,12 +1627,12 @@ std::string number_text(double v)
     return format_double(v);
 }
 
-std::string generate_source(const description& d, const std::string& where)
+std::string generate_source(const description& d, const std::string& where, const std::atomic<bool>* cancel)
 {
     static std::mutex ginac_mutex;
     const std::lock_guard<std::mutex> lock(ginac_mutex);
     set_up_ginac();
-    return generator(d, where).run();
+    return generator(d, where, cancel).run();
 }
 
 }  // namespace vimpact::model_file_detail

@@ -1,11 +1,16 @@
 // Model files: the example files against the built-ins they restate, symbolic derivatives
 // against finite differences, exact constants, one message per class of bad file, the cache,
-// the compiler requirement, the JSON path, and model libraries.
+// the compiler requirement, the JSON path, model libraries, the bounds on what a file can make
+// the symbolic stage and the compiler do, the cache's safety, and stopping a compilation.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -22,6 +27,7 @@
 
 #include "model_file_detail.hpp"
 #include "test_support.hpp"
+#include "vimpact/core/cancelled.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/model/abi.h"
@@ -1041,4 +1047,518 @@ TEST(ModelFile, LibraryExportingACppDefinitionLoads)
                                              "; this vimpact loads version " +
                                              std::to_string(VIMPACT_MODEL_ABI_VERSION) + " (rebuild it)");
     }
+}
+
+// ---- (h) bounds on what a file can make the compiler do
+
+namespace {
+
+// The two-sided oscillator under another name (a model of its own in the cache), with its
+// forcing shifted by `shift`: rhs at the origin (phase 0) is (0, a + shift, w) = (0, 1 + shift, 1.2).
+std::string shifted_model(const std::string& name, int shift)
+{
+    return replaced(replaced(two_sided, "name = \"two_sided\"", "name = \"" + name + "\""),
+                    "v = \"-2*zeta*v - x + a*cos(phi)\"", "v = \"-2*zeta*v - x + a*cos(phi) + " + std::to_string(shift) + "\"");
+}
+
+// The error of `text` and how long it took to come.
+std::pair<std::string, double> timed_error(const std::string& text)
+{
+    const auto start = std::chrono::steady_clock::now();
+    std::string e = error_of(text);
+    return {e, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+}
+
+std::string nested(int depth, const std::string& inside)
+{
+    return std::string(static_cast<std::size_t>(depth), '(') + inside + std::string(static_cast<std::size_t>(depth), ')');
+}
+
+}  // namespace
+
+// 8000 parentheses overflowed the stack of GiNaC's parser (SIGSEGV); the depth is bounded on
+// the text, a named expression counting with its own depth where it is used.
+TEST(ModelFile, NestingIsBoundedBeforeGinacReadsIt)
+{
+    const std::string deep = replaced(two_sided, "x = \"v\"", "x = \"" + nested(8000, "v") + "\"");
+    const auto [e, seconds] = timed_error(deep);
+    EXPECT_EQ(e, "model file bad.toml: derivatives.x: the expression nests more than " + std::to_string(model_file_detail::max_nesting) +
+                     " levels deep (parentheses and calls); GiNaC reads and differentiates by recursion");
+    EXPECT_LT(seconds, 3.0);
+    // At the bound it is read: x' = v.
+    const int limit = model_file_detail::max_nesting;
+    const model at_limit = model::from_toml(replaced(shifted_model("nested", 0), "x = \"v\"", "x = \"" + nested(limit, "v") + "\""));
+    EXPECT_EQ(table_model<3>(at_limit.table(), at_limit.context()).rhs(vec<3>(0.0, 2.5, 0.0))[0], 2.5);
+    EXPECT_EQ(error_of(replaced(two_sided, "x = \"v\"", "x = \"" + nested(limit + 1, "v") + "\"")),
+              "model file bad.toml: derivatives.x: the expression nests more than " + std::to_string(limit) +
+                  " levels deep (parentheses and calls); GiNaC reads and differentiates by recursion");
+    // A chain e1 = (e0 + x), e2 = (e1 + x), ...: each link 2 levels deeper, and its use in
+    // x' = eN one more. At the bound (2 N + 1 = 249), x' = v + N x; with one link more x' is
+    // refused, with two the link that crosses the bound.
+    const auto chain = [&](int links) {
+        std::string s = "[expressions]\ne0 = \"v\"\n";
+        for (int i = 1; i <= links; ++i) s.append("e").append(std::to_string(i)).append(" = \"(e").append(std::to_string(i - 1)).append(" + x)\"\n");
+        return replaced(replaced(shifted_model("chained", 0), "x = \"v\"", "x = \"e" + std::to_string(links) + "\""),
+                        "[derivatives]", s + "[derivatives]");
+    };
+    const int links = (limit - 1) / 2;
+    const model linked = model::from_toml(chain(links));
+    EXPECT_EQ(table_model<3>(linked.table(), linked.context()).rhs(vec<3>(1.0, 0.5, 0.0))[0], 0.5 + links);
+    const std::string deeper = ": the expression nests more than " + std::to_string(limit) +
+                               " levels deep (with the named expressions it uses); GiNaC reads and differentiates by "
+                               "recursion";
+    EXPECT_EQ(error_of(chain(links + 1)), "model file bad.toml: derivatives.x" + deeper);
+    EXPECT_EQ(error_of(chain(links + 2)), "model file bad.toml: expressions.e" + std::to_string(links + 2) + deeper);
+}
+
+// 2^(2^40)*x made GiNaC compute a number of 2^40 bits (memory grew to 6.5 GB); a constant's
+// size is checked before GiNaC computes it, however it is reached.
+TEST(ModelFile, ExactConstantsAreBoundedBeforeTheyAreComputed)
+{
+    const std::string message = ": an exact constant of the expression would have more than " +
+                                std::to_string(model_file_detail::max_constant_bits) +
+                                " bits (such as 2^(2^40)); constants are computed exactly before they are rounded to "
+                                "doubles";
+    for (const std::string& v : {std::string("2^(2^40)*x"), std::string("(sqrt(2)*v)^(2^40)"), std::string("((3/2)^(1/3))^(2^50)"),
+                                 "x*1" + std::string(30000, '0')}) {
+        const auto [e, seconds] = timed_error(replaced(two_sided, "x = \"v\"", "x = \"" + v + "\""));
+        EXPECT_EQ(e, "model file bad.toml: derivatives.x" + message) << v;
+        EXPECT_LT(seconds, 3.0) << v;
+    }
+    // Doubling through named expressions: c0 = (1 + 2^-1000)^30, about 1 as a double, is
+    // exactly (2^1000 + 1)^30 / 2^30000, 60,031 bits; its square is refused.
+    const std::string doubling = replaced(
+        two_sided, "[derivatives]",
+        "[expressions]\nc0 = \"(1 + 2^(-1000))^30\"\nc1 = \"c0*c0\"\nc2 = \"c1*c1\"\n[derivatives]");
+    EXPECT_EQ(error_of(replaced(doubling, "x = \"v\"", "x = \"c2*v\"")), "model file bad.toml: expressions.c1" + message);
+    // Constants as large as a double holds are fine: 2^1000 = 1.0715...e301.
+    const model big = model::from_toml(replaced(shifted_model("big_constant", 0), "x = \"v\"", "x = \"2^1000*v/2^999\""));
+    EXPECT_EQ(table_model<3>(big.table(), big.context()).rhs(vec<3>(0.0, 1.5, 0.0))[0], 3.0);
+}
+
+// A chain of named expressions that uses each link twice doubles the written-out code at each
+// link (at 14 links the compiler was given 118 MB); the size of the code is bounded before
+// the derivatives are taken.
+TEST(ModelFile, GeneratedCodeIsBoundedBeforeItGrows)
+{
+    const auto chain = [&](int links) {
+        std::string s = "[expressions]\ne0 = \"v + x\"\n";
+        for (int i = 1; i <= links; ++i) {
+            const std::string p = std::string("e").append(std::to_string(i - 1));
+            s.append("e").append(std::to_string(i)).append(" = \"").append(p).append("^2 + sin(").append(p).append(") - x\"\n");
+        }
+        return replaced(replaced(two_sided, "x = \"v\"", "x = \"e" + std::to_string(links) + "\""), "[derivatives]",
+                        s + "[derivatives]");
+    };
+    std::ostringstream limit;
+    limit << model_file_detail::max_code_terms;
+    for (const int links : {14, 40}) {
+        const auto [e, seconds] = timed_error(chain(links));
+        EXPECT_TRUE(e.starts_with("model file bad.toml: ")) << e;
+        EXPECT_NE(e.find(" would make the generated code too large: more than " + limit.str() + " operations written out"),
+                  std::string::npos)
+            << e;
+        EXPECT_LT(seconds, 10.0) << links;
+    }
+    // Far past the bound, the link that crosses it is named, as soon as it is read.
+    EXPECT_TRUE(timed_error(chain(40)).first.starts_with("model file bad.toml: expressions.e"));
+    // A short chain compiles.
+    (void)compile_model_text(replaced(chain(3), "name = \"two_sided\"", "name = \"short_chain\""), "short.toml");
+}
+
+// A NUL in a string ended the C string the generated code holds: the meaning was cut short.
+TEST(ModelFile, NulInAStringIsRefused)
+{
+    EXPECT_EQ(error_of(replaced(two_sided, "state = [\"x\", \"v\", \"phi\"]",
+                                "state = [{ name = \"x\", meaning = \"dis\\u0000placement\" }, \"v\", \"phi\"]")),
+              "model file bad.toml: state[0].meaning: the string contains a NUL character (\\u0000)");
+    EXPECT_EQ(error_of(replaced(two_sided, "name = \"two_sided\"", "name = \"two_sided\"\ndescription = \"a\\u0000b\"")),
+              "model file bad.toml: description: the string contains a NUL character (\\u0000)");
+}
+
+// ---- (i) the cache's safety: a private directory, entries checked before they are opened
+
+namespace {
+
+// A fresh cache directory, private (as one of ours would be), selected for one scope.
+class scoped_cache {
+public:
+    explicit scoped_cache(const std::string& name) : m_dir(cache_environment::dir / name)
+    {
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+        fs::permissions(m_dir, fs::perms::owner_all);
+        m_env.emplace("VIMPACT_CACHE_DIR", m_dir.string());
+    }
+    const fs::path& dir() const { return m_dir; }
+
+private:
+    fs::path m_dir;
+    std::optional<scoped_env> m_env;
+};
+
+// The files of the entries of model `name` in `dir` (NAME-KEY.so, .sha256, .cpp).
+std::vector<fs::path> entry_files(const fs::path& dir, const std::string& name, const std::string& ext)
+{
+    std::vector<fs::path> found;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        const std::string f = e.path().filename().string();
+        if (f.starts_with(name + "-") && e.path().extension() == ext && f.find(".tmp-") == std::string::npos)
+            found.push_back(e.path());
+    }
+    return found;
+}
+
+fs::path the_entry(const fs::path& dir, const std::string& name, const std::string& ext = ".so")
+{
+    const auto found = entry_files(dir, name, ext);
+    EXPECT_EQ(found.size(), 1U) << name << ext;
+    return found.empty() ? fs::path() : found.front();
+}
+
+// Compiles `text` in a child process, so that this process never maps the entry: the tests
+// below damage it, which would break a mapping of their own (and a truncated mapped file
+// raises SIGBUS in the process that reads it, which is the failure they guard against).
+void compile_elsewhere(const std::string& text)
+{
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        int code = 0;
+        try {
+            (void)compile_model_text(text, "child.toml");
+        } catch (...) {
+            code = 1;
+        }
+        ::_exit(code);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+}
+
+// Replaces a file by a copy of another (a new file renamed over it, as a cp to a temporary
+// and mv would: the old file's bytes are never changed in place).
+void replace_file(const fs::path& target, const fs::path& with)
+{
+    const fs::path tmp = target.string() + ".replacing";
+    fs::copy_file(with, tmp, fs::copy_options::overwrite_existing);
+    fs::permissions(tmp, fs::perms::owner_read | fs::perms::owner_write);
+    fs::rename(tmp, target);
+}
+
+// A shared library whose constructor writes `marker`: what a planted library would run.
+fs::path planted_library(const fs::path& dir, const fs::path& marker)
+{
+    const fs::path src = dir.parent_path() / (dir.filename().string() + "-planted.cpp");
+    const fs::path lib = dir.parent_path() / (dir.filename().string() + "-planted.so");
+    std::ofstream(src) << "#include <cstdio>\n"
+                          "__attribute__((constructor)) static void planted() {\n"
+                          "    if (FILE* f = std::fopen(\""
+                       << marker.string()
+                       << "\", \"w\")) { std::fputs(\"ran\", f); std::fclose(f); }\n}\n";
+    const std::string command = "c++ -shared -fPIC -o '" + lib.string() + "' '" + src.string() + "'";
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    return lib;
+}
+
+double forcing_at_origin(const model& m)
+{
+    const table_model<3> t(m.table(), m.context());
+    return t.rhs(vec<3>(0.0, 0.0, 0.0))[1];
+}
+
+bool no_temporaries(const fs::path& dir)
+{
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().find(".tmp-") != std::string::npos) return false;
+    return true;
+}
+
+}  // namespace
+
+// A library planted under an entry's name, with the entry's own record beside it or with
+// another's, is never opened (its constructor would write the marker): the entry is compiled
+// again and is the model it should be.
+TEST(ModelCache, PlantedLibraryIsNeverLoaded)
+{
+    const std::string text = shifted_model("planted", 3);
+    fs::path stem;
+    {
+        const scoped_cache cache("planted-first");
+        compile_elsewhere(text);
+        stem = the_entry(cache.dir(), "planted").stem();
+    }
+    const scoped_cache cache("planted");
+    const fs::path marker = cache.dir().parent_path() / "planted-marker";
+    fs::remove(marker);
+    const fs::path lib = planted_library(cache.dir(), marker);
+    // Planted before the model was ever compiled here, with a record of another library.
+    replace_file(cache.dir() / (stem.string() + ".so"), lib);
+    std::ofstream(cache.dir() / (stem.string() + ".sha256")) << "vimpact model cache entry\nkey " << stem.string().substr(8)
+                                                               << "\nlibrary sha256 " << std::string(64, '0') << "\n";
+    fs::permissions(cache.dir() / (stem.string() + ".sha256"), fs::perms::owner_read | fs::perms::owner_write);
+    EXPECT_EQ(forcing_at_origin(model::from_toml(text, "planted.toml")), 4.0);
+    EXPECT_FALSE(fs::exists(marker));
+    // Planted over a good entry, whose record stays.
+    const scoped_cache again("planted-again");
+    compile_elsewhere(text);
+    replace_file(the_entry(again.dir(), "planted"), lib);
+    EXPECT_EQ(forcing_at_origin(model::from_toml(text, "planted.toml")), 4.0);
+    EXPECT_FALSE(fs::exists(marker));
+    EXPECT_TRUE(no_temporaries(again.dir()));
+}
+
+// A truncated entry (a full disk, an interrupted copy) crashed every process that loaded it
+// with SIGBUS; now it fails its check and is compiled again.
+TEST(ModelCache, TruncatedEntryIsCompiledAgain)
+{
+    const scoped_cache cache("truncated");
+    const std::string text = shifted_model("truncated", 5);
+    compile_elsewhere(text);
+    const fs::path so = the_entry(cache.dir(), "truncated");
+    const auto size = fs::file_size(so);
+    fs::resize_file(so, size / 2);
+    EXPECT_EQ(forcing_at_origin(model::from_toml(text, "truncated.toml")), 6.0);
+    EXPECT_EQ(fs::file_size(the_entry(cache.dir(), "truncated")), size);
+}
+
+// Another model's entry copied over this one's (the library alone, or with its record) is not
+// loaded in its place: the model is this one, as compiled in a fresh cache.
+TEST(ModelCache, EntryCopiedOverAnotherModelIsCompiledAgain)
+{
+    const std::string a = shifted_model("copied_a", 10), b = shifted_model("copied_b", 20);
+    for (const bool with_record : {false, true}) {
+        const scoped_cache cache(with_record ? "copied-with-record" : "copied");
+        compile_elsewhere(a);
+        compile_elsewhere(b);
+        replace_file(the_entry(cache.dir(), "copied_b"), the_entry(cache.dir(), "copied_a"));
+        if (with_record)
+            replace_file(the_entry(cache.dir(), "copied_b", ".sha256"), the_entry(cache.dir(), "copied_a", ".sha256"));
+        const model m = model::from_toml(b, "b.toml");
+        EXPECT_EQ(forcing_at_origin(m), 21.0) << with_record;
+        const scoped_cache fresh(with_record ? "copied-fresh-2" : "copied-fresh");
+        const model reference = model::from_toml(b, "b.toml");
+        const table_model<3> t(m.table(), m.context()), r(reference.table(), reference.context());
+        std::mt19937 gen(37);
+        for (int trial = 0; trial < 10; ++trial) {
+            const vec<3> x = random_vec<3>(gen, 3.0);
+            EXPECT_EQ(t.rhs(x), r.rhs(x));
+        }
+    }
+}
+
+// Where others may write, a library could be planted: a cache directory writable by its
+// group or by all is refused, naming it, before anything in it is opened.
+TEST(ModelCache, DirectoryWritableByOthersIsRefused)
+{
+    for (const auto mode : {fs::perms::owner_all | fs::perms::group_all | fs::perms::others_all,
+                            fs::perms::owner_all | fs::perms::group_all}) {
+        const scoped_cache cache("shared");
+        fs::permissions(cache.dir(), mode);
+        const std::string e = error_of(shifted_model("shared", 1), "shared.toml");
+        const std::string mode_text = mode == (fs::perms::owner_all | fs::perms::group_all) ? "0770" : "0777";
+        EXPECT_EQ(e, "model file shared.toml: the model cache directory " + cache.dir().string() +
+                         " is writable by other users (mode " + mode_text +
+                         "), who could plant code in it: make it private (chmod 700 " + cache.dir().string() +
+                         ") or set VIMPACT_CACHE_DIR");
+        EXPECT_TRUE(entry_files(cache.dir(), "shared", ".so").empty());
+    }
+}
+
+// An entry of another user (only root can make one here) and a link in place of an entry are
+// refused, naming them; so is a cache directory of another user.
+TEST(ModelCache, EntryOfAnotherUserOrALinkIsRefused)
+{
+    const std::string text = shifted_model("foreign", 2);
+    {
+        const scoped_cache cache("link");
+        compile_elsewhere(text);
+        const fs::path so = the_entry(cache.dir(), "foreign");
+        const fs::path real = cache.dir().parent_path() / "link-target.so";
+        fs::rename(so, real);
+        fs::create_symlink(real, so);
+        EXPECT_EQ(error_of(text, "foreign.toml"),
+                  "model file foreign.toml: the model cache entry " + so.string() +
+                      " is a symbolic link, so it is not loaded: remove it (the cache holds only your own files)");
+    }
+    if (::geteuid() != 0) GTEST_SKIP() << "only root can give a file to another user";
+    const scoped_cache cache("foreign");
+    compile_elsewhere(text);
+    const fs::path so = the_entry(cache.dir(), "foreign");
+    ASSERT_EQ(::chown(so.c_str(), 65534, 65534), 0);
+    EXPECT_EQ(error_of(text, "foreign.toml"),
+              "model file foreign.toml: the model cache entry " + so.string() +
+                  " belongs to another user (uid 65534), so it is not loaded: remove it (the cache holds only your "
+                  "own files)");
+    ASSERT_EQ(::chown(cache.dir().c_str(), 65534, 65534), 0);
+    EXPECT_EQ(error_of(text, "foreign.toml"),
+              "model file foreign.toml: the model cache directory " + cache.dir().string() +
+                  " belongs to another user (uid 65534), who could plant code in it: use a directory of your own (set "
+                  "VIMPACT_CACHE_DIR)");
+}
+
+// What the cache creates is private: the directory (and a missing parent) 0700, the source,
+// the library and its record 0600, whatever the umask.
+TEST(ModelCache, WhatTheCacheCreatesIsPrivate)
+{
+    const fs::path parent = cache_environment::dir / "private-parent";
+    fs::remove_all(parent);
+    const fs::path dir = parent / "cache";
+    const scoped_env env("VIMPACT_CACHE_DIR", dir.string());
+    const mode_t old_umask = ::umask(0);
+    (void)compile_model_text(shifted_model("private", 4), "private.toml");
+    ::umask(old_umask);
+    const auto mode = [](const fs::path& p) {
+        struct stat st {};
+        EXPECT_EQ(::lstat(p.c_str(), &st), 0) << p;
+        return st.st_mode & 07777;
+    };
+    EXPECT_EQ(mode(parent), 0700U);
+    EXPECT_EQ(mode(dir), 0700U);
+    for (const char* ext : {".so", ".sha256", ".cpp"}) EXPECT_EQ(mode(the_entry(dir, "private", ext)), 0600U) << ext;
+}
+
+// A relative cache directory is one directory wherever it is used, and its name reaches the
+// compiler as no option: VIMPACT_CACHE_DIR=-odd gave the compiler "-odd/NAME.cpp", which it
+// took for an option.
+TEST(ModelCache, RelativeDirectoryThatLooksLikeAnOption)
+{
+    const fs::path cwd = cache_environment::dir / "odd-cwd";
+    fs::remove_all(cwd);
+    fs::create_directories(cwd);
+    const fs::path old = fs::current_path();
+    fs::current_path(cwd);
+    std::string error;
+    double forcing = 0.0;
+    try {
+        const scoped_env env("VIMPACT_CACHE_DIR", "-odd");
+        forcing = forcing_at_origin(model::from_toml(shifted_model("odd", 6), "odd.toml"));
+    } catch (const std::exception& e) {
+        error = e.what();
+    }
+    fs::current_path(old);
+    EXPECT_EQ(error, "");
+    EXPECT_EQ(forcing, 7.0);
+    EXPECT_EQ(entry_files(cwd / "-odd", "odd", ".so").size(), 1U);
+}
+
+// A compiler that writes something else than a shared library is named as such (this said
+// "file too short", dlopen's word for it).
+TEST(ModelCache, CompilerOutputThatIsNoLibraryIsNamed)
+{
+    const scoped_cache cache("garbage");
+    const fs::path script = cache.dir().parent_path() / "garbage-c++";
+    std::ofstream(script) << "#!/bin/sh\nwhile [ $# -gt 0 ]; do\n  if [ \"$1\" = -o ]; then shift; echo garbage > \"$1\"; fi\n"
+                             "  shift\ndone\nexit 0\n";
+    ::chmod(script.c_str(), 0755);
+    const scoped_env cxx("CXX", script.string());
+    EXPECT_EQ(error_of(shifted_model("garbage", 1), "garbage.toml"),
+              "model file garbage.toml: the C++ compiler " + script.string() +
+                  " did not produce a loadable shared library (it wrote a file that is not an ELF shared object; "
+                  "CXX selects the compiler)");
+    EXPECT_TRUE(no_temporaries(cache.dir()));
+    EXPECT_TRUE(entry_files(cache.dir(), "garbage", ".so").empty());
+}
+
+// ---- (j) stopping a compilation
+
+namespace {
+
+// Whether a process runs (a zombie has ended).
+bool process_runs(pid_t pid)
+{
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    if (!std::getline(stat, line)) return false;
+    const auto close_paren = line.rfind(')');
+    return close_paren != std::string::npos && close_paren + 2 < line.size() && line[close_paren + 2] != 'Z';
+}
+
+// A compiler that writes its pid to `pid_file` and sleeps (as a child, in its process group).
+fs::path sleeping_compiler(const fs::path& dir, const fs::path& pid_file)
+{
+    const fs::path script = dir / "sleeping-c++";
+    std::ofstream(script) << "#!/bin/sh\necho $$ > '" << pid_file.string() << ".tmp'\nmv '" << pid_file.string() << ".tmp' '"
+                          << pid_file.string() << "'\nsleep 60\n";
+    ::chmod(script.c_str(), 0755);
+    return script;
+}
+
+pid_t wait_for_pid(const fs::path& pid_file)
+{
+    for (int i = 0; i < 6000 && !fs::exists(pid_file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    pid_t pid = 0;
+    std::ifstream(pid_file) >> pid;
+    return pid;
+}
+
+}  // namespace
+
+// The cancel flag stops a compilation at once: the compiler is ended (its children too) and
+// reaped, the temporaries are removed, and `cancelled` is thrown.
+TEST(ModelCache, CancelStopsTheCompilerAtOnce)
+{
+    const scoped_cache cache("cancel");
+    const fs::path pid_file = cache.dir().parent_path() / "cancel.pid";
+    fs::remove(pid_file);
+    const scoped_env cxx("CXX", sleeping_compiler(cache.dir().parent_path(), pid_file).string());
+    std::atomic<bool> cancel{false};
+    std::string outcome;
+    std::thread work([&] {
+        try {
+            (void)compile_model_text(shifted_model("cancelled", 1), "cancelled.toml", &cancel);
+            outcome = "loaded";
+        } catch (const cancelled&) {
+            outcome = "cancelled";
+        } catch (const std::exception& e) {
+            outcome = e.what();
+        }
+    });
+    const pid_t compiler = wait_for_pid(pid_file);
+    ASSERT_GT(compiler, 0);
+    EXPECT_TRUE(process_runs(compiler));
+    const auto start = std::chrono::steady_clock::now();
+    cancel = true;
+    work.join();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(outcome, "cancelled");
+    EXPECT_LT(seconds, 2.0);
+    EXPECT_FALSE(process_runs(compiler));
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(cache.dir())) left.push_back(e.path().filename().string());
+    EXPECT_TRUE(left.empty()) << left.front();
+}
+
+// The compiler dies with its caller, even one killed by SIGKILL; the temporaries that caller
+// could not remove are removed by the next compilation.
+TEST(ModelCache, CompilerDiesWithItsCaller)
+{
+    const scoped_cache cache("orphan");
+    const fs::path pid_file = cache.dir().parent_path() / "orphan.pid";
+    fs::remove(pid_file);
+    const pid_t caller = ::fork();
+    ASSERT_GE(caller, 0);
+    if (caller == 0) {
+        ::setenv("CXX", sleeping_compiler(cache.dir().parent_path(), pid_file).c_str(), 1);
+        try {
+            (void)compile_model_text(shifted_model("orphan", 1), "orphan.toml");
+        } catch (...) {
+        }
+        ::_exit(0);
+    }
+    const pid_t compiler = wait_for_pid(pid_file);
+    ASSERT_GT(compiler, 0);
+    ::kill(caller, SIGKILL);
+    int status = 0;
+    ::waitpid(caller, &status, 0);
+    bool runs = true;
+    for (int i = 0; i < 200 && runs; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        runs = process_runs(compiler);
+    }
+    EXPECT_FALSE(runs);
+    EXPECT_FALSE(no_temporaries(cache.dir()));  // the killed caller's source
+    (void)compile_model_text(shifted_model("after_orphan", 1), "after.toml");
+    EXPECT_TRUE(no_temporaries(cache.dir()));
 }

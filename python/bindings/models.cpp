@@ -104,13 +104,17 @@ void bind_models(py::module_& m)
     cls.def_static(
         "from_file",
         [](const std::string& path) {
-            return run_released([&](const std::atomic<bool>&) { return model::from_file(path); });
+            // Ctrl-C stops a compilation at once (KeyboardInterrupt, nothing left in the cache).
+            return run_released(
+                [&](const std::atomic<bool>& cancel) { return model::with_defaults(load_model_code(path, &cancel)); });
         },
         py::arg("path"));
     cls.def_static(
         "from_toml",
         [](const std::string& text, const std::string& source) {
-            return run_released([&](const std::atomic<bool>&) { return model::from_toml(text, source); });
+            return run_released([&](const std::atomic<bool>& cancel) {
+                return model::with_defaults(compile_model_text(text, source, &cancel));
+            });
         },
         py::arg("text"), py::arg("source"));
     // The description as JSON text (Python's json.dumps keeps the dict's key order, which is
@@ -124,8 +128,8 @@ void bind_models(py::module_& m)
             } catch (const nlohmann::json::exception& e) {
                 throw input_error("model description " + source + ": " + e.what());
             }
-            return run_released([&](const std::atomic<bool>&) {
-                return model::with_defaults(compile_model_json(tree, source));
+            return run_released([&](const std::atomic<bool>& cancel) {
+                return model::with_defaults(compile_model_json(tree, source, &cancel));
             });
         },
         py::arg("text"), py::arg("source"));

@@ -4,6 +4,7 @@
 
 #include "dispatch.hpp"
 #include "vimpact/core/format.hpp"
+#include "vimpact/model/model_phrases.hpp"
 
 namespace vimpact {
 
@@ -35,8 +36,8 @@ void validate(const model& m, const lyapunov_options& o)
     if (!(o.quiet_time > 0.0)) throw input_error("quiet_time must be > 0");
     if (o.record_points < 0) throw input_error("record must be >= 0 section points");
     if ((o.record_points > 0 || m.section_count() > 0) && (o.section < 0 || o.section >= std::max(1, m.section_count())))
-        throw input_error("section " + std::to_string(o.section) + " does not exist (model " + m.name() + " has " +
-                          m.info().section_names() + ")");
+        throw input_error("section " + std::to_string(o.section) + " does not exist (" + sections_it_has(m.info()) +
+                          ")");
     if (o.record_points > 0 && m.section_count() == 0)
         throw input_error("model " + m.name() + " declares no section to record points on");
 }

@@ -6,6 +6,7 @@
 
 #include "dispatch.hpp"
 #include "vimpact/core/format.hpp"
+#include "vimpact/model/model_phrases.hpp"
 
 namespace vimpact {
 
@@ -54,11 +55,10 @@ void validate(const model& m, const section_choice& s)
         if (s.index < 0 || s.index >= m.section_count())
             throw input_error(m.section_count() == 0
                                   ? "model " + m.name() + " declares no section: use the impacts"
-                                  : "section " + std::to_string(s.index) + " does not exist (model " + m.name() +
-                                        " has " + m.info().section_names() + ")");
+                                  : "section " + std::to_string(s.index) + " does not exist (" +
+                                        sections_it_has(m.info()) + ")");
     } else if (s.index >= m.surface_count()) {
-        throw input_error("surface " + std::to_string(s.index) + " does not exist (model " + m.name() + " has " +
-                          m.info().surface_names() + ")");
+        throw input_error("surface " + std::to_string(s.index) + " does not exist (" + surfaces_it_has(m.info()) + ")");
     }
 }
 

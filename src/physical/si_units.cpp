@@ -9,6 +9,7 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/model/model_phrases.hpp"
 #include "vimpact/physical/checked_input.hpp"
 
 namespace vimpact {
@@ -39,7 +40,7 @@ int named_parameter(const model& m, const char* name, const char* why)
     const int i = m.info().parameter_index(name);
     if (i < 0)
         throw input_error(std::string(why) + " sets the wake model's parameter " + name + ", which model " + m.name() +
-                          " does not have (its parameters: " + m.info().parameter_names() + ")");
+                          " does not have (" + parameters_it_has(m.info()) + ")");
     return i;
 }
 

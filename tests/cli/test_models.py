@@ -235,3 +235,21 @@ def test_points_after_the_impacts_of_one_surface(vimpact):
     assert j["label"] == "P1"
     k = run_json(vimpact, "period", "--model", TWO, "--section", "impacts:left")
     assert k["label"] == "P1" and k["impacts_by_surface"] == {"right": 1, "left": 1}
+
+
+def test_a_nul_in_a_string_is_refused(vimpact, tmp_path):
+    # It ended the C string that holds it in the generated code: the meaning was cut short.
+    path = tmp_path / "nul.toml"
+    path.write_text(open(TWO_SIDED_TOML).read().replace('meaning = "displacement"', 'meaning = "dis\\u0000placement"'))
+    p = run(vimpact, "models", str(path))
+    assert p.returncode == 2
+    assert p.stderr == f"vimpact: error: model file {path}: state[0].meaning: the string contains a NUL character (\\u0000)\n"
+
+
+def test_a_model_without_parameters_says_so(vimpact, tmp_path):
+    path = tmp_path / "e.toml"
+    path.write_text('name = "e"\nstate = ["x", "v"]\n[parameters]\n[derivatives]\nx = "v"\nv = "-1"\n'
+                    '[[surfaces]]\nname = "floor"\ngap = "x"\nreset = { v = "-0.5*v" }\n')
+    p = run(vimpact, "simulate", "--model", str(path), "--set", "q=1")
+    assert p.returncode == 2
+    assert p.stderr == "vimpact: error: unknown parameter 'q' in --set (model e has no parameters)\n"

@@ -8,6 +8,11 @@
 // The cache directory is $VIMPACT_CACHE_DIR, else $XDG_CACHE_HOME/vimpact, else
 // ~/.cache/vimpact; the compiler is $CXX, else c++. Every problem with a file is an
 // input_error of one line that names the file, the key and the problem.
+//
+// `cancel`, when given, is polled while the model is differentiated and compiled: once it is
+// set the work stops (the compiler is ended, its temporary files removed) and `cancelled`
+// (vimpact/core/cancelled.hpp) is thrown.
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <string_view>
@@ -19,15 +24,18 @@
 namespace vimpact {
 
 // A .toml (or .json) model file, or a shared library (.so, or any ELF file).
-std::shared_ptr<const model_code> load_model_code(const std::filesystem::path& path);
+std::shared_ptr<const model_code> load_model_code(const std::filesystem::path& path,
+                                                  const std::atomic<bool>* cancel = nullptr);
 
 // The text of a model file; `source` names it in messages.
-std::shared_ptr<const model_code> compile_model_text(std::string_view text, std::string_view source);
+std::shared_ptr<const model_code> compile_model_text(std::string_view text, std::string_view source,
+                                                     const std::atomic<bool>* cancel = nullptr);
 
 // The same description as a JSON tree with the file's keys (what Python's dict constructor
 // sends); object keys in declaration order.
 std::shared_ptr<const model_code> compile_model_json(const nlohmann::ordered_json& description,
-                                                     std::string_view source);
+                                                     std::string_view source,
+                                                     const std::atomic<bool>* cancel = nullptr);
 
 // A shared library exporting vimpact_model().
 std::shared_ptr<const model_code> load_model_library(const std::filesystem::path& path);
