@@ -62,7 +62,7 @@ void add_si_option(CLI::App& app, common_args& a)
                    "also in SI (docs/engineering.md)");
 }
 
-axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+axis_values resolve_axis(const run_config& c, const std::string& name, const value_grid& given,
                          const std::string& what)
 {
     axis_values a;
@@ -70,7 +70,7 @@ axis_values resolve_axis(const run_config& c, const std::string& name, const std
         a.parameter = si_parameter(*c.si, c.model, name);
         a.si_name = name;
         a.si_values = given;
-        for (const double v : given) a.values.push_back(si_parameter_value(*c.si, c.model, name, v));
+        a.values = si_parameter_grid(*c.si, c.model, name, given);
         return a;
     }
     a.parameter = parameter_index(c.model, name, what);
@@ -80,8 +80,22 @@ axis_values resolve_axis(const run_config& c, const std::string& name, const std
 
 double axis_values::si_value(const run_config& c, double v) const
 {
-    const auto it = std::find(values.begin(), values.end(), v);
-    if (it != values.end()) return si_values.at(static_cast<std::size_t>(it - values.begin()));
+    // A range of U or gap maps to monotone parameter values: found by bisection, not by a
+    // scan of the axis for every row of a long sweep.
+    const std::size_t n = values.size();
+    if (n > 0) {
+        const bool rising = values[n - 1] >= values[0];
+        std::size_t lo = 0, hi = n - 1;
+        while (lo < hi) {
+            const std::size_t mid = lo + (hi - lo) / 2;
+            if (values[mid] != v && (values[mid] < v) == rising) lo = mid + 1;
+            else hi = mid;
+        }
+        if (values[lo] == v) return si_values[lo];
+        if (!values.is_range())
+            for (std::size_t i = 0; i < n; ++i)
+                if (values[i] == v) return si_values[i];
+    }
     return si_quantity_value(*c.si, c.model, si_name, v);
 }
 

@@ -90,16 +90,16 @@ run_config resolve(const common_args& args);
 // The SI values are kept for the tables' SI column (named si_name).
 struct axis_values {
     int parameter = -1;
-    std::vector<double> values;     // of the model parameter
-    std::vector<double> si_values;  // as given, when the axis is an SI quantity
-    std::string si_name;            // U or gap, else empty
+    value_grid values;     // of the model parameter (the SI values mapped, value by value)
+    value_grid si_values;  // as given, when the axis is an SI quantity
+    std::string si_name;   // U or gap, else empty
 
     [[nodiscard]] bool si() const { return !si_name.empty(); }
     // The SI value where the parameter is v: the one given for one of `values`, else converted
     // back (a continuation's points lie between them).
     [[nodiscard]] double si_value(const run_config& c, double v) const;
 };
-axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+axis_values resolve_axis(const run_config& c, const std::string& name, const value_grid& given,
                          const std::string& what);
 
 // Throws input_error unless the initial state is admissible (on the allowed side of every

@@ -54,7 +54,7 @@ std::pair<double, double> parse_interval(const std::string& text, const std::str
     return {a, b};
 }
 
-std::vector<double> as_vector(std::pair<double, double> interval) { return {interval.first, interval.second}; }
+value_grid as_grid(std::pair<double, double> interval) { return std::vector<double>{interval.first, interval.second}; }
 
 // With --si and the parameter an SI quantity: " (U = 4 m/s)" for its value v, else empty.
 std::string si_text(const run_config& c, const axis_values& axis, double v)
@@ -121,7 +121,7 @@ int run_continue(const continue_args& a)
     if (a.param.empty() || a.range.empty()) throw input_error("continue needs --param P and --range a:b");
     continuation_options o;
     // With --si the parameter may be U [m/s] or gap [m], the range in SI.
-    const axis_values axis = resolve_axis(c, a.param, as_vector(parse_interval(a.range, "--range")), "--param");
+    const axis_values axis = resolve_axis(c, a.param, as_grid(parse_interval(a.range, "--range")), "--param");
     o.parameter = axis.parameter;
     o.start = axis.values.front();
     o.end = axis.values.back();
@@ -167,7 +167,7 @@ int run_continue(const continue_args& a)
     axis_values axis2;
     if (two) {
         if (a.param2.empty() || a.range2.empty()) throw input_error("--param2 needs --range2 c:d, and --range2 needs --param2");
-        axis2 = resolve_axis(c, a.param2, as_vector(parse_interval(a.range2, "--range2")), "--param2");
+        axis2 = resolve_axis(c, a.param2, as_grid(parse_interval(a.range2, "--range2")), "--param2");
         co.parameter2 = axis2.parameter;
         co.lo2 = axis2.values.front();
         co.hi2 = axis2.values.back();
@@ -289,7 +289,7 @@ int run_continue(const continue_args& a)
         if (a.diagram > 0) {
             sweep_options so;
             so.parameter = o.parameter;
-            so.values = grid_values(std::min(o.start, o.end), std::max(o.start, o.end), a.diagram);
+            so.values = value_grid::range(std::min(o.start, o.end), std::max(o.start, o.end), a.diagram);
             so.initial_state = c.ic;
             so.protocol = c.protocol;
             so.period_tolerance = a.tol;

@@ -33,7 +33,7 @@ int run_units(const units_args& a)
 {
     const si_input in = parse_si(a.si);
     const cylinder_in_flow& c = *in.cylinder;
-    const std::vector<double> speeds = parse_range(a.speeds, "--speeds");
+    const value_grid speeds = parse_range(a.speeds, "--speeds");
     json rows = json::array();
     std::string text;
     // What the alternatives gave (flow_units.hpp): the mass per metre, the still-fluid frequency.

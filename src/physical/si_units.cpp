@@ -203,6 +203,17 @@ double si_parameter_value(const si_input& in, const model& m, std::string_view q
     throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
 }
 
+value_grid si_parameter_grid(const si_input& in, const model& m, std::string_view quantity, const value_grid& given)
+{
+    if (si_parameter(in, m, quantity) < 0)
+        throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
+    // The map is part of what the run is: the quantity and the inputs it is converted with.
+    std::string what = std::string(quantity) + " in SI with";
+    for (const auto& [key, v] : si_inputs(in)) what += std::string(" ") + key + "=" + format_double(v);
+    return given.mapped([in, m, q = std::string(quantity)](double v) { return si_parameter_value(in, m, q, v); },
+                        std::move(what));
+}
+
 double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value)
 {
     const int p = si_parameter(in, m, quantity);

@@ -27,6 +27,7 @@
 
 #include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/impact_statistics.hpp"
+#include "vimpact/core/value_grid.hpp"
 #include "vimpact/model/model.hpp"
 #include "vimpact/physical/flow_units.hpp"
 #include "vimpact/physical/state_dimensions.hpp"
@@ -75,6 +76,9 @@ std::vector<named_value> si_inputs(const si_input& in);
 int si_parameter(const si_input& in, const model& m, std::string_view quantity);
 // The value of that parameter for the SI value (U in m/s, gap in m), at m's other parameters.
 double si_parameter_value(const si_input& in, const model& m, std::string_view quantity, double value);
+// A grid of SI values of the quantity as the grid of that parameter's values, mapped value by
+// value with si_parameter_value (a range stays a range: value_grid).
+value_grid si_parameter_grid(const si_input& in, const model& m, std::string_view quantity, const value_grid& given);
 // Back: the SI value of the quantity (U [m/s], gap [m]) where that parameter is `value`.
 double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value);
 
