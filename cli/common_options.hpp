@@ -108,6 +108,8 @@ void check_admissible(const run_config& c);
 
 // A TOML config file; throws input_error naming the file and the line of a syntax error.
 toml::table read_config(const std::string& file);
+// A config file's value as messages show it: true, 3, 'abc' (control characters as ?), a list.
+std::string toml_shown(const toml::node& node);
 
 // Indices by name, with messages listing the valid names. `what` is the option.
 int parameter_index(const model& m, const std::string& name, const std::string& what);
@@ -116,6 +118,9 @@ int state_index(const model& m, const std::string& name, const std::string& what
 // A model by built-in name or file (.toml, .json, shared library); a relative file name is
 // taken relative to `base`.
 vimpact::model load_model(const std::string& spec, const std::filesystem::path& base = {});
+// The model a config file's key `model` names, a relative file taken relative to the config
+// file; a shared library is refused (it is loaded only when given on the command line).
+vimpact::model load_config_model(const std::string& spec, const std::string& file);
 
 // "y, ydot, x, xdot" -> the JSON object {name: value} of a vector over the model's parameters.
 nlohmann::json parameters_json(const vimpact::model& m);
