@@ -64,6 +64,16 @@ void add_si_option(CLI::App& app, common_args& a)
                    "also in SI (docs/engineering.md)");
 }
 
+si_input parse_si(const std::string& text)
+{
+    const auto pairs = parse_pairs(text, "--si");
+    try {
+        return si_from_pairs(pairs);
+    } catch (const input_error& e) {
+        throw input_error(std::string("--si: ") + e.what());
+    }
+}
+
 axis_values resolve_axis(const run_config& c, const std::string& name, const value_grid& given,
                          const std::string& what)
 {
@@ -402,7 +412,7 @@ run_config resolve(const common_args& a)
     }
     m = m.with_parameters(values);  // checks every value against its range
     if (!a.si.empty()) {
-        c.si = si_from_pairs(parse_pairs(a.si, "--si"));
+        c.si = parse_si(a.si);
         for (const auto& [i, v] : si_parameters(m, *c.si))
             if (const auto it = set_by.find(i); it != set_by.end())
                 throw input_error("--set " + it->second + " and --si both set " +

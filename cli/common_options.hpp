@@ -85,6 +85,10 @@ std::vector<std::string> warn_validity(const run_config& c, const std::vector<vi
 // everything else. Throws input_error for anything invalid.
 run_config resolve(const common_args& args);
 
+// --si KEY=VALUE,...: the SI inputs (physical/si_units.hpp); a mistake is "--si: ..." and the
+// library's words.
+si_input parse_si(const std::string& text);
+
 // A parameter axis (--param with --range, --x, --y): a model parameter by name or, with --si,
 // an SI quantity (U [m/s], gap [m]) as the model parameter it sets (physical/si_units.hpp).
 // The SI values are kept for the tables' SI column (named si_name).

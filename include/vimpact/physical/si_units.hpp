@@ -64,7 +64,9 @@ struct si_input {
 std::string si_keys();
 
 // From KEY=VALUE pairs in the order given. Throws input_error naming the key: an unknown or
-// repeated key, a missing one, a value out of range (a gap below zero, a zero diameter...).
+// repeated key, a missing one, a value out of range (a gap below zero, a zero diameter...),
+// or values that together give a quantity no double holds (derived_value). The messages
+// name no front end (`--si`, PhysicalUnits): each caller adds its own.
 si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs);
 
 // The inputs by key, defaults filled in (CM, St, nu; mass) and m and fn computed where mstar
