@@ -68,7 +68,17 @@ void add_si_option(CLI::App& app, common_args& a)
                    "also in SI (docs/engineering.md)");
 }
 
-axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+si_input parse_si(const std::string& text)
+{
+    const auto pairs = parse_pairs(text, "--si");
+    try {
+        return si_from_pairs(pairs);
+    } catch (const input_error& e) {
+        throw input_error(std::string("--si: ") + e.what());
+    }
+}
+
+axis_values resolve_axis(const run_config& c, const std::string& name, const value_grid& given,
                          const std::string& what)
 {
     axis_values a;
@@ -76,7 +86,7 @@ axis_values resolve_axis(const run_config& c, const std::string& name, const std
         a.parameter = si_parameter(*c.si, c.model, name);
         a.si_name = name;
         a.si_values = given;
-        for (const double v : given) a.values.push_back(si_parameter_value(*c.si, c.model, name, v));
+        a.values = si_parameter_grid(*c.si, c.model, name, given);
         return a;
     }
     a.parameter = parameter_index(c.model, name, what);
@@ -86,8 +96,22 @@ axis_values resolve_axis(const run_config& c, const std::string& name, const std
 
 double axis_values::si_value(const run_config& c, double v) const
 {
-    const auto it = std::find(values.begin(), values.end(), v);
-    if (it != values.end()) return si_values.at(static_cast<std::size_t>(it - values.begin()));
+    // A range of U or gap maps to monotone parameter values: found by bisection, not by a
+    // scan of the axis for every row of a long sweep.
+    const std::size_t n = values.size();
+    if (n > 0) {
+        const bool rising = values[n - 1] >= values[0];
+        std::size_t lo = 0, hi = n - 1;
+        while (lo < hi) {
+            const std::size_t mid = lo + (hi - lo) / 2;
+            if (values[mid] != v && (values[mid] < v) == rising) lo = mid + 1;
+            else hi = mid;
+        }
+        if (values[lo] == v) return si_values[lo];
+        if (!values.is_range())
+            for (std::size_t i = 0; i < n; ++i)
+                if (values[i] == v) return si_values[i];
+    }
     return si_quantity_value(*c.si, c.model, si_name, v);
 }
 
@@ -128,22 +152,45 @@ section_choice parse_section(const model& m, const std::string& s)
 
 std::string config_where(const std::string& file) { return "config " + file; }
 
+}  // namespace
+
+std::string toml_shown(const toml::node& node)
+{
+    if (const auto v = node.value_exact<bool>()) return *v ? "true" : "false";
+    if (const auto v = node.value_exact<int64_t>()) return std::to_string(*v);
+    if (const auto v = node.value_exact<double>()) return format_double(*v);
+    if (const auto v = node.value_exact<std::string>()) {
+        std::string shown;
+        for (const char ch : *v) shown += static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f ? '?' : ch;
+        return "'" + shown + "'";
+    }
+    if (node.is_array()) return "a list";
+    if (node.is_table()) return "a table";
+    return "a date or time";
+}
+
+namespace {
+
 double toml_number(const toml::node& node, const std::string& key, const std::string& file)
 {
-    if (auto v = node.value<double>()) return *v;
-    throw input_error(config_where(file) + ": key '" + key + "' must be a number");
+    // Exact types: toml++ would read true as 1.
+    if (auto v = node.value_exact<double>()) return *v;
+    if (auto v = node.value_exact<int64_t>()) return static_cast<double>(*v);
+    throw input_error(config_where(file) + ": key '" + key + "' must be a number (got " + toml_shown(node) + ")");
 }
 
 long toml_integer(const toml::node& node, const std::string& key, const std::string& file)
 {
-    if (auto v = node.value<int64_t>()) return static_cast<long>(*v);
-    throw input_error(config_where(file) + ": key '" + key + "' must be an integer");
+    if (auto v = node.value_exact<int64_t>()) return static_cast<long>(*v);
+    if (auto v = node.value_exact<double>(); v && *v == std::floor(*v) && std::abs(*v) < 1e15)
+        return static_cast<long>(*v);
+    throw input_error(config_where(file) + ": key '" + key + "' must be an integer (got " + toml_shown(node) + ")");
 }
 
 std::string toml_string(const toml::node& node, const std::string& key, const std::string& file)
 {
-    if (auto v = node.value<std::string>()) return *v;
-    throw input_error(config_where(file) + ": key '" + key + "' must be a string");
+    if (auto v = node.value_exact<std::string>()) return *v;
+    throw input_error(config_where(file) + ": key '" + key + "' must be a string (got " + toml_shown(node) + ")");
 }
 
 // The keys a config file may have besides the model's parameters.
@@ -184,6 +231,22 @@ model load_model(const std::string& spec, const fs::path& base)
     return model::with_defaults(load_model_code(path, &interrupt_flag()));
 }
 
+model load_config_model(const std::string& spec, const std::string& file)
+{
+    const fs::path base = fs::path(file).parent_path();
+    fs::path path(spec);
+    if (path.is_relative() && !base.empty()) path = base / path;
+    std::error_code ec;
+    // A config file may come from anywhere (a results directory, a download): naming a
+    // library there would run its code unasked.
+    if (!spec.empty() && !is_builtin(spec) && fs::exists(path, ec) && !fs::is_directory(path, ec) &&
+        model_file_kind_of(path) == model_file_kind::shared_library)
+        throw input_error(config_where(file) + ": key 'model' names a shared library (" + path.string() +
+                          "): a shared library is loaded only when given on the command line (--model " +
+                          path.string() + "), never from a config file");
+    return load_model(spec, base);
+}
+
 int parameter_index(const model& m, const std::string& name, const std::string& what)
 {
     const int i = m.info().parameter_index(name);
@@ -214,17 +277,21 @@ run_config resolve(const common_args& a)
     if (!a.out.empty()) check_output_target(a.out);
 
     std::optional<toml::table> cfg;
-    fs::path cfg_dir;
-    if (!a.config.empty()) {
-        cfg = read_config(a.config);
-        cfg_dir = fs::path(a.config).parent_path();
-    }
+    if (!a.config.empty()) cfg = read_config(a.config);
     const toml::node* cfg_model = cfg ? cfg->get("model") : nullptr;
-    model m = a.model_option->count() > 0 || !cfg_model
-                  ? load_model(a.model)
-                  : load_model(toml_string(*cfg_model, "model", a.config), cfg_dir);
+    model m = a.model_option->count() > 0 || !cfg_model ? load_model(a.model)
+                                                         : load_config_model(toml_string(*cfg_model, "model", a.config),
+                                                                             a.config);
     const model_info& info = m.info();
-    if (cfg && cfg->contains("model_identity") && a.model_option->count() == 0) {
+    // The config's model, or the same file named on the command line (a shared library, which
+    // a config cannot load): it must be the model the run had.
+    const auto same_file = [&] {
+        if (!cfg_model || !cfg_model->is_string() || info.source == "built-in") return false;
+        std::error_code ec;
+        const fs::path named = fs::path(a.config).parent_path() / cfg_model->as_string()->get();
+        return fs::equivalent(named, info.source, ec);
+    };
+    if (cfg && cfg->contains("model_identity") && (a.model_option->count() == 0 || same_file())) {
         const std::string expected = toml_string(*cfg->get("model_identity"), "model_identity", a.config);
         if (expected != info.identity)
             throw input_error(config_where(a.config) + ": the model " + info.source + " is not the one of the run (" +
@@ -258,11 +325,27 @@ run_config resolve(const common_args& a)
 
     if (cfg) {
         const std::string& file = a.config;
+        // A value out of its range names the file: the library's check, on that value alone.
+        const auto in_file = [&](const auto& check) {
+            try {
+                check();
+            } catch (const input_error& e) {
+                throw input_error(config_where(file) + ": " + e.what());
+            }
+        };
         const auto set_parameter = [&](const std::string& key, const toml::node& node) {
             const int i = info.parameter_index(key);
             if (i < 0) return false;
-            values[static_cast<std::size_t>(i)] = toml_number(node, key, file);
+            const double v = toml_number(node, key, file);
+            in_file([&] { model::check_parameter(info.parameters[static_cast<std::size_t>(i)], v); });
+            values[static_cast<std::size_t>(i)] = v;
             return true;
+        };
+        const auto set_protocol = [&](const auto& set) {
+            protocol_options probe;
+            set(probe);
+            in_file([&] { validate(probe); });
+            set(c.protocol);
         };
         for (const auto& [k, node] : *cfg) {
             const std::string key(k.str());
@@ -283,17 +366,23 @@ run_config resolve(const common_args& a)
                 for (std::size_t i = 0; i < arr->size(); ++i)
                     c.ic[static_cast<Eigen::Index>(i)] = toml_number(*arr->get(i), "ic", file);
             } else if (key == "rtol") {
-                c.protocol.flow.integration.rtol = toml_number(node, key, file);
+                const double v = toml_number(node, key, file);
+                set_protocol([v](protocol_options& p) { p.flow.integration.rtol = v; });
             } else if (key == "atol") {
-                c.protocol.flow.integration.atol = toml_number(node, key, file);
+                const double v = toml_number(node, key, file);
+                set_protocol([v](protocol_options& p) { p.flow.integration.atol = v; });
             } else if (key == "hold_band") {
-                c.protocol.flow.integration.hold_band = toml_number(node, key, file);
+                const double v = toml_number(node, key, file);
+                set_protocol([v](protocol_options& p) { p.flow.integration.hold_band = v; });
             } else if (key == "max_step") {
-                c.protocol.flow.integration.h_max = toml_number(node, key, file);
+                const double v = toml_number(node, key, file);
+                set_protocol([v](protocol_options& p) { p.flow.integration.h_max = v; });
             } else if (key == "transient") {
-                c.protocol.transient_impacts = toml_integer(node, key, file);
+                const long v = toml_integer(node, key, file);
+                set_protocol([v](protocol_options& p) { p.transient_impacts = v; });
             } else if (key == "record") {
-                c.protocol.record_points = toml_integer(node, key, file);
+                const long v = toml_integer(node, key, file);
+                set_protocol([v](protocol_options& p) { p.record_points = v; });
             } else if (key == "method") {
                 method = toml_string(node, key, file);
             } else if (key == "section") {
@@ -329,7 +418,7 @@ run_config resolve(const common_args& a)
     }
     m = m.with_parameters(values);  // checks every value against its range
     if (!a.si.empty()) {
-        c.si = si_from_pairs(parse_pairs(a.si, "--si"));
+        c.si = parse_si(a.si);
         for (const auto& [i, v] : si_parameters(m, *c.si))
             if (const auto it = set_by.find(i); it != set_by.end())
                 throw input_error("--set " + it->second + " and --si both set " +

@@ -87,21 +87,25 @@ std::vector<std::string> warn_validity(const run_config& c, const std::vector<vi
 // everything else. Throws input_error for anything invalid.
 run_config resolve(const common_args& args);
 
+// --si KEY=VALUE,...: the SI inputs (physical/si_units.hpp); a mistake is "--si: ..." and the
+// library's words.
+si_input parse_si(const std::string& text);
+
 // A parameter axis (--param with --range, --x, --y): a model parameter by name or, with --si,
 // an SI quantity (U [m/s], gap [m]) as the model parameter it sets (physical/si_units.hpp).
 // The SI values are kept for the tables' SI column (named si_name).
 struct axis_values {
     int parameter = -1;
-    std::vector<double> values;     // of the model parameter
-    std::vector<double> si_values;  // as given, when the axis is an SI quantity
-    std::string si_name;            // U or gap, else empty
+    value_grid values;     // of the model parameter (the SI values mapped, value by value)
+    value_grid si_values;  // as given, when the axis is an SI quantity
+    std::string si_name;   // U or gap, else empty
 
     [[nodiscard]] bool si() const { return !si_name.empty(); }
     // The SI value where the parameter is v: the one given for one of `values`, else converted
     // back (a continuation's points lie between them).
     [[nodiscard]] double si_value(const run_config& c, double v) const;
 };
-axis_values resolve_axis(const run_config& c, const std::string& name, const std::vector<double>& given,
+axis_values resolve_axis(const run_config& c, const std::string& name, const value_grid& given,
                          const std::string& what);
 
 // Throws input_error unless the initial state is admissible (on the allowed side of every
@@ -110,6 +114,8 @@ void check_admissible(const run_config& c);
 
 // A TOML config file; throws input_error naming the file and the line of a syntax error.
 toml::table read_config(const std::string& file);
+// A config file's value as messages show it: true, 3, 'abc' (control characters as ?), a list.
+std::string toml_shown(const toml::node& node);
 
 // Indices by name, with messages listing the valid names. `what` is the option.
 int parameter_index(const model& m, const std::string& name, const std::string& what);
@@ -118,6 +124,9 @@ int state_index(const model& m, const std::string& name, const std::string& what
 // A model by built-in name or file (.toml, .json, shared library); a relative file name is
 // taken relative to `base`.
 vimpact::model load_model(const std::string& spec, const std::filesystem::path& base = {});
+// The model a config file's key `model` names, a relative file taken relative to the config
+// file; a shared library is refused (it is loaded only when given on the command line).
+vimpact::model load_config_model(const std::string& spec, const std::string& file);
 
 // "y, ydot, x, xdot" -> the JSON object {name: value} of a vector over the model's parameters.
 nlohmann::json parameters_json(const vimpact::model& m);

@@ -43,6 +43,7 @@ struct continue_args {
     long diagram = 0;
     std::string map;
     int threads = 0;
+    CLI::Option* curves_option = nullptr;
 };
 
 // "a:b": the range of a continued parameter.
@@ -55,7 +56,7 @@ std::pair<double, double> parse_interval(const std::string& text, const std::str
     return {a, b};
 }
 
-std::vector<double> as_vector(std::pair<double, double> interval) { return {interval.first, interval.second}; }
+value_grid as_grid(std::pair<double, double> interval) { return std::vector<double>{interval.first, interval.second}; }
 
 // With --si and the parameter an SI quantity: " (U = 4 m/s)" for its value v, else empty.
 std::string si_text(const run_config& c, const axis_values& axis, double v)
@@ -122,7 +123,7 @@ int run_continue(const continue_args& a)
     if (a.param.empty() || a.range.empty()) throw input_error("continue needs --param P and --range a:b");
     continuation_options o;
     // With --si the parameter may be U [m/s] or gap [m], the range in SI.
-    const axis_values axis = resolve_axis(c, a.param, as_vector(parse_interval(a.range, "--range")), "--param");
+    const axis_values axis = resolve_axis(c, a.param, as_grid(parse_interval(a.range, "--range")), "--param");
     o.parameter = axis.parameter;
     o.start = axis.values.front();
     o.end = axis.values.back();
@@ -169,19 +170,34 @@ int run_continue(const continue_args& a)
     axis_values axis2;
     if (two) {
         if (a.param2.empty() || a.range2.empty()) throw input_error("--param2 needs --range2 c:d, and --range2 needs --param2");
-        axis2 = resolve_axis(c, a.param2, as_vector(parse_interval(a.range2, "--range2")), "--param2");
+        axis2 = resolve_axis(c, a.param2, as_grid(parse_interval(a.range2, "--range2")), "--param2");
         co.parameter2 = axis2.parameter;
         co.lo2 = axis2.values.front();
         co.hi2 = axis2.values.back();
         if (co.lo2 > co.hi2) std::swap(co.lo2, co.hi2);
         co.types = parse_types(a.curve_types);
         co.arclength = o.arclength;
+        // The curves start at the model's value of the second parameter: with --si, that and
+        // the range are metres or m/s to the user, and the refusal says so in them.
+        if (axis2.si() && !second_parameter_in_range(m, co)) {
+            const double q = m.parameters()[static_cast<std::size_t>(co.parameter2)];
+            const std::string unit = axis2.si_name == "U" ? "m/s" : "m";
+            throw input_error("--range2 " + a.range2 + " (" + axis2.si_name + ", " + unit + ") does not hold the run's " +
+                              axis2.si_name + " = " + format_double(axis2.si_value(c, q)) + " " + unit +
+                              " (set by --si or the model's default), where the curves start: give a range around it");
+        }
         validate(m, o, co);
     } else {
+        if (a.curves_option->count() > 0)
+            throw input_error("--curves chooses the curves of --param2: give --param2 Q and --range2 c:d with it");
         validate(m, o);
     }
     if (a.diagram < 0 || a.diagram > 100000) throw input_error("--diagram must be in [0, 100000] (got " + std::to_string(a.diagram) + ")");
+    if (a.diagram > 0 && !c.out)
+        throw input_error("--diagram N draws the brute-force diagram in the picture of --out DIR: give --out");
     if (!a.map.empty() && !two) throw input_error("--map NX,NY draws the brute-force map under the curves of --param2");
+    if (!a.map.empty() && !c.out)
+        throw input_error("--map NX,NY draws the brute-force map in the picture of --out DIR: give --out");
     long map_nx = 0, map_ny = 0;
     if (!a.map.empty()) {
         const auto n = split(a.map, ',');
@@ -291,7 +307,7 @@ int run_continue(const continue_args& a)
         if (a.diagram > 0) {
             sweep_options so;
             so.parameter = o.parameter;
-            so.values = grid_values(std::min(o.start, o.end), std::max(o.start, o.end), a.diagram);
+            so.values = value_grid::range(std::min(o.start, o.end), std::max(o.start, o.end), a.diagram);
             so.initial_state = c.ic;
             so.protocol = c.protocol;
             so.period_tolerance = a.tol;
@@ -471,8 +487,9 @@ cli_command add_continue_command(CLI::App& app)
                   "Switch onto the doubled branch at period doublings, this many times in a row (default 0, at most 8)");
     s->add_option("--param2", a->param2, "Two-parameter mode: follow each located bifurcation in this parameter too");
     s->add_option("--range2", a->range2, "c:d: the range of --param2 (the model's value of it must lie inside)");
-    s->add_option("--curves", a->curve_types,
-                  "With --param2: the bifurcation types followed, comma-separated (default fold,period_doubling,grazing)");
+    a->curves_option = s->add_option(
+        "--curves", a->curve_types,
+        "With --param2: the bifurcation types followed, comma-separated (default fold,period_doubling,grazing)");
     // ds, as AUTO names the arclength step; --max-step is the integrator's, as in every command.
     s->add_option("--ds", a->step, "First arclength step (default: range / 100)");
     s->add_option("--ds-min", a->min_step, "Smallest arclength step (default: range * 1e-9)");

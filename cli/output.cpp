@@ -1,12 +1,16 @@
 #include "output.hpp"
 #include "interrupts.hpp"
+#include "parse.hpp"
 #include "replay.hpp"
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 
@@ -324,32 +328,83 @@ void write_impacts(const std::filesystem::path& p, const impact_series& s, const
     w.close();
 }
 
-bool make_plot(const std::string& kind, const std::filesystem::path& dir, const std::string& format)
+namespace {
+
+// The plotting program: the package from the directory given (argv[1]), never from the
+// working directory or the environment, which -I leaves out of sys.path.
+constexpr const char* plot_program =
+    "import sys\n"
+    "d = sys.argv.pop(1)\n"
+    "if d: sys.path.insert(0, d)\n"
+    "from vimpact.plot import main\n"
+    "sys.exit(main(sys.argv))\n";
+
+// What a failed picture's output says, in one line: the last non-empty line (a Python
+// traceback ends with the exception and its message), without control characters.
+std::string last_line(const std::string& text)
+{
+    std::string line;
+    for (const auto& l : split(text, '\n'))
+        if (l.find_first_not_of(" \t\r") != std::string::npos) line = l;
+    std::string clean;
+    for (const char ch : line)
+        if (static_cast<unsigned char>(ch) >= 0x20 && ch != 0x7f) clean += ch;
+    const auto first = clean.find_first_not_of(' ');
+    return first == std::string::npos ? std::string() : clean.substr(first);
+}
+
+}  // namespace
+
+std::optional<std::string> make_plot(const std::string& kind, const std::filesystem::path& dir, const std::string& format)
 {
     const std::string pydir(python_dir());
     const std::string interp(python_interpreter());
+    std::error_code ec;
+    const std::string d = std::filesystem::absolute(dir, ec).string();
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return "cannot make a pipe: " + std::string(std::strerror(errno));
     const pid_t pid = ::fork();
-    if (pid < 0) return false;
+    if (pid < 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return "cannot start a process: " + std::string(std::strerror(errno));
+    }
     if (pid == 0) {
-        if (!pydir.empty()) {
-            const char* old = std::getenv("PYTHONPATH");
-            std::string path = pydir;
-            if (old && *old) {
-                path += ":";
-                path += old;
-            }
-            ::setenv("PYTHONPATH", path.c_str(), 1);
-        }
         ::setenv("MPLBACKEND", "Agg", 1);
-        ::dup2(2, 1);  // keep stdout clean for --json
-        const std::string d = dir.string();
-        const char* argv[] = {interp.c_str(), "-m", "vimpact.plot", kind.c_str(), d.c_str(), format.c_str(), nullptr};
+        // The results' own directory: nothing of the caller's (a matplotlibrc there) is read.
+        if (::chdir(d.c_str()) != 0) std::_Exit(126);
+        ::dup2(fds[1], 1);  // stdout stays clean for --json
+        ::dup2(fds[1], 2);
+        const char* argv[] = {interp.c_str(), "-I", "-c", plot_program, pydir.c_str(), kind.c_str(), d.c_str(),
+                              format.c_str(), nullptr};
         ::execv(interp.c_str(), const_cast<char* const*>(argv));
         std::_Exit(127);
     }
+    ::close(fds[1]);
+    // Only the end is kept: that is where Python says what failed.
+    constexpr std::size_t keep = 64 * 1024;
+    std::string output;
+    char buf[4096];
+    for (;;) {
+        const ssize_t n = ::read(fds[0], buf, sizeof buf);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        output.append(buf, static_cast<std::size_t>(n));
+        if (output.size() > 2 * keep) output.erase(0, output.size() - keep);
+    }
+    ::close(fds[0]);
     int status = 0;
-    ::waitpid(pid, &status, 0);
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        std::cerr << output;  // its warnings, as they were
+        return std::nullopt;
+    }
+    const std::string program = interp + " -m vimpact.plot " + kind;
+    if (WIFSIGNALED(status)) return program + " was killed by signal " + std::to_string(WTERMSIG(status));
+    if (WEXITSTATUS(status) == 127) return "cannot run " + interp;
+    const std::string why = last_line(output);
+    return program + " failed" + (why.empty() ? std::string() : ": " + why);
 }
 
 std::string unsettled_text(long unsettled)
@@ -375,13 +430,13 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
     const auto record_path = out.file("run.json");
     write_json(record_path, record);  // the plot reads it
     if (c.plot && !kind.empty()) {
-        if (make_plot(kind, out.staging_dir(), c.plot_format)) {
+        if (const auto failure = make_plot(kind, out.staging_dir(), c.plot_format); !failure) {
             record["files"].push_back("plot." + c.plot_format);
             write_json(record_path, record);
         } else {
             throw_if_interrupted();  // the picture was cut short by Ctrl-C, not failed
-            std::cerr << "vimpact: warning: the picture could not be made (python3 -m vimpact.plot " << kind
-                      << " failed; the results are written)\n";
+            std::cerr << "vimpact: warning: the picture could not be made (" << *failure << "); the results are written to "
+                      << (c.out ? c.out->string() : out.staging_dir().string()) << " (--no-plot: no picture)\n";
         }
     }
     throw_if_interrupted();  // results of interrupted runs are not committed (exit 130)

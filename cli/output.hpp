@@ -99,9 +99,13 @@ void write_states(const std::filesystem::path& p, const state_series& s, const m
 void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m,
                    const si_tables* si = nullptr);
 
-// Runs `python3 -m vimpact.plot KIND DIR FORMAT` (png, pdf, svg). A failure is reported, not fatal: the numbers are
-// the result, the picture is a view of them.
-bool make_plot(const std::string& kind, const std::filesystem::path& dir, const std::string& format);
+// Draws DIR's picture with vimpact.plot (KIND DIR FORMAT: png, pdf, svg) in an isolated
+// interpreter (-I: no module of the working directory, no PYTHON* variables; the package from
+// the build's python directory) started in DIR. Returns what failed, in one line, or nothing
+// when the picture was made. A failure is reported, not fatal: the numbers are the result,
+// the picture is a view of them.
+std::optional<std::string> make_plot(const std::string& kind, const std::filesystem::path& dir,
+                                     const std::string& format);
 
 // Writes run.json and config.toml (record["files"] gets them, and the picture when made),
 // makes the picture of `kind` (none for an empty kind) unless --no-plot, and commits the

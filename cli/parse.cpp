@@ -50,7 +50,7 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& wh
     return out;
 }
 
-std::vector<double> parse_range(const std::string& text, const std::string& what)
+value_grid parse_range(const std::string& text, const std::string& what)
 {
     const auto parts = split(text, ':');
     if (parts.size() != 3) throw input_error(what + " '" + text + "' must be a:b:n (from a to b, n points)");
@@ -59,7 +59,7 @@ std::vector<double> parse_range(const std::string& text, const std::string& what
     const double n = parse_number(parts[2], what + " points");
     if (n < 1 || n != std::floor(n) || n > 1e7)
         throw input_error(what + " '" + text + "': n must be an integer in [1, 1e7]");
-    return grid_values(a, b, static_cast<long>(n));
+    return value_grid::range(a, b, static_cast<long>(n));
 }
 
 named_range parse_named_range(const std::string& text, const std::string& what)

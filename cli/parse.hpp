@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "vimpact/core/value_grid.hpp"
 #include "vimpact/jobs/job_loop.hpp"
 
 namespace vimpact::cli {
@@ -14,13 +15,13 @@ long parse_count(const std::string& text, const std::string& what);  // an integ
 std::vector<std::string> split(const std::string& text, char sep);
 std::vector<double> parse_numbers(const std::string& text, const std::string& what);  // "1,2,3"
 
-// "a:b:n": n values from a to b inclusive (grid_values).
-std::vector<double> parse_range(const std::string& text, const std::string& what);
+// "a:b:n": n values from a to b inclusive, as a range (never enumerated).
+value_grid parse_range(const std::string& text, const std::string& what);
 
 // "NAME:a:b:n": a name and its values.
 struct named_range {
     std::string name;
-    std::vector<double> values;
+    value_grid values;
 };
 named_range parse_named_range(const std::string& text, const std::string& what);
 

@@ -10,9 +10,11 @@
 #include <toml++/toml.h>
 
 #include "common_options.hpp"
+#include "parse.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/io/build_info.hpp"
+#include "vimpact/model/model_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -35,6 +37,24 @@ bool is_unrecorded(const std::string& name)
                                              "--atol",  "--hold-band", "--max-step", "--transient", "--record", "--method", "--section",
                                              "--out",   "--json",   "--threads", "--shard",  "--resume", "--help"};
     return names.count(name) > 0;
+}
+
+// Why an option cannot be set in the command's table of a config file, or empty when it can.
+// --threads can: how many threads this machine gives a run (its results do not depend on it).
+std::string table_refusal(const std::string& name)
+{
+    if (name == "--threads") return {};
+    if (name == "--set") return "parameters are set at the top level of the file or in [parameters]";
+    if (name == "--config") return "a config file cannot name another";
+    if (name == "--out" || name == "--json") return "it says where the results go: give it on the command line";
+    if (name == "--shard" || name == "--resume")
+        return "it says which part of a run this process does: give it on the command line";
+    if (is_unrecorded(name)) {
+        std::string key = name.substr(2);
+        std::replace(key.begin(), key.end(), '-', '_');
+        return "it is a setting of the run: write it at the top level of the file (" + key + " = ...)";
+    }
+    return {};
 }
 
 // Options naming a file: recorded absolute, so that the config replays from any directory.
@@ -60,12 +80,38 @@ bool given(const std::vector<std::string>& args, const std::string& name)
                        [&](const std::string& a) { return a == name || a.rfind(name + "=", 0) == 0; });
 }
 
-std::string token(const toml::node& node, const std::string& where)
+// One value of an option as it would be typed, checked against the option's type (CLI11's
+// type name: FLOAT, INT, UINT or TEXT) so that a mistake names the file and the key.
+std::string token(const toml::node& node, const CLI::Option& opt, const std::string& where)
 {
-    if (auto v = node.value_exact<int64_t>()) return std::to_string(*v);
-    if (auto v = node.value_exact<double>()) return format_double(*v);
-    if (auto v = node.value_exact<std::string>()) return *v;
-    throw input_error(where + " must be a string or a number");
+    const std::string full = opt.get_type_name();  // "TEXT:{none,period}": the type, then the checks
+    const std::string type = full.substr(0, full.find(':'));
+    const bool integer = type == "INT" || type == "UINT";
+    const auto wrong = [&](const std::string& expected) {
+        return input_error(where + " must be " + expected + " (got " + toml_shown(node) + ")");
+    };
+    if (auto v = node.value_exact<int64_t>()) {
+        if (type == "UINT" && *v < 0) throw wrong("an integer >= 0");
+        return std::to_string(*v);
+    }
+    if (auto v = node.value_exact<double>()) {
+        if (integer && !(*v == std::floor(*v) && std::abs(*v) < 1e15)) throw wrong("an integer");
+        return integer ? std::to_string(static_cast<long long>(*v)) : format_double(*v);
+    }
+    if (auto v = node.value_exact<std::string>()) {
+        if (type == "FLOAT" || integer) {
+            try {
+                const double x = parse_number(*v, opt.get_name());
+                if (integer && x != std::floor(x)) throw wrong("an integer");
+            } catch (const input_error&) {
+                throw wrong(integer ? "an integer" : "a number");
+            }
+        }
+        return *v;
+    }
+    if (type == "FLOAT") throw wrong("a number");
+    if (integer) throw wrong("an integer");
+    throw wrong("a string or a number");
 }
 
 // The value of --config among a command's arguments, or empty.
@@ -108,18 +154,27 @@ std::vector<std::string> arguments_with_config(const CLI::App& app, int argc, ch
         const std::string opt_name = option_name(key);
         const std::string where = "config " + file + ": [" + name + "] " + key;
         const CLI::Option* opt = command->get_option_no_throw(opt_name);
-        if (opt == nullptr || is_unrecorded(opt_name))
+        if (opt == nullptr || opt_name == "--help")
             throw input_error(where + " is not an option of `vimpact " + name + "` (see vimpact " + name + " --help)");
+        if (const std::string why = table_refusal(opt_name); !why.empty())
+            throw input_error(where + ": " + why);
         if (given(command_args, opt_name)) continue;  // the command line wins
-        if (auto flag = node.value_exact<bool>()) {
+        const bool flag = opt->get_items_expected_max() == 0;
+        if (auto on = node.value_exact<bool>()) {
             if (opt->get_expected_min() != 0) throw input_error(where + " takes a value, not true or false");
-            if (*flag) args.push_back(opt_name);
+            if (*on) args.push_back(opt_name);
+        } else if (flag) {
+            throw input_error(where + " is a flag: true or false (got " + toml_shown(node) + ")");
         } else if (const auto* list = node.as_array()) {
-            args.push_back(opt_name);
-            for (const auto& item : *list) args.push_back(token(item, where + " (each item)"));
+            if (opt->get_items_expected_max() <= 1)
+                throw input_error(where + " takes one value, not a list (got " + toml_shown(node) + ")");
+            for (const auto& item : *list) {
+                args.push_back(opt_name);
+                args.push_back(token(item, *opt, where + " (each item)"));
+            }
         } else {
             args.push_back(opt_name);
-            args.push_back(token(node, where));
+            args.push_back(token(node, *opt, where));
         }
     }
     return args;
@@ -194,16 +249,23 @@ std::string toml_value(const nlohmann::json& v)
 void write_replay_config(const fs::path& path, const run_config& c)
 {
     const model_info& info = c.info();
+    const std::string model_path =
+        info.source == "built-in" ? std::string() : fs::absolute(info.source).lexically_normal().string();
+    std::error_code ec;
+    // A shared library runs only when named on the command line: the replay names it there.
+    const bool library = c.describes_run && !model_path.empty() && fs::is_regular_file(model_path, ec) &&
+                         model_file_kind_of(model_path) == model_file_kind::shared_library;
     std::ostringstream t;
     t << "# vimpact " << c.command << " " << version() << " (" << git_hash() << "): this run, replayable with\n"
-      << "#   vimpact " << c.command << " --config config.toml --out DIR\n"
+      << "#   vimpact " << c.command << (library ? " --model " + toml_text(model_path) : std::string())
+      << " --config config.toml --out DIR\n"
       << "# Options on the command line override the values here; [" << c.command
       << "] holds the command's own options as given.\n";
     if (c.describes_run) {  // not so for a dimension of a points file
         const auto line = [&](const std::string& key, const nlohmann::json& v) {
             t << toml_key(key) << " = " << toml_value(v) << '\n';
         };
-        line("model", info.source == "built-in" ? info.name : fs::absolute(info.source).lexically_normal().string());
+        line("model", model_path.empty() ? info.name : model_path);
         line("model_identity", info.identity);
         if (!c.preset.empty()) line("preset", c.preset);
         line("ic", std::vector<double>(c.ic.data(), c.ic.data() + c.ic.size()));

@@ -277,7 +277,7 @@ int run_map(const map_args& a)
 
     const json counts = tally.counts();
     json summary = {{"command", "map"},       {"x", mx.name},          {"y", my.name},
-                    {"shape", {ny, nx}},      {"x_values", mx.values}, {"y_values", my.values},
+                    {"shape", {ny, nx}},      {"x_values", mx.values.values()}, {"y_values", my.values.values()},
                     {"label_counts", counts}, {"unsettled", unsettled}, {"batch", res.jobs.batch},
                     {"statistics_columns", statistics_columns()}, {"out", out_json(c)}};
     // Each cell's label: in labels.csv with --out (the summary stays the same size whatever
@@ -610,9 +610,10 @@ int run_response(const response_args& a)
                 described.push_back(info.parameters[static_cast<std::size_t>(p)].name + " = " + format_double(v));
             }
         auto& t = tallies[k];
-        json cj = {{"parameters", set}, {"values", o.values}, {"not_converged", t.unconverged}};
-        if (axis.si()) cj["si_values"] = axis.si_values;
-        if (!c.out) {
+        json cj = {{"parameters", set}, {"not_converged", t.unconverged}};
+        if (!c.out) {  // with --out the values are response.csv's rows: run.json stays the same size
+            cj["values"] = o.values.values();
+            if (axis.si()) cj["si_values"] = axis.si_values.values();
             cj["amplitude"] = std::move(t.amplitude);
             cj["frequency"] = std::move(t.frequency);
             for (std::size_t s = 0; s < gcols.size(); ++s) cj[gcols[s]] = std::move(t.graze[s]);

@@ -21,9 +21,9 @@ struct units_args {
     bool json = false;
 };
 
-si_input parse_si(const std::string& text)
+si_input parse_units_si(const std::string& text)
 {
-    const si_input in = si_from_pairs(parse_pairs(text, "--si"));
+    const si_input in = parse_si(text);
     if (!in.cylinder) throw input_error("units needs a cylinder in --si (D, m or mstar, fn or k, zeta, rho)");
     if (in.speed || in.gap) throw input_error("units takes the flow speeds from --speeds; leave U and gap out of --si");
     return in;
@@ -31,9 +31,9 @@ si_input parse_si(const std::string& text)
 
 int run_units(const units_args& a)
 {
-    const si_input in = parse_si(a.si);
+    const si_input in = parse_units_si(a.si);
     const cylinder_in_flow& c = *in.cylinder;
-    const std::vector<double> speeds = parse_range(a.speeds, "--speeds");
+    const value_grid speeds = parse_range(a.speeds, "--speeds");
     json rows = json::array();
     std::string text;
     // What the alternatives gave (flow_units.hpp): the mass per metre, the still-fluid frequency.

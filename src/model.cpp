@@ -183,18 +183,7 @@ model::model(std::shared_ptr<const model_code> code, std::vector<double> paramet
     if (m_parameters.size() != info.parameters.size())
         throw input_error("model " + info.name + " needs " + std::to_string(info.parameters.size()) +
                           " parameter values (got " + std::to_string(m_parameters.size()) + ")");
-    for (std::size_t i = 0; i < m_parameters.size(); ++i) {
-        const auto& p = info.parameters[i];
-        // A subnormal value (e.g. 4.9e-324) is inside a range like (0, inf) but its
-        // reciprocals overflow: the run would end in a step underflow with no word why.
-        if (m_parameters[i] != 0.0 && std::fpclassify(m_parameters[i]) == FP_SUBNORMAL)
-            throw input_error("parameter " + p.name + " = " + format_double(m_parameters[i]) +
-                              " is subnormal: give 0 or a value of magnitude >= 2.2e-308");
-        if (!p.range.admits(m_parameters[i]))
-            throw input_error("parameter " + p.name + " = " + format_double(m_parameters[i]) +
-                              " is outside its valid range " + p.range.text() +
-                              (p.meaning.empty() ? std::string() : " (" + p.meaning + ")"));
-    }
+    for (std::size_t i = 0; i < m_parameters.size(); ++i) check_parameter(info.parameters[i], m_parameters[i]);
     char error[512] = {0};
     void* ctx = m_code->table->create(m_parameters.data(), error, sizeof error);
     if (!ctx)
@@ -202,6 +191,18 @@ model::model(std::shared_ptr<const model_code> code, std::vector<double> paramet
                           (error[0] ? ": " + std::string(error) : std::string()));
     const auto* table = m_code->table;
     m_context = std::shared_ptr<void>(ctx, [table](void* c) { table->destroy(c); });
+}
+
+void model::check_parameter(const parameter_info& p, double value)
+{
+    // A subnormal value (e.g. 4.9e-324) is inside a range like (0, inf) but its reciprocals
+    // overflow: the run would end in a step underflow with no word why.
+    if (value != 0.0 && std::fpclassify(value) == FP_SUBNORMAL)
+        throw input_error("parameter " + p.name + " = " + format_double(value) +
+                          " is subnormal: give 0 or a value of magnitude >= 2.2e-308");
+    if (!p.range.admits(value))
+        throw input_error("parameter " + p.name + " = " + format_double(value) + " is outside its valid range " +
+                          p.range.text() + (p.meaning.empty() ? std::string() : " (" + p.meaning + ")"));
 }
 
 model model::builtin(std::string_view name)

@@ -198,25 +198,36 @@ std::shared_ptr<const model_code> load_model_library(const fs::path& path)
     return make_code(lib, path.string(), name + "-" + mf::hex64(mf::fnv1a(bytes)));
 }
 
-std::shared_ptr<const model_code> load_model_code(const fs::path& path, const std::atomic<bool>* cancel)
+model_file_kind model_file_kind_of(const fs::path& path)
 {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw input_error("model file " + path.string() + " does not exist");
     if (fs::is_directory(path, ec)) throw input_error("model file " + path.string() + " is a directory");
     const std::string ext = path.extension().string();
-    if (ext == ".toml") return compile_model_text(read_file(path, "model file"), path.string(), cancel);
-    if (ext == ".json") {
-        json tree;
-        try {
-            tree = json::parse(read_file(path, "model file"));
-        } catch (const json::parse_error& e) {
-            throw input_error("model file " + path.string() + ": " + e.what());
-        }
-        return compile_model_json(tree, path.string(), cancel);
-    }
-    if (ext == ".so" || is_elf(path)) return load_model_library(path);
+    if (ext == ".toml") return model_file_kind::model_text;
+    if (ext == ".json") return model_file_kind::model_json;
+    if (ext == ".so" || is_elf(path)) return model_file_kind::shared_library;
     throw input_error("cannot load a model from " + path.string() +
                       ": expected a model file (NAME.toml) or a shared library (NAME.so)");
+}
+
+std::shared_ptr<const model_code> load_model_code(const fs::path& path, const std::atomic<bool>* cancel)
+{
+    switch (model_file_kind_of(path)) {
+        case model_file_kind::model_text:
+            return compile_model_text(read_file(path, "model file"), path.string(), cancel);
+        case model_file_kind::model_json: {
+            json tree;
+            try {
+                tree = json::parse(read_file(path, "model file"));
+            } catch (const json::parse_error& e) {
+                throw input_error("model file " + path.string() + ": " + e.what());
+            }
+            return compile_model_json(tree, path.string(), cancel);
+        }
+        case model_file_kind::shared_library: return load_model_library(path);
+    }
+    throw std::logic_error("unknown model file kind");
 }
 
 }  // namespace vimpact

@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "jobs/journal.hpp"
 #include "vimpact/jobs/job_loop.hpp"
 #include "vimpact/jobs/job_ranks.hpp"
 
@@ -514,6 +515,41 @@ TEST(JobLoopRanks, AJobsFailureOnAnyRankReachesRankZeroAndEveryRankEnds)
         return work(j, p);
     });
     EXPECT_NE(r.errors[0].find("job 37 failed"), std::string::npos) << r.errors[0];
+}
+
+TEST(JobLoopRanks, RanksGivenDifferentSpecsAreRefusedBeforeAnyJobNamingTheDifference)
+{
+    using json = nlohmann::json;
+    const json spec = {{"analysis", "sweep"}, {"values", {{"from", 12.0}, {"n", 131}, {"to", 25.0}}}};
+    json other = spec;
+    other["values"]["to"] = 26.0;
+    for (const bool differ : {false, true}) {
+        mail_hub hub;
+        hub.boxes.resize(3);
+        std::vector<std::string> errors(3);
+        {
+            std::vector<std::jthread> threads;
+            for (int r = 0; r < 3; ++r)
+                threads.emplace_back([&, r] {
+                    local_ranks ranks(hub, r);
+                    try {
+                        vimpact::detail::check_same_run(ranks, differ && r == 2 ? other : spec);
+                    } catch (const vimpact::input_error& e) {
+                        errors[static_cast<std::size_t>(r)] = e.what();
+                    }
+                });
+        }
+        if (!differ) {
+            for (const auto& e : errors) EXPECT_EQ(e, "");
+            continue;
+        }
+        // Every rank ends with rank 0's message (exit code 2 on each).
+        for (const auto& e : errors) EXPECT_EQ(e, errors[0]);
+        EXPECT_EQ(errors[0], "MPI rank 2 was started with another run than rank 0 (values/to: 25.0 on rank 0, 26.0 on "
+                             "rank 2): start every rank with the same command and options");
+    }
+    EXPECT_NE(vimpact::detail::spec_hash(spec), vimpact::detail::spec_hash(other));
+    EXPECT_EQ(vimpact::detail::spec_hash(spec), vimpact::detail::spec_hash(json::parse(spec.dump())));
 }
 
 // ---- the dispenser's grants and a rank's capacity --------------------------------------

@@ -125,7 +125,7 @@ TEST(SIUnits, BadInputsAreNamed)
     gap.emplace_back("gap", -0.001);
     EXPECT_NE(message_of(gap).find("gap (distance to the neighbouring surface, m) must be a finite number >= 0"),
               std::string::npos);
-    EXPECT_NE(message_of(without("fn")).find("--si needs fn"), std::string::npos);
+    EXPECT_NE(message_of(without("fn")).find("missing fn"), std::string::npos);
     pairs both = tube();
     both.emplace_back("length", 1.0);
     EXPECT_NE(message_of(both).find("not both"), std::string::npos);
@@ -133,6 +133,43 @@ TEST(SIUnits, BadInputsAreNamed)
               std::string::npos);
     // The wake model's parameters do not exist in the two-stop model.
     EXPECT_THROW((void)apply_si(model::builtin("two_sided_impact_oscillator"), si_from_pairs(tube())), input_error);
+}
+
+TEST(SIUnits, InputsThatTogetherGiveNoNumberAreRefused)
+{
+    // Each in its range, together out of a double's: D^2 overflows (mu would be inf / inf, a
+    // NaN), rho D^2 underflows to 0, the mass from mstar overflows. Named with the inputs and
+    // the range, whatever the front end; never a NaN in a result.
+    const auto with = [](std::initializer_list<std::pair<std::string, double>> changed) {
+        pairs p = tube();
+        for (const auto& [k, v] : changed)
+            for (auto& kv : p)
+                if (kv.first == k) kv.second = v;
+        return message_of(p);
+    };
+    const std::string range = "is outside the range of a double: the inputs must keep its magnitude in "
+                              "[2.2250738585072014e-308, 1.7976931348623157e+308]";
+    EXPECT_EQ(with({{"D", 1e300}}), "rho D^2 = inf from rho = 1000, D = 1e+300 " + range);
+    EXPECT_EQ(with({{"D", 1e-200}}), "rho D^2 = 0 from rho = 1000, D = 1e-200 " + range);
+    EXPECT_EQ(with({{"m", 1e308}, {"rho", 1e-300}}),
+              "mu = (m + CM rho pi D^2 / 4) / (rho D^2) = inf from m = 1e+308, CM = 1, rho = 1e-300, D = 0.02 " + range +
+                  " or 0");
+    EXPECT_NE(message_of({{"D", 1.0}, {"mstar", 1e306}, {"fn", 12.0}, {"zeta", 0.0}, {"rho", 1e5}})
+                  .find("m = mstar rho pi D^2 / 4 = inf from mstar = 1e+306, rho = 1e+05, D = 1"),
+              std::string::npos);
+    // The flow speed: Ur and the scales at U must be numbers too.
+    pairs fast = tube();
+    fast.emplace_back("U", 1e308);
+    EXPECT_EQ(message_of(fast), "Ur = U / (fn D) = inf from U = 1e+308, fn = 12, D = 0.02 " + range);
+    const cylinder_in_flow c = *si_from_pairs(tube()).cylinder;
+    EXPECT_THROW((void)units_at(c, 1e308), input_error);
+    EXPECT_THROW((void)reynolds_number(c, 1e308), input_error);
+    // Scales given directly: the energy unit mass (length / time)^2 must be a number.
+    EXPECT_NE(message_of({{"length", 1e200}, {"time", 1e-200}}).find("the velocity scale = inf"), std::string::npos);
+    EXPECT_NE(message_of({{"length", 1e100}, {"time", 1e-100}, {"mass", 1e200}}).find("the energy scale = inf"),
+              std::string::npos);
+    // Ordinary inputs are untouched.
+    EXPECT_EQ(message_of(tube()), "");
 }
 
 TEST(SIUnits, CalibrationWarnings)
@@ -226,11 +263,11 @@ TEST(SIUnits, ExactlyOneOfEachPairOfAlternatives)
     EXPECT_NE(with({{"m", 0.6}, {"mstar", 2.0}, {"fn", 12.0}}).find("m (structural mass per unit length, kg/m) and "
                                                                      "mstar (mass ratio m / (rho pi D^2 / 4))"),
               std::string::npos);
-    EXPECT_NE(with({{"fn", 12.0}}).find("--si needs m (structural mass per unit length, kg/m) or mstar"),
+    EXPECT_NE(with({{"fn", 12.0}}).find("missing m (structural mass per unit length, kg/m) or mstar"),
               std::string::npos);
     EXPECT_NE(with({{"m", 0.6}, {"fn", 12.0}, {"k", 5000.0}}).find("fn (natural frequency in still fluid, Hz) and k"),
               std::string::npos);
-    EXPECT_NE(with({{"m", 0.6}}).find("--si needs fn (natural frequency in still fluid, Hz) or k (stiffness per unit "
+    EXPECT_NE(with({{"m", 0.6}}).find("missing fn (natural frequency in still fluid, Hz) or k (stiffness per unit "
                                       "length, N/m^2)"),
               std::string::npos);
     EXPECT_NE(with({{"mstar", -1.0}, {"fn", 12.0}}).find("mstar (mass ratio m / (rho pi D^2 / 4)) must be a finite "

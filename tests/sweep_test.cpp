@@ -17,7 +17,9 @@
 #include "vimpact/analysis/basins.hpp"
 #include "vimpact/analysis/map.hpp"
 #include "vimpact/analysis/sweep.hpp"
+#include "io/json_codec.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/value_grid.hpp"
 
 using namespace vimpact;
 namespace fs = std::filesystem;
@@ -34,6 +36,37 @@ TEST(Grid, EndsExactAndEvenlySpaced)
     EXPECT_EQ(grid_values(1.0, 2.0, 1), std::vector<double>{1.0});
     EXPECT_THROW((void)grid_values(1.0, 2.0, 0), input_error);
     EXPECT_THROW((void)grid_values(0.0, 1.0, 1'000'000'000'000L), input_error);
+}
+
+TEST(Grid, ARangeGivesTheValuesOfTheFormulaFromItsEndsAndCountAlone)
+{
+    // Value i = a + i (b - a)/(n - 1), the last exactly b: computed here, term by term.
+    const double a = 12.0, b = 25.0;
+    for (const long n : {1L, 2L, 27L, 131L}) {
+        const value_grid g = value_grid::range(a, b, n);
+        ASSERT_EQ(g.size(), static_cast<std::size_t>(n));
+        for (long i = 0; i < n; ++i) {
+            const double expected = n == 1 ? a : (i == n - 1 ? b : a + static_cast<double>(i) * (b - a) / static_cast<double>(n - 1));
+            EXPECT_EQ(g[static_cast<std::size_t>(i)], expected) << n << " " << i;
+        }
+        EXPECT_EQ(g.values(), grid_values(a, b, n));
+    }
+    // A hundred million values: three numbers, any value at once.
+    const value_grid big = value_grid::range(0.0, 1.0, 100'000'000);
+    EXPECT_EQ(big.size(), 100'000'000u);
+    EXPECT_EQ(big.back(), 1.0);
+    EXPECT_EQ(big[50'000'000], 50'000'000.0 * (1.0 - 0.0) / 99'999'999.0);
+    EXPECT_LE(sizeof(big), 128u);
+    // The journal's spec: the ends and the count, not the values.
+    EXPECT_EQ(detail::to_json(big).dump(), R"({"from":0.0,"n":100000000,"to":1.0})");
+    EXPECT_EQ(detail::to_json(value_grid{1.0, 2.5}).dump(), "[1.0,2.5]");
+    EXPECT_THROW((void)value_grid::range(0.0, 1.0, 0), input_error);
+    EXPECT_THROW((void)value_grid::range(0.0, 1.0, 100'000'001), input_error);
+    EXPECT_THROW((void)value_grid::range(0.0, INFINITY, 3), input_error);
+    // Mapped (an SI speed to Ur): each value is the map of the given one, and the map is named.
+    const value_grid u = value_grid::range(3.0, 6.0, 7).mapped([](double v) { return v / 0.24; }, "U / 0.24");
+    for (std::size_t i = 0; i < u.size(); ++i) EXPECT_EQ(u[i], u.given(i) / 0.24);
+    EXPECT_EQ(detail::to_json(u).dump(), R"({"from":3.0,"map":"U / 0.24","n":7,"to":6.0})");
 }
 
 // A state the moved barrier now lies above is put on it and, moving into it, reflected by the
@@ -170,6 +203,29 @@ sweep_result stopped_after_seven(const model& m, job_options& j)
     j.stop = nullptr;
     j.progress = nullptr;
     return r;
+}
+
+TEST(Journal, ASweepOverARangeEqualsTheSweepOverItsValuesAndItsSpecHoldsTheRange)
+{
+    const model m;
+    sweep_options o;
+    o.parameter = m.info().parameter_index("Ur");
+    o.protocol.transient_impacts = 60;
+    o.protocol.record_points = 20;
+    o.values = value_grid::range(14.0, 20.0, 7);
+    std::vector<double> listed;
+    for (long i = 0; i < 7; ++i) listed.push_back(i == 6 ? 20.0 : 14.0 + static_cast<double>(i) * 6.0 / 6.0);
+    sweep_options l = o;
+    l.values = listed;
+    temp_dir dir;
+    job_options j;
+    j.threads = 2;
+    j.journal = dir.path / "run.jobs";
+    const sweep_result by_range = sweep(m, o, j);
+    expect_same(by_range, sweep(m, l));
+    std::ifstream in(*j.journal / "spec.json");
+    const auto spec = nlohmann::json::parse(in);
+    EXPECT_EQ(spec.at("values"), nlohmann::json::parse(R"({"from":14.0,"n":7,"to":20.0})"));
 }
 
 TEST(Journal, AStoppedRunResumedEqualsAnUninterruptedOne)

@@ -54,7 +54,10 @@ class PhysicalUnits:
                 pairs.append((str(k), float(v)))
             except (TypeError, ValueError):
                 raise InputError(f"{k} must be a number (got {v!r})") from None
-        self._handle = _vimpact._SIUnits(pairs)
+        try:
+            self._handle = _vimpact._SIUnits(pairs)
+        except InputError as e:
+            raise InputError(f"PhysicalUnits: {e}") from None
 
     def __repr__(self):
         return "PhysicalUnits(" + ", ".join(f"{k}={v:g}" for k, v in self.inputs.items()) + ")"

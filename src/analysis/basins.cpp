@@ -82,8 +82,8 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
     const long nx = static_cast<long>(o.x_values.size()), ny = static_cast<long>(o.y_values.size());
     const json spec = {{"analysis", "basins"},
                        {"model", detail::to_json(m)},
-                       {"x", {{"state", o.x_state}, {"values", detail::numbers(o.x_values)}}},
-                       {"y", {{"state", o.y_state}, {"values", detail::numbers(o.y_values)}}},
+                       {"x", {{"state", o.x_state}, {"values", detail::to_json(o.x_values)}}},
+                       {"y", {{"state", o.y_state}, {"values", detail::to_json(o.y_values)}}},
                        {"initial_state", detail::vector_json(base)},
                        {"protocol", detail::to_json(o.protocol)},
                        {"period_tolerance", detail::number(o.period_tolerance)},

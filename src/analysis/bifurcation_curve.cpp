@@ -16,6 +16,12 @@
 
 namespace vimpact {
 
+bool second_parameter_in_range(const model& m, const curve_options& c)
+{
+    const double q = m.parameters().at(static_cast<std::size_t>(c.parameter2));
+    return q >= c.lo2 && q <= c.hi2;
+}
+
 void validate(const model& m, const continuation_options& o, const curve_options& c)
 {
     validate(m, o);
@@ -31,10 +37,11 @@ void validate(const model& m, const continuation_options& o, const curve_options
                           ", " + format_double(c.hi2) + ")");
     (void)m.with_parameter(c.parameter2, c.lo2);
     (void)m.with_parameter(c.parameter2, c.hi2);
-    const double q = m.parameters()[static_cast<std::size_t>(c.parameter2)];
-    if (q < c.lo2 || q > c.hi2)
-        throw input_error("the second parameter's value " + format_double(q) + " is outside its range [" +
-                          format_double(c.lo2) + ", " + format_double(c.hi2) + "]: the curves start there");
+    if (!second_parameter_in_range(m, c))
+        throw input_error("the second parameter's value " +
+                          format_double(m.parameters()[static_cast<std::size_t>(c.parameter2)]) +
+                          " is outside its range [" + format_double(c.lo2) + ", " + format_double(c.hi2) +
+                          "]: the curves start there");
     validate(c.arclength);
     if (c.types.empty()) throw input_error("no bifurcation type chosen for the curves");
     for (const auto t : c.types)

@@ -106,7 +106,7 @@ clearance_result clearance(const model& m, const clearance_options& o, const job
     const json spec = {{"analysis", "clearance"},
                        {"model", detail::to_json(m)},
                        {"parameter", o.parameter},
-                       {"values", detail::numbers(o.values)},
+                       {"values", detail::to_json(o.values)},
                        {"gap_parameter", G},
                        {"gaps", detail::numbers(o.gaps)},
                        {"fractions", detail::numbers(o.fractions)},

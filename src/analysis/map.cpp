@@ -93,8 +93,8 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
     const long nx = static_cast<long>(o.x.values.size()), ny = static_cast<long>(o.y.values.size());
     const json spec = {{"analysis", "map"},
                        {"model", detail::to_json(m)},
-                       {"x", {{"parameter", o.x.parameter}, {"values", detail::numbers(o.x.values)}}},
-                       {"y", {{"parameter", o.y.parameter}, {"values", detail::numbers(o.y.values)}}},
+                       {"x", {{"parameter", o.x.parameter}, {"values", detail::to_json(o.x.values)}}},
+                       {"y", {{"parameter", o.y.parameter}, {"values", detail::to_json(o.y.values)}}},
                        {"initial_state", detail::vector_json(ic)},
                        {"protocol", detail::to_json(o.protocol)},
                        {"period_tolerance", detail::number(o.period_tolerance)},

@@ -85,7 +85,7 @@ response_result response(const model& m, const response_options& o, const job_op
         cj.push_back(one);
     }
     const json spec = {{"analysis", "response"},          {"model", detail::to_json(m)},
-                       {"parameter", o.parameter},         {"values", detail::numbers(o.values)},
+                       {"parameter", o.parameter},         {"values", detail::to_json(o.values)},
                        {"curves", cj},                     {"variable", o.variable},
                        {"initial_state", detail::vector_json(ic)}, {"grazing", detail::to_json(go)}};
     const long n = static_cast<long>(o.values.size()), nc = static_cast<long>(curves.size());

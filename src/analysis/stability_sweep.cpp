@@ -126,7 +126,7 @@ lyapunov_sweep_point decode_lyapunov(const json& j, lyapunov_tdm tdm)
 }
 
 // The values' models (each validated) and the start, checked admissible at every value.
-Eigen::VectorXd check_values(const model& m, int parameter, const std::vector<double>& values, const Eigen::VectorXd& x0)
+Eigen::VectorXd check_values(const model& m, int parameter, const value_grid& values, const Eigen::VectorXd& x0)
 {
     if (parameter < 0 || parameter >= static_cast<int>(m.parameters().size()))
         throw input_error("sweep parameter index out of range");
@@ -152,7 +152,7 @@ floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& 
     fo.sample_dt = 0.0;
     fo.protocol.flow.cancel = j.stop;
     const json spec = {{"analysis", "floquet_sweep"},     {"model", detail::to_json(m)},
-                       {"parameter", o.parameter},         {"values", detail::numbers(o.values)},
+                       {"parameter", o.parameter},         {"values", detail::to_json(o.values)},
                        {"initial_state", detail::vector_json(ic)}, {"floquet", detail::to_json(o.floquet)}};
     auto run = [&](long job, const floquet_sweep_point*) {
         floquet_sweep_point p;
@@ -179,7 +179,7 @@ lyapunov_sweep_result lyapunov_sweep(const model& m, const lyapunov_sweep_option
     lyapunov_options lo = o.lyapunov;
     lo.flow.cancel = j.stop;
     const json spec = {{"analysis", "lyapunov_sweep"},    {"model", detail::to_json(m)},
-                       {"parameter", o.parameter},         {"values", detail::numbers(o.values)},
+                       {"parameter", o.parameter},         {"values", detail::to_json(o.values)},
                        {"initial_state", detail::vector_json(ic)}, {"lyapunov", detail::to_json(o.lyapunov)}};
     auto run = [&](long job, const lyapunov_sweep_point*) {
         lyapunov_sweep_point p;

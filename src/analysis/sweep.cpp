@@ -66,17 +66,7 @@ sweep_point decode(const json& j)
 
 }  // namespace
 
-std::vector<double> grid_values(double a, double b, long n)
-{
-    if (n < 1 || n > 100'000'000)
-        throw input_error("a range needs 1 <= n <= 1e8 points (got " + std::to_string(n) + ")");
-    if (!std::isfinite(a) || !std::isfinite(b)) throw input_error("range ends must be finite");
-    std::vector<double> v(static_cast<std::size_t>(n));
-    for (long i = 0; i < n; ++i)
-        v[static_cast<std::size_t>(i)] =
-            n == 1 ? a : (i == n - 1 ? b : a + static_cast<double>(i) * (b - a) / static_cast<double>(n - 1));
-    return v;
-}
+std::vector<double> grid_values(double a, double b, long n) { return value_grid::range(a, b, n).values(); }
 
 Eigen::VectorXd continue_from(const model& next, const Eigen::VectorXd& x_in)
 {
@@ -144,7 +134,7 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     const json spec = {{"analysis", "sweep"},
                        {"model", detail::to_json(m)},
                        {"parameter", o.parameter},
-                       {"values", detail::numbers(o.values)},
+                       {"values", detail::to_json(o.values)},
                        {"initial_state", detail::vector_json(ic)},
                        {"follow", o.follow},
                        {"direction", std::string(to_string(o.direction))},

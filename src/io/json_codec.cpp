@@ -30,6 +30,21 @@ json numbers(const std::vector<double>& v)
     return a;
 }
 
+json to_json(const value_grid& g)
+{
+    json j;
+    if (g.is_range()) {
+        j = {{"from", number(g.range_from())}, {"to", number(g.range_to())}, {"n", g.size()}};
+    } else {
+        json a = json::array();
+        for (std::size_t i = 0; i < g.size(); ++i) a.push_back(number(g.given(i)));
+        if (!g.is_mapped()) return a;
+        j = {{"values", std::move(a)}};
+    }
+    if (g.is_mapped()) j["map"] = g.map_name();
+    return j;
+}
+
 std::vector<double> numbers_from(const json& j)
 {
     std::vector<double> v;

@@ -9,6 +9,7 @@
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/value_grid.hpp"
 
 namespace vimpact::detail {
 
@@ -17,6 +18,9 @@ using json = nlohmann::json;
 json number(double v);  // a finite number, or "nan", "inf", "-inf"
 double number_from(const json& j);
 json numbers(const std::vector<double>& v);
+// A range as {"from", "to", "n"}, a list as its numbers; a mapped grid adds "map" (a list then
+// goes under "values"): what a run's spec says of an axis, never its values one by one.
+json to_json(const value_grid& g);
 std::vector<double> numbers_from(const json& j);
 json vector_json(const Eigen::VectorXd& v);
 Eigen::VectorXd vector_from(const json& j);

@@ -240,7 +240,12 @@ journal::~journal()
 
 void journal::note(long job, std::size_t file, std::uint64_t offset, bool appended)
 {
-    if (m_where.empty()) m_where.assign(static_cast<std::size_t>(m_jobs), 0);
+    // Grown to the highest job noted, not sized for the run: jobs arrive about in order, so the
+    // index follows the work done, however long the grid.
+    if (static_cast<std::size_t>(job) >= m_where.size())
+        m_where.resize(std::max(static_cast<std::size_t>(job) + 1, std::min(2 * m_where.size(),
+                                                                             static_cast<std::size_t>(m_jobs))),
+                       0);
     auto& w = m_where[static_cast<std::size_t>(job)];
     if (w != 0) return;  // a job journaled twice (two runs of one shard): the first line serves
     if (file + 1 > file_mask) throw input_error("the journal " + m_dir.string() + " has too many files");
@@ -314,17 +319,19 @@ void journal::index_file(const fs::path& file, bool repair)
         throw std::runtime_error("cannot cut the torn last line of " + file.string() + ": " + std::strerror(errno));
 }
 
-bool journal::has(long job) const { return !m_where.empty() && m_where[static_cast<std::size_t>(job)] != 0; }
+bool journal::has(long job) const
+{
+    return static_cast<std::size_t>(job) < m_where.size() && m_where[static_cast<std::size_t>(job)] != 0;
+}
 
 bool journal::had(long job) const
 {
-    return !m_where.empty() && m_where[static_cast<std::size_t>(job)] != 0 &&
-           (m_where[static_cast<std::size_t>(job)] & appended_bit) == 0;
+    return has(job) && (m_where[static_cast<std::size_t>(job)] & appended_bit) == 0;
 }
 
 json journal::load(long job) const
 {
-    const std::uint64_t w = m_where.at(static_cast<std::size_t>(job));
+    const std::uint64_t w = has(job) ? m_where[static_cast<std::size_t>(job)] : 0;
     if (w == 0) throw std::logic_error("journal: job " + std::to_string(job) + " has no line");
     const std::size_t file = static_cast<std::size_t>((w >> offset_bits) & file_mask) - 1;
     if (!m_unwritten.empty()) flush();

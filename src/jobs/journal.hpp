@@ -98,6 +98,14 @@ private:
     const std::atomic<bool>* m_stop = nullptr;  // the run's stop flag (the hook's pause)
 };
 
+// Every rank must run the same jobs: each sends rank 0 one hash of its spec (with the spec,
+// to name what differs), and rank 0 answers once it has them all. A mismatch is an input_error
+// on every rank naming the first differences (rank 0 tells the others with tag_abort), raised
+// before rank 0 opens a journal or anything is written.
+void check_same_run(job_ranks& ranks, const json& spec);
+// The hash the ranks compare: FNV-1a (64 bits) of the spec's canonical text.
+std::string spec_hash(const json& spec);
+
 // A journal record decoded, or an input_error naming the job when the line is not a record
 // of this analysis (an edited journal): damage to report, not an internal error.
 template <class Record, class Decode>
@@ -124,6 +132,7 @@ job_report run_journaled(const json& spec, const job_schedule& schedule, const j
     if (!o.journal && o.shard.count > 1)
         throw input_error("a shard of a run needs a journal (the shards meet in it)");
     if (!o.journal && o.resume) throw input_error("resuming needs the journal of the interrupted run");
+    if (o.ranks) check_same_run(*o.ranks, spec);
     job_report report;
     report.jobs = schedule.jobs;
     job_loop_options lo;

@@ -32,7 +32,35 @@ void validate(const cylinder_in_flow& c)
     non_negative_input(c.damping_ratio, "zeta", "structural damping ratio");
     positive_input(c.kinematic_viscosity, "nu", "kinematic viscosity, m^2/s");
     non_negative_input(c.added_mass_coefficient, "CM", "added-mass coefficient");
+    // Each in range, the inputs may still give no number together: every quantity made of
+    // them without the flow speed (the mass scale, mu, the mass ratio, fn D of Ur) is checked.
+    const double D = c.diameter, rho = c.fluid_density, m = c.mass, CM = c.added_mass_coefficient;
+    const double section = derived_value(rho * D * D, "rho D^2", {{"rho", rho}, {"D", D}});
+    const double added = derived_value(CM * rho * std::numbers::pi * D * D / 4.0, "the added mass CM rho pi D^2 / 4",
+                                       {{"CM", CM}, {"rho", rho}, {"D", D}}, true);
+    derived_value((m + added) / section, "mu = (m + CM rho pi D^2 / 4) / (rho D^2)",
+                  {{"m", m}, {"CM", CM}, {"rho", rho}, {"D", D}}, true);
+    derived_value(m / (section * std::numbers::pi / 4.0), "the mass ratio m / (rho pi D^2 / 4)",
+                  {{"m", m}, {"rho", rho}, {"D", D}}, true);
+    derived_value(c.natural_frequency * D, "fn D", {{"fn", c.natural_frequency}, {"D", D}});
 }
+
+namespace {
+
+// The quantities made of the flow speed U with the cylinder's inputs: Ur, Omega_f and its
+// time and velocity scales, the Reynolds number.
+void validate_at(const cylinder_in_flow& c, double U)
+{
+    const double D = c.diameter, St = c.strouhal, fn = c.natural_frequency;
+    derived_value(U / (fn * D), "Ur = U / (fn D)", {{"U", U}, {"fn", fn}, {"D", D}});
+    const double omega = derived_value(2.0 * std::numbers::pi * St * U / D, "Omega_f = 2 pi St U / D",
+                                       {{"St", St}, {"U", U}, {"D", D}});
+    derived_value(1.0 / omega, "the time scale 1 / Omega_f", {{"St", St}, {"U", U}, {"D", D}});
+    derived_value(D * omega, "the velocity scale D Omega_f", {{"St", St}, {"U", U}});
+    derived_value(U * D / c.kinematic_viscosity, "Re = U D / nu", {{"U", U}, {"D", D}, {"nu", c.kinematic_viscosity}});
+}
+
+}  // namespace
 
 double added_mass(const cylinder_in_flow& c)
 {
@@ -44,7 +72,9 @@ double mass_from_ratio(const cylinder_in_flow& c, double mass_ratio)
 {
     validate_section(c);
     non_negative_input(mass_ratio, "mstar", "mass ratio m / (rho pi D^2 / 4)");
-    return mass_ratio * c.fluid_density * std::numbers::pi * c.diameter * c.diameter / 4.0;
+    return derived_value(mass_ratio * c.fluid_density * std::numbers::pi * c.diameter * c.diameter / 4.0,
+                         "m = mstar rho pi D^2 / 4", {{"mstar", mass_ratio}, {"rho", c.fluid_density}, {"D", c.diameter}},
+                         true);
 }
 
 double natural_frequency_from_stiffness(const cylinder_in_flow& c, double stiffness)
@@ -54,13 +84,17 @@ double natural_frequency_from_stiffness(const cylinder_in_flow& c, double stiffn
     const double total = c.mass + added_mass(c);
     if (!(total > 0.0))
         throw input_error("k (stiffness per unit length, N/m^2) needs a mass to oscillate: m + CM rho pi D^2 / 4 is 0");
-    return std::sqrt(stiffness / total) / (2.0 * std::numbers::pi);
+    return derived_value(std::sqrt(stiffness / total) / (2.0 * std::numbers::pi),
+                         "fn = sqrt(k / (m + CM rho pi D^2 / 4)) / (2 pi)",
+                         {{"k", stiffness}, {"m", c.mass}, {"CM", c.added_mass_coefficient}, {"rho", c.fluid_density},
+                          {"D", c.diameter}});
 }
 
 wake_dimensionless dimensionless(const cylinder_in_flow& c, double U)
 {
     validate(c);
     positive_input(U, "U", "flow speed, m/s");
+    validate_at(c, U);
     const double D = c.diameter;
     return {.Ur = U / (c.natural_frequency * D),
             .mu = (c.mass + added_mass(c)) / (c.fluid_density * D * D),
@@ -72,6 +106,7 @@ flow_scales scales(const cylinder_in_flow& c, double U)
 {
     validate(c);
     positive_input(U, "U", "flow speed, m/s");
+    validate_at(c, U);
     const double omega_f = 2.0 * std::numbers::pi * c.strouhal * U / c.diameter;
     return {.length = c.diameter,
             .time = 1.0 / omega_f,
@@ -99,6 +134,8 @@ std::vector<named_value> units_at(const cylinder_in_flow& c, double U)
 double reynolds_number(const cylinder_in_flow& c, double U)
 {
     validate(c);
+    positive_input(U, "U", "flow speed, m/s");
+    validate_at(c, U);
     return U * c.diameter / c.kinematic_viscosity;
 }
 
@@ -127,7 +164,8 @@ double flow_speed(const cylinder_in_flow& c, double Ur)
 {
     validate(c);
     positive_input(Ur, "Ur", "reduced velocity");
-    return Ur * c.natural_frequency * c.diameter;
+    return derived_value(Ur * c.natural_frequency * c.diameter, "U = Ur fn D",
+                         {{"Ur", Ur}, {"fn", c.natural_frequency}, {"D", c.diameter}});
 }
 
 }  // namespace vimpact

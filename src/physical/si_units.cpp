@@ -57,10 +57,21 @@ const char* one_of(const std::map<std::string, double>& v, const char* a, const 
 {
     const std::string what = std::string(a) + " (" + a_is + ") or " + b + " (" + b_is + ")";
     if (v.count(a) && v.count(b))
-        throw input_error(std::string("--si: ") + a + " (" + a_is + ") and " + b + " (" + b_is +
+        throw input_error(std::string(a) + " (" + a_is + ") and " + b + " (" + b_is +
                           ") give the same quantity: give one, not both");
-    if (!v.count(a) && !v.count(b)) throw input_error("--si needs " + what + " (keys: " + si_keys() + ")");
+    if (!v.count(a) && !v.count(b)) throw input_error("missing " + what + " (keys: " + si_keys() + ")");
     return v.count(a) ? a : b;
+}
+
+// The energy and power units (the impact statistics in J and W) of scales whose length, time
+// and mass are each in range.
+physical_scales checked_scales(const physical_scales& k, std::initializer_list<input_value> from)
+{
+    derived_value(k.mass, "the mass scale", from);
+    derived_value(k.velocity(), "the velocity scale", from);
+    derived_value(k.energy(), "the energy scale", from);
+    derived_value(k.power(), "the power scale", from);
+    return k;
 }
 
 }  // namespace
@@ -95,20 +106,20 @@ si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs)
     std::map<std::string, double> v;
     for (const auto& [k, x] : pairs) {
         if (!among(cylinder_keys(), k) && !among(scale_keys(), k) && k != "U" && k != "gap")
-            throw input_error("--si: unknown key '" + k + "' (keys: " + si_keys() + ")");
-        if (!v.emplace(k, x).second) throw input_error("--si: " + k + " is given twice");
+            throw input_error("unknown key '" + k + "' (keys: " + si_keys() + ")");
+        if (!v.emplace(k, x).second) throw input_error(k + " is given twice");
     }
     const bool cyl = std::any_of(cylinder_keys().begin(), cylinder_keys().end(), [&](const auto& k) { return v.count(k); });
     const bool sc = std::any_of(scale_keys().begin(), scale_keys().end(), [&](const auto& k) { return v.count(k); });
     if (cyl && sc)
-        throw input_error(std::string("--si: give either a cylinder (") + cylinder_text +
+        throw input_error(std::string("give either a cylinder (") + cylinder_text +
                           ") or the model's units (length, time), not both");
     if (!cyl && !sc)
-        throw input_error(std::string("--si needs a cylinder (") + cylinder_text + ") or the model's units (length, time)");
+        throw input_error(std::string("missing a cylinder (") + cylinder_text + ") or the model's units (length, time)");
     si_input in;
     if (cyl) {
         for (const char* key : {"D", "zeta", "rho"})
-            if (!v.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys() + ")");
+            if (!v.count(key)) throw input_error(std::string("missing ") + key + " (keys: " + si_keys() + ")");
         const char* mass = one_of(v, "m", "structural mass per unit length, kg/m", "mstar",
                                   "mass ratio m / (rho pi D^2 / 4)");
         const char* frequency = one_of(v, "fn", "natural frequency in still fluid, Hz", "k",
@@ -131,15 +142,16 @@ si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs)
             in.lift_coefficient = non_negative_input(v.at("CL0"), "CL0", "lift coefficient of the fixed cylinder");
     } else {
         for (const char* key : {"length", "time"})
-            if (!v.count(key)) throw input_error(std::string("--si needs ") + key + " (keys: " + si_keys() + ")");
+            if (!v.count(key)) throw input_error(std::string("missing ") + key + " (keys: " + si_keys() + ")");
         physical_scales s{.length = v.at("length"), .time = v.at("time"), .mass = v.count("mass") ? v.at("mass") : 1.0};
         for (const auto& [name, x] : {std::pair{"length", s.length}, {"time", s.time}, {"mass", s.mass}})
             positive_input(x, name, "one model unit in SI");
-        in.scales = s;
+        in.scales = checked_scales(s, {{"length", s.length}, {"time", s.time}, {"mass", s.mass}});
     }
     if (v.count("U")) {
-        if (!in.cylinder) throw input_error(std::string("--si: U (flow speed) needs a cylinder (") + cylinder_text + ")");
+        if (!in.cylinder) throw input_error(std::string("U (flow speed) needs a cylinder (") + cylinder_text + ")");
         in.speed = positive_input(v.at("U"), "U", "flow speed, m/s");
+        (void)dimensionless(*in.cylinder, *in.speed);  // Ur and the scales at U are numbers
     }
     if (v.count("gap")) in.gap = non_negative_input(v.at("gap"), "gap", gap_text);
     return in;
@@ -171,7 +183,8 @@ std::vector<named_value> si_inputs(const si_input& in)
 int si_parameter(const si_input& in, const model& m, std::string_view quantity)
 {
     if (quantity == "U") {
-        if (!in.cylinder) throw input_error(std::string("U (flow speed) needs a cylinder in --si (") + cylinder_text + ")");
+        if (!in.cylinder)
+            throw input_error(std::string("U (flow speed) needs a cylinder among the SI inputs (") + cylinder_text + ")");
         return named_parameter(m, "Ur", "the flow speed U");
     }
     if (quantity == "gap") {
@@ -202,6 +215,17 @@ double si_parameter_value(const si_input& in, const model& m, std::string_view q
         return P;
     }
     throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
+}
+
+value_grid si_parameter_grid(const si_input& in, const model& m, std::string_view quantity, const value_grid& given)
+{
+    if (si_parameter(in, m, quantity) < 0)
+        throw input_error("'" + std::string(quantity) + "' is not an SI quantity (U, gap)");
+    // The map is part of what the run is: the quantity and the inputs it is converted with.
+    std::string what = std::string(quantity) + " in SI with";
+    for (const auto& [key, v] : si_inputs(in)) what += std::string(" ") + key + "=" + format_double(v);
+    return given.mapped([in, m, q = std::string(quantity)](double v) { return si_parameter_value(in, m, q, v); },
+                        std::move(what));
 }
 
 double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value)
@@ -254,12 +278,14 @@ double gap_to(const si_input& in, const model& m, int surface) { return rest_gap
 
 physical_scales scales_at(const si_input& in, const model& m)
 {
-    if (in.scales) return *in.scales;
+    if (in.scales) return *in.scales;  // checked when given
     const cylinder_in_flow& c = *in.cylinder;
     const double U = flow_speed_of(in, m);
     const flow_scales f = scales(c, U);
     const double mu = dimensionless(c, U).mu;
-    return {.length = f.length, .time = f.time, .mass = mu * c.fluid_density * c.diameter * c.diameter};
+    return checked_scales({.length = f.length, .time = f.time, .mass = mu * c.fluid_density * c.diameter * c.diameter},
+                          {{"D", c.diameter}, {"m", c.mass}, {"CM", c.added_mass_coefficient}, {"rho", c.fluid_density},
+                           {"St", c.strouhal}, {"U", U}});
 }
 
 impact_statistics in_si(const impact_statistics& s, const physical_scales& k)

@@ -116,3 +116,30 @@ def test_bad_input_exits_2_and_writes_nothing(vimpact, tmp_path, args, message):
     assert p.returncode == 2, (p.returncode, p.stderr)
     assert message in p.stderr and p.stderr.startswith("vimpact: error:")
     assert not out.exists()
+
+
+SI = "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000"
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--param", "Ur", "--range", "14.5:15", "--curves", "fold"],
+     "--curves chooses the curves of --param2: give --param2 Q and --range2 c:d with it"),
+    (["--param", "Ur", "--range", "14.5:15", "--diagram", "5"],
+     "--diagram N draws the brute-force diagram in the picture of --out DIR: give --out"),
+])
+def test_options_that_would_be_ignored_are_refused(vimpact, args, needle):
+    p = run(vimpact, ["continue", *args, *SHORT])
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.strip() == "vimpact: error: " + needle
+    assert p.stdout == ""
+
+
+def test_a_second_range_in_si_is_reported_in_si(vimpact):
+    # The user gave metres: the range and the run's gap are said in metres, not in sigma.
+    p = run(vimpact, ["continue", "--si", SI + ",gap=0.003", "--param", "Ur", "--range", "14.5:15", "--param2", "gap",
+                      "--range2", "0.001:0.002", *SHORT])
+    assert p.returncode == 2, p.stderr
+    line = p.stderr.strip()
+    assert line.startswith("vimpact: error: --range2 0.001:0.002 (gap, m) does not hold the run's gap = 0.003"), line
+    assert " m (set by --si or the model's default), where the curves start" in line, line
+    assert "sigma" not in line and "-0.15" not in line, line

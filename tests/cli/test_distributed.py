@@ -229,6 +229,27 @@ def test_a_refused_journal_ends_every_rank_with_one_message(vimpact, mpi, tmp_pa
     assert p.stderr.count("belongs to a different run") == 1
 
 
+def test_ranks_started_with_different_options_are_refused(vimpact, mpi, tmp_path):
+    # One rank with A = 6: merging its cells with the other's would make a map of no run.
+    out = tmp_path / "o"
+    args = ["map", "--x", "Ur:16:17:2", "--y", "sigma:-0.16:-0.14:2", "--transient", "20", "--record", "10",
+            "--no-plot", "--out", str(out)]
+    p = subprocess.run(mpi + ["-n", "1", vimpact, *args, ":", "-n", "1", vimpact, *args, "--set", "A=6"],
+                       capture_output=True, text=True, timeout=TIMEOUT)
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.count("vimpact: error:") == 1, p.stderr
+    line = next(l for l in p.stderr.splitlines() if l.startswith("vimpact: error:"))
+    assert "MPI rank 1 was started with another run than rank 0 (model/parameters/" in line, line
+    assert "12.0 on rank 0, 6.0 on rank 1" in line and "start every rank with the same command and options" in line, line
+    # Nothing written: no output, no journal, no staging directory.
+    assert sorted(os.listdir(tmp_path)) == [], os.listdir(tmp_path)
+    # The same options on both ranks run (the check passes what agrees).
+    p = subprocess.run(mpi + ["-n", "1", vimpact, *args, "--set", "A=6", ":", "-n", "1", vimpact, *args, "--set",
+                              "A=6"], capture_output=True, text=True, timeout=TIMEOUT)
+    assert p.returncode == 0, p.stderr
+    assert (out / "labels.csv").exists()
+
+
 def slurm_env(tmp_path, vimpact, args, out, **extra):
     """The environment of a Slurm task, with an srun that is mpirun (the ranks of --ntasks)."""
     bin_dir = tmp_path / "bin"

@@ -223,3 +223,48 @@ def test_picture_formats(vimpact, tmp_path, fmt, magic):
 
 def test_an_unknown_picture_format_is_refused(vimpact, tmp_path):
     refused(run(vimpact, "period", "--format", "gif", "--out", str(tmp_path / "o")), "--format 'gif' is not one of png, pdf, svg")
+
+
+# ---------------------------------------------------------------- the picture's Python
+
+def test_the_picture_imports_nothing_from_the_working_directory_or_pythonpath(vimpact, tmp_path):
+    from conftest import PLOTS
+    if not PLOTS:
+        pytest.skip("the plotting package cannot run here")
+    marker = tmp_path / "marker"
+    planted = tmp_path / "planted"
+    planted.mkdir()
+    for where in (tmp_path, planted):
+        for name in ("numpy", "matplotlib", "vimpact"):
+            (where / f"{name}.py").write_text(f"open({str(marker)!r}, 'a').write({name!r} + ' ')\n")
+    env = dict(os.environ, PYTHONPATH=str(planted))
+    p = subprocess.run([vimpact, "period", "--transient", "20", "--record", "20", "--out", "o"], cwd=tmp_path,
+                       env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert not marker.exists(), f"planted modules ran: {marker.read_text()}"
+    assert (tmp_path / "o" / "plot.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "plot.png" in json.loads((tmp_path / "o" / "run.json").read_text())["files"]
+
+
+def test_a_failed_picture_is_one_line_and_the_results_are_kept(vimpact, tmp_path):
+    from conftest import PLOTS
+    if not PLOTS:
+        pytest.skip("the plotting package cannot run here")
+    # The user's matplotlib configuration asks for LaTeX text with a preamble no TeX accepts
+    # (or no TeX at all): every picture fails while it is drawn.
+    mpl = tmp_path / "mpl"
+    mpl.mkdir()
+    (mpl / "matplotlibrc").write_text("text.usetex: True\ntext.latex.preamble: \\undefinedcontrolsequence\n")
+    out = tmp_path / "o"
+    p = subprocess.run([vimpact, "period", "--transient", "20", "--record", "20", "--out", str(out), "--json"],
+                       env=dict(os.environ, MPLCONFIGDIR=str(mpl)), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr  # the numbers are the result: written, exit 0
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1, p.stderr
+    assert lines[0].startswith("vimpact: warning: the picture could not be made (")
+    assert "vimpact.plot period failed: " in lines[0] and f"the results are written to {out}" in lines[0]
+    assert "Traceback" not in p.stderr
+    assert json.loads(p.stdout)["label"]
+    files = json.loads((out / "run.json").read_text())["files"]
+    assert "plot.png" not in files and not (out / "plot.png").exists()
+    assert all((out / f).exists() for f in files)

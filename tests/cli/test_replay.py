@@ -154,3 +154,83 @@ def test_a_run_config_cannot_be_combined_with_points(vimpact, tmp_path):
     p = run(vimpact, ["dimension", "--points", str(pts), "--config", str(cfg)])
     assert p.returncode == 2
     assert "cannot be combined with --points" in p.stderr
+
+
+# ---------------------------------------------------------------- what a config file may do
+
+def planted_library(tmp_path, name, marker):
+    """A shared library whose constructor writes `marker`: what loading it would run."""
+    src = tmp_path / "planted.c"
+    src.write_text('#include <stdio.h>\n'
+                   '__attribute__((constructor)) static void planted(void) {\n'
+                   f'    FILE* f = fopen("{marker}", "w"); if (f) {{ fputs("ran", f); fclose(f); }}\n'
+                   '}\n')
+    lib = tmp_path / name
+    subprocess.run(["cc", "-shared", "-fPIC", "-o", str(lib), str(src)], check=True)
+    return lib
+
+
+@pytest.mark.parametrize("name", ["planted.so", "planted"])
+def test_a_config_never_loads_a_shared_library(vimpact, tmp_path, name):
+    marker = tmp_path / "marker"
+    lib = planted_library(tmp_path, name, marker)
+    cfg = tmp_path / "config.toml"
+    cfg.write_text(f'model = "{name}"\n')
+    p = run(vimpact, ["period", "--config", str(cfg), "--json"], cwd="/")
+    assert p.returncode == 2, p.stderr
+    assert f"config {cfg}: key 'model' names a shared library ({lib})" in p.stderr, p.stderr
+    assert "only when given on the command line" in p.stderr
+    assert len(p.stderr.splitlines()) == 1
+    assert not marker.exists(), "the library's code ran"
+    # A model file beside the config still loads from it.
+    shutil.copy(TWO_SIDED_TOML, tmp_path / "two.toml")
+    cfg.write_text('model = "two.toml"\n')
+    p = run(vimpact, ["period", "--config", str(cfg), *SHORT, "--json"], cwd="/")
+    assert p.returncode == 0, p.stderr
+    assert set(json.loads(p.stdout)["impacts_by_surface"]) == {"left", "right"}  # the two-stop model ran
+
+
+@pytest.mark.parametrize("text, needle", [
+    ("transient = true\n", "key 'transient' must be an integer (got true)"),
+    ("record = 2.5\n", "key 'record' must be an integer (got 2.5)"),
+    ("rtol = false\n", "key 'rtol' must be a number (got false)"),
+    ("sigma = true\n", "key 'sigma' must be a number (got true)"),
+    ("[parameters]\nUr = 'abc'\n", "key 'Ur' must be a number (got 'abc')"),
+    ("transient = -5\n", "transient must be in [0, 1e9] impacts (got -5)"),
+    ("Ur = -1\n", "parameter Ur = -1 is outside its valid range"),
+    ("model = 3\n", "key 'model' must be a string (got 3)"),
+    ("[period]\ntol = [1, 2]\n", "[period] tol takes one value, not a list (got a list)"),
+    ("[period]\ntol = 'abc'\n", "[period] tol must be a number (got 'abc')"),
+    ("[period]\ntol = true\n", "[period] tol takes a value, not true or false"),
+    ("[period]\nno-plot = 1\n", "[period] no-plot is a flag: true or false (got 1)"),
+    ("[period]\nout = 'x'\n", "[period] out: it says where the results go: give it on the command line"),
+    ("[period]\nrtol = 1e-9\n", "[period] rtol: it is a setting of the run: write it at the top level of the "
+                                "file (rtol = ...)"),
+    ("[sweep]\nthreads = true\n", "[sweep] threads takes a value, not true or false"),
+    ("[sweep]\nthreads = 1.5\n", "[sweep] threads must be an integer (got 1.5)"),
+])
+def test_a_config_value_of_the_wrong_type_names_the_file_and_key(vimpact, tmp_path, text, needle):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(text)
+    cmd = "sweep" if "[sweep]" in text else "period"
+    extra = ["--param", "Ur", "--range", "14:15:2"] if cmd == "sweep" else []
+    p = run(vimpact, [cmd, "--config", str(cfg), *extra, *SHORT, "--json"])
+    assert p.returncode == 2, (text, p.stderr)
+    assert p.stderr.startswith(f"vimpact: error: config {cfg}: "), (text, p.stderr)
+    assert needle in p.stderr, (text, p.stderr)
+    assert len(p.stderr.splitlines()) == 1
+
+
+def test_threads_may_be_set_in_the_commands_table(vimpact, tmp_path):
+    # How many threads a machine gives the run: the results do not depend on it.
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[map]\nthreads = 2\n")
+    p = run(vimpact, ["map", "--config", str(cfg), "--x", "Ur:14:16:2", "--y", "sigma:-0.16:-0.14:2", *SHORT,
+                      "--json"])
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    assert sum(j["label_counts"].values()) == 4
+    # The value reaches --threads: its own check refuses a negative one.
+    cfg.write_text("[map]\nthreads = -1\n")
+    p = run(vimpact, ["map", "--config", str(cfg), "--x", "Ur:14:16:2", "--y", "sigma:-0.16:-0.14:2", "--json"])
+    assert p.returncode == 2 and "--threads must be >= 0 (got -1)" in p.stderr, p.stderr

@@ -439,3 +439,53 @@ def test_bad_input_is_exit_code_2_and_names_the_input(vimpact, tmp_path, args, n
     assert p.stderr.startswith("vimpact: error:")
     assert len(p.stderr.strip().splitlines()) == 1
     assert os.listdir(tmp_path) == []
+
+
+# ---------------------------------------------------------------- long grids
+
+def _peak_kb(pid):
+    """The process's peak resident memory (VmHWM), in kB."""
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1])
+    return 0
+
+
+TUBE = "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000"
+
+
+@pytest.mark.parametrize("args, values", [
+    (["sweep", "--param", "Ur", "--range", "12:25:10000000"], {"from": 12.0, "to": 25.0, "n": 10000000}),
+    (["clearance", "--si", TUBE, "--speeds", "3:6:10000000"], {"from": 3.0, "to": 6.0, "n": 10000000}),
+])
+def test_a_long_grid_is_kept_as_its_ends_and_count(vimpact, tmp_path, args, values):
+    # Millions of values: the spec of the journal says a:b:n, and memory stays that of a short
+    # run while the jobs start (the results stream). Stopped once the jobs run: the run is
+    # resumable, nothing else written.
+    out = tmp_path / "o"
+    spec = tmp_path / "o.jobs" / "spec.json"
+    p = subprocess.Popen([vimpact, *args, "--transient", "20", "--record", "10", "--threads", "1", "--no-plot",
+                          "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    peak = 0
+    try:
+        deadline = time.time() + 300
+        while not spec.exists() and p.poll() is None and time.time() < deadline:
+            peak = max(peak, _peak_kb(p.pid))
+            time.sleep(0.05)
+        assert spec.exists(), p.stderr.read() if p.poll() is not None else "no journal in 300 s"
+        time.sleep(1.5)  # the jobs run
+        assert p.poll() is None, p.stderr.read()
+        peak = max(peak, _peak_kb(p.pid))
+        p.send_signal(signal.SIGINT)
+        assert p.wait(timeout=120) == 130
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.wait()
+    j = json.loads(spec.read_text())
+    grid = j["values"]
+    assert {k: grid[k] for k in ("from", "to", "n")} == values
+    assert spec.stat().st_size < 8192, spec.stat().st_size
+    assert peak < 150_000, f"peak resident memory {peak} kB"
+    assert not out.exists()

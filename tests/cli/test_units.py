@@ -28,7 +28,7 @@ def test_text_output_names_the_model_parameters(vimpact):
 
 
 def test_bad_si_input_is_refused(vimpact):
-    for si, needle in [("D=0.02,m=0.6,fn=12,zeta=0.002", "--si needs rho"),
+    for si, needle in [("D=0.02,m=0.6,fn=12,zeta=0.002", "--si: missing rho"),
                        (SI + ",Q=1", "unknown key 'Q'"),
                        (SI + ",D=0.03", "D is given twice"),
                        ("D=0,m=0.6,fn=12,zeta=0.002,rho=1000", "D (diameter, m) must be")]:
@@ -37,3 +37,23 @@ def test_bad_si_input_is_refused(vimpact):
         assert needle in p.stderr, (si, p.stderr)
     p = run(vimpact, "units", "--si", SI, "--speeds", "-1:6:7")
     assert p.returncode == 2 and "U (flow speed" in p.stderr
+
+
+def test_inputs_that_give_no_number_together_are_refused(vimpact):
+    # Each input is in range; together they give a quantity no double holds (D^2 overflows,
+    # mu = inf / inf): refused naming the inputs and the range, never printed as nan.
+    for si, names in [("D=1e300,m=0.6,fn=12,zeta=0.002,rho=1000", ["D = 1e+300", "rho = 1000"]),
+                      ("D=1e-200,m=0.6,fn=12,zeta=0.002,rho=1000", ["D = 1e-200", "rho = 1000"]),
+                      ("D=0.02,m=1e308,fn=12,zeta=0.002,rho=1e-300", ["m = 1e+308", "rho = 1e-300", "D = 0.02"]),
+                      ("D=1,mstar=1e306,fn=12,zeta=0.002,rho=1e5", ["mstar = 1e+306", "rho = 1e+05", "D = 1"])]:
+        p = run(vimpact, "units", "--si", si, "--speeds", "3:6:7")
+        assert p.returncode == 2, (si, p.stdout)
+        line = p.stderr.strip()
+        assert line.startswith("vimpact: error: --si: ") and len(line.splitlines()) == 1, (si, line)
+        assert all(n in line for n in names), (si, line)
+        assert "outside the range of a double: the inputs must keep its magnitude in [2.2250738585072014e-308, " \
+               "1.7976931348623157e+308]" in line, (si, line)
+        assert "nan" not in p.stdout
+    # A speed that makes Ur overflow: the speed is named.
+    p = run(vimpact, "units", "--si", SI.replace("fn=12", "fn=1e-300"), "--speeds", "1e10:1e10:1")
+    assert p.returncode == 2 and "U = 1e+10" in p.stderr and "Ur = U / (fn D)" in p.stderr, p.stderr

@@ -49,6 +49,25 @@ def test_the_plugin_is_a_model_of_the_command_line(opts):
     assert sum(j["impacts_by_surface"].values()) == j["impacts"]
 
 
+def test_a_plugin_run_replays_only_with_the_plugin_on_the_command_line(opts, tmp_path):
+    # A config file never loads native code: the plugin's run.toml names it, and the replay
+    # gives it again with --model.
+    if not opts["vimpact"]:
+        pytest.skip("the command-line program is not built")
+    first, again = tmp_path / "first", tmp_path / "again"
+    run(opts["vimpact"], "period", "--model", opts["plugin"], "--transient", "60", "--record", "20", "--no-plot",
+        "--out", str(first))
+    cfg = first / "config.toml"
+    plugin = os.path.abspath(opts["plugin"])
+    assert f"--model '{plugin}' --config config.toml" in cfg.read_text()
+    p = subprocess.run([opts["vimpact"], "period", "--config", str(cfg), "--out", str(again)], capture_output=True,
+                       text=True, timeout=600)
+    assert p.returncode == 2 and "names a shared library" in p.stderr and not again.exists(), p.stderr
+    run(opts["vimpact"], "period", "--model", plugin, "--config", str(cfg), "--out", str(again))
+    for name in ("sections.csv", "config.toml"):
+        assert (first / name).read_bytes() == (again / name).read_bytes(), name
+
+
 def test_impacts_of_the_plugin_keep_momentum_and_reverse_the_relative_velocity(opts):
     python_dir = os.path.join(opts["build"], "python")
     if not os.path.isdir(os.path.join(python_dir, "vimpact")):

@@ -181,8 +181,28 @@ def test_mass_ratio_and_stiffness_instead_of_mass_and_frequency():
     assert (u.inputs["mstar"], u.inputs["k"]) == (3.0, STIFF["k"])
     with pytest.raises(vimpact.InputError, match=r"m \(structural mass per unit length, kg/m\) and mstar"):
         vimpact.PhysicalUnits(**STIFF, m=0.6)
-    with pytest.raises(vimpact.InputError, match=r"--si needs fn \(natural frequency in still fluid, Hz\) or k"):
+    with pytest.raises(vimpact.InputError, match=r"^PhysicalUnits: missing fn \(natural frequency in still fluid, "
+                                                 r"Hz\) or k"):
         vimpact.PhysicalUnits(D=0.02, m=0.6, zeta=0.002, rho=1000.0)
+
+
+@pytest.mark.parametrize("values, needle", [
+    (dict(D=-1), "PhysicalUnits: missing zeta (keys: "),
+    (dict(TUBE, D=-1), "PhysicalUnits: D (diameter, m) must be a finite number > 0 (got -1)"),
+    (dict(TUBE, Q=1), "PhysicalUnits: unknown key 'Q' (keys: "),
+    (dict(TUBE, length=1), "PhysicalUnits: give either a cylinder"),
+    (dict(TUBE, D=1e300), "PhysicalUnits: rho D^2 = inf from rho = 1000, D = 1e+300 is outside the range of a "
+                          "double: the inputs must keep its magnitude in [2.2250738585072014e-308, "
+                          "1.7976931348623157e+308]"),
+    (dict(TUBE, U=1e308), "PhysicalUnits: Ur = U / (fn D) = inf from U = 1e+308, fn = 12, D = 0.02"),
+    (dict(length=1e200, time=1e-200), "PhysicalUnits: the velocity scale = inf from length = 1e+200, time = 1e-200"),
+])
+def test_messages_are_pythons_not_the_command_lines(values, needle):
+    # The library's words with the front end's name: no --si, no option spelling.
+    with pytest.raises(vimpact.InputError) as e:
+        vimpact.PhysicalUnits(**values)
+    assert str(e.value).startswith(needle), str(e.value)
+    assert "--" not in str(e.value)
 
 
 def test_a_tube_given_by_its_stiffness_oscillates_at_sqrt_k_over_its_total_mass():

@@ -11,12 +11,13 @@
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/jobs/job_options.hpp"
+#include "vimpact/core/value_grid.hpp"
 
 namespace vimpact {
 
 struct basins_options {
     int x_state = 0, y_state = 1;   // the state variables on the axes
-    std::vector<double> x_values, y_values;
+    value_grid x_values, y_values;
     Eigen::VectorXd initial_state;  // the other components; empty: the model's
     protocol_options protocol{};
     double period_tolerance = default_period_tolerance;

@@ -57,6 +57,9 @@ struct bifurcation_curve {
 };
 
 void validate(const model& m, const continuation_options& o, const curve_options& c);
+// Whether [lo2, hi2] holds the model's value of the second parameter, where the curves start
+// (validate refuses it otherwise; a front end with its own units may say so in them first).
+bool second_parameter_in_range(const model& m, const curve_options& c);
 
 // The curve through bifurcation `index` of `r` (computed by continuation with options `o`).
 bifurcation_curve continue_bifurcation(const model& m, const continuation_result& r, int index,

@@ -21,6 +21,7 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/jobs/job_options.hpp"
+#include "vimpact/core/value_grid.hpp"
 
 namespace vimpact {
 
@@ -29,7 +30,7 @@ std::vector<double> default_clearance_fractions();
 
 struct clearance_options {
     int parameter = -1;  // the flow parameter
-    std::vector<double> values;
+    value_grid values;
     int gap_parameter = -1;          // -1: the first that moves a surface (first_gap_parameter)
     std::vector<double> gaps;        // the chart's gaps (model units); empty: fractions
     std::vector<double> fractions = default_clearance_fractions();

@@ -9,12 +9,13 @@
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/jobs/job_options.hpp"
+#include "vimpact/core/value_grid.hpp"
 
 namespace vimpact {
 
 struct map_axis {
     int parameter = 0;
-    std::vector<double> values;
+    value_grid values;
 };
 
 struct map_options {

@@ -12,12 +12,13 @@
 
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/jobs/job_options.hpp"
+#include "vimpact/core/value_grid.hpp"
 
 namespace vimpact {
 
 struct response_options {
     int parameter = 0;              // must enter the vector field
-    std::vector<double> values;
+    value_grid values;
     // Each curve sets these parameters (index, value) before the sweep; empty: one curve at
     // the model's values.
     std::vector<std::vector<std::pair<int, double>>> curves;

@@ -8,12 +8,13 @@
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/jobs/job_options.hpp"
+#include "vimpact/core/value_grid.hpp"
 
 namespace vimpact {
 
 struct floquet_sweep_options {
     int parameter = 0;
-    std::vector<double> values;
+    value_grid values;
     Eigen::VectorXd initial_state;  // empty: the model's
     floquet_options floquet{};
 };
@@ -35,7 +36,7 @@ floquet_sweep_result floquet_sweep(const model& m, const floquet_sweep_options& 
 
 struct lyapunov_sweep_options {
     int parameter = 0;
-    std::vector<double> values;
+    value_grid values;
     Eigen::VectorXd initial_state;  // empty: the model's
     lyapunov_options lyapunov{};
 };

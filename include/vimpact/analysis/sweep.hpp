@@ -13,6 +13,7 @@
 #include "vimpact/core/names.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/value_grid.hpp"
 #include "vimpact/jobs/job_options.hpp"
 
 namespace vimpact {
@@ -33,7 +34,7 @@ inline constexpr std::array<sweep_direction, 3> all_sweep_directions{sweep_direc
 
 struct sweep_options {
     int parameter = 0;
-    std::vector<double> values;
+    value_grid values;              // a:b:n kept as a range (core/value_grid.hpp)
     Eigen::VectorXd initial_state;  // empty: the model's
     bool follow = false;            // false: fixed starts
     sweep_direction direction = sweep_direction::up;  // both: needs follow
@@ -65,8 +66,8 @@ struct sweep_result {
 sweep_result sweep(const model& m, const sweep_options& o, const job_options& j = {},
                    const job_stream<sweep_point>& each = {});
 
-// n values from a to b inclusive, evenly spaced (n = 1: a). Computed as a + i (b - a)/(n - 1)
-// so every value depends only on (a, b, n, i), never on accumulated rounding; the last is b.
+// n values from a to b inclusive, evenly spaced (n = 1: a): value_grid::range(a, b, n)
+// enumerated, for a caller that wants them all (a run's options take the range itself).
 // n is limited to 1e8 (more points than any run can use).
 std::vector<double> grid_values(double a, double b, long n);
 

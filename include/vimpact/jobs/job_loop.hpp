@@ -227,6 +227,8 @@ enum rank_tag : int {
     tag_failed = 7,  // rank -> 0: a job or the rank failed ("kind\nmessage")
     tag_bye = 8,     // 0 -> rank: the run is over (a rank that left waits for it, asleep, rather
                      // than in MPI_Finalize, which spins)
+    tag_spec = 9,    // rank -> 0, before anything else: the hash of its run's spec, a newline, the spec
+    tag_same = 10,   // 0 -> rank: every rank has the same spec; the run may start
 };
 
 // An exception as a message and back: an input_error stays one (exit code 2).

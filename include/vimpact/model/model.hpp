@@ -64,6 +64,10 @@ public:
     [[nodiscard]] double parameter(int i) const { return m_parameters.at(static_cast<std::size_t>(i)); }
     [[nodiscard]] Eigen::VectorXd initial_state() const;
 
+    // One parameter's value against its range (and not subnormal) alone: what every copy
+    // below checks first, for a caller that reads values one by one (a config file).
+    static void check_parameter(const parameter_info& p, double value);
+
     // Copies with changed parameters; throw input_error for a value outside its range.
     [[nodiscard]] model with_parameter(int index, double value) const;
     [[nodiscard]] model with_parameters(std::span<const double> values) const;

@@ -27,6 +27,13 @@ namespace vimpact {
 std::shared_ptr<const model_code> load_model_code(const std::filesystem::path& path,
                                                   const std::atomic<bool>* cancel = nullptr);
 
+// What load_model_code makes of a file: a model file it compiles from equations, or a shared
+// library whose code it runs as it is (a caller that must not run native code it was not
+// handed directly, e.g. one named in a config file, asks first). Throws input_error as
+// load_model_code does for a file that is neither, or none.
+enum class model_file_kind { model_text, model_json, shared_library };
+model_file_kind model_file_kind_of(const std::filesystem::path& path);
+
 // The text of a model file; `source` names it in messages.
 std::shared_ptr<const model_code> compile_model_text(std::string_view text, std::string_view source,
                                                      const std::atomic<bool>* cancel = nullptr);

@@ -27,6 +27,7 @@
 
 #include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/impact_statistics.hpp"
+#include "vimpact/core/value_grid.hpp"
 #include "vimpact/model/model.hpp"
 #include "vimpact/physical/flow_units.hpp"
 #include "vimpact/physical/state_dimensions.hpp"
@@ -63,7 +64,9 @@ struct si_input {
 std::string si_keys();
 
 // From KEY=VALUE pairs in the order given. Throws input_error naming the key: an unknown or
-// repeated key, a missing one, a value out of range (a gap below zero, a zero diameter...).
+// repeated key, a missing one, a value out of range (a gap below zero, a zero diameter...),
+// or values that together give a quantity no double holds (derived_value). The messages
+// name no front end (`--si`, PhysicalUnits): each caller adds its own.
 si_input si_from_pairs(const std::vector<std::pair<std::string, double>>& pairs);
 
 // The inputs by key, defaults filled in (CM, St, nu; mass) and m and fn computed where mstar
@@ -75,6 +78,9 @@ std::vector<named_value> si_inputs(const si_input& in);
 int si_parameter(const si_input& in, const model& m, std::string_view quantity);
 // The value of that parameter for the SI value (U in m/s, gap in m), at m's other parameters.
 double si_parameter_value(const si_input& in, const model& m, std::string_view quantity, double value);
+// A grid of SI values of the quantity as the grid of that parameter's values, mapped value by
+// value with si_parameter_value (a range stays a range: value_grid).
+value_grid si_parameter_grid(const si_input& in, const model& m, std::string_view quantity, const value_grid& given);
 // Back: the SI value of the quantity (U [m/s], gap [m]) where that parameter is `value`.
 double si_quantity_value(const si_input& in, const model& m, std::string_view quantity, double value);
 
