@@ -30,7 +30,6 @@
 #include <dirent.h>
 #include <dlfcn.h>
 #include <fcntl.h>
-#include <link.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -585,23 +584,21 @@ loaded_library compile_entry(const cache_directory& dir, const std::vector<std::
     return loaded;
 }
 
-// The names the dynamic loader has for the objects it has loaded: a name it knows is not
-// opened again (glibc compares names before files), so a /proc/self/fd/N of a closed
-// descriptor that named another library must not be reused.
-bool loader_knows(const std::string& name)
+// A name under which dlopen reaches descriptor fd and that no earlier load of this process
+// used. The dynamic loader looks a name up among the names of what it has loaded before it
+// opens anything, and those names include every alias under which an object was asked for
+// again (glibc adds "/proc/self/fd/M" to a library already loaded from another descriptor of
+// the same file): a /proc/self/fd/N of a descriptor closed since, now naming another model's
+// library, would give back the first library. Each load therefore spells the path anew: the
+// load count n in binary as "/." (1) and "//" (0) components after /proc/self/fd, which the
+// kernel reads as the same directory. The count is the loader's process-wide state mirrored.
+std::string fresh_descriptor_name(int fd)
 {
-    struct search {
-        const std::string* name;
-        bool found = false;
-    } s{&name};
-    ::dl_iterate_phdr(
-        [](dl_phdr_info* info, std::size_t, void* data) {
-            auto* x = static_cast<search*>(data);
-            if (info->dlpi_name && *x->name == info->dlpi_name) x->found = true;
-            return 0;
-        },
-        &s);
-    return s.found;
+    static std::atomic<std::uint64_t> loads{0};
+    std::uint64_t n = loads.fetch_add(1);
+    std::string name = "/proc/self/fd";
+    for (; n != 0; n >>= 1) name += (n & 1U) ? "/." : "//";
+    return name + "/" + std::to_string(fd);
 }
 
 loaded_library library_table(void* h, const std::string& what)
@@ -640,14 +637,7 @@ loaded_library open_library(const fs::path& path, const std::string& what)
 
 loaded_library open_library_fd(int fd, const std::string& what)
 {
-    std::vector<unique_fd> copies;  // held until dlopen has the file
-    int use = fd;
-    while (loader_knows("/proc/self/fd/" + std::to_string(use))) {
-        copies.emplace_back(::fcntl(fd, F_DUPFD_CLOEXEC, 0));
-        if (!copies.back().valid()) throw input_error(what + ": cannot load it: " + std::strerror(errno));
-        use = copies.back().get();
-    }
-    const std::string name = "/proc/self/fd/" + std::to_string(use);
+    const std::string name = fresh_descriptor_name(fd);
     ::dlerror();
     void* h = ::dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!h) {

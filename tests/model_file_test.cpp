@@ -6,6 +6,7 @@
 
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -1321,6 +1322,36 @@ TEST(ModelCache, TruncatedEntryIsCompiledAgain)
     fs::resize_file(so, size / 2);
     EXPECT_EQ(forcing_at_origin(model::from_toml(text, "truncated.toml")), 6.0);
     EXPECT_EQ(fs::file_size(the_entry(cache.dir(), "truncated")), size);
+}
+
+// A model loaded twice, the second time from the cache through a descriptor of another number
+// (the dynamic loader then keeps that descriptor's /proc/self/fd name as an alias of the
+// library), then other models, each loaded from a descriptor of that same number: each is
+// itself, not the first model again (which a Python session met as a model file that ran
+// with another model's equations). Every entry is compiled in a child first, so that each
+// load here is a cache hit opening the same descriptors, one number up while `shift` holds
+// the lowest free one.
+TEST(ModelCache, ModelsLoadedAfterAnAliasedOneAreThemselves)
+{
+    const scoped_cache cache("aliases");
+    const std::string first = shifted_model("aliased", 1);
+    compile_elsewhere(first);
+    for (int k = 0; k < 4; ++k) compile_elsewhere(shifted_model("after_" + std::to_string(k), 100 + k));
+    struct shift {
+        int fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+        ~shift() { ::close(fd); }
+    };
+    const model a = model::from_toml(first, "aliased.toml");
+    {
+        const shift s;
+        EXPECT_EQ(forcing_at_origin(model::from_toml(first, "aliased.toml")), 2.0);
+    }
+    for (int k = 0; k < 4; ++k) {
+        const shift s;
+        const std::string name = "after_" + std::to_string(k);
+        EXPECT_EQ(forcing_at_origin(model::from_toml(shifted_model(name, 100 + k), name + ".toml")), 101.0 + k) << name;
+    }
+    EXPECT_EQ(forcing_at_origin(a), 2.0);
 }
 
 // Another model's entry copied over this one's (the library alone, or with its record) is not
