@@ -43,6 +43,8 @@ public:
     // Surface w.surface absent in the time window of w (from the orbit's section point).
     [[nodiscard]] orbit_system with_absent(const grazing_window& w) const;
 
+    // The model at the parameters of u (throws input_error outside their valid ranges).
+    [[nodiscard]] model model_at(const Eigen::VectorXd& u) const;
     // The map at u (status inadmissible for parameters outside their valid range); with
     // forced_surface >= 0 an impact forced on it at forced_time (orbit_map_request).
     [[nodiscard]] orbit_map_value map(const Eigen::VectorXd& u, bool tangent, int forced_surface = -1,
