@@ -602,13 +602,27 @@ ld tracked_phase(ld w)
     return phi;
 }
 
+// Where the closed form's tracked phase of the right-stop impact passes through 0.
+ld closed_form_event()
+{
+    return exact_impact_oscillator::bisect([](ld w) { return tracked_phase(w) < 0; }, 0.78L, 0.80L);
+}
+
+// The orbit of `b` whose section point is closest to the right stop: the located event.
+const vimpact::continuation_point& event_point(const vimpact::continuation_branch& b)
+{
+    return *std::min_element(b.points.begin(), b.points.end(), [](const auto& p, const auto& q) {
+        return std::abs(1.0 - p.state[0]) < std::abs(1.0 - q.state[0]);
+    });
+}
+
 // The symmetric P1 orbit of the closed form meets the strobe section (its right-stop impact at
 // phase 0) where the tracked phase passes through 0, and grazes where the largest interior
 // maximum of its flight from the right stop to the left one reaches the right stop.
 TEST(ContinuationTwoSided, BranchGoesOnWhereTheStrobeMeetsAnImpactDownToTheDoubleGrazing)
 {
     // The closed form, by bisection in w (nothing of the continuation is used).
-    const ld w_event = exact_impact_oscillator::bisect([](ld w) { return tracked_phase(w) < 0; }, 0.78L, 0.80L);
+    const ld w_event = closed_form_event();
     const ld phi_g = tracked_phase(0.53L);
     const ld w_graze = exact_impact_oscillator::bisect(
         [&](ld w) {
@@ -629,13 +643,11 @@ TEST(ContinuationTwoSided, BranchGoesOnWhereTheStrobeMeetsAnImpactDownToTheDoubl
                 b.points.front().parameter, vimpact::end_reason(b, "w").c_str());
     // Through the event: orbits on both sides of it, and the one where it happens (its section
     // point on the right stop) at the closed form's w.
-    const auto near_event = std::find_if(b.points.begin(), b.points.end(), [&](const auto& p) {
-        return std::abs(p.parameter - static_cast<double>(w_event)) < 1e-8;
-    });
-    ASSERT_NE(near_event, b.points.end());
-    std::printf("located event: w %.12f, error %.2e, gap at the section point %.2e\n", near_event->parameter,
-                near_event->parameter - static_cast<double>(w_event), 1.0 - near_event->state[0]);
-    EXPECT_LE(std::abs(1.0 - near_event->state[0]), 1e-9);
+    const auto& e = event_point(b);
+    std::printf("located event: w %.12f, error %.2e, gap at the section point %.2e\n", e.parameter,
+                e.parameter - static_cast<double>(w_event), 1.0 - e.state[0]);
+    EXPECT_NEAR(e.parameter, static_cast<double>(w_event), 1e-9);
+    EXPECT_LE(std::abs(1.0 - e.state[0]), 1e-10);
     EXPECT_TRUE(std::any_of(b.points.begin(), b.points.end(), [](const auto& p) { return p.parameter < 0.7; }));
     // The double grazing, located to the closed form's value, both stops at once; the branch
     // ends there.
@@ -669,6 +681,32 @@ TEST(ContinuationTwoSided, BranchGoesOnWhereTheStrobeMeetsAnImpactDownToTheDoubl
     }
     std::printf("%d orbits (%d past the event) against the exact map: fixed-point error %.2e\n", checked, below, worst);
     EXPECT_GE(below, 10);
+    EXPECT_LE(worst, 1e-8);
+}
+
+// The other way through the same event: from w = 0.7 up, the right-stop impact comes just
+// before the strobe's return and then just after it; the branch goes on to the range's end.
+TEST(ContinuationTwoSided, UpwardsThroughTheStrobeEventToTheRangesEnd)
+{
+    const ld w_event = closed_form_event();
+    const model m = model::builtin("two_sided_impact_oscillator");
+    const auto res = vimpact::continuation(m, {m.initial_state()}, two_sided_in_w(m, 0.7, 1.0), 1);
+    ASSERT_EQ(res.branches.size(), 1U);
+    const auto& b = res.branches[0];
+    const auto& e = event_point(b);
+    std::printf("upwards: %zu points, ends %s; event at w %.12f, error %.2e, gap at the section point %.2e\n",
+                b.points.size(), vimpact::end_reason(b, "w").c_str(), e.parameter,
+                e.parameter - static_cast<double>(w_event), 1.0 - e.state[0]);
+    EXPECT_NEAR(e.parameter, static_cast<double>(w_event), 1e-9);
+    EXPECT_LE(std::abs(1.0 - e.state[0]), 1e-10);
+    EXPECT_EQ(b.end, vimpact::branch_end::range);
+    EXPECT_EQ(b.points.back().parameter, 1.0);
+    double worst = 0.0;
+    for (const auto& p : b.points) {
+        if (std::abs(p.parameter - static_cast<double>(w_event)) < 1e-6) continue;
+        const auto [x1, v1] = exact_two_sided(p.parameter).strobe(p.state[0], p.state[1], 1.0L);
+        worst = std::max(worst, static_cast<double>(std::max(std::abs(x1 - p.state[0]), std::abs(v1 - p.state[1]))));
+    }
     EXPECT_LE(worst, 1e-8);
 }
 

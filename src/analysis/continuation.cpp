@@ -702,16 +702,23 @@ private:
         double spacing = T;
         for (std::size_t k = 0; k < oe.impacts.size(); ++k)
             if (k != ev->index) spacing = std::min({spacing, oe.impacts[k].t, T - oe.impacts[k].t});
-        const double t_event = after_start ? T : 0.0;
-        const grazing_window w{surface, t_event - 0.25 * spacing, t_event + 0.25 * spacing};
+        const auto window_at = [&](double t) { return grazing_window{surface, t - 0.25 * spacing, t + 0.25 * spacing}; };
+        // On the far side the impact comes just before the return (after_start) or just after
+        // the start.
+        const grazing_window w = window_at(after_start ? T : 0.0);
         const model me = sys.model_at(turn.point.u);
         Eigen::VectorXd xb(N);
         if (after_start) {
             tb.reset(me.context(), surface, oe.x.data(), xb.data());
         } else {
-            const orbit_map_value through = sys.with_absent(w).map(turn.point.u, false);
+            const orbit_map_value through = sys.with_absent(window_at(T)).map(turn.point.u, false);
             if (!through.ok()) return turn;
             xb = through.x_end;
+        }
+        // Phases as E's own (the run's end carries the period it ran).
+        for (int j = 0; j < N; ++j) {
+            const double period = sys.base().info().state[static_cast<std::size_t>(j)].period;
+            if (period > 0.0) xb[j] -= period * std::round((xb[j] - oe.x[j]) / period);
         }
         // The other state is a section point only if the reset leaves the section where it was
         // and the flow crosses it the section's way there.

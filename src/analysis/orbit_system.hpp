@@ -109,6 +109,9 @@ std::optional<double> grazing_test(const orbit_map_value& o, const grazing_windo
 // That minimum itself (its time, surface and gap).
 std::optional<gap_minimum_record> grazing_minimum(const orbit_map_value& o, const grazing_window& w);
 
+// Both maps ok with the same impacts in the same order: a difference between them is smooth.
+bool same_impacts(const orbit_map_value& a, const orbit_map_value& b);
+
 // The nontrivial multipliers of a point inside the unit circle.
 bool stable_multipliers(const std::vector<std::complex<double>>& section_multipliers);
 
