@@ -242,9 +242,7 @@ int run_continue(const continue_args& a)
                                 : "") +
                 ", " + std::to_string(br.points.size()) + " points over " + pname + " " + format_double(lo) + " .. " +
                 format_double(hi) + ": " + std::to_string(stable) + " stable, " +
-                std::to_string(static_cast<long>(br.points.size()) - stable) + " unstable; ends: " +
-                std::string(to_string(br.end)) +
-                (br.end == branch_end::failed ? " (" + std::string(to_string(br.failure)) + ")" : "") + "\n";
+                std::to_string(static_cast<long>(br.points.size()) - stable) + " unstable; ends: " + end_reason(br, pname) + "\n";
     }
     if (!r.bifurcations.empty()) text += "bifurcations:\n";
     for (std::size_t i = 0; i < r.bifurcations.size(); ++i) {

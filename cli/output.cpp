@@ -411,7 +411,8 @@ std::string unsettled_text(long unsettled)
 {
     if (unsettled == 0) return {};
     return "warning: " + std::to_string(unsettled) +
-           " run(s) not settled: aperiodic over the record but periodic in its last half (lengthen --transient)\n";
+           " run(s) not settled: still converging over the record, or periodic only in its last half (lengthen "
+           "--transient)\n";
 }
 
 std::vector<std::string> impact_count_columns(const model_info& info)

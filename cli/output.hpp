@@ -160,8 +160,9 @@ private:
     std::map<std::string, long> m_counts;
 };
 
-// The warning of runs whose record has not settled (period_label::settled: aperiodic as a
-// whole, periodic in its last half), a line for the text output; empty when all settled.
+// The warning of runs whose record has not settled (period_label::settled: still converging
+// onto a periodic orbit, or periodic only in its last half), a line for the text output;
+// empty when all settled.
 std::string unsettled_text(long unsettled);
 
 // impacts_SURFACE for each surface: the columns of impacts per period on each.

@@ -17,11 +17,15 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <fstream>
 #include <numbers>
+#include <sstream>
+#include <string>
 
 #include <Eigen/Eigenvalues>
 
 #include "exact_impact_oscillator.hpp"
+#include "exact_two_sided_oscillator.hpp"
 #include "test_support.hpp"
 #include "vimpact/analysis/bifurcation_curve.hpp"
 #include "vimpact/analysis/continuation.hpp"
@@ -29,6 +33,7 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/orbit_map.hpp"
 #include "vimpact/analysis/sweep.hpp"
+#include "vimpact/core/format.hpp"
 
 namespace {
 
@@ -54,17 +59,22 @@ exact_impact_oscillator exact_for(const model& m)
     return {parameter(m, "zeta"), parameter(m, "omega"), parameter(m, "F"), parameter(m, "r")};
 }
 
-// Continuation in sigma on the stroboscopic section, from the attractor at `start`.
-continuation_options sigma_options(const model& m, double start, double end)
+// Continuation in `param` on the stroboscopic section, from the attractor at `start`.
+continuation_options strobe_options(const model& m, const char* param, double start, double end)
 {
     continuation_options o;
-    o.parameter = m.info().parameter_index("sigma");
+    o.parameter = m.info().parameter_index(param);
     o.start = start;
     o.end = end;
     o.protocol.section = vimpact::section_choice::crossings(m.info().section_index("strobe"));
     o.protocol.transient_impacts = 200;
     o.protocol.record_points = 20;
     return o;
+}
+
+continuation_options sigma_options(const model& m, double start, double end)
+{
+    return strobe_options(m, "sigma", start, end);
 }
 
 double pds_parameter(const continuation_result& r);
@@ -565,6 +575,196 @@ TEST(ContinuationPaper, GrazingOfTheBarrierFreeOrbitIsTheGrazingValue)
     EXPECT_EQ(pts[static_cast<std::size_t>(g[0]->after_point)].impacts(), 0);
     EXPECT_GE(pts.back().impacts(), 1);
     EXPECT_GT(pts.back().parameter, expected);
+}
+
+// ---- the two-sided oscillator: the strobe meets an impact, a double grazing -------------------
+
+using vimpact::test::exact_two_sided_oscillator;
+
+exact_two_sided_oscillator exact_two_sided(double w) { return {0.05L, 1.0L, w, 0.8L}; }
+
+// Continuation of the two-sided oscillator's symmetric P1 orbit in w on its strobe section
+// (phase 0), from the attractor at `start`.
+continuation_options two_sided_in_w(const model& m, double start, double end)
+{
+    return strobe_options(m, "w", start, end);
+}
+
+// The closed form's symmetric P1 orbit (d = 1) followed in w from its phase at w = 1: the
+// phase of its right-stop impact at w (unwrapped, tracked from w = 1 in steps of 0.005).
+ld tracked_phase(ld w)
+{
+    ld phi = exact_two_sided(1.0).symmetric_phase_near(1.0L, 0.0754L);
+    for (ld at = 1.0L; at > w;) {
+        at = std::max(w, at - 0.005L);
+        phi = exact_two_sided(static_cast<double>(at)).symmetric_phase_near(1.0L, phi);
+    }
+    return phi;
+}
+
+// Where the closed form's tracked phase of the right-stop impact passes through 0.
+ld closed_form_event()
+{
+    return exact_impact_oscillator::bisect([](ld w) { return tracked_phase(w) < 0; }, 0.78L, 0.80L);
+}
+
+// The orbit of `b` whose section point is closest to the right stop: the located event.
+const vimpact::continuation_point& event_point(const vimpact::continuation_branch& b)
+{
+    return *std::min_element(b.points.begin(), b.points.end(), [](const auto& p, const auto& q) {
+        return std::abs(1.0 - p.state[0]) < std::abs(1.0 - q.state[0]);
+    });
+}
+
+// The symmetric P1 orbit of the closed form meets the strobe section (its right-stop impact at
+// phase 0) where the tracked phase passes through 0, and grazes where the largest interior
+// maximum of its flight from the right stop to the left one reaches the right stop.
+TEST(ContinuationTwoSided, BranchGoesOnWhereTheStrobeMeetsAnImpactDownToTheDoubleGrazing)
+{
+    // The closed form, by bisection in w (nothing of the continuation is used).
+    const ld w_event = closed_form_event();
+    const ld phi_g = tracked_phase(0.53L);
+    const ld w_graze = exact_impact_oscillator::bisect(
+        [&](ld w) {
+            const auto ex = exact_two_sided(static_cast<double>(w));
+            return ex.interior_extrema(ex.symmetric_phase_near(1.0L, phi_g)).first > 1.0L;
+        },
+        0.52L, 0.53L);
+    std::printf("closed form: the strobe meets the right-stop impact at w = %.12Lf, the orbit grazes at w = %.12Lf\n",
+                w_event, w_graze);
+
+    const model m = model::builtin("two_sided_impact_oscillator");
+    const auto o = two_sided_in_w(m, 1.0, 0.4);
+    const auto res = vimpact::continuation(m, {m.initial_state()}, o, 1);
+    ASSERT_EQ(res.status, outcome::ok) << res.start_label;
+    ASSERT_EQ(res.branches.size(), 1U);
+    const auto& b = res.branches[0];
+    std::printf("branch: %zu points, w %.12f .. %.12f, ends %s\n", b.points.size(), b.points.back().parameter,
+                b.points.front().parameter, vimpact::end_reason(b, "w").c_str());
+    // Through the event: orbits on both sides of it, and the one where it happens (its section
+    // point on the right stop) at the closed form's w.
+    const auto& e = event_point(b);
+    std::printf("located event: w %.12f, error %.2e, gap at the section point %.2e\n", e.parameter,
+                e.parameter - static_cast<double>(w_event), 1.0 - e.state[0]);
+    EXPECT_NEAR(e.parameter, static_cast<double>(w_event), 1e-9);
+    EXPECT_LE(std::abs(1.0 - e.state[0]), 1e-10);
+    EXPECT_TRUE(std::any_of(b.points.begin(), b.points.end(), [](const auto& p) { return p.parameter < 0.7; }));
+    // The double grazing, located to the closed form's value, both stops at once; the branch
+    // ends there.
+    const auto g = of_type(res, bifurcation_type::grazing, 0);
+    ASSERT_EQ(g.size(), 2U);
+    for (const auto* gb : g) {
+        std::printf("grazing (surface %d) at w = %.12f, closed form %.12Lf, error %.2e\n", gb->surface, gb->parameter,
+                    w_graze, gb->parameter - static_cast<double>(w_graze));
+        EXPECT_TRUE(gb->located);
+        EXPECT_NEAR(gb->parameter, static_cast<double>(w_graze), 1e-9);
+        EXPECT_LE(gb->point.min_gap[static_cast<std::size_t>(gb->surface)], 1e-9);
+        EXPECT_EQ(gb->sequence_before.size(), 2U);
+        EXPECT_GT(gb->sequence_after.size(), 2U);
+    }
+    EXPECT_NE(g[0]->surface, g[1]->surface);
+    EXPECT_EQ(b.end, vimpact::branch_end::grazing);
+    EXPECT_EQ(b.points.back().parameter, g[0]->parameter);
+    EXPECT_EQ(vimpact::end_reason(b, "w"), "grazing at w = " + vimpact::format_double(g[0]->parameter));
+    // Every orbit of the branch, on both sides of the event, a fixed point of the exact
+    // stroboscopic map (away from the event and the grazing, where it is not smooth).
+    double worst = 0.0;
+    int checked = 0, below = 0;
+    for (const auto& p : b.points) {
+        if (std::abs(p.parameter - static_cast<double>(w_event)) < 1e-6 || p.parameter < static_cast<double>(w_graze) + 1e-4)
+            continue;
+        const auto ex = exact_two_sided(p.parameter);
+        const auto [x1, v1] = ex.strobe(p.state[0], p.state[1], 1.0L);
+        worst = std::max(worst, static_cast<double>(std::max(std::abs(x1 - p.state[0]), std::abs(v1 - p.state[1]))));
+        ++checked;
+        below += p.parameter < static_cast<double>(w_event);
+    }
+    std::printf("%d orbits (%d past the event) against the exact map: fixed-point error %.2e\n", checked, below, worst);
+    EXPECT_GE(below, 10);
+    EXPECT_LE(worst, 1e-8);
+}
+
+// The other way through the same event: from w = 0.7 up, the right-stop impact comes just
+// before the strobe's return and then just after it; the branch goes on to the range's end.
+TEST(ContinuationTwoSided, UpwardsThroughTheStrobeEventToTheRangesEnd)
+{
+    const ld w_event = closed_form_event();
+    const model m = model::builtin("two_sided_impact_oscillator");
+    const auto res = vimpact::continuation(m, {m.initial_state()}, two_sided_in_w(m, 0.7, 1.0), 1);
+    ASSERT_EQ(res.branches.size(), 1U);
+    const auto& b = res.branches[0];
+    const auto& e = event_point(b);
+    std::printf("upwards: %zu points, ends %s; event at w %.12f, error %.2e, gap at the section point %.2e\n",
+                b.points.size(), vimpact::end_reason(b, "w").c_str(), e.parameter,
+                e.parameter - static_cast<double>(w_event), 1.0 - e.state[0]);
+    EXPECT_NEAR(e.parameter, static_cast<double>(w_event), 1e-9);
+    EXPECT_LE(std::abs(1.0 - e.state[0]), 1e-10);
+    EXPECT_EQ(b.end, vimpact::branch_end::range);
+    EXPECT_EQ(b.points.back().parameter, 1.0);
+    double worst = 0.0;
+    for (const auto& p : b.points) {
+        if (std::abs(p.parameter - static_cast<double>(w_event)) < 1e-6) continue;
+        const auto [x1, v1] = exact_two_sided(p.parameter).strobe(p.state[0], p.state[1], 1.0L);
+        worst = std::max(worst, static_cast<double>(std::max(std::abs(x1 - p.state[0]), std::abs(v1 - p.state[1]))));
+    }
+    EXPECT_LE(worst, 1e-8);
+}
+
+// Every end of a branch says what happened, with the parameter value where it did.
+TEST(ContinuationEnds, EveryEndSaysWhatHappenedAndWhere)
+{
+    const model m = model::builtin("two_sided_impact_oscillator");
+    // The range's end.
+    auto o = two_sided_in_w(m, 1.0, 0.9);
+    auto res = vimpact::continuation(m, {m.initial_state()}, o, 1);
+    ASSERT_EQ(res.branches.size(), 1U);
+    EXPECT_EQ(res.branches[0].end, vimpact::branch_end::range);
+    EXPECT_EQ(vimpact::end_reason(res.branches[0], "w"), "range");
+    EXPECT_EQ(res.branches[0].points.back().parameter, 0.9);
+    // The point limit.
+    o.arclength.max_points = 4;
+    res = vimpact::continuation(m, {m.initial_state()}, o, 1);
+    ASSERT_EQ(res.branches.size(), 1U);
+    EXPECT_EQ(res.branches[0].points.size(), 4U);
+    EXPECT_EQ(res.branches[0].end, vimpact::branch_end::point_limit);
+    EXPECT_EQ(vimpact::end_reason(res.branches[0], "w"),
+              "max points at w = " + vimpact::format_double(res.branches[0].points.back().parameter));
+    // Steps the corrector cannot close in one Newton iteration and may not shorten: the first
+    // step fails at its minimum length.
+    o = two_sided_in_w(m, 1.0, 0.4);
+    o.arclength.newton_iterations = 1;
+    o.arclength.step = o.arclength.min_step = o.arclength.max_step = 0.05;
+    res = vimpact::continuation(m, {m.initial_state()}, o, 1);
+    ASSERT_EQ(res.branches.size(), 1U) << vimpact::to_string(res.status);
+    EXPECT_EQ(res.branches[0].end, vimpact::branch_end::step_too_small);
+    EXPECT_EQ(vimpact::end_reason(res.branches[0], "w"), "step too small at w = 1");
+}
+
+// A reset that moves the forcing phase (the stop delays the forcing by 0.1) makes the strobe
+// section skip a crossing when the impact moves before it: there the section map is not
+// smooth, and the branch ends where its section point meets the impact, located (the section
+// point on the stop).
+TEST(ContinuationEnds, SectionMeetingAnImpactThatCannotBeCrossedEndsTheBranchThere)
+{
+    std::ifstream in(VIMPACT_SOURCE_DIR "/examples/models/two_sided_impact_oscillator.toml");
+    std::stringstream file;
+    file << in.rdbuf();
+    std::string text = file.str();
+    const std::string reset = "reset = { v = \"-r*v\" }";
+    const auto at = text.find(reset);
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, reset.size(), "reset = { v = \"-r*v\", phi = \"phi + 0.1\" }");
+    const model m = model::from_toml(text);
+    const auto o = two_sided_in_w(m, 1.0, 0.4);
+    const auto res = vimpact::continuation(m, {m.initial_state()}, o, 1);
+    ASSERT_EQ(res.branches.size(), 1U) << vimpact::to_string(res.status);
+    const auto& b = res.branches[0];
+    std::printf("phase-shifting stop: %zu points, ends %s; gap at the last section point %.2e\n", b.points.size(),
+                vimpact::end_reason(b, "w").c_str(), 1.0 - b.points.back().state[0]);
+    EXPECT_EQ(b.end, vimpact::branch_end::section_impact);
+    EXPECT_LE(std::abs(1.0 - b.points.back().state[0]), 1e-9);
+    EXPECT_EQ(vimpact::end_reason(b, "w"),
+              "section meets an impact at w = " + vimpact::format_double(b.points.back().parameter));
 }
 
 // ---- two-parameter curves ---------------------------------------------------------------------

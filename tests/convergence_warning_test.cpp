@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <utility>
 #include <vector>
 
 #include "test_support.hpp"
+#include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
@@ -66,6 +69,105 @@ TEST(Settled, PaperOrbitWithoutTransientIsNotSettled)
     const auto late = run_and_classify(paper(16.0), paper_ic(), o, 1e-8);
     EXPECT_EQ(late.label.label, "P2");
     EXPECT_TRUE(late.label.settled);
+}
+
+// ---- slowly converging records ----------------------------------------------------------------
+
+namespace {
+
+// The forced impact oscillator at sigma = 0, omega = 3.0515, on its stroboscopic section: a
+// stable P4 orbit (four impacts per period) just before its period doubling.
+model slow_p4_model()
+{
+    return test::with(test::with(model::builtin("forced_impact_oscillator"), "sigma", 0.0), "omega", 3.0515);
+}
+
+protocol_options strobe_protocol(const model& m, long transient)
+{
+    protocol_options o;
+    o.section = section_choice::crossings(m.info().section_index("strobe"));
+    o.transient_impacts = transient;
+    return o;
+}
+
+// The protocol's label of the run from ic after the default transient (500 impacts) is `early`
+// and not settled; after 3000 impacts it is P4 and settled.
+void expect_p4_only_after_a_long_transient(const Eigen::Vector3d& ic, const char* early_label)
+{
+    const model m = slow_p4_model();
+    const auto early = run_and_classify(m, ic, strobe_protocol(m, 500), 1e-8);
+    EXPECT_EQ(early.label.label, early_label);
+    EXPECT_FALSE(early.label.settled);
+    const auto late = run_and_classify(m, ic, strobe_protocol(m, 3000), 1e-8);
+    EXPECT_EQ(late.label.label, "P4");
+    EXPECT_TRUE(late.label.settled);
+}
+
+}  // namespace
+
+// A stable P4 with its slowest multiplier at -0.934 (measured by Floquet shooting, not by the
+// label) converges by 0.934 a period: started 5e-3 from it, the default transient of 500
+// impacts (125 periods) leaves it about 1e-4 away, and the 200 points of the record (50
+// periods) bring it to 4e-6, far above the period tolerance. The label is aperiodic, and the
+// record's last half is not periodic either, but it has not settled: the distances between
+// points 4 apart shrink by the same factor all along. After 3000 impacts it is P4, settled.
+TEST(Settled, SlowlyConvergingP4IsNotSettledUntilItHasConverged)
+{
+    const model m = slow_p4_model();
+    const Eigen::Vector3d ic(0.11, 0.32, 0.0);
+    floquet_options fo;
+    fo.protocol = strobe_protocol(m, 3000);
+    const floquet_result f = floquet(m, ic, fo);
+    ASSERT_EQ(f.label, "P4");
+    std::printf("slow P4: multipliers %.6f %.6f\n", f.multipliers[1].real(), f.multipliers[2].real());
+    EXPECT_NEAR(f.multipliers[1].real(), -0.934, 0.002);
+    EXPECT_NEAR(f.multipliers[1].imag(), 0.0, 1e-12);
+    expect_p4_only_after_a_long_transient(ic, "aperiodic");
+}
+
+// The same P4 approached from closer: after the default transient the points 8 apart are
+// within the tolerance before those 4 apart are (their distance is |mu^2 - 1| = 0.13 times
+// |mu - 1| = 1.93 times the distance to the orbit), so the record is labelled P8; it is not
+// settled (the points 4 apart still converge), and after 3000 impacts it is P4.
+TEST(Settled, ALabelWhosePeriodIsStillHalvingIsNotSettled)
+{
+    expect_p4_only_after_a_long_transient(Eigen::Vector3d(0.1113, 0.3242, 0.0), "P8");
+}
+
+// converging_period on synthetic records: geometric convergence onto a period-3 orbit, real or
+// spiralling, is found at 3 however slowly it goes (multiplier modulus 0.98 over 200 points);
+// a chaotic record (the logistic map at 4), a drifting one and one converging too little (a
+// factor below 2 over the record) are not converging.
+TEST(Settled, ConvergingPeriodOnSyntheticRecords)
+{
+    const auto record = [](int n, const auto& x) {
+        std::vector<double> v(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = x(i);
+        return v;
+    };
+    const auto converging = [](const std::vector<double>& v) {
+        return converging_period(static_cast<int>(v.size()),
+                                 [&](int i, int j) { return std::abs(v[static_cast<std::size_t>(i)] - v[static_cast<std::size_t>(j)]); },
+                                 [](int) { return true; });
+    };
+    const double cycle[3] = {0.2, 0.5, 0.9};
+    const auto on_cycle = [&](int i) { return cycle[i % 3]; };
+    EXPECT_EQ(converging(record(200, [&](int i) { return on_cycle(i) + 1e-3 * std::pow(-0.98, i / 3.0); })), 3);
+    EXPECT_EQ(converging(record(200, [&](int i) { return on_cycle(i) + 1e-3 * std::pow(0.9, i / 3.0) * std::cos(0.7 * i / 3); })), 3);
+    double x = 0.3;
+    EXPECT_EQ(converging(record(200, [&](int) { return x = 4.0 * x * (1.0 - x); })), 0);
+    EXPECT_EQ(converging(record(200, [&](int i) { return 0.1 + 0.001 * i; })), 0);
+    EXPECT_EQ(converging(record(200, [&](int i) { return on_cycle(i) + 1e-3 * std::pow(0.995, i / 3.0); })), 0);
+}
+
+// The chaotic attractors of the paper's protocol stay settled.
+TEST(Settled, ChaoticPaperRecordsStaySettled)
+{
+    for (const auto& [Ur, sigma] : {std::pair{25.0, -0.146}, std::pair{24.4, -0.150298}}) {
+        const auto r = run_and_classify(paper(Ur, sigma), paper_ic(), protocol_options{}, 1e-8);
+        EXPECT_EQ(r.label.label, "aperiodic") << Ur;
+        EXPECT_TRUE(r.label.settled) << Ur;
+    }
 }
 
 namespace {

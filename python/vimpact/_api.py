@@ -1168,7 +1168,10 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
     (through -1) and Neimark-Sacker points (a complex pair through the unit circle) are located
     by test functions to ``locate_tol`` in the parameter; a grazing (an impact velocity or a gap
     minimum reaching 0), where the impact sequence changes, is located on the family without
-    the grazing impact, and the branch turns there onto the other family (or ends).
+    the grazing impact, and the branch turns there onto the other family (or ends). Where the
+    section point meets an impact (a stroboscopic section at the phase of an impact) the branch
+    goes on from the orbit's other state at the section. Each branch says why it ended
+    (``Branch.end``, and in words with the parameter value ``Branch.end_reason``).
 
     Parameters
     ----------

@@ -489,8 +489,10 @@ class Period:
     simulation : Simulation
         The run that was classified (its section points, impacts and statistics).
     settled : bool
-        False when the record is aperiodic as a whole but periodic in its last half: the
-        transient ended during the recording, and a longer one would give that period.
+        False when the record has not settled: it still converges geometrically onto a
+        periodic orbit (one whose period divides the label's, for a periodic label), or it is
+        aperiodic as a whole but periodic in its last half. A longer transient gives that
+        period.
     """
     label: str
     period: int
@@ -516,7 +518,7 @@ class Period:
     def __repr__(self):
         extra = f", {self.impacts} impact(s) per period, closure {self.closure:.3g}" if self.period > 0 else ""
         if not self.settled:
-            extra += ", not settled (periodic in the last half of the record: lengthen the transient)"
+            extra += ", not settled (still converging over the record: lengthen the transient)"
         return f"Period(label={self.label!r}{extra}, outcome={self.simulation.outcome!r})"
 
     @classmethod
@@ -626,8 +628,8 @@ class Sweep(_Context, _Labels, _PointRuns):
         Impacts per period on each surface.
     closure : ndarray, float64, shape (runs,)
     settled : ndarray, bool, shape (runs,)
-        False where the record is aperiodic as a whole but periodic in its last half (the
-        transient ended during the recording: lengthen it).
+        False where the record has not settled: still converging onto a periodic orbit, or
+        periodic only in its last half (lengthen the transient).
     outcome : ndarray, str, shape (runs,)
     grazing_param : str or None
         The parameter whose grazing value ``grazing`` holds.
@@ -744,7 +746,8 @@ class Map(_Context, _Labels):
     closure : ndarray, float64, shape (ny, nx)
         None when loaded.
     settled : ndarray, bool, shape (ny, nx)
-        False where the record is aperiodic as a whole but periodic in its last half.
+        False where the record has not settled (still converging, or periodic only in its
+        last half).
     outcome : ndarray, str, shape (ny, nx)
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
@@ -863,8 +866,9 @@ class Basins(_Context):
     outcome : ndarray, str, shape (ny, nx)
         None when loaded.
     settled : ndarray, bool, shape (ny, nx)
-        False where a start's record is aperiodic as a whole but periodic in its last half
-        (such a start may show a spurious attractor: lengthen the transient). None when loaded.
+        False where a start's record has not settled (still converging, or periodic only in
+        its last half: such a start may show a spurious attractor; lengthen the transient).
+        None when loaded.
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
     attractors : list of Attractor

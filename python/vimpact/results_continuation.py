@@ -46,7 +46,11 @@ class Branch:
         The branch it was switched from, and the bifurcation (index in
         ``Continuation.bifurcations``) where.
     end : str
-        Why it ended: range, point_limit, step_limit, closed, grazing, failed, interrupted.
+        Why it ended: range, point_limit, step_too_small, section_impact (its section point
+        meets an impact it cannot be taken past), closed, grazing, failed, interrupted.
+    end_reason : str
+        The same in words with the parameter value where it happened ("step too small at
+        w = 0.78", "grazing at w = 0.53", "range").
     failure : str
         With end == "failed": the outcome of the map.
     param, period, closure, arclength : ndarray, float64, shape (n,)
@@ -65,6 +69,7 @@ class Branch:
     parent: Optional[int] = None
     origin: Optional[int] = None
     end: str = ""
+    end_reason: str = ""
     failure: str = "ok"
     param: np.ndarray = None
     stable: np.ndarray = None
@@ -81,7 +86,7 @@ class Branch:
         n = len(self.param)
         lo, hi = (float(np.min(self.param)), float(np.max(self.param))) if n else (np.nan, np.nan)
         return (f"Branch({self.index}: P{self.returns}, {n} points over {lo:g}..{hi:g}, "
-                f"{int(np.sum(self.stable))} stable, ends {self.end})")
+                f"{int(np.sum(self.stable))} stable, ends {self.end_reason or self.end})")
 
 
 @dataclass(repr=False)
@@ -195,7 +200,8 @@ class Continuation(_Context):
             k = info["returns"]
             branches.append(Branch(
                 index=i, returns=k, parent=info["parent"], origin=info["origin"], end=info["end"],
-                failure=info["failure"], param=_floats(p["param"] for p in pts),
+                end_reason=info.get("end_reason", info["end"]), failure=info["failure"],
+                param=_floats(p["param"] for p in pts),
                 stable=np.array([bool(p["stable"]) for p in pts], dtype=bool),
                 period=_floats(p["period"] for p in pts), impacts=np.array([p["impacts"] for p in pts], dtype=int),
                 impacts_by_surface={s: np.array([p["impacts_by_surface"].get(s, 0) for p in pts], dtype=int)

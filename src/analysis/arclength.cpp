@@ -162,7 +162,7 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
         step_verdict v = step_verdict::accept;
         while (!b) {
             if (ds < s.min_step) {
-                curve.end = map_failed_only && failure != outcome::ok ? branch_end::failed : branch_end::step_limit;
+                curve.end = map_failed_only && failure != outcome::ok ? branch_end::failed : branch_end::step_too_small;
                 curve.failure = failure;
                 return curve;
             }
@@ -242,7 +242,7 @@ arc_curve follow_curve(const arc_system& f, arc_point first, const arc_settings&
             return curve;
         }
         if (creeping >= s.stall_steps) {
-            curve.end = branch_end::step_limit;
+            curve.end = branch_end::step_too_small;
             return curve;
         }
         if (its <= 3.0) ds = std::min(1.5 * ds, s.max_step);

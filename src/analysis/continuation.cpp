@@ -43,6 +43,23 @@ double multiplier_test(const std::vector<std::complex<double>>& mu, bifurcation_
     return prod.real();
 }
 
+std::string end_reason(const continuation_branch& b, std::string_view parameter)
+{
+    std::string what;
+    switch (b.end) {
+        case branch_end::range: return "range";
+        case branch_end::closed: return "closed";
+        case branch_end::point_limit: what = "max points"; break;
+        case branch_end::step_too_small: what = "step too small"; break;
+        case branch_end::section_impact: what = "section meets an impact"; break;
+        case branch_end::grazing: what = "grazing"; break;
+        case branch_end::failed: what = "map failed (" + std::string(to_string(b.failure)) + ")"; break;
+        case branch_end::interrupted: what = "interrupted"; break;
+    }
+    if (b.points.empty()) return what;
+    return what + " at " + std::string(parameter) + " = " + format_double(b.points.back().parameter);
+}
+
 void validate(const arclength_options& a)
 {
     for (const auto& [name, v] : {std::pair{"ds", a.step}, {"ds_min", a.min_step}, {"ds_max", a.max_step}})
@@ -151,6 +168,51 @@ std::optional<located_point> locate(const arc_system& f, const arc_point& a, con
     }
     best.bracket = s_hi - s_lo;
     best.converged = best.bracket <= tol;
+    return best;
+}
+
+// The end of a family of orbits: where `test`, positive on it, comes down to 0 and the family
+// ceases (past it the corrector fails, or finds orbits that are not `valid` members, or test
+// <= 0), so that no sign change can be bracketed. From the family's last point a and an
+// earlier one, by the secant method through points of the family: each trial aims a
+// hundredth short of the secant's root, so that it usually lands on the family, and a trial
+// that misses bounds the search, which then bisects towards it. Converged when the secant
+// (or that bound) puts the end within `tol` of the last point in arclength; the parameter is
+// then known to tol as well (|dp/ds| <= 1). The located point is the last point on the family.
+std::optional<located_point> locate_edge(const arc_system& f, const arc_point& a, const arc_point& before,
+                                         const test_function& test, const std::function<bool(const arc_point&)>& valid,
+                                         double tol, const arc_settings& st)
+{
+    const std::optional<double> fa = test(a), fb = test(before);
+    if (!fa || !fb || !(*fa > 0.0) || !(*fb > *fa)) return std::nullopt;
+    double s0 = 0.0, g0 = *fa;                      // the last point on the family
+    double s1 = a.t.dot(before.u - a.u), g1 = *fb;  // one before it
+    if (!(s1 < 0.0)) return std::nullopt;
+    double miss = std::numeric_limits<double>::infinity();  // the nearest trial off the family
+    located_point best{false, a, std::numeric_limits<double>::infinity()};
+    for (int it = 0; it < 80; ++it) {
+        double remaining = g1 > g0 ? g0 * (s0 - s1) / (g1 - g0) : std::numeric_limits<double>::infinity();
+        remaining = std::min(remaining, miss - s0);
+        best.bracket = remaining;
+        if (remaining <= tol) {
+            best.converged = true;
+            break;
+        }
+        if (!std::isfinite(remaining)) break;
+        double s = s0 + 0.99 * remaining;
+        if (s >= miss || remaining == miss - s0) s = s0 + 0.5 * (miss - s0);
+        std::optional<arc_point> p = point_at(f, a, s, st.tolerance, st.newton_iterations);
+        const std::optional<double> g = p && valid(*p) ? test(*p) : std::nullopt;
+        if (g && *g > 0.0 && *g < g0) {
+            s1 = s0;
+            g1 = g0;
+            s0 = s;
+            g0 = *g;
+            best.point = std::move(*p);
+        } else {
+            miss = s;
+        }
+    }
     return best;
 }
 
@@ -478,34 +540,40 @@ private:
             piece_accepted = 0;
             rec.branch.end = curve.end;
             rec.branch.failure = curve.failure;
-            if (!turn && (curve.end == branch_end::step_limit || curve.end == branch_end::failed)) {
+            if (!turn && (curve.end == branch_end::step_too_small || curve.end == branch_end::failed)) {
                 // Stalled: near a grazing the corrector's reach shrinks like the square of the
-                // grazing impact's velocity, and the branch cannot be stepped past it.
+                // grazing impact's velocity, and the branch cannot be stepped past it; where the
+                // section point meets an impact it cannot step at all.
                 turn = through_grazing(sys, points, rec, helpers);
+                if (!turn->located) turn = past_stall(sys, points, rec);
             }
             if (!turn || !turn->located) break;
-            // The grazing orbit ends this piece; it starts the next one if the branch goes on.
-            // A grazing met before (from either of the orbit's points on the section): the
-            // branch has gone round a loop of orbits.
+            // The grazing orbit (or the one whose section point meets an impact) ends this piece;
+            // it starts the next one if the branch goes on. One met before (from either of the
+            // orbit's points on the section): the branch has gone round a loop of orbits.
             const bool repeated = std::any_of(grazings.begin(), grazings.end(), [&](const orbit_map_value& o) {
                 return same_orbit(o, turn->point.at.orbit, 1e-7);
             });
             grazings.push_back(turn->point.at.orbit);
-            if (repeated) rec.branch.end = branch_end::closed;
-            if (!repeated) rec.branch.end = branch_end::grazing;
+            rec.branch.end = repeated ? branch_end::closed : turn->end;
             rec.branch.failure = outcome::ok;
-            if (!turn->next || repeated || static_cast<long>(points.size()) + 1 >= m_settings.max_points) {
+            const long extra = static_cast<long>(turn->extra.size());
+            if (!turn->next || repeated || static_cast<long>(points.size()) + 1 + extra >= m_settings.max_points) {
+                if (turn->next && !repeated) rec.branch.end = branch_end::point_limit;
                 points.push_back(std::move(turn->point));
                 break;
             }
-            // The grazing orbit itself, where the next piece does not start from it.
+            // The orbit itself, where the next piece does not start from it, and from its other
+            // section point.
             if (turn->next->u != turn->point.u) points.push_back(turn->point);
+            for (auto& e : turn->extra) points.push_back(std::move(e));
+            const arc_point& from = extra > 0 ? points.back() : turn->point;
             arc_settings rest = m_settings;
             rest.max_points = m_settings.max_points - static_cast<long>(points.size());
             // Off a grazing onto the family with the new impact, the corrector's reach grows with
             // the distance from it: the first step is no longer than that distance.
-            if (turn->next->u != turn->point.u)
-                rest.step = std::clamp((turn->next->u - turn->point.u).norm(), m_settings.min_step, m_settings.step);
+            if (turn->next->u != from.u)
+                rest.step = std::clamp((turn->next->u - from.u).norm(), m_settings.min_step, m_settings.step);
             arc_point next = std::move(*turn->next);
             turn.reset();
             curve = follow_curve(f, std::move(next), rest, on_step);
@@ -544,11 +612,218 @@ private:
         return t;
     }
 
+    // Where a branch meets a point it cannot step across: a grazing, or its section point
+    // meeting an impact.
     struct grazing_turn {
-        bool located = false;           // a grazing point was located and recorded
-        arc_point point;                // the grazing orbit
-        std::optional<arc_point> next;  // where the branch goes on, on the other family
+        bool located = false;           // the point was located (a grazing also recorded)
+        arc_point point;                // the orbit there
+        std::vector<arc_point> extra;   // the same orbit from another section point (section_impact)
+        std::optional<arc_point> next;  // where the branch goes on
+        branch_end end = branch_end::grazing;  // the branch's end there when it does not go on
     };
+
+    // A branch that stalled where one grazing does not explain it: its section point meeting an
+    // impact, or several grazings at once.
+    grazing_turn past_stall(const orbit_system& sys, const std::vector<arc_point>& points, branch_record& rec) const
+    {
+        if (points.size() < 2) return {};
+        grazing_turn t = through_section_impact(sys, points, rec);
+        if (t.located) return t;
+        return at_grazings(sys, points, rec);
+    }
+
+    // The impact of an orbit nearest to its section point in time, from either end of the
+    // period, if nearer than `fraction` of the period: its index, and whether it comes just
+    // after the section point (else just before the return to it).
+    struct impact_near_section {
+        std::size_t index = 0;
+        bool after_start = true;
+    };
+
+    static std::optional<impact_near_section> impact_at_section(const orbit_map_value& o, double fraction)
+    {
+        std::optional<impact_near_section> best;
+        double closest = fraction * o.period;
+        for (std::size_t k = 0; k < o.impacts.size(); ++k)
+            for (const bool after : {true, false}) {
+                const double d = after ? o.impacts[k].t : o.period - o.impacts[k].t;
+                if (d >= 0.0 && d < closest) {
+                    closest = d;
+                    best = impact_near_section{k, after};
+                }
+            }
+        return best;
+    }
+
+    // A branch stalled where its section point meets an impact (the orbit hits a surface at the
+    // section). The orbits are smooth through it, but their point on the section jumps from the
+    // state before the impact to the state after it (or back), and the corrector cannot step
+    // across. The last orbit E before it is located along the branch, where the surface's gap at
+    // the section point comes down to 0 (locate_edge); the other state of E at the section (the
+    // reset of its section point, or the state before the impact that precedes the return,
+    // from a run with the surface absent there) is E's section point on the far side. From it
+    // the family is followed with that impact forced (forced_system, smooth in the impact's
+    // time) away from the section until the section map closes its orbits again, and the
+    // branch goes on from there. Located but with no way on (a reset that moves the state off
+    // the section, a forced family that leads nowhere), the branch ends at E as section_impact.
+    grazing_turn through_section_impact(const orbit_system& sys, const std::vector<arc_point>& points,
+                                        branch_record& rec) const
+    {
+        grazing_turn turn;
+        const arc_point& L = points.back();
+        const std::optional<impact_near_section> near = impact_at_section(L.at.orbit, 1e-3);
+        if (!near) return turn;
+        const int surface = L.at.orbit.impacts[near->index].surface;
+        const bool after_start = near->after_start;
+        const int K = sys.chart_size();
+        const int N = sys.base().dim();
+        const vimpact_model_table& tb = sys.base().table();
+        const auto gap_at_section = [&](const arc_point& p) -> std::optional<double> {
+            const model mp = sys.model_at(p.u);
+            return tb.gap(mp.context(), surface, p.at.orbit.x.data());
+        };
+        const std::vector<int> sequence = L.at.orbit.impact_sequence();
+        const auto same_family = [&](const arc_point& p) {
+            const auto n = impact_at_section(p.at.orbit, 1e-3);
+            return n && n->after_start == after_start && p.at.orbit.impact_sequence() == sequence;
+        };
+        const std::optional<located_point> loc = locate_edge(sys.as_function(), L, points[points.size() - 2],
+                                                             gap_at_section, same_family, m_opt.locate_tolerance, m_settings);
+        if (!loc) return turn;
+        turn.located = true;
+        turn.end = branch_end::section_impact;
+        turn.point = loc->point;
+        turn.point.s = L.s + (turn.point.u - L.u).norm();
+        const orbit_map_value& oe = turn.point.at.orbit;
+        const std::optional<impact_near_section> ev = impact_at_section(oe, 1e-3);
+        if (!ev) return turn;
+        const double T = oe.period;
+        // The forced impact's window: a quarter of the time to the orbit's other impacts.
+        double spacing = T;
+        for (std::size_t k = 0; k < oe.impacts.size(); ++k)
+            if (k != ev->index) spacing = std::min({spacing, oe.impacts[k].t, T - oe.impacts[k].t});
+        const auto window_at = [&](double t) { return grazing_window{surface, t - 0.25 * spacing, t + 0.25 * spacing}; };
+        // On the far side the impact comes just before the return (after_start) or just after
+        // the start.
+        const grazing_window w = window_at(after_start ? T : 0.0);
+        const model me = sys.model_at(turn.point.u);
+        Eigen::VectorXd xb(N);
+        if (after_start) {
+            tb.reset(me.context(), surface, oe.x.data(), xb.data());
+        } else {
+            const orbit_map_value through = sys.with_absent(window_at(T)).map(turn.point.u, false);
+            if (!through.ok()) return turn;
+            xb = through.x_end;
+        }
+        // Phases as E's own (the run's end carries the period it ran).
+        for (int j = 0; j < N; ++j) {
+            const double period = sys.base().info().state[static_cast<std::size_t>(j)].period;
+            if (period > 0.0) xb[j] -= period * std::round((xb[j] - oe.x[j]) / period);
+        }
+        // The other state is a section point only if the reset leaves the section where it was
+        // and the flow crosses it the section's way there.
+        const int k = sys.request().section;
+        Eigen::VectorXd grad(N), field(N);
+        tb.section_gradient(me.context(), k, xb.data(), grad.data());
+        tb.rhs(me.context(), xb.data(), field.data());
+        const double rate = grad.dot(field);
+        const crossing way = sys.base().info().sections[static_cast<std::size_t>(k)].direction;
+        const bool crosses = way == crossing::up ? rate > 0.0 : way == crossing::down ? rate < 0.0 : rate != 0.0;
+        const double s_b = tb.section(me.context(), k, xb.data());
+        if (!crosses || !(std::abs(s_b) <= 1e-9 * (1.0 + grad.cwiseAbs().maxCoeff() * xb.cwiseAbs().maxCoeff())))
+            return turn;
+        // Just off E on the far side, the parameter a little beyond E's (on in the branch's
+        // direction) and the forced impact and the section point free, from E's other state with
+        // the impact just inside the period.
+        const forced_system forced(sys, w);
+        const arc_system ff = forced.as_function();
+        const double onward = L.t[K] > 0.0 ? 1.0 : -1.0;
+        Eigen::VectorXd hold_p = Eigen::VectorXd::Zero(K + 2);
+        hold_p[K] = 1.0;
+        std::optional<arc_point> first;
+        for (double delta = 1e-6 * m_range; !first && delta <= 1e-3 * m_range; delta *= 10.0) {
+            Eigen::VectorXd U(K + 2);
+            U << chart_of(xb, sys.request().chart_coordinate), turn.point.u[K] + onward * delta,
+                after_start ? T * (1.0 - 1e-9) : T * 1e-9;
+            first = correct(ff, U, hold_p, m_settings.tolerance, 2 * m_settings.newton_iterations);
+        }
+        std::optional<arc_point> found;
+        if (first) {
+            set_tangent(*first, onward * hold_p);
+            found = off_forced_family(sys, ff, *first);
+        }
+        count(rec, forced.orbits());
+        if (!found) return turn;
+        // E itself from its other section point: the same orbit, its impact on the section
+        // moved from one end of the period to the other.
+        arc_point other = turn.point;
+        orbit_map_value& oo = other.at.orbit;
+        oo.x = xb;
+        oo.x_end = xb;
+        if (!oo.crossings.empty()) oo.crossings.back() = xb;
+        impact_record moved = oo.impacts[ev->index];
+        oo.impacts.erase(oo.impacts.begin() + static_cast<std::ptrdiff_t>(ev->index));
+        if (after_start) {
+            moved.t = T;
+            oo.impacts.push_back(moved);
+        } else {
+            moved.t = 0.0;
+            oo.impacts.insert(oo.impacts.begin(), moved);
+        }
+        other.u.head(K) = chart_of(xb, sys.request().chart_coordinate);
+        found->s = other.s + (found->u - other.u).norm();
+        turn.extra.push_back(std::move(other));
+        turn.next = std::move(found);
+        return turn;
+    }
+
+    // A branch stalled next to grazings that turn_at_grazing does not take: several surfaces at
+    // once (a symmetric orbit touching both stops together), where the family without the new
+    // impacts cannot be followed with one surface absent. Where the approaches' measures come
+    // down to 0 along the branch is located (locate_edge on the smallest), each approach that
+    // reaches 0 there is recorded as a grazing of its surface, and the branch ends there.
+    grazing_turn at_grazings(const orbit_system& sys, const std::vector<arc_point>& points, branch_record& rec) const
+    {
+        grazing_turn turn;
+        const std::vector<approach> near = approaches(sys, points);
+        if (near.empty()) return turn;
+        const arc_point& L = points.back();
+        const std::vector<int> sequence = L.at.orbit.impact_sequence();
+        const auto closest = [&](const arc_point& p) -> std::optional<double> {
+            std::optional<double> g;
+            for (const auto& a : near)
+                if (const auto m = approach_measure(p.at.orbit, a)) g = g ? std::min(*g, m->first) : m->first;
+            return g;
+        };
+        const auto same = [&](const arc_point& p) { return p.at.orbit.impact_sequence() == sequence; };
+        const std::optional<located_point> loc = locate_edge(sys.as_function(), L, points[points.size() - 2], closest,
+                                                             same, m_opt.locate_tolerance, m_settings);
+        if (!loc) return turn;
+        turn.point = loc->point;
+        turn.point.s = L.s + (turn.point.u - L.u).norm();
+        const continuation_point at = sys.to_point(turn.point);
+        // What an orbit just past the grazings does with the surfaces present.
+        const double past = std::max(10.0 * loc->bracket, 1e-7 * m_range);
+        const orbit_map_value beyond = sys.map(turn.point.u + past * turn.point.t, false);
+        for (const auto& a : near) {
+            const std::optional<double> when = grazed(turn.point.at.orbit, a);
+            if (!when) continue;
+            bifurcation bf;
+            bf.type = bifurcation_type::grazing;
+            bf.after_point = static_cast<int>(points.size()) - 1;
+            bf.located = loc->converged;
+            bf.bracket = loc->bracket;
+            bf.point = at;
+            bf.parameter = at.parameter;
+            bf.surface = a.surface;
+            bf.time = *when;
+            bf.sequence_before = sequence;
+            bf.sequence_after = beyond.ok() ? beyond.impact_sequence() : sequence;
+            rec.bifurcations.push_back(std::move(bf));
+            turn.located = true;
+        }
+        return turn;
+    }
 
     // A branch that stalls close to grazing a surface: an impact's velocity goes to 0, or a gap
     // minimum goes to 0, while the corrector cannot step past it. The surface and side are
@@ -556,12 +831,39 @@ private:
     grazing_turn through_grazing(const orbit_system& sys, const std::vector<arc_point>& points, branch_record& rec,
                                  std::deque<orbit_system>& helpers) const
     {
-        const arc_point& L = points.back();
-        const continuation_point pl = sys.to_point(L);
-        const int S = sys.base().surface_count();
-        int surface = -1;
+        const std::vector<approach> near = approaches(sys, points);
+        if (near.empty()) return {};
+        grazing_turn t = turn_at_grazing(sys, points.back(), near.front().surface, near.front().impacting,
+                                         static_cast<int>(points.size()) - 1, rec, helpers);
+        if (!t.located) return t;
+        // Other surfaces grazed by the same orbit (a symmetric orbit touches both stops at
+        // once): recorded with it.
+        const bifurcation first = rec.bifurcations.back();
+        for (std::size_t k = 1; k < near.size(); ++k) {
+            const std::optional<double> when = grazed(t.point.at.orbit, near[k]);
+            if (near[k].surface == first.surface || !when) continue;
+            bifurcation also = first;
+            also.surface = near[k].surface;
+            also.time = *when;
+            rec.bifurcations.push_back(std::move(also));
+        }
+        return t;
+    }
+
+    // A surface a branch approaches: an impact on it softening (impacting) or a gap minimum
+    // coming down to it, now below 5 % of the largest it had on the branch (`largest`).
+    struct approach {
+        int surface = 0;
         bool impacting = false;
-        double best = 0.05;
+        double ratio = 0.0, largest = 0.0;
+    };
+
+    // The approaches at the branch's last point, the closest (smallest ratio) first.
+    static std::vector<approach> approaches(const orbit_system& sys, const std::vector<arc_point>& points)
+    {
+        std::vector<approach> out;
+        const continuation_point pl = sys.to_point(points.back());
+        const int S = sys.base().surface_count();
         for (int i = 0; i < S && i < 64; ++i) {
             const auto k = static_cast<std::size_t>(i);
             for (const bool imp : {true, false}) {
@@ -576,14 +878,40 @@ private:
                             if (g.surface == i) largest = std::max(largest, g.gap);
                 }
                 const double now = imp ? pl.min_impact_velocity[k] : pl.min_gap[k];
-                if (!(largest > 0.0) || !std::isfinite(now) || !(now >= 0.0) || now / largest >= best) continue;
-                best = now / largest;
-                surface = i;
-                impacting = imp;
+                if (!(largest > 0.0) || !std::isfinite(now) || !(now >= 0.0) || now / largest >= 0.05) continue;
+                out.push_back({i, imp, now / largest, largest});
             }
         }
-        if (surface < 0) return {};
-        return turn_at_grazing(sys, L, surface, impacting, static_cast<int>(points.size()) - 1, rec, helpers);
+        std::stable_sort(out.begin(), out.end(), [](const approach& a, const approach& b) { return a.ratio < b.ratio; });
+        return out;
+    }
+
+    // When the orbit o grazes as approach a measures it (its measure below 1e-6 of the largest
+    // it had on the branch): the time along o; none when it does not.
+    static std::optional<double> grazed(const orbit_map_value& o, const approach& a)
+    {
+        const auto m = approach_measure(o, a);
+        const double scale = a.impacting ? a.largest * a.largest : a.largest;
+        if (!m || !(m->first <= 1e-6 * scale)) return std::nullopt;
+        return m->second;
+    }
+
+    // How close an orbit is to grazing as approach a measures it, a smooth function along the
+    // branch that vanishes at the grazing: the squared velocity of its softest impact on the
+    // surface (the free flow's penetration times 2 g''), or its smallest gap minimum there;
+    // with the time along the orbit where that happens.
+    static std::optional<std::pair<double, double>> approach_measure(const orbit_map_value& o, const approach& a)
+    {
+        std::optional<std::pair<double, double>> best;
+        if (a.impacting) {
+            for (const auto& im : o.impacts)
+                if (im.surface == a.surface && (!best || im.velocity * im.velocity < best->first))
+                    best = {im.velocity * im.velocity, im.t};
+        } else {
+            for (const auto& g : o.gap_minima)
+                if (g.surface == a.surface && (!best || g.gap < best->first)) best = {g.gap, g.t};
+        }
+        return best;
     }
 
     // The grazing of surface i next to the branch's point L, recorded as a bifurcation after
@@ -710,6 +1038,19 @@ private:
             if (!probe) return std::nullopt;
             if (probe->at.orbit.forced_gap_rate > 0.0) first->t = -first->t;
         }
+        std::optional<arc_point> found = off_forced_family(sys, ff, *first);
+        if (found) found->s = G.s + (found->u - G.u).norm();
+        return found;
+    }
+
+    // Along a family of orbits with a forced impact (ff, a forced_system's function), from its
+    // point `first` with its tangent oriented away from where the section map fails, until the
+    // section map's corrector closes an orbit with the same impacts next to one of its points:
+    // that orbit, with its tangent. None when the forced family leaves the range, its impact
+    // turns unphysical (the gap increasing into it) or no such orbit is found in 40 steps.
+    std::optional<arc_point> off_forced_family(const orbit_system& sys, const arc_system& ff, const arc_point& first) const
+    {
+        const int K = sys.chart_size();
         arc_settings st = m_settings;
         st.max_points = 40;
         st.step = std::max(m_settings.min_step, 0.1 * m_settings.step);
@@ -720,9 +1061,9 @@ private:
         std::optional<arc_point> found;
         const arc_system f = sys.as_function();
         int steps = 0;
-        (void)follow_curve(ff, *first, st, [&](const arc_point&, const arc_point& b) {
+        (void)follow_curve(ff, first, st, [&](const arc_point&, const arc_point& b) {
             if (!(b.at.orbit.forced_gap_rate < 0.0)) return step_verdict::stop_before;
-            // A few steps off the grazing first: right next to it the section map's corrector
+            // A few steps off the start first: right next to it the section map's corrector
             // has no reach.
             if (++steps < 3) return step_verdict::accept;
             std::optional<arc_point> c =
@@ -735,7 +1076,6 @@ private:
             }
             return step_verdict::accept;
         });
-        if (found) found->s = G.s + (found->u - G.u).norm();
         return found;
     }
 

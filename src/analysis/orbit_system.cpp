@@ -24,12 +24,18 @@ orbit_system orbit_system::with_absent(const grazing_window& w) const
     return {m_base, m_parameters, r};
 }
 
-orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent, int forced_surface, double forced_time) const
+model orbit_system::model_at(const Eigen::VectorXd& u) const
 {
     const int K = chart_size();
     std::vector<double> values = m_base.parameters();
     for (int j = 0; j < parameter_count(); ++j)
         values[static_cast<std::size_t>(m_parameters[static_cast<std::size_t>(j)])] = u[K + j];
+    return m_base.with_parameters(values);
+}
+
+orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent, int forced_surface, double forced_time) const
+{
+    const int K = chart_size();
     orbit_map_request r = m_request;
     r.z = u.head(K);
     r.tangent = tangent || forced_surface >= 0;
@@ -37,7 +43,7 @@ orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent, int fo
     r.forced_time = forced_time;
     ++(tangent ? m_tangent_maps : m_plain_maps);
     try {
-        return orbit_map(m_base.with_parameters(values), r);
+        return orbit_map(model_at(u), r);
     } catch (const input_error&) {
         // A Newton iterate outside a parameter's valid range (r > 1, a negative damping...):
         // not an orbit of the model, like a point beyond a surface.
@@ -45,6 +51,11 @@ orbit_map_value orbit_system::map(const Eigen::VectorXd& u, bool tangent, int fo
         v.status = outcome::inadmissible;
         return v;
     }
+}
+
+bool same_impacts(const orbit_map_value& a, const orbit_map_value& b)
+{
+    return a.ok() && b.ok() && a.impact_sequence() == b.impact_sequence();
 }
 
 Eigen::VectorXd orbit_system::parameter_derivative(const Eigen::VectorXd& u, int j, const orbit_map_value& centre) const
@@ -68,10 +79,13 @@ Eigen::VectorXd orbit_system::parameter_derivative(const Eigen::VectorXd& u, int
     const orbit_map_value a = map(up, false);
     const orbit_map_value b = map(dn, false);
     // One-sided where one side fails (the end of the parameter's valid range, an orbit beyond
-    // a surface).
+    // a surface) or makes other impacts (the step crosses a point where the map is not smooth,
+    // such as an impact passing through the section).
+    const bool a_ok = same_impacts(a, centre), b_ok = same_impacts(b, centre);
+    if (a_ok && b_ok) return (a.residual - b.residual) / (2.0 * h);
+    if (a_ok && centre.ok()) return (a.residual - centre.residual) / h;
+    if (b_ok && centre.ok()) return (centre.residual - b.residual) / h;
     if (a.ok() && b.ok()) return (a.residual - b.residual) / (2.0 * h);
-    if (a.ok() && centre.ok()) return (a.residual - centre.residual) / h;
-    if (b.ok() && centre.ok()) return (centre.residual - b.residual) / h;
     return Eigen::VectorXd::Constant(K, std::numeric_limits<double>::quiet_NaN());
 }
 
@@ -107,22 +121,29 @@ arc_eval forced_system::operator()(const Eigen::VectorXd& u, bool jacobian) cons
     e.F.resize(K + 1);
     e.F << e.orbit.residual, e.orbit.forced_gap;
     if (!jacobian) return e;
-    // The parameter's column by a central difference: the forced family is smooth.
+    // The parameter's column by a central difference: the forced family is smooth. One-sided
+    // where one side fails or makes other impacts: next to where the forced impact meets the
+    // section, a step in the parameter can move the section's return before the forced time,
+    // or bring another impact in before it.
     const double h = 1e-6 * std::max(1.0, std::abs(u[K]));
     Eigen::VectorXd up = u, dn = u;
     up[K] += h;
     dn[K] -= h;
     const orbit_map_value a = map(up), b = map(dn);
-    if (!a.ok() || !b.ok()) {
-        e.status = a.ok() ? b.status : a.status;
+    const bool a_ok = same_impacts(a, e.orbit), b_ok = same_impacts(b, e.orbit);
+    if (!a_ok && !b_ok) {
+        e.status = a.ok() ? outcome::not_converged : a.status;
         return e;
     }
+    const orbit_map_value& hi = a_ok ? a : e.orbit;
+    const orbit_map_value& lo = b_ok ? b : e.orbit;
+    const double width = (a_ok ? h : 0.0) + (b_ok ? h : 0.0);
     e.J.resize(K + 1, K + 2);
     e.J.topLeftCorner(K, K) = e.orbit.residual_jacobian;
-    e.J.block(0, K, K, 1) = (a.residual - b.residual) / (2.0 * h);
+    e.J.block(0, K, K, 1) = (hi.residual - lo.residual) / width;
     e.J.block(0, K + 1, K, 1) = e.orbit.residual_time_derivative;
     e.J.block(K, 0, 1, K) = e.orbit.forced_gap_gradient.transpose();
-    e.J(K, K) = (a.forced_gap - b.forced_gap) / (2.0 * h);
+    e.J(K, K) = (hi.forced_gap - lo.forced_gap) / width;
     e.J(K, K + 1) = e.orbit.forced_gap_rate;
     if (!e.J.allFinite()) e.status = outcome::non_finite;
     return e;

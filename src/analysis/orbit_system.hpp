@@ -43,6 +43,8 @@ public:
     // Surface w.surface absent in the time window of w (from the orbit's section point).
     [[nodiscard]] orbit_system with_absent(const grazing_window& w) const;
 
+    // The model at the parameters of u (throws input_error outside their valid ranges).
+    [[nodiscard]] model model_at(const Eigen::VectorXd& u) const;
     // The map at u (status inadmissible for parameters outside their valid range); with
     // forced_surface >= 0 an impact forced on it at forced_time (orbit_map_request).
     [[nodiscard]] orbit_map_value map(const Eigen::VectorXd& u, bool tangent, int forced_surface = -1,
@@ -106,6 +108,9 @@ grazing_window window_around(const orbit_map_value& o, int i, double t);
 std::optional<double> grazing_test(const orbit_map_value& o, const grazing_window& w);
 // That minimum itself (its time, surface and gap).
 std::optional<gap_minimum_record> grazing_minimum(const orbit_map_value& o, const grazing_window& w);
+
+// Both maps ok with the same impacts in the same order: a difference between them is smooth.
+bool same_impacts(const orbit_map_value& a, const orbit_map_value& b);
 
 // The nontrivial multipliers of a point inside the unit circle.
 bool stable_multipliers(const std::vector<std::complex<double>>& section_multipliers);

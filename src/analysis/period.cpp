@@ -52,12 +52,17 @@ period_label classify_period(const model& m, const simulation& r, double tol)
             },
             worst);
     };
+    const int n = static_cast<int>(r.points.size());
+    const auto distance = [&](int i, int j) {
+        return state_distance(info, r.points.x(static_cast<std::size_t>(i)), r.points.x(static_cast<std::size_t>(j)));
+    };
     const int p = period_from(0, &closure);
     if (p == 0) {
         out.label = "aperiodic";
-        out.settled = period_from(static_cast<int>(r.points.size()) / 2, nullptr) == 0;
+        out.settled = period_from(n / 2, nullptr) == 0 && converging_period(n, distance, [](int) { return true; }) == 0;
         return out;
     }
+    out.settled = converging_period(n, distance, [p](int q) { return q < p && p % q == 0; }) == 0;
     out.period = p;
     char text[24];  // not "P" + to_string(p): GCC 12 warns falsely (-Wrestrict) on that
     std::snprintf(text, sizeof text, "P%d", p);

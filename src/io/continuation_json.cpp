@@ -80,6 +80,7 @@ json continuation_json(const model& m, const continuation_options& o, const cont
                                {"origin", br.origin >= 0 ? json(br.origin) : json(nullptr)},
                                {"points", br.points.size()},
                                {"end", std::string(to_string(br.end))},
+                               {"end_reason", end_reason(br, info.parameters[static_cast<std::size_t>(o.parameter)].name)},
                                {"failure", std::string(to_string(br.failure))}});
     }
     json bifs = json::array();

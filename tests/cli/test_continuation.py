@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 
+import numpy as np
 import pytest
 
 from conftest import TWO_SIDED_TOML, check_png
@@ -91,6 +92,115 @@ def test_a_model_file(vimpact):
                                 "1.2:1.0", *SHORT])
     assert j["status"] == "ok" and len(j["branches"][0]) >= 5
     assert j["branches"][0][0]["impacts_by_surface"] == {"right": 1, "left": 1}
+
+
+# The two-sided oscillator's symmetric P1 orbit in closed form (numpy, nothing of vimpact): it
+# hits the right stop x = d at time t0 with velocity v > 0 and, half a forcing period later,
+# the left stop with -v. Between impacts x = x_p + e with the periodic response x_p (odd under a
+# half-period shift) and e propagated by exp(A T/2), A = [[0, 1], [-1, -2 zeta]], so the two
+# conditions at t0 + T/2 are linear in (d, v) for each phase w t0.
+ZETA, R = 0.05, 0.8
+
+
+def _response(w, t):
+    D = (1 - w * w) ** 2 + (2 * ZETA * w) ** 2
+    A, B = (1 - w * w) / D, 2 * ZETA * w / D
+    return A * np.cos(w * t) + B * np.sin(w * t), w * (-A * np.sin(w * t) + B * np.cos(w * t))
+
+
+def _free(e0, e1, s):
+    wd = np.sqrt(1 - ZETA ** 2)
+    k, c, sn = np.exp(-ZETA * s), np.cos(wd * s), np.sin(wd * s)
+    return k * (e0 * c + (e1 + ZETA * e0) / wd * sn), k * (e1 * c - (e0 + ZETA * e1) / wd * sn)
+
+
+def _symmetric(w, phi):
+    """The half clearance d and impact velocity v of the symmetric orbit with its right-stop
+    impact at phase phi."""
+    tau = np.pi / w
+    E00, E10 = _free(1.0, 0.0, tau)
+    E01, E11 = _free(0.0, 1.0, tau)
+    xp, vp = _response(w, phi / w)
+    M = np.array([[1 + E00, -R * E01], [E10, 1 - R * E11]])
+    b = np.array([(1 + E00) * xp + E01 * vp, (1 + E11) * vp + E10 * xp])
+    return np.linalg.solve(M, b)
+
+
+def _bisect(f, lo, hi, n=80):
+    flo = f(lo) > 0
+    for _ in range(n):
+        mid = 0.5 * (lo + hi)
+        if (f(mid) > 0) == flo:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def _phase_near(w, ref):
+    grid = np.linspace(ref - 0.1, ref + 0.1, 201)
+    f = [_symmetric(w, p)[0] - 1.0 for p in grid]
+    roots = [_bisect(lambda p: _symmetric(w, p)[0] - 1.0, grid[k], grid[k + 1])
+             for k in range(200) if (f[k] > 0) != (f[k + 1] > 0)]
+    return min(roots, key=lambda p: abs(p - ref))
+
+
+def _largest_interior_max(w, phi):
+    d, v = _symmetric(w, phi)
+    t0 = phi / w
+    t = np.linspace(0, np.pi / w, 4001)[1:-1]
+    xp0, vp0 = _response(w, t0)
+
+    def state(s):
+        e = _free(d - xp0, -R * v - vp0, s)
+        xp, vp = _response(w, t0 + s)
+        return xp + e[0], vp + e[1]
+
+    vel = state(t)[1]
+    tops = [_bisect(lambda s: state(s)[1], t[k], t[k + 1]) for k in range(len(t) - 1) if vel[k] > 0 >= vel[k + 1]]
+    return max(state(s)[0] for s in tops) if tops else -np.inf
+
+
+def closed_form_grazing_w():
+    phi = _phase_near(1.0, 0.0754)
+    for w in np.arange(0.995, 0.5299, -0.005):
+        phi = _phase_near(w, phi)
+    return _bisect(lambda w: _largest_interior_max(w, _phase_near(w, phi)) - 1.0, 0.53, 0.52, n=45)
+
+
+def test_the_branch_goes_on_where_the_strobe_meets_an_impact_to_the_double_grazing(vimpact):
+    # Down from w = 1 the strobe point meets the right-stop impact at w = 0.789: the branch
+    # goes on past it, to where the flight's interior maximum reaches the stop (and, by
+    # symmetry, its minimum the other stop), located to the closed form's w.
+    w_graze = closed_form_grazing_w()
+    j = continue_json(vimpact, ["--model", "two_sided_impact_oscillator", "--section", "strobe", "--param", "w",
+                                "--range", "1:0.4"])
+    info, branch = j["branch_info"][0], j["branches"][0]
+    assert min(p["param"] for p in branch) < 0.6
+    assert any(abs(p["state"][0] - 1.0) < 1e-9 and 0.78 < p["param"] < 0.8 for p in branch)
+    grazings = [b for b in j["bifurcations"] if b["type"] == "grazing"]
+    assert sorted(b["surface"] for b in grazings) == ["left", "right"]
+    for b in grazings:
+        assert abs(b["param"] - w_graze) < 1e-9, (b["param"], w_graze)
+        assert b["located"]
+    assert info["end"] == "grazing"
+    assert info["end_reason"] == "grazing at w = " + repr(branch[-1]["param"])
+    p = run(vimpact, ["continue", "--model", "two_sided_impact_oscillator", "--section", "strobe", "--param", "w",
+                      "--range", "1:0.4"])
+    assert p.returncode == 0 and "ends: grazing at w = " + repr(branch[-1]["param"]) in p.stdout
+
+
+def test_end_reasons_say_what_happened_and_where(vimpact):
+    base = ["--model", "two_sided_impact_oscillator", "--section", "strobe", "--param", "w", *SHORT]
+    j = continue_json(vimpact, [*base, "--range", "1:0.9"])
+    assert (j["branch_info"][0]["end"], j["branch_info"][0]["end_reason"]) == ("range", "range")
+    j = continue_json(vimpact, [*base, "--range", "1:0.9", "--max-points", "3"])
+    last = j["branches"][0][-1]["param"]
+    assert (j["branch_info"][0]["end"], j["branch_info"][0]["end_reason"]) == ("point_limit", f"max points at w = {last!r}")
+    # Steps that the corrector cannot close and may not shorten.
+    j = continue_json(vimpact, [*base, "--range", "1:0.4", "--newton-iterations", "1", "--step", "0.05",
+                                "--min-step", "0.05", "--max-step", "0.05"])
+    assert (j["branch_info"][0]["end"], j["branch_info"][0]["end_reason"]) == ("step_too_small", "step too small at w = 1")
 
 
 @pytest.mark.parametrize("args, message", [

@@ -19,7 +19,8 @@ def assert_same_result(a, b):
     assert a.param == b.param and a.status == b.status and a.start_label == b.start_label
     assert len(a.branches) == len(b.branches) and len(a.bifurcations) == len(b.bifurcations)
     for x, y in zip(a.branches, b.branches):
-        assert (x.returns, x.parent, x.origin, x.end) == (y.returns, y.parent, y.origin, y.end)
+        assert (x.returns, x.parent, x.origin, x.end, x.end_reason) == (y.returns, y.parent, y.origin, y.end,
+                                                                        y.end_reason)
         for f in ("param", "stable", "period", "impacts", "closure", "arclength", "state", "sections", "multipliers"):
             same(getattr(x, f), getattr(y, f))
     for x, y in zip(a.bifurcations, b.bifurcations):
@@ -62,6 +63,21 @@ def test_curves_against_the_command_line(cli, tmp_path):
     loaded = vimpact.Continuation.load(out)
     assert_same_result(c, loaded)
     assert loaded.map["label"].shape == (2, 2)
+
+
+def test_a_branch_says_why_it_ended(cli, tmp_path):
+    # The two-sided oscillator's P1 down from w = 1 goes on where its strobe point meets an
+    # impact (w = 0.789) and ends at the grazing of both stops at once (w = 0.5276).
+    c = vimpact.continuation(vimpact.TwoSidedImpactOscillator(), "w", (1.0, 0.4), section="strobe", **Q)
+    b = c.branches[0]
+    assert b.param.min() < 0.6 and b.end == "grazing" and b.end_reason == f"grazing at w = {b.param[-1]!r}"
+    assert sorted(g.surface for g in c.bifurcations if g.type == "grazing") == ["left", "right"]
+    assert "ends grazing at w = " in repr(b)
+    out = tmp_path / "e"
+    p = cli("continue", "--model", "two_sided_impact_oscillator", "--section", "strobe", "--param", "w", "--range",
+            "1:0.4", *QA, "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    assert_same_result(c, vimpact.Continuation.load(out))
 
 
 def test_a_model_file_and_its_picture(tmp_path):

@@ -67,13 +67,16 @@ constexpr std::string_view to_string(bifurcation_type b)
 
 // Why a branch (or a curve) ended.
 enum class branch_end {
-    range,          // it left the parameter range (its last point is on the range's end)
-    point_limit,    // max_points reached
-    step_limit,     // the step fell below min_step without a correction converging
-    closed,         // it came back to its first point (an isola or a loop)
-    grazing,        // at a grazing point it cannot be continued through
-    failed,         // the map failed (the outcome says how: sticking, chattering, ...)
-    interrupted,    // the cancel flag was set
+    range,            // it left the parameter range (its last point is on the range's end)
+    point_limit,      // max_points reached
+    step_too_small,   // the step fell below min_step without a correction converging, or crept,
+                      // next to no grazing or section event that explains it
+    section_impact,   // its section point meets an impact (the orbit hits a surface at the
+                      // section) and the branch could not be taken on past it
+    closed,           // it came back to its first point (an isola or a loop)
+    grazing,          // at a grazing point it cannot be continued through
+    failed,           // the map failed (the outcome says how: sticking, chattering, ...)
+    interrupted,      // the cancel flag was set
 };
 
 constexpr std::string_view to_string(branch_end e)
@@ -81,7 +84,8 @@ constexpr std::string_view to_string(branch_end e)
     switch (e) {
         case branch_end::range: return "range";
         case branch_end::point_limit: return "point_limit";
-        case branch_end::step_limit: return "step_limit";
+        case branch_end::step_too_small: return "step_too_small";
+        case branch_end::section_impact: return "section_impact";
         case branch_end::closed: return "closed";
         case branch_end::grazing: return "grazing";
         case branch_end::failed: return "failed";
@@ -174,6 +178,12 @@ struct continuation_result {
     long tangent_maps = 0;     // map evaluations with the tangent flow
     long plain_maps = 0;       // without it (finite differences in the parameter)
 };
+
+// Why a branch ended, in words: "range" and "closed" as they are, every other end with the
+// parameter value of the branch's last point, where it happened ("step too small at w =
+// 0.7890862760793447", "section meets an impact at ...", "grazing at ...", "max points at
+// ...", "map failed (sticking) at ...", "interrupted at ...").
+std::string end_reason(const continuation_branch& b, std::string_view parameter);
 
 // Throw input_error for bad options (parameter, range, a section that is not a crossing...).
 void validate(const arclength_options& a);

@@ -158,8 +158,11 @@ void forced_orbit_map(const Model& model, const orbit_map_request& rq, const sec
     const outcome o1 = rq.forced_time > 0.0 ? one.run(obs) : outcome::time_limit;
     out.stats = one.stats();
     if (o1 != outcome::time_limit || obs.reached() || obs.sticking_phases() > 0) {
-        // The orbit made its k returns (or failed) before the forced time.
-        out.status = obs.sticking_phases() > 0 ? outcome::sticking : o1 == outcome::time_limit ? outcome::not_converged : o1;
+        // The orbit made its k returns (the observer stopped the run: o1 is ok) or failed before
+        // the forced time.
+        out.status = obs.sticking_phases() > 0                        ? outcome::sticking
+                     : o1 == outcome::time_limit || o1 == outcome::ok ? outcome::not_converged
+                                                                      : o1;
         return;
     }
     const vec<N> pre = VM::point(one.x());
