@@ -198,8 +198,8 @@ def test_end_reasons_say_what_happened_and_where(vimpact):
     last = j["branches"][0][-1]["param"]
     assert (j["branch_info"][0]["end"], j["branch_info"][0]["end_reason"]) == ("point_limit", f"max points at w = {last!r}")
     # Steps that the corrector cannot close and may not shorten.
-    j = continue_json(vimpact, [*base, "--range", "1:0.4", "--newton-iterations", "1", "--step", "0.05",
-                                "--min-step", "0.05", "--max-step", "0.05"])
+    j = continue_json(vimpact, [*base, "--range", "1:0.4", "--newton-iterations", "1", "--ds", "0.05",
+                                "--ds-min", "0.05", "--ds-max", "0.05"])
     assert (j["branch_info"][0]["end"], j["branch_info"][0]["end_reason"]) == ("step_too_small", "step too small at w = 1")
 
 
