@@ -140,6 +140,7 @@ def main(d):
                 mine = [r for r in rows if int(float(r["curve"])) == i]
                 c["amplitude"] = [float(r["amplitude"]) if r["amplitude"] != "nan" else None for r in mine]
                 c["frequency"] = [float(r["frequency"]) for r in mine]
+                c["values"] = [float(r[res["param"]]) for r in mine]
                 amp = [a for a in c["amplitude"] if a is not None]
                 k = c["amplitude"].index(max(amp))
                 # The paper's model's time unit makes the wake's own angular frequency 1: the
