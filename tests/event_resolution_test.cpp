@@ -455,7 +455,15 @@ TEST(ModelFiles, VibratingTableFileRunsAsItsDefinition)
     ASSERT_EQ(a.status, outcome::ok);
     ASSERT_EQ(b.status, outcome::ok);
     ASSERT_EQ(a.points.size(), b.points.size());
-    EXPECT_EQ(a.stats.impacts, b.stats.impacts);
+    // The impacts of the recorded window, not stats.impacts: that counts every impact the
+    // integration met, up to the end of its last step, which may or may not reach the impact
+    // just after the last strobe point as the steps fall (a change of 1e-15 in the start moves it).
+    EXPECT_EQ(a.transient_impacts, b.transient_impacts);
+    ASSERT_EQ(a.impacts.size(), b.impacts.size());
+    for (std::size_t k = 0; k < a.impacts.size(); ++k) {
+        EXPECT_NEAR(a.impacts.pre.t(k), b.impacts.pre.t(k), 1e-9);
+        EXPECT_NEAR((a.impacts.post.x(k) - b.impacts.post.x(k)).cwiseAbs().maxCoeff(), 0.0, 1e-8);
+    }
     for (std::size_t k = 0; k < a.points.size(); ++k) {
         EXPECT_NEAR(a.points.t(k), b.points.t(k), 1e-9);
         EXPECT_NEAR((a.points.x(k) - b.points.x(k)).cwiseAbs().maxCoeff(), 0.0, 1e-8);
