@@ -37,7 +37,7 @@
 #include "vimpact/core/format.hpp"
 #include "vimpact/io/csv_writer.hpp"
 
-#include "vimpact/jobs/job_dispenser.hpp"
+#include "jobs/job_dispenser.hpp"
 
 namespace {
 

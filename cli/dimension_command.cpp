@@ -18,7 +18,7 @@
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/io/csv_writer.hpp"
-#include "vimpact/jobs/job_loop.hpp"
+#include "vimpact/jobs/job_options.hpp"
 
 namespace fs = std::filesystem;
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "vimpact/core/value_grid.hpp"
-#include "vimpact/jobs/job_loop.hpp"
+#include "vimpact/jobs/job_schedule.hpp"
 
 namespace vimpact::cli {
 

@@ -20,6 +20,7 @@
 
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/hybrid/flow.hpp"
+#include "vimpact/model/export.hpp"
 #include "vimpact/model/model.hpp"
 #include "vimpact/model/native_model.hpp"
 #include "example_models.hpp"

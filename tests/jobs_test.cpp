@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "jobs/journal.hpp"
-#include "vimpact/jobs/job_loop.hpp"
+#include "jobs/job_loop.hpp"
 #include "vimpact/jobs/job_ranks.hpp"
 
 namespace {

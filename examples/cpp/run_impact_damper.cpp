@@ -16,6 +16,7 @@
 #include <vimpact/analysis/lyapunov.hpp>
 #include <vimpact/analysis/period.hpp>
 #include <vimpact/analysis/sweep.hpp>
+#include <vimpact/model/export.hpp>
 #include <vimpact/model/model.hpp>
 
 #include "impact_damper.hpp"

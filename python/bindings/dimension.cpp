@@ -14,7 +14,7 @@
 #include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/dimension_points.hpp"
 #include "vimpact/model/model.hpp"
-#include "vimpact/jobs/job_loop.hpp"
+#include "vimpact/jobs/job_options.hpp"
 
 namespace vimpact::python {
 namespace {

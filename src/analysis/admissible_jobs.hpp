@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "vimpact/analysis/protocol.hpp"
-#include "vimpact/jobs/job_loop.hpp"
+#include "jobs/job_loop.hpp"
 
 namespace vimpact::detail {
 

@@ -14,7 +14,7 @@
 #include "orbit_system.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
-#include "vimpact/jobs/job_loop.hpp"
+#include "jobs/job_loop.hpp"
 
 namespace vimpact {
 

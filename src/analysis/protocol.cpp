@@ -6,6 +6,7 @@
 
 #include "dispatch.hpp"
 #include "vimpact/core/format.hpp"
+#include "vimpact/integrate/runge_kutta.hpp"
 #include "vimpact/model/model_phrases.hpp"
 
 namespace vimpact {
@@ -47,6 +48,12 @@ std::string section_choice_names(const model& m)
 section_choice default_section(const model& m)
 {
     return m.section_count() > 0 ? section_choice::crossings(0) : section_choice::impacts();
+}
+
+double effective_hold_band(const integrator_options& o, integration_method method)
+{
+    return o.hold_band.value_or(method == integration_method::dopri5 ? dopri5<1>::default_hold_band
+                                                                     : dop853<1>::default_hold_band);
 }
 
 void validate(const model& m, const section_choice& s)

@@ -1,4 +1,4 @@
-#include "vimpact/jobs/job_dispenser.hpp"
+#include "jobs/job_dispenser.hpp"
 
 #include <algorithm>
 

@@ -15,6 +15,7 @@
 
 #include "io/json_line.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "jobs/job_loop.hpp"
 #include "vimpact/jobs/job_options.hpp"
 
 namespace vimpact::detail {

@@ -6,6 +6,7 @@
 #include <map>
 #include <numbers>
 
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"

@@ -26,7 +26,7 @@
 #include <Eigen/Core>
 
 #include "vimpact/core/outcome.hpp"
-#include "vimpact/hybrid/flow.hpp"
+#include "vimpact/hybrid/flow_options.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/model/model.hpp"
 

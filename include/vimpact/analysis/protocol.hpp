@@ -19,7 +19,7 @@
 #include "vimpact/core/names.hpp"
 #include "vimpact/core/outcome.hpp"
 #include "vimpact/core/state_series.hpp"
-#include "vimpact/hybrid/flow.hpp"
+#include "vimpact/hybrid/flow_options.hpp"
 #include "vimpact/hybrid/lanes_counts.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/model/model.hpp"
@@ -37,11 +37,7 @@ inline constexpr std::array<integration_method, 2> all_integration_methods{integ
 
 // The step-size controller's hold band a run of `method` with these options uses: the one
 // given, else the method's default (integrator_options::hold_band).
-constexpr double effective_hold_band(const integrator_options& o, integration_method method)
-{
-    return o.hold_band.value_or(method == integration_method::dopri5 ? dopri5<1>::default_hold_band
-                                                                     : dop853<1>::default_hold_band);
-}
+double effective_hold_band(const integrator_options& o, integration_method method);
 
 // Where the protocol records its points: the crossings of one of the model's sections, or
 // the states just after impacts (on one surface, or on every surface).

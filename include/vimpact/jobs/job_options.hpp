@@ -29,10 +29,28 @@
 #include <memory>
 #include <optional>
 
-#include "vimpact/jobs/job_loop.hpp"
-#include "vimpact/jobs/job_ranks.hpp"
+#include <string>
+#include <thread>
+
+#include "vimpact/core/input_error.hpp"
+#include "vimpact/jobs/job_schedule.hpp"
 
 namespace vimpact {
+
+class job_ranks;  // jobs/job_ranks.hpp
+
+// The most worker threads any analysis starts.
+inline constexpr int max_threads = 1024;
+
+inline int resolve_threads(int requested)
+{
+    if (requested < 0 || requested > max_threads)
+        throw input_error("threads = " + std::to_string(requested) + " is outside its valid range [0, " +
+                          std::to_string(max_threads) + "] (0: every core)");
+    if (requested > 0) return requested;
+    const unsigned hw = std::thread::hardware_concurrency();
+    return hw == 0 ? 1 : static_cast<int>(hw);
+}
 
 struct job_options {
     int threads = 0;  // 0: every core; results never depend on it

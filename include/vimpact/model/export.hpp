@@ -18,6 +18,7 @@
 
 #include "vimpact/integrate/fused_step.hpp"
 #include "vimpact/model/abi.h"
+#include "vimpact/model/model.hpp"
 #include "vimpact/model/native_model.hpp"
 
 namespace vimpact {
@@ -222,3 +223,9 @@ const vimpact_model_table& definition_table()
     {                                                                                      \
         return &::vimpact::definition_table<D>();                                          \
     }
+
+template <class D>
+vimpact::model vimpact::model::from_definition()
+{
+    return from_table(definition_table<D>(), "C++ definition");
+}

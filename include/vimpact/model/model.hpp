@@ -7,6 +7,7 @@
 //   model::from_file("my.toml")            a model file, compiled to native code once
 //   model::from_file("libmine.so")         a shared library exporting a C++ model
 //   model::from_definition<D>()            a C++ definition compiled into the caller
+//                                          (defined in model/export.hpp)
 //
 // Parameters are set by index (with_parameter) after a front end has looked the name up in
 // info(); every value is range-checked, so a model always holds a valid parameter set.
@@ -104,11 +105,3 @@ int violated_surface(const model& m, const Eigen::VectorXd& x);
 void check_state_size(const model& m, Eigen::Index size, std::string_view what);
 
 }  // namespace vimpact
-
-#include "vimpact/model/export.hpp"
-
-template <class D>
-vimpact::model vimpact::model::from_definition()
-{
-    return from_table(definition_table<D>(), "C++ definition");
-}

@@ -25,7 +25,6 @@
 #include <utility>
 #include <vector>
 
-#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/core/value_grid.hpp"
 #include "vimpact/model/model.hpp"
@@ -33,6 +32,8 @@
 #include "vimpact/physical/state_dimensions.hpp"
 
 namespace vimpact {
+
+struct clearance_result;  // analysis/clearance.hpp
 
 // One unit of a model's quantities in SI.
 struct physical_scales {

@@ -47,7 +47,8 @@
 #include <vector>
 
 #include "vimpact/core/input_error.hpp"
-#include "vimpact/jobs/job_dispenser.hpp"
+#include "vimpact/jobs/job_options.hpp"
+#include "jobs/job_dispenser.hpp"
 #include "vimpact/jobs/job_ranks.hpp"
 #include "vimpact/jobs/job_schedule.hpp"
 
@@ -81,19 +82,6 @@ struct job_loop_summary {
     int ranks = 1;
     bool coordinator = true;  // false on the ranks that deliver nothing
 };
-
-// The most worker threads any analysis starts.
-inline constexpr int max_threads = 1024;
-
-inline int resolve_threads(int requested)
-{
-    if (requested < 0 || requested > max_threads)
-        throw input_error("threads = " + std::to_string(requested) + " is outside its valid range [0, " +
-                          std::to_string(max_threads) + "] (0: every core)");
-    if (requested > 0) return requested;
-    const unsigned hw = std::thread::hardware_concurrency();
-    return hw == 0 ? 1 : static_cast<int>(hw);
-}
 
 // What the loop knows besides the jobs: those finished before, the wire form of records for
 // ranks in other processes, and who hears of each result as it arrives.
