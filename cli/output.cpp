@@ -426,6 +426,8 @@ void finish_output(staged_output& out, const std::string& kind, const run_config
 {
     if (!record.contains("files")) record["files"] = json::array();
     record["files"].push_back("run.json");
+    // The picture that draws this directory: python3 -m vimpact.plot KIND DIR redraws it.
+    if (!kind.empty()) record["plot"] = kind;
     write_replay_config(out.file("config.toml"), c);
     record["files"].push_back("config.toml");
     const auto record_path = out.file("run.json");

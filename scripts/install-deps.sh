@@ -6,6 +6,8 @@ set -euo pipefail
 
 packages=(
   build-essential cmake git pkg-config
+  # the test command reuses earlier builds' objects where it can (scripts/run-tests.sh)
+  ccache
   libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   # journal lines read fast by a distributed run's coordinator (src/io/json_line.hpp)
   libsimdjson-dev

@@ -1,16 +1,23 @@
 import os
+import sys
 import shutil
 import subprocess
 import tempfile
 
 import pytest
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from capabilities import need, required  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 TWO_SIDED_TOML = os.path.join(ROOT, "examples", "models", "two_sided_impact_oscillator.toml")
 
-# Model files are compiled into a cache: a fresh one for the session, never the user's.
-_CACHE = tempfile.mkdtemp(prefix="vimpact-cli-cache-")
+# Model files are compiled into a cache, never the user's: the one the test run shares
+# (VIMPACT_TEST_CACHE_DIR, set by CTest for every test file of a build), else a fresh one for
+# the session.
+_SHARED = os.environ.get("VIMPACT_TEST_CACHE_DIR")
+_CACHE = _SHARED or tempfile.mkdtemp(prefix="vimpact-cli-cache-")
 os.environ["VIMPACT_CACHE_DIR"] = _CACHE
 
 
@@ -19,7 +26,8 @@ def pytest_addoption(parser):
 
 
 def pytest_unconfigure(config):
-    shutil.rmtree(_CACHE, ignore_errors=True)
+    if not _SHARED:
+        shutil.rmtree(_CACHE, ignore_errors=True)
 
 
 @pytest.fixture(scope="session")
@@ -45,6 +53,8 @@ PLOTS = _plots_work()
 def check_png(path):
     """The picture exists and is a PNG, when the plotting package works; else skipped."""
     if not PLOTS:
+        if required("plots"):
+            pytest.fail("the plotting package does not run here; VIMPACT_REQUIRE names plots", pytrace=False)
         return
     with open(path, "rb") as f:
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"

@@ -12,6 +12,7 @@ import time
 
 import pytest
 
+from conftest import need
 from test_sweeps import MAP, journal_file_lines, journal_lines, read, started_paused, with_fault
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
@@ -21,12 +22,10 @@ TIMEOUT = 600
 
 @pytest.fixture(scope="module")
 def mpi(vimpact):
-    if shutil.which("mpirun") is None:
-        pytest.skip("mpirun is not installed")
+    need("mpi", shutil.which("mpirun") is not None, "mpirun is not installed")
     p = subprocess.run(MPIRUN + ["-n", "2", vimpact, "sweep", "--param", "Ur", "--range", "16:17:2", "--transient",
                                  "20", "--record", "10", "--json"], capture_output=True, text=True, timeout=TIMEOUT)
-    if p.returncode == 2 and "built without MPI" in p.stderr:
-        pytest.skip("this vimpact was built without MPI")
+    need("mpi", not (p.returncode == 2 and "built without MPI" in p.stderr), "this vimpact was built without MPI")
     assert p.returncode == 0, p.stderr
     assert len(p.stdout.splitlines()) == 1, "only rank 0 prints"
     return MPIRUN

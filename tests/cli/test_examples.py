@@ -1,11 +1,14 @@
-"""Every figure script of examples/ runs in its --quick size and writes its picture."""
+"""Every figure script of examples/ runs in its --quick size and writes pictures that draw its
+data."""
 import glob
+import json
 import os
 import subprocess
+import sys
 
 import pytest
 
-from conftest import PLOTS
+from conftest import PLOTS, need
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLES = sorted(glob.glob(os.path.join(HERE, "..", "..", "examples", "fig*.sh")))
@@ -20,8 +23,7 @@ def test_there_is_a_script_per_figure_of_the_issue():
 
 @pytest.mark.parametrize("script", EXAMPLES, ids=[os.path.basename(p) for p in EXAMPLES])
 def test_example_quick(vimpact, tmp_path, script):
-    if not PLOTS:
-        pytest.skip("python3 -m vimpact.plot does not run (the Python package is being rewritten)")
+    need("plots", PLOTS, "python3 -m vimpact.plot does not run here")
     env = dict(os.environ, VIMPACT=vimpact, OUT=str(tmp_path))
     p = subprocess.run(["bash", script, "--quick"], capture_output=True, text=True, env=env, timeout=600)
     assert p.returncode == 0, p.stdout + p.stderr
@@ -29,4 +31,13 @@ def test_example_quick(vimpact, tmp_path, script):
     name = os.path.basename(script)[:-3]
     pngs = glob.glob(os.path.join(tmp_path, name, "**", "plot.png"), recursive=True)
     assert pngs, f"{script} wrote no picture"
-    assert all(os.path.getsize(f) > 10_000 for f in pngs)
+    # What each picture draws, redrawn from its directory: data in its first axes (the
+    # diagram, map or chart itself), not only a file of some size.
+    directories = sorted(os.path.dirname(f) for f in pngs)
+    p = subprocess.run([sys.executable, os.path.join(HERE, "picture_census.py"), *directories], capture_output=True,
+                       text=True, env=dict(os.environ, PYTHONPATH=os.path.join(HERE, "..", "..", "python")), timeout=600)
+    assert p.returncode == 0, p.stderr
+    for directory, axes in json.loads(p.stdout).items():
+        where = os.path.relpath(directory, tmp_path)
+        assert axes, f"{where}: the picture has no axes"
+        assert axes[0]["values"] >= 2, f"{where}: the picture's first axes draws {axes[0]['values']} values: {axes}"

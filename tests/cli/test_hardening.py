@@ -228,9 +228,8 @@ def test_an_unknown_picture_format_is_refused(vimpact, tmp_path):
 # ---------------------------------------------------------------- the picture's Python
 
 def test_the_picture_imports_nothing_from_the_working_directory_or_pythonpath(vimpact, tmp_path):
-    from conftest import PLOTS
-    if not PLOTS:
-        pytest.skip("the plotting package cannot run here")
+    from conftest import PLOTS, need
+    need("plots", PLOTS, "the plotting package cannot run here")
     marker = tmp_path / "marker"
     planted = tmp_path / "planted"
     planted.mkdir()
@@ -247,9 +246,8 @@ def test_the_picture_imports_nothing_from_the_working_directory_or_pythonpath(vi
 
 
 def test_a_failed_picture_is_one_line_and_the_results_are_kept(vimpact, tmp_path):
-    from conftest import PLOTS
-    if not PLOTS:
-        pytest.skip("the plotting package cannot run here")
+    from conftest import PLOTS, need
+    need("plots", PLOTS, "the plotting package cannot run here")
     # The user's matplotlib configuration asks for LaTeX text with a preamble no TeX accepts
     # (or no TeX at all): every picture fails while it is drawn.
     mpl = tmp_path / "mpl"

@@ -7,6 +7,9 @@ import tempfile
 
 import pytest
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from capabilities import need  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 TWO_SIDED_TOML = os.path.join(ROOT, "examples", "models", "two_sided_impact_oscillator.toml")
@@ -18,10 +21,12 @@ def pytest_addoption(parser):
 
 def pytest_configure(config):
     # Model files compile into a cache of the test run's own (VIMPACT_CACHE_DIR), inherited by
-    # the subprocesses the tests start, so no test reads or fills the user's cache.
-    cache = tempfile.mkdtemp(prefix="vimpact-pytest-cache-")
+    # the subprocesses the tests start, so no test reads or fills the user's cache: the one
+    # the test files of a build share (VIMPACT_TEST_CACHE_DIR, set by CTest), else a fresh one.
+    shared = os.environ.get("VIMPACT_TEST_CACHE_DIR")
+    cache = shared or tempfile.mkdtemp(prefix="vimpact-pytest-cache-")
     os.environ["VIMPACT_CACHE_DIR"] = cache
-    config._vimpact_cache = cache
+    config._vimpact_cache = "" if shared else cache
     # The package under test is the build tree's (PYTHONPATH=build/python), never an
     # installed one; say which in the report header.
     import vimpact
@@ -29,7 +34,8 @@ def pytest_configure(config):
 
 
 def pytest_unconfigure(config):
-    shutil.rmtree(getattr(config, "_vimpact_cache", ""), ignore_errors=True)
+    if getattr(config, "_vimpact_cache", ""):
+        shutil.rmtree(config._vimpact_cache, ignore_errors=True)
 
 
 @pytest.fixture(scope="session")
@@ -39,8 +45,8 @@ def vimpact_cli(request):
     if not path:
         path = os.path.join(ROOT, "build", "vimpact")
     if not (os.path.isfile(path) and os.access(path, os.X_OK)):
-        pytest.skip(f"the vimpact program is not built at {path} (configure with -DVIMPACT_BUILD_CLI=ON, or pass "
-                    f"--vimpact=PATH): the comparisons with the command line need it")
+        need("cli", False, f"the vimpact program is not built at {path} (configure with -DVIMPACT_BUILD_CLI=ON, or "
+                           f"pass --vimpact=PATH): the comparisons with the command line need it")
     # A program built before the command line took any model (no --model) writes other files.
     help_text = subprocess.run([path, "simulate", "--help"], capture_output=True, text=True, timeout=60).stdout
     if "--model" not in help_text:

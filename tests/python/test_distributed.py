@@ -9,17 +9,16 @@ import numpy as np
 import pytest
 
 import vimpact
+from conftest import need
 
 
 @pytest.fixture(scope="module")
 def mpirun(vimpact_cli):
-    if shutil.which("mpirun") is None:
-        pytest.skip("mpirun is not installed")
+    need("mpi", shutil.which("mpirun") is not None, "mpirun is not installed")
     cmd = ["mpirun", "--oversubscribe", "--allow-run-as-root"]
     p = subprocess.run(cmd + ["-n", "2", vimpact_cli, "sweep", "--param", "Ur", "--range", "16:17:2", "--transient",
                               "20", "--record", "10"], capture_output=True, text=True, timeout=300)
-    if "built without MPI" in p.stderr:
-        pytest.skip("the vimpact program was built without MPI")
+    need("mpi", "built without MPI" not in p.stderr, "the vimpact program was built without MPI")
     assert p.returncode == 0, p.stderr
     return cmd
 
