@@ -10,8 +10,9 @@ The peers are compiled with GCC's default for C++, -ffp-contract=fast: the compi
 their multiplies and adds, as vimpact's stage sums do explicitly.
 
 Usage: /usr/bin/python3 bench/like_for_like.py BUILD_DIR [REPEAT]
-Prints a Markdown table (the README's): wall, steps, rejected, rhs calls, ns per step, ns per
-rhs call, error, and the time relative to the plain DOPRI5 loop and to Odeint's DOPRI5.
+Prints a Markdown table (docs/performance.md quotes it): wall, steps, rejected, rhs calls,
+ns per step, ns per rhs call, error, and the time relative to the plain DOPRI5 loop and to
+Odeint's DOPRI5.
 """
 import json
 import os

@@ -4,7 +4,7 @@
 #   vimpact (DOP853 and DOPRI5), Boost.Odeint DOPRI5 + bisection, scipy solve_ivp RK45 and DOP853.
 # Accuracy: max |y| difference of the 200 section points against a reference run of vimpact
 # at rtol = atol = 1e-13 (`vimpact period --out`, its sections.csv). Prints a Markdown table
-# (the one in the README).
+# (the documents quote bench/like_for_like.py's table instead: docs/performance.md).
 # Usage: bash bench/run_benchmarks.sh [--no-scipy]
 #   BUILD_DIR=DIR (default build): the build directory to configure, build and run.
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every number of docs/performance.md and of the README's performance table, in one command:
+# Every number of docs/performance.md but the job loop's and the model table's, in one command:
 #   1. like for like at the paper's protocol point (Ur = 16, rtol = atol = 1e-10): vimpact's
 #      DOP853 and DOPRI5 beside Boost.Odeint's DOPRI5 and RKF78, the plain DOPRI5 loop,
 #      SUNDIALS' CVODE (Adams) and ARKODE (ERK), medians of 7 runs each, side by side; then

@@ -14,8 +14,9 @@ PAIRS = [
     ("docs/performance.md", "bench/output/trial.md", None),
     ("docs/performance.md", "bench/output/scaling.md", None),
     ("docs/performance.md", "bench/output/controller.md", None),
+    ("docs/performance.md", "bench/output/jobs.md", None),
+    ("docs/performance.md", "bench/output/model.md", None),
     ("docs/continuation.md", "bench/output/continuation.md", None),
-    ("README.md", "bench/output/model.md", [0]),
 ]
 
 
