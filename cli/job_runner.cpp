@@ -9,6 +9,7 @@
 #include "interrupts.hpp"
 #include "parse.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/jobs/job_ranks.hpp"
 
 namespace fs = std::filesystem;
 

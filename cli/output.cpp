@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -14,6 +15,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "vimpact/analysis/period.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/io/csv_writer.hpp"
@@ -183,8 +185,11 @@ json label_counts(const std::vector<std::string>& labels)
 
 std::string counts_text(const json& counts)
 {
+    std::vector<std::string> labels;
+    for (const auto& [k, v] : counts.items()) labels.push_back(k);
+    std::sort(labels.begin(), labels.end(), [](const std::string& a, const std::string& b) { return label_before(a, b); });
     std::vector<std::string> parts;
-    for (const auto& [k, v] : counts.items()) parts.push_back(k + " " + std::to_string(v.get<long>()));
+    for (const auto& l : labels) parts.push_back(l + " " + std::to_string(counts[l].get<long>()));
     return join(parts);
 }
 

@@ -345,7 +345,8 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
     lo.section = c.protocol.section.index;
     std::vector<std::string> h{sv.name};
     for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
-    for (const char* k : {"lle_standard_error", "settled", "impacts", "time", "misses", "outcome"}) h.emplace_back(k);
+    for (const char* k : {"lle_standard_error", "positive", "settled", "impacts", "time", "misses", "outcome"})
+        h.emplace_back(k);
     for (const auto& n : impact_count_columns(info)) h.push_back(n);
     if (sv.si()) h.push_back(sv.si_name);
     if (c.si)
@@ -367,7 +368,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         const auto& r = p.result;
         const bool have = r.has_exponents();
         const double lle = have ? r.exponents[0] : std::nan("");
-        if (have && std::isfinite(lle) && std::isfinite(r.lle_standard_error) && lle > 3.0 * r.lle_standard_error) ++positive;
+        if (r.positive_largest_exponent()) ++positive;
         if (have && !r.settled) ++unsettled;
         // Exponents per second with --si: per unit of model time over its length in seconds.
         const double per_second = c.si ? 1.0 / time_scale_at(c, sv, p.value) : std::nan("");
@@ -376,6 +377,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                                  {"outcome", std::string(to_string(r.status))},
                                  {"lle", finite_or_null(lle)},
                                  {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+                                 {"positive", r.positive_largest_exponent()},
                                  {"settled", r.settled},
                                  {"exponents", exponents_json(r)},
                                  {"impacts", r.impacts},
@@ -389,6 +391,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         std::vector<std::string> row{format_double(p.value)};
         for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(all ? r.exponents[i] : std::nan("")));
         row.push_back(format_double(nan_unless(have, r.lle_standard_error)));
+        row.emplace_back(r.positive_largest_exponent() ? "1" : "0");
         row.emplace_back(r.settled ? "1" : "0");
         row.push_back(std::to_string(r.impacts));
         row.push_back(format_double(r.time));
@@ -477,6 +480,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         {"exponents", exponents_json(r)},
         {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
         {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
+        {"positive", r.positive_largest_exponent()},
         {"settled", r.settled},
         {"sum", have ? finite_or_null(r.exponents.sum()) : json(nullptr)},
         {"sum_rule", have ? finite_or_null(r.sum_rule) : json(nullptr)},

@@ -2,7 +2,9 @@
 // the paper's published labels and grazing values for the paper's model.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "test_support.hpp"
@@ -245,4 +247,16 @@ TEST(Grazing, TwoStopsAreGrazedAtTheClosedFormAmplitude)
     EXPECT_NEAR(g.response_max, X, 1e-9);
     EXPECT_NEAR(g.response_min, -X, 1e-9);
     EXPECT_NEAR(g.response_omega, w, 1e-9);
+}
+
+// Summaries and legends read P2 before P10 (not as strings), then aperiodic, then failed runs.
+TEST(Labels, ReadingOrderIsByPeriodThenAperiodicThenOutcomes)
+{
+    const std::vector<std::string> order{"P0", "P1", "P2", "P10", "P32", "aperiodic", "chattering", "non_finite"};
+    std::vector<std::string> shuffled{"P10", "non_finite", "aperiodic", "P2", "P32", "P0", "chattering", "P1"};
+    std::sort(shuffled.begin(), shuffled.end(),
+              [](const std::string& a, const std::string& b) { return vimpact::label_before(a, b); });
+    EXPECT_EQ(shuffled, order);
+    EXPECT_FALSE(vimpact::label_before("P2", "P2"));
+    EXPECT_TRUE(vimpact::label_before("P9", "P10"));
 }

@@ -232,3 +232,23 @@ TEST(StabilityLyapunov, ResultsAreBitIdentical)
 }
 
 }  // namespace
+
+// The verdict "positive largest exponent" that the command line counts and Python reports:
+// more than 3 standard errors above 0, and no verdict without an error estimate (too few
+// intervals for the block means) or without exponents (a failed run).
+TEST(LyapunovVerdict, PositiveOnlyWithAnErrorEstimateAndAboveThreeOfIt)
+{
+    vimpact::lyapunov_result r;
+    r.exponents = Eigen::Vector2d(0.5, -1.0);
+    r.lle_standard_error = 0.1;
+    EXPECT_TRUE(r.positive_largest_exponent());
+    r.lle_standard_error = 0.2;  // 0.5 < 3 * 0.2
+    EXPECT_FALSE(r.positive_largest_exponent());
+    r.lle_standard_error = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(r.positive_largest_exponent());
+    r.lle_standard_error = 0.1;
+    r.status = vimpact::outcome::time_limit;  // averaged over less than asked: exponents given
+    EXPECT_TRUE(r.positive_largest_exponent());
+    r.status = vimpact::outcome::non_finite;
+    EXPECT_FALSE(r.positive_largest_exponent());
+}

@@ -119,6 +119,7 @@ py::dict lyapunov_dict(const model& m, const lyapunov_result& r)
     d["impacting"] = r.impacting;
     d["exponents"] = r.exponents.size() ? vector_array(r.exponents) : vector_array(Eigen::VectorXd::Constant(m.dim(), nan));
     d["lle_standard_error"] = r.lle_standard_error;
+    d["positive"] = r.positive_largest_exponent();
     d["settled"] = r.settled;
     d["t_start"] = r.t_start;
     d["time"] = r.time;

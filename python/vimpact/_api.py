@@ -887,7 +887,8 @@ def _lyapunov_options(tdm, r0, t0, impacts, time_, warmup, p0_time, max_time, di
 def _lyapunov_result(d, model, opts):
     stats = {"transient": RunStats.from_dict(d["transient_stats"], model.surfaces),
              "tangent": RunStats.from_dict(d["stats"], model.surfaces)}
-    keys = ("status", "tdm", "impacting", "exponents", "lle_standard_error", "settled", "t_start", "time", "impacts",
+    keys = ("status", "tdm", "impacting", "exponents", "lle_standard_error", "positive", "settled", "t_start", "time",
+            "impacts",
             "intervals", "divergence_average", "jump_log_det_rate", "sum_rule", "misses", "history_t",
             "history_growth", "section_t", "section")
     return Lyapunov(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
@@ -1052,6 +1053,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
     exps = np.vstack([r.exponents for r in results]) if results else np.empty((0, model.dim))
     return LyapunovSweep(exponents=exps,
                          lle_standard_error=np.array([r.lle_standard_error for r in results], dtype=float),
+                         positive_exponent=np.array([r.positive for r in results], dtype=bool),
                          settled=np.array([r.settled for r in results], dtype=bool),
                          status=_strings([r.status for r in results]), tdm=tdm, **fields)
 

@@ -1141,6 +1141,8 @@ class Lyapunov(_Context):
         Descending (NaN when the run failed).
     lle_standard_error : float
         Of the largest exponent, from 8 block means.
+    positive : bool
+        The library's verdict: the largest exponent lies more than 3 standard errors above 0.
     settled : bool
         False when the largest exponent drifts: its means over the two halves of the
         averaging differ by more than 4 standard errors (lengthen the transient or averaging).
@@ -1165,6 +1167,7 @@ class Lyapunov(_Context):
     impacting: Optional[bool] = None
     exponents: np.ndarray = None
     lle_standard_error: float = np.nan
+    positive: bool = False
     settled: bool = True
     t_start: float = 0.0
     time: float = np.nan
@@ -1212,7 +1215,8 @@ class Lyapunov(_Context):
         growth = np.diff(np.vstack([np.zeros((1, len(lam))), total]), axis=0) if len(total) else total
         return cls(status=res.get("outcome", "ok"), tdm=res.get("tdm", "saltation"),
                    exponents=np.array([_num(v) for v in res.get("exponents", [])], dtype=float),
-                   lle_standard_error=_num(res.get("lle_standard_error")), settled=res.get("settled", True),
+                   lle_standard_error=_num(res.get("lle_standard_error")), positive=res["positive"],
+                   settled=res.get("settled", True),
                    t_start=t_start,
                    time=_num(res.get("time")), impacts=res.get("impacts", 0), sum_rule=_num(res.get("sum_rule")),
                    misses=res.get("misses", 0), history_t=conv["t"], history_growth=growth,
@@ -1297,6 +1301,9 @@ class LyapunovSweep(_Context, _PointRuns):
     exponents : ndarray, float64, shape (n, dim)
     lle : ndarray, float64, shape (n,)
     lle_standard_error : ndarray, float64, shape (n,)
+    positive_exponent : ndarray, bool, shape (n,)
+        The library's verdict per value: the largest exponent lies more than 3 standard
+        errors above 0 (``positive`` counts them).
     settled : ndarray, bool, shape (n,)
         False where the largest exponent drifts between the halves of the averaging.
     status : ndarray, str, shape (n,)
@@ -1311,6 +1318,7 @@ class LyapunovSweep(_Context, _PointRuns):
     results: list = field(default_factory=list)
     exponents: np.ndarray = None
     lle_standard_error: np.ndarray = None
+    positive_exponent: np.ndarray = None
     settled: Optional[np.ndarray] = None
     status: np.ndarray = None
     points: np.ndarray = None
@@ -1325,9 +1333,8 @@ class LyapunovSweep(_Context, _PointRuns):
 
     @property
     def positive(self):
-        """Values whose largest exponent lies more than 3 standard errors above 0."""
-        se = np.where(np.isfinite(self.lle_standard_error), self.lle_standard_error, 0.0)
-        return int(np.sum(np.isfinite(self.lle) & (self.lle > 3 * se)))
+        """How many values have a positive largest exponent (``positive_exponent``)."""
+        return int(np.sum(self.positive_exponent))
 
     def __repr__(self):
         return (f"LyapunovSweep(param={self.param!r}, {len(self.value)} values, tdm {self.tdm}: {self.positive} "
@@ -1345,7 +1352,8 @@ class LyapunovSweep(_Context, _PointRuns):
             if len(value) else np.empty((0, len(lam)))
         se = np.array([float(x) if x not in ("", "nan") else np.nan for x in tab.get("lle_standard_error", [])])
         pts, run = _points(directory, param, value, ctx["state_names"])
-        return cls(param=param, value=value, exponents=exps, lle_standard_error=se, settled=_settled(tab),
+        return cls(param=param, value=value, exponents=exps, lle_standard_error=se,
+                   positive_exponent=np.array(tab["positive"], dtype=float) > 0.5, settled=_settled(tab),
                    status=_str_array(tab.get("outcome", ["ok"] * len(value))), points=pts, point_run=run,
                    tdm=res.get("tdm", "saltation"), **ctx)
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
 
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
@@ -26,6 +28,26 @@ void check_period_tolerance(double tol)
 {
     if (!(tol > 0.0) || !std::isfinite(tol))
         throw input_error("period tolerance must be > 0 and finite (got " + format_double(tol) + ")");
+}
+
+namespace {
+
+// (rank, period): PN -> (0, N), aperiodic -> (1, 0), anything else -> (2, 0).
+std::pair<int, long> label_rank(std::string_view s)
+{
+    if (s.size() >= 2 && s.size() <= 19 && s[0] == 'P' &&
+        std::all_of(s.begin() + 1, s.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        return {0, std::stol(std::string(s.substr(1)))};
+    return {s == "aperiodic" ? 1 : 2, 0};
+}
+
+}  // namespace
+
+bool label_before(std::string_view a, std::string_view b)
+{
+    const auto ra = label_rank(a), rb = label_rank(b);
+    if (ra != rb) return ra < rb;
+    return a < b;
 }
 
 period_label classify_period(const model& m, const simulation& r, double tol)

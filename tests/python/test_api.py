@@ -335,3 +335,11 @@ def test_without_the_compiled_module_results_and_plots_still_import(tmp_path):
     assert "not built" in p.stdout and "cmake --build build --target _vimpact" in p.stdout
     assert "pip install --no-build-isolation ." in p.stdout
     assert "from-import: vimpact.simulate needs the compiled module vimpact._vimpact" in p.stdout
+
+
+def test_labels_read_in_the_librarys_order():
+    # As the command line's summaries print them (label_before in the library): by period,
+    # P2 before P10, then aperiodic, then failed runs' outcomes.
+    shuffled = ["P10", "non_finite", "aperiodic", "P2", "P32", "P0", "chattering", "P1", "P2"]
+    assert vimpact.results.label_order(shuffled) == ["P0", "P1", "P2", "P10", "P32", "aperiodic", "chattering",
+                                                     "non_finite"]

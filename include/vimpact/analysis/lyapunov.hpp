@@ -20,6 +20,7 @@
 // The tangent flows integrate with DOP853 whatever protocol.method (which integrates the
 // transient and the trajectory mode's orbits).
 #include <array>
+#include <cmath>
 #include <limits>
 #include <numbers>
 #include <string_view>
@@ -98,6 +99,13 @@ struct lyapunov_result {
     run_stats stats;                        // summed over the interval runs (all orbits)
 
     [[nodiscard]] bool has_exponents() const { return status == outcome::ok || status == outcome::time_limit; }
+    // The verdict every front end reports: the largest exponent lies more than 3 standard
+    // errors above 0 (both finite; without an error estimate there is no verdict).
+    [[nodiscard]] bool positive_largest_exponent() const
+    {
+        return has_exponents() && exponents.size() > 0 && std::isfinite(exponents[0]) &&
+               std::isfinite(lle_standard_error) && exponents[0] > 3.0 * lle_standard_error;
+    }
 };
 
 void validate(const model& m, const lyapunov_options& o);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vimpact/analysis/protocol.hpp"
@@ -100,6 +101,10 @@ double state_distance(const model_info& m, const Eigen::Ref<const Eigen::VectorX
 void check_period_tolerance(double tol);
 
 period_label classify_period(const model& m, const simulation& run, double tol);
+
+// The reading order of labels, in every summary and legend: P0, P1, P2, ... by period (P2
+// before P10), then "aperiodic", then the outcomes of failed runs alphabetically.
+bool label_before(std::string_view a, std::string_view b);
 
 struct classified_run {
     simulation run;
