@@ -28,7 +28,6 @@
 #include <functional>
 #include <memory>
 #include <optional>
-
 #include <string>
 #include <thread>
 
