@@ -135,6 +135,14 @@ def _loaded(directory):
     return _context(record), record["result"]
 
 
+def _written(table, key, where):
+    """table[key], or a ValueError saying that `where` comes from a vimpact that did not write
+    it yet (older output directories lack the newer columns and keys)."""
+    if key not in table:
+        raise ValueError(f"{where} has no '{key}': it was written by an older vimpact; run the command again")
+    return table[key]
+
+
 def _states(columns, names, n=None):
     """The state columns of a CSV as an (n, dim) array."""
     if n is None:
@@ -1215,7 +1223,8 @@ class Lyapunov(_Context):
         growth = np.diff(np.vstack([np.zeros((1, len(lam))), total]), axis=0) if len(total) else total
         return cls(status=res.get("outcome", "ok"), tdm=res.get("tdm", "saltation"),
                    exponents=np.array([_num(v) for v in res.get("exponents", [])], dtype=float),
-                   lle_standard_error=_num(res.get("lle_standard_error")), positive=res["positive"],
+                   lle_standard_error=_num(res.get("lle_standard_error")),
+                   positive=_written(res, "positive", os.path.join(directory, "run.json")),
                    settled=res.get("settled", True),
                    t_start=t_start,
                    time=_num(res.get("time")), impacts=res.get("impacts", 0), sum_rule=_num(res.get("sum_rule")),
@@ -1353,7 +1362,8 @@ class LyapunovSweep(_Context, _PointRuns):
         se = np.array([float(x) if x not in ("", "nan") else np.nan for x in tab.get("lle_standard_error", [])])
         pts, run = _points(directory, param, value, ctx["state_names"])
         return cls(param=param, value=value, exponents=exps, lle_standard_error=se,
-                   positive_exponent=np.array(tab["positive"], dtype=float) > 0.5, settled=_settled(tab),
+                   positive_exponent=np.array(_written(tab, "positive", os.path.join(directory, "exponents.csv")),
+                                              dtype=float) > 0.5, settled=_settled(tab),
                    status=_str_array(tab.get("outcome", ["ok"] * len(value))), points=pts, point_run=run,
                    tdm=res.get("tdm", "saltation"), **ctx)
 

@@ -1,6 +1,7 @@
 """The Python API itself: documented shapes and dtypes, determinism across thread counts,
 journals (resume after a stop, shards), the GIL released during long calls, progress reports,
 Ctrl-C, docstrings."""
+import json
 import os
 import signal
 import subprocess
@@ -343,3 +344,16 @@ def test_labels_read_in_the_librarys_order():
     shuffled = ["P10", "non_finite", "aperiodic", "P2", "P32", "P0", "chattering", "P1", "P2"]
     assert vimpact.results.label_order(shuffled) == ["P0", "P1", "P2", "P10", "P32", "aperiodic", "chattering",
                                                      "non_finite"]
+
+
+def test_an_output_directory_without_a_newer_column_says_so(tmp_path):
+    # exponents.csv of a lyapunov sweep written before the library's verdict column existed.
+    out = tmp_path / "old"
+    out.mkdir()
+    (out / "run.json").write_text(json.dumps({"command": "lyapunov", "state_names": ["y", "ydot", "x", "xdot"],
+                                              "model": {"name": "wake_impact"},
+                                              "result": {"param": "Ur", "tdm": "saltation"}}))
+    (out / "exponents.csv").write_text("Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,settled,outcome\n"
+                                       "14,0.1,-0.1,-0.3,-1.3,0.01,1,ok\n")
+    with pytest.raises(ValueError, match=r"exponents.csv has no 'positive': it was written by an older vimpact"):
+        vimpact.LyapunovSweep.load(str(out))
