@@ -723,6 +723,9 @@ class Sweep(_Context, _Labels, _PointRuns):
     stats : dict
         ``steps`` and ``rhs_calls`` in all, ``wall_time`` in seconds.
     jobs : JobReport
+    records : dict
+        Every field of the library's record of each run by name (``read_tables``' form: the
+        arrays above are taken from it), a field added to the record included.
     """
     param: str = ""
     values: np.ndarray = None
@@ -747,6 +750,7 @@ class Sweep(_Context, _Labels, _PointRuns):
     point_run: np.ndarray = None
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
+    records: dict = field(default_factory=dict)
 
     @property
     def point_branch(self):
@@ -768,7 +772,7 @@ class Sweep(_Context, _Labels, _PointRuns):
                    settled=records["settled"], outcome=_str_array(records["outcome"]), grazing=records["grazing"],
                    final_state=records.get("final_state"), steps=stats.get("steps"),
                    statistics=dict(records["statistics"]), points=records["points"],
-                   point_run=records["points_run"], **run, **ctx)
+                   point_run=records["points_run"], records=records, **run, **ctx)
 
     @classmethod
     def load(cls, directory):
@@ -824,6 +828,9 @@ class Map(_Context, _Labels):
         between impacting and surface-free motion.
     stats : dict
     jobs : JobReport
+    records : dict
+        Every field of the library's record of each run by name (``read_tables``' form: the
+        arrays above are taken from it), a field added to the record included.
     """
     x: str = ""
     y: str = ""
@@ -844,6 +851,7 @@ class Map(_Context, _Labels):
     grazing: Optional[np.ndarray] = None
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
+    records: dict = field(default_factory=dict)
 
     def __repr__(self):
         return f"Map({self.x} x {self.y}, {len(self.x_values)} x {len(self.y_values)}: {self._counts_text()})"
@@ -855,7 +863,7 @@ class Map(_Context, _Labels):
         r = _shaped(records, (len(run["y_values"]), len(run["x_values"])))
         return cls(label=r["label"], period=r["period"], impacts=r["impacts"], impacts_by_surface=r["impacts_by_surface"],
                    closure=r["closure"], settled=r["settled"], outcome=r["outcome"], steps=r.get("steps"),
-                   statistics=r["statistics"], **run, **ctx)
+                   statistics=r["statistics"], records=r, **run, **ctx)
 
     @classmethod
     def load(cls, directory):

@@ -70,6 +70,10 @@ def test_sweep_fixed_with_grazing(cli, tmp_path):
     assert set(s.statistics) == set(c.statistics)
     for name in s.statistics:
         same(s.statistics[name], c.statistics[name])
+    # Every field of the record that the directory holds, by the library's description.
+    assert set(c.records) - {"statistics"} <= set(s.records)
+    for name in set(c.records) - {"statistics"}:
+        same(s.records[name], c.records[name])
     assert np.isfinite(s.grazing).all()
 
 
