@@ -16,6 +16,7 @@
 #include "replay.hpp"
 #include "vimpact/core/cancelled.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/option.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/jobs/job_ranks.hpp"
 
@@ -116,6 +117,8 @@ int main(int argc, char** argv)
     } catch (const vimpact::cancelled&) {  // `interrupted` too
         if (vimpact::launched_rank() == 0) std::cerr << "vimpact: interrupted; nothing written\n";
         return 130;
+    } catch (const vimpact::option_error& e) {  // the library's key, as this command line spells it
+        return fail(vimpact::command_line_key(e.key()) + e.detail());
     } catch (const vimpact::input_error& e) {
         return fail(e.what());
     } catch (const std::exception& e) {

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "declared_options.hpp"
 #include "job_runner.hpp"
 #include "interrupts.hpp"
 #include "output.hpp"
@@ -45,12 +46,7 @@ struct floquet_args {
 struct lyapunov_args {
     common_args common;
     sweep_request sweep;
-    std::string tdm = "saltation";
-    double r0 = lyapunov_options{}.r0;
-    double t0 = lyapunov_options{}.t0;
-    long impacts = lyapunov_options{}.impacts;
-    double time = 0.0;
-    long warmup = lyapunov_options{}.warmup_intervals;
+    lyapunov_options options;  // what it declares; the protocol's part from common
 };
 
 std::string fixed(double v, int digits)
@@ -445,21 +441,8 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
     if (!sweep && app.get_option("--record")->count() > 0)
         throw input_error("--record is used by lyapunov only in a sweep (--param, --range), for the bifurcation diagram");
     run_config c = resolve(a.common);
-    lyapunov_options lo;
-    lo.tdm = parse_name(a.tdm, all_lyapunov_tdms, "--tdm");
-    if (!(a.r0 > 0.0 && a.r0 < 1.0) || !std::isfinite(a.r0))
-        throw input_error("--r0 = " + format_double(a.r0) + " is outside its valid range (0, 1)");
-    if (!(a.t0 > 0.0) || !std::isfinite(a.t0))
-        throw input_error("--t0 = " + format_double(a.t0) + " is outside its valid range (0, inf)");
-    if (a.impacts < 1) throw input_error("--impacts must be >= 1 (got " + std::to_string(a.impacts) + ")");
-    if (!(a.time >= 0.0) || !std::isfinite(a.time))
-        throw input_error("--time must be >= 0 (got " + format_double(a.time) + "; 0: average over --impacts)");
-    if (a.warmup < 0) throw input_error("--warmup must be >= 0 intervals (got " + std::to_string(a.warmup) + ")");
-    lo.r0 = a.r0;
-    lo.t0 = a.t0;
-    lo.impacts = a.impacts;
-    lo.time = a.time;
-    lo.warmup_intervals = a.warmup;
+    lyapunov_options lo = a.options;
+    check_options(lo);  // before a sweep writes anything
     lo.transient_impacts = c.protocol.transient_impacts;
     lo.quiet_time = c.protocol.quiet_time;
     lo.flow = c.protocol.flow;
@@ -493,9 +476,9 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         {"intervals", r.intervals},
         {"misses", r.misses},
         {"impacting", r.impacting},
-        {"r0", a.r0},
-        {"t0", a.t0},
-        {"warmup", a.warmup},
+        {"r0", lo.r0},
+        {"t0", lo.t0},
+        {"warmup", lo.warmup_intervals},
         {"stats", {{"transient", stats_json(r.transient_stats, info)}, {"tangent", stats_json(r.stats, info)}}},
         {"out", c.out ? json(c.out->string()) : json(nullptr)}};
     // With --si: exponents and the impact rate per second, times in seconds.
@@ -559,7 +542,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
             text += "warning: not settled: the largest exponent differs between the halves of the averaging by more "
                     "than 4 standard errors; lengthen --transient or --impacts\n";
         text += "averaged over " + std::to_string(r.impacts) + " impacts, t = " + fixed(r.time, 8) + " (" +
-                std::to_string(r.intervals) + " intervals of t0 = " + fixed(a.t0, 6) + ")\n";
+                std::to_string(r.intervals) + " intervals of t0 = " + fixed(lo.t0, 6) + ")\n";
         if (std::isfinite(r.sum_rule))
             text += "sum " + fixed(r.exponents.sum(), 10) + ", <div F> + rate ln|det S| = " + fixed(r.sum_rule, 10) + "\n";
         if (r.misses > 0)
@@ -607,14 +590,7 @@ cli_command add_lyapunov_command(CLI::App& app)
                                  "every t0, mapped through impacts by --tdm");
     add_common_options(*l, a->common);
     add_si_option(*l, a->common);
-    l->add_option("--tdm", a->tdm,
-                  "Mapping at impacts: saltation (default; linear), second-order (finite deviations) "
-                  "or trajectory (two-trajectory method)");
-    l->add_option("--r0", a->r0, "Size of the deviation vectors (default 1e-4)");
-    l->add_option("--t0", a->t0, "Re-orthonormalisation interval (default pi)");
-    l->add_option("--impacts", a->impacts, "Average over this many impacts after the warm-up (default 800)");
-    l->add_option("--time", a->time, "Average over this much time instead of --impacts (default 0: use --impacts)");
-    l->add_option("--warmup", a->warmup, "Intervals of t0 not counted while the vectors align (default 16)");
+    add_declared_options(*l, a->options);
     add_sweep_options(*l, a->sweep, "exponents against it (Figures 16, 17; --record section points per value)");
     return {l, [a, l] { return run_lyapunov(*l, *a); }};
 }

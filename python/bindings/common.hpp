@@ -28,6 +28,7 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/core/format.hpp"
+#include "vimpact/core/option.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
 #include "vimpact/core/state_series.hpp"
@@ -301,6 +302,58 @@ private:
     py::dict m_d;
     std::set<std::string> m_used;
 };
+
+// The options an options struct declares (core/option.hpp), read by their keys from the
+// keyword dict (a key not given keeps the default); the library checks their ranges.
+struct declared_reader {
+    options& kw;
+    template <class T>
+    void operator()(const option& o, T& v) const
+    {
+        v = kw.get<T>(std::string(o.key).c_str(), v);
+    }
+    template <class E, std::size_t K>
+    void operator()(const option& o, E& v, const std::array<E, K>& all) const
+    {
+        const std::string key(o.key);
+        v = parse_name(kw.get<std::string>(key.c_str(), std::string(to_string(v))), all, key);
+    }
+};
+
+template <class O>
+void read_declared(options& kw, O& o)
+{
+    declared_reader r{kw};
+    declare(r, o);
+}
+
+// The declarations of O for Python: per option its key, help, default and range ("" for any
+// value, or the names of an enumeration's values).
+struct declaration_lister {
+    py::list out;
+    template <class T>
+    void operator()(const option& o, const T& v)
+    {
+        const bool bounded = std::isfinite(o.range.lower) || std::isfinite(o.range.upper);
+        out.append(py::dict(py::arg("key") = std::string(o.key), py::arg("help") = std::string(o.help),
+                            py::arg("default") = v, py::arg("range") = bounded ? o.range.text() : std::string()));
+    }
+    template <class E, std::size_t K>
+    void operator()(const option& o, const E& v, const std::array<E, K>& all)
+    {
+        out.append(py::dict(py::arg("key") = std::string(o.key), py::arg("help") = std::string(o.help),
+                            py::arg("default") = std::string(to_string(v)), py::arg("range") = name_list(all)));
+    }
+};
+
+template <class O>
+py::list declarations()
+{
+    declaration_lister l;
+    const O o{};
+    declare(l, o);
+    return l.out;
+}
 
 // Name lookups: the library addresses everything by index (model_info), the front end by name.
 inline int parameter_index(const model& m, const std::string& name, const std::string& what)

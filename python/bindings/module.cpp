@@ -53,20 +53,11 @@ py::dict defaults()
     d["tangent_rtol"] = fo.tangent_integration.rtol;
     d["tangent_atol"] = fo.tangent_integration.atol;
     d["impact_map"] = std::string(to_string(fo.jump));
-    const lyapunov_options lo;
-    d["tdm"] = std::string(to_string(lo.tdm));
-    d["r0"] = lo.r0;
-    d["t0"] = lo.t0;
-    d["lyapunov_impacts"] = lo.impacts;
     const continuation_options co;
     d["max_points"] = co.arclength.max_points;
     d["closure_tol"] = co.arclength.tolerance;
     d["locate_tol"] = co.locate_tolerance;
     d["continuation_newton_iterations"] = co.arclength.newton_iterations;
-    d["lyapunov_time"] = lo.time;
-    d["warmup"] = lo.warmup_intervals;
-    d["p0_time"] = lo.p0_time;
-    d["max_time"] = lo.max_time;
     const dimension_options dop;
     d["centres"] = dop.centre.centres;
     d["radii"] = py::make_tuple(dop.centre.r_min, dop.centre.r_max, dop.centre.r_step);
@@ -90,6 +81,11 @@ PYBIND11_MODULE(_vimpact, m)
     m.attr("__version__") = std::string(version());
     m.attr("git_hash") = std::string(git_hash());
     m.attr("defaults") = defaults();
+    // What each analysis declares of its options (core/option.hpp): vimpact/_api.py builds
+    // those keyword arguments, their defaults and their documentation from it.
+    py::dict declared;
+    declared["lyapunov"] = vimpact::python::declarations<lyapunov_options>();
+    m.attr("declared") = declared;
     m.def(
         "grid",
         [](double a, double b, long n) { return vimpact::python::vector_array(grid_values(a, b, n)); },

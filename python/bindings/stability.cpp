@@ -49,15 +49,7 @@ lyapunov_options lyapunov_of(const model& m, options& o)
     lo.quiet_time = o.get<double>("quiet_time", lo.quiet_time);
     read_integration(o, lo.flow.integration, lo.method);
     lo.flow.t_max = o.get<double>("t_max", lo.flow.t_max);
-    lo.tdm = parse_name(o.get<std::string>("tdm", std::string(to_string(lo.tdm))), all_lyapunov_tdms, "tdm");
-    lo.r0 = o.get<double>("r0", lo.r0);
-    lo.t0 = o.get<double>("t0", lo.t0);
-    lo.warmup_intervals = o.get<long>("warmup", lo.warmup_intervals);
-    lo.impacts = o.get<long>("impacts", lo.impacts);
-    lo.time = o.get<double>("time", lo.time);
-    lo.p0_time = o.get<double>("p0_time", lo.p0_time);
-    lo.max_time = o.get<double>("max_time", lo.max_time);
-    lo.divergence = o.get<bool>("divergence", lo.divergence);
+    read_declared(o, lo);
     lo.record_points = o.get<long>("record", lo.record_points);
     if (o.has("section")) {
         const section_choice s = section_of(m, o.need<std::string>("section"));

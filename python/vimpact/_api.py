@@ -7,6 +7,8 @@ vimpact.InputError, with its message), runs with the GIL released (other Python 
 running) and stops within about 0.1 s on Ctrl-C (KeyboardInterrupt).
 """
 import collections.abc
+import functools
+import inspect
 import json
 import math
 import os
@@ -34,6 +36,45 @@ def _with_defaults(f):
     doc = doc.replace("    <per_value>", _PER_VALUE_DOC.replace("ANALYSIS", f.__name__.removesuffix("_sweep")))
     f.__doc__ = string.Template(doc).substitute({k: repr(v) for k, v in _D.items()})
     return f
+
+
+def _declares(kind):
+    """The keyword arguments that the library declares for the options of ``kind``
+    (``_vimpact.declared``, core/option.hpp), added to f's signature as keyword-only arguments
+    with the library's defaults and documented in place of ``<declared>`` by the
+    declaration's help and range; f receives them as one dict ``declared``, which the
+    bindings read by key. A new option is one line in the library."""
+    entries = _vimpact.declared[kind]
+
+    def kind_of(e):
+        d = e["default"]
+        return "bool" if isinstance(d, bool) else "int" if isinstance(d, int) else "float" if isinstance(d, float) \
+            else "{" + ", ".join(f'"{n}"' for n in e["range"].split(", ")) + "}"
+
+    def where(e):
+        return "" if not e["range"] or isinstance(e["default"], str) else f" In {e['range']}."
+
+    doc = "".join(f"    {e['key']} : {kind_of(e)}, default {e['default']!r}\n        "
+                  f"{e['help'][0].upper()}{e['help'][1:]}.{where(e)}\n" for e in entries)
+
+    def wrap(f):
+        inner = inspect.signature(f)
+        params = [p for p in inner.parameters.values() if p.name != "declared"]
+        params += [inspect.Parameter(e["key"], inspect.Parameter.KEYWORD_ONLY, default=e["default"]) for e in entries]
+        outer = inner.replace(parameters=params)
+
+        @functools.wraps(f)
+        def call(*args, **kw):
+            bound = outer.bind(*args, **kw)  # a TypeError names a keyword nobody declares
+            bound.apply_defaults()
+            a = dict(bound.arguments)
+            declared = {e["key"]: a.pop(e["key"]) for e in entries}
+            return f(**a, declared=declared)
+
+        call.__signature__ = outer
+        call.__doc__ = f.__doc__.replace("    <declared>\n", doc)
+        return call
+    return wrap
 
 
 _PROTOCOL_DOC = """    transient : int, default $transient
@@ -871,11 +912,9 @@ def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"]
     return _floquet_result(d, model, _options(ic, **o))
 
 
-def _lyapunov_options(tdm, r0, t0, impacts, time_, warmup, p0_time, max_time, divergence, record, section,
-                      transient, rtol, atol, hold_band, method, quiet_time, t_max):
-    return dict(tdm=tdm, r0=r0, t0=t0, impacts=impacts, time=time_, warmup=warmup, p0_time=p0_time,
-                max_time=max_time, divergence=divergence, record=record, section=section, transient=transient,
-                rtol=rtol, atol=atol, hold_band=hold_band, method=method, quiet_time=quiet_time, t_max=t_max)
+def _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max):
+    return dict(declared, record=record, section=section, transient=transient, rtol=rtol, atol=atol,
+                hold_band=hold_band, method=method, quiet_time=quiet_time, t_max=t_max)
 
 
 def _lyapunov_result(d, model, opts):
@@ -890,44 +929,24 @@ def _lyapunov_result(d, model, opts):
 
 
 @_with_defaults
-def lyapunov(model, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"], impacts=_D["lyapunov_impacts"],
-             time=_D["lyapunov_time"], warmup=_D["warmup"], p0_time=_D["p0_time"], max_time=_D["max_time"],
-             divergence=True, record=0, section=None, transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"],
-             hold_band=_D["hold_band"],
-             method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+@_declares("lyapunov")
+def lyapunov(model, ic=None, *, record=0, section=None, transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"],
+             hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
+             declared):
     """The Lyapunov spectrum of the attractor reached from ``ic`` (the paper's Algorithm 2).
 
     After ``transient`` impacts, dim deviation vectors of size ``r0`` follow the orbit; every
     ``t0`` they are re-orthonormalised by a QR decomposition and ln(R_ii / r0) is accumulated.
     After ``warmup`` intervals (not counted) the averages over the next ``impacts`` impacts
-    (or ``time``) are the exponents, in descending order (Eq. 13). Their sum must equal
-    <div F> + (1/T) sum ln|det S| (``sum_rule``).
+    (the paper: 800), or over ``time``, are the exponents, in descending order (Eq. 13). Their
+    sum must equal <div F> + (1/T) sum ln|det S| (``sum_rule``).
 
     Parameters
     ----------
     model : Model
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
-    tdm : {"saltation", "second-order", "trajectory"}, default $tdm
-        How deviations cross an impact: the saltation matrix (first order, the textbook
-        spectrum), the second-order discontinuity mapping applied to the finite deviations, or
-        two-trajectory integration (Benettin).
-    r0 : float, default $r0
-        Size of the deviation vectors.
-    t0 : float, default $t0
-        Re-orthonormalisation interval (pi, the paper's).
-    impacts : int, default $lyapunov_impacts
-        Average over this many impacts (the paper: 800) ...
-    time : float, default $lyapunov_time
-        ... or, if > 0, over this much time.
-    warmup : int, default $warmup
-        Intervals not counted while the vectors align.
-    p0_time : float, default $p0_time
-        Averaging time of an orbit without impacts.
-    max_time : float, default $max_time
-        Averaging time limit (status ``time_limit``).
-    divergence : bool, default True
-        Integrate div F for ``sum_rule`` (without it the tangent flow is cheaper).
+    <declared>
     record : int, default 0
         > 0: also record this many section points in the averaging window (``section``).
     section : str, optional
@@ -942,8 +961,7 @@ def lyapunov(model, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"], impacts
         ``history_t`` (h,) and ``history_growth`` (h, dim), ``running_exponents``, ``status``.
     """
     model = _model(model)
-    o = _lyapunov_options(tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, record, section,
-                          transient, rtol, atol, hold_band, method, quiet_time, t_max)
+    o = _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max)
     d = _vimpact._lyapunov(model._handle, _ic(ic), o)
     return _lyapunov_result(d, model, _options(ic, **o))
 
@@ -1012,19 +1030,17 @@ def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton
 
 
 @_with_defaults
-def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"], t0=_D["t0"],
-                   impacts=_D["lyapunov_impacts"], time=_D["lyapunov_time"], warmup=_D["warmup"],
-                   p0_time=_D["p0_time"], max_time=_D["max_time"], divergence=True, record=0, section=None,
-                   transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
-                   method=_D["method"],
+@_declares("lyapunov")
+def lyapunov_sweep(model, param, values, ic=None, *, record=0, section=None, transient=_D["transient"],
+                   rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"],
                    quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None,
-                   resume=False, shard=None, progress=None, keep_journal=False):
+                   resume=False, shard=None, progress=None, keep_journal=False, declared):
     """Lyapunov exponents at every value of one parameter (the paper's Figures 16, 17).
 
     <per_value>
-    tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, section
-        As for ``lyapunov`` (defaults $tdm, $r0, $t0, $lyapunov_impacts, $lyapunov_time,
-        $warmup, $p0_time, $max_time, True, the model's first section).
+    <declared>
+    section : str, optional
+        As for ``lyapunov`` (the model's first section).
     record : int, default 0
         > 0: section points per value in the averaging window (the diagram underneath).
     transient, rtol, atol, hold_band, method, quiet_time, t_max
@@ -1038,8 +1054,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
         ``lle_standard_error``, ``status``, ``points``/``point_run``, ``jobs``.
     """
     model = _model(model)
-    o = _lyapunov_options(tdm, r0, t0, impacts, time, warmup, p0_time, max_time, divergence, record, section,
-                          transient, rtol, atol, hold_band, method, quiet_time, t_max)
+    o = _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max)
     results, fields = _per_value(_vimpact._lyapunov_sweep, model, param, values, ic, o,
                                  _jobs(threads, journal, resume, shard, progress, keep_journal), _lyapunov_result)
     if fields is None:
@@ -1049,7 +1064,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, tdm=_D["tdm"], r0=_D["r0"],
                          lle_standard_error=np.array([r.lle_standard_error for r in results], dtype=float),
                          positive_exponent=np.array([r.positive for r in results], dtype=bool),
                          settled=np.array([r.settled for r in results], dtype=bool),
-                         status=_strings([r.status for r in results]), tdm=tdm, **fields)
+                         status=_strings([r.status for r in results]), tdm=declared["tdm"], **fields)
 
 
 # ---------------------------------------------------------------- correlation dimension

@@ -11,16 +11,8 @@ namespace vimpact {
 void validate(const model& m, const lyapunov_options& o)
 {
     validate(o.flow.integration);
-    if (!(o.r0 > 0.0) || !std::isfinite(o.r0) || o.r0 >= 1.0)
-        throw input_error("r0 = " + format_double(o.r0) + " is outside its valid range (0, 1)");
-    if (!(o.t0 > 0.0) || !std::isfinite(o.t0))
-        throw input_error("t0 = " + format_double(o.t0) + " is outside its valid range (0, inf)");
+    check_options(o);
     if (o.transient_impacts < 0) throw input_error("transient must be >= 0 impacts");
-    if (o.warmup_intervals < 0 || o.warmup_intervals > 1000000)
-        throw input_error("warmup must be in [0, 1e6] intervals (got " + std::to_string(o.warmup_intervals) + ")");
-    if (o.impacts < 1) throw input_error("impacts must be >= 1");
-    if (!(o.time >= 0.0) || !std::isfinite(o.time)) throw input_error("time must be >= 0 and finite");
-    if (!(o.max_time > 0.0) || !(o.p0_time > 0.0)) throw input_error("averaging time limits must be > 0");
     // Each interval keeps its growth rates (the history), so the number of intervals bounds
     // both the memory and the time; the longest averaging is `time` when given, else max_time.
     constexpr double max_intervals = 2e6;

@@ -39,7 +39,7 @@ def no_staging(where):
     (["lyapunov", "--t0", "1e-300"], "t0"),
     (["lyapunov", "--t0", "1e-6"], "t0 must be >= 0.5"),
     (["lyapunov", "--t0", "1e-3", "--time", "1e4"], "t0 must be >= 0.005"),
-    (["lyapunov", "--warmup", "99999999"], "warmup must be in [0, 1e6]"),
+    (["lyapunov", "--warmup", "99999999"], "--warmup = 99999999 is outside its valid range [0, 1e+06]"),
     (["sweep", "--param", "Ur", "--range", "16:17:2", "--color-by", "periods"], "--color-by: periods not in {none,period}"),
     (["sweep", "--param", "Ur", "--range", "16:17:2", "--color-by", "PERIOD"], "--color-by: PERIOD not in {none,period}"),
 ])

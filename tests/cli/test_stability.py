@@ -147,9 +147,11 @@ BAD_INPUTS = [
     (["lyapunov", "--r0", "0"], "--r0 = 0 is outside its valid range (0, 1)"),
     (["lyapunov", "--r0", "2"], "--r0 = 2 is outside its valid range (0, 1)"),
     (["lyapunov", "--t0", "-1"], "--t0"),
-    (["lyapunov", "--impacts", "0"], "--impacts must be >= 1"),
-    (["lyapunov", "--time", "-5"], "--time must be >= 0"),
+    (["lyapunov", "--impacts", "0"], "--impacts = 0 is outside its valid range >= 1"),
+    (["lyapunov", "--time", "-5"], "--time = -5 is outside its valid range >= 0"),
     (["lyapunov", "--warmup", "-1"], "--warmup"),
+    (["lyapunov", "--p0-time", "0"], "--p0-time = 0 is outside its valid range > 0"),
+    (["lyapunov", "--max-time", "-1"], "--max-time = -1 is outside its valid range > 0"),
     (["lyapunov", "--record", "10"], "--record"),
     (["lyapunov", "--set", "r=1.5"], "r = 1.5"),
     (["floquet", "--impact-map", "nothing"], "--impact-map"),
@@ -244,3 +246,16 @@ def test_bad_sweep_input_exits_2(vimpact, tmp_path, args, needle):
     assert len(lines) == 1 and lines[0].startswith("vimpact: error: ")
     assert needle in lines[0]
     assert not out.exists()
+
+
+def test_lyapunov_options_come_from_the_librarys_declaration(vimpact):
+    """Every option lyapunov_options declares is an option of the command, with its help,
+    default and range (cli/declared_options.hpp), underscores written as hyphens."""
+    p = run(vimpact, "lyapunov", "--help")
+    assert p.returncode == 0, p.stderr
+    text = " ".join(p.stdout.split())
+    assert "--r0 FLOAT Size of the deviation vectors (default 1e-04; (0, 1))" in text
+    assert "--warmup INT Intervals of t0 not counted while the vectors align (default 16; [0, 1e+06])" in text
+    assert "(default saltation; one of saltation, second-order, trajectory)" in text
+    for key in ("--t0", "--impacts", "--time", "--p0-time", "--max-time", "--divergence"):
+        assert key in text, key

@@ -357,3 +357,27 @@ def test_an_output_directory_without_a_newer_column_says_so(tmp_path):
                                        "14,0.1,-0.1,-0.3,-1.3,0.01,1,ok\n")
     with pytest.raises(ValueError, match=r"exponents.csv has no 'positive': it was written by an older vimpact"):
         vimpact.LyapunovSweep.load(str(out))
+
+
+def test_lyapunov_keywords_are_the_librarys_declaration():
+    """The keyword arguments of vimpact.lyapunov and lyapunov_sweep, their defaults and their
+    documentation come from the library's declaration (core/option.hpp), and the library
+    refuses a value out of range naming the keyword."""
+    import inspect
+    declared = vimpact._vimpact.declared["lyapunov"]
+    assert {e["key"] for e in declared} >= {"tdm", "r0", "t0", "impacts", "time", "warmup", "p0_time", "max_time",
+                                             "divergence"}
+    for f in (vimpact.lyapunov, vimpact.lyapunov_sweep):
+        sig = inspect.signature(f)
+        for e in declared:
+            p = sig.parameters[e["key"]]
+            assert p.kind == p.KEYWORD_ONLY and p.default == e["default"], e
+            assert f"    {e['key']} : " in f.__doc__, e["key"]
+        assert "declared" not in sig.parameters
+    assert inspect.signature(vimpact.lyapunov).parameters["r0"].default == 1e-4  # the paper's
+    with pytest.raises(vimpact.InputError, match=r"^r0 = 2 is outside its valid range \(0, 1\)$"):
+        vimpact.lyapunov(vimpact.WakeImpact(), r0=2.0)
+    with pytest.raises(vimpact.InputError, match=r"warmup = -1 is outside its valid range \[0, 1e\+06\]"):
+        vimpact.lyapunov(vimpact.WakeImpact(), warmup=-1)
+    with pytest.raises(TypeError, match="r1"):
+        vimpact.lyapunov(vimpact.WakeImpact(), r1=1e-4)

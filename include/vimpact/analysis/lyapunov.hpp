@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 
 #include "vimpact/core/names.hpp"
+#include "vimpact/core/option.hpp"
 #include "vimpact/analysis/protocol.hpp"
 
 namespace vimpact {
@@ -68,6 +69,26 @@ struct lyapunov_options {
     long record_points = 0;
     int section = 0;
 };
+
+// What a user sets (the transient, the integration and the recorded section are the
+// protocol's options).
+template <class V, record_of<lyapunov_options> O>
+void declare(V& v, O& o)
+{
+    v(option{"tdm", "mapping of the deviations at an impact: the saltation matrix (first order), the second-order "
+                    "discontinuity mapping, or two trajectories (Benettin)"},
+      o.tdm, all_lyapunov_tdms);
+    v(option{"r0", "size of the deviation vectors", inside(0.0, 1.0)}, o.r0);
+    v(option{"t0", "re-orthonormalisation interval", above(0.0)}, o.t0);
+    v(option{"impacts", "average over this many impacts of the reference orbit after the warm-up", at_least(1.0)},
+      o.impacts);
+    v(option{"time", "average over this much time instead (0: over impacts)", at_least(0.0)}, o.time);
+    v(option{"warmup", "intervals of t0 not counted while the vectors align", between(0.0, 1e6)}, o.warmup_intervals);
+    v(option{"p0_time", "averaging time of an orbit without impacts (P0)", above(0.0)}, o.p0_time);
+    v(option{"max_time", "averaging time limit (outcome time_limit)", above(0.0)}, o.max_time);
+    v(option{"divergence", "integrate div F with the tangent for the sum rule (without it a third cheaper)"},
+      o.divergence);
+}
 
 struct lyapunov_result {
     // ok, time_limit (averaging cut by max_time; exponents given), sticking, or a failed run's.

@@ -1,0 +1,67 @@
+#pragma once
+// The options an options struct declares (core/option.hpp) as options of a command: --key
+// (underscores as hyphens), the declaration's help with the default and the valid range, the
+// value written straight into the struct. The library checks the ranges when the analysis
+// runs (an option_error, which main() reports under the option's command-line name), so a
+// command adds an analysis' options with one call and checks none of them itself.
+#include <CLI/CLI.hpp>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <type_traits>
+
+#include "vimpact/core/format.hpp"
+#include "vimpact/core/names.hpp"
+#include "vimpact/core/option.hpp"
+
+namespace vimpact::cli {
+
+namespace detail {
+
+// A declaration's help as the command line's help texts read: a capital first.
+inline std::string sentence(std::string_view help)
+{
+    std::string s(help);
+    if (!s.empty() && s[0] >= 'a' && s[0] <= 'z') s[0] = static_cast<char>(s[0] - 'a' + 'A');
+    return s;
+}
+
+struct option_adder {
+    CLI::App& app;
+
+    template <class T>
+    void operator()(const option& o, T& v) const
+    {
+        std::string help = sentence(o.help);
+        if constexpr (std::is_same_v<T, bool>) {
+            help += " (default " + std::string(v ? "true" : "false") + ")";
+        } else {
+            help += " (default " + format_double(static_cast<double>(v));
+            if (std::isfinite(o.range.lower) || std::isfinite(o.range.upper)) help += "; " + o.range.text();
+            help += ")";
+        }
+        app.add_option(command_line_key(o.key), v, help);
+    }
+
+    template <class E, std::size_t K>
+    void operator()(const option& o, E& v, const std::array<E, K>& all) const
+    {
+        const std::string key = command_line_key(o.key);
+        app.add_option_function<std::string>(
+            key, [&v, all, key](const std::string& text) { v = parse_name(text, all, key); },
+            sentence(o.help) + " (default " + std::string(to_string(v)) + "; one of " + name_list(all) + ")");
+    }
+};
+
+}  // namespace detail
+
+// Adds every option `o` declares to `app`, bound to o's members.
+template <class O>
+void add_declared_options(CLI::App& app, O& o)
+{
+    detail::option_adder a{app};
+    declare(a, o);
+}
+
+}  // namespace vimpact::cli

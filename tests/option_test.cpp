@@ -1,0 +1,111 @@
+// Options declared once (core/option.hpp): the declaration's ranges are what the library
+// enforces, each end on the right side, and every default lies inside its range.
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+#include "vimpact/analysis/lyapunov.hpp"
+
+namespace vimpact {
+namespace {
+
+// The numeric options of a declaration; each default must lie in its range.
+struct numeric_keys {
+    std::vector<std::string> keys;
+    template <class T>
+    void operator()(const option& o, const T& v)
+    {
+        if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+            EXPECT_TRUE(o.range.admits(static_cast<double>(v))) << o.key << " default outside its range";
+            keys.emplace_back(o.key);
+        }
+    }
+    template <class E, std::size_t K>
+    void operator()(const option&, const E&, const std::array<E, K>&)
+    {
+    }
+};
+
+// Sets option `key` just beyond its lower or upper end: the end itself when the end is open,
+// one unit (a tenth, for a real) beyond it when closed. `done` stays false for an infinite end.
+struct set_beyond {
+    const std::string& key;
+    bool high;
+    bool done = false;
+    template <class T>
+    void operator()(const option& o, T& v)
+    {
+        if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+            if (o.key != key) return;
+            const double end = high ? o.range.upper : o.range.lower;
+            if (!std::isfinite(end)) return;
+            const bool open = !(high ? o.range.upper_inclusive : o.range.lower_inclusive);
+            const double step = std::is_integral_v<T> ? 1.0 : 0.1;
+            v = static_cast<T>(open ? end : (high ? end + step : end - step));
+            done = true;
+        }
+    }
+    template <class E, std::size_t K>
+    void operator()(const option&, E&, const std::array<E, K>&)
+    {
+    }
+};
+
+// Every numeric option of O: its default passes, a value beyond either finite end is refused
+// with an option_error naming the option by its key.
+template <class O>
+void check_every_end()
+{
+    numeric_keys p;
+    const O defaults{};
+    declare(p, defaults);
+    EXPECT_NO_THROW(check_options(defaults));
+    int refused = 0;
+    for (const auto& key : p.keys) {
+        for (const bool high : {false, true}) {
+            O o{};
+            set_beyond s{key, high};
+            declare(s, o);
+            if (!s.done) continue;
+            try {
+                check_options(o);
+                ADD_FAILURE() << key << (high ? " above" : " below") << " its range was accepted";
+            } catch (const option_error& e) {
+                ++refused;
+                EXPECT_EQ(e.key(), key);
+                EXPECT_EQ(std::string(e.what()).rfind(key + " = ", 0), 0U) << e.what();
+            }
+        }
+    }
+    EXPECT_GT(refused, 0);
+}
+
+TEST(Options, LyapunovRefusesEveryEndOfItsDeclaration) { check_every_end<lyapunov_options>(); }
+
+// The paper's r0 = 1e-4 and t0 = pi are the defaults; the ends the analysis needs hold.
+TEST(Options, LyapunovDeclaresThePapersDefaultsAndTheNeededEnds)
+{
+    lyapunov_options o;
+    EXPECT_EQ(o.r0, 1e-4);
+    EXPECT_EQ(o.t0, std::numbers::pi);
+    o.r0 = 1.0;  // a deviation as large as the state is not a tangent vector
+    EXPECT_THROW(check_options(o), option_error);
+    o = {};
+    o.impacts = 0;  // an average over nothing
+    EXPECT_THROW(check_options(o), option_error);
+    o = {};
+    o.t0 = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(check_options(o), option_error);
+}
+
+TEST(Options, OptionErrorsKeepTheKeyForEachFrontEnd)
+{
+    const option_error e("p0_time", " = 0 is outside its valid range > 0");
+    EXPECT_STREQ(e.what(), "p0_time = 0 is outside its valid range > 0");
+    EXPECT_EQ(command_line_key(e.key()) + e.detail(), "--p0-time = 0 is outside its valid range > 0");
+}
+
+}  // namespace
+}  // namespace vimpact
