@@ -236,6 +236,28 @@ TEST(Systems, BadInputIsNamed)
     EXPECT_NE(message_of([&] { tan.set_deviations(Eigen::MatrixXd::Identity(4, 3)); }).find("4 x 4"), std::string::npos);
 }
 
+// In a contact phase (at rest on the barrier, the phase running on) a time is landed on
+// exactly too: the constrained motion is y = sigma, ydot = 0, theta = omega t.
+TEST(Systems, HybridLandsOnTimesInAContactPhase)
+{
+    const auto m = with(with(forced(), "sigma", 0.0), "r", 0.3);
+    hybrid_system sys(m, Eigen::Vector3d(0.5, 0.0, 0.0), 0.0, {.flow = tight(1e-10)});
+    for (int k = 0; k < 100000 && !sys.in_contact(); ++k) ASSERT_EQ(sys.step(), outcome::ok);
+    ASSERT_TRUE(sys.in_contact());
+    // The release comes when the free acceleration -y + F cos(theta) turns positive; stay before it.
+    const double t0 = sys.time();
+    const double theta_release = 2.0 * std::numbers::pi * std::ceil(sys.state()[2] / (2.0 * std::numbers::pi)) -
+                                 std::numbers::pi / 2.0;
+    const double t = t0 + 0.5 * std::max(0.0, (theta_release - sys.state()[2]) / omega);
+    ASSERT_GT(t, t0);
+    ASSERT_EQ(sys.advance_to(t), outcome::ok);
+    EXPECT_EQ(sys.time(), t);
+    EXPECT_TRUE(sys.in_contact());
+    EXPECT_EQ(sys.state()[0], 0.0);
+    EXPECT_EQ(sys.state()[1], 0.0);
+    EXPECT_NEAR(sys.state()[2], omega * t, 1e-9 * std::max(1.0, omega * t));
+}
+
 // A numerical end is an outcome: a step limit stops the system, which then stays.
 TEST(Systems, LimitsAreOutcomes)
 {

@@ -96,12 +96,25 @@ using hybrid_held = held<hybrid_system>;
 using section_held = held<section_system>;
 using tangent_held = held<tangent_system>;
 
+// What the three classes share: state, time, status, stats, parameters.
+template <class Held>
+void bind_common(py::class_<Held>& cls)
+{
+    cls.def_property_readonly("state", [](const Held& h) { return vector_array(h.sys->state()); })
+        .def_property_readonly("time", [](const Held& h) { return h.sys->time(); })
+        .def_property_readonly("status", [](const Held& h) { return status_of(h.sys->status()); })
+        .def_property_readonly("stats", [](const Held& h) { return stats_dict(h.sys->stats()); })
+        .def_property_readonly("parameters", [](const Held& h) { return h.sys->parameters(); })
+        .def("set_parameter", [](Held& h, int i, double v) { h.sys->set_parameter(i, v); });
+}
+
 }  // namespace
 
 void bind_systems(py::module_& m)
 {
-    py::class_<hybrid_held>(m, "_HybridSystem", "Internal: see vimpact.HybridSystem.")
-        .def(py::init([](const model& md, const py::object& ic, double t, const py::dict& kw) {
+    py::class_<hybrid_held> hybrid(m, "_HybridSystem", "Internal: see vimpact.HybridSystem.");
+    bind_common(hybrid);
+    hybrid.def(py::init([](const model& md, const py::object& ic, double t, const py::dict& kw) {
                  auto h = std::make_unique<hybrid_held>();
                  options o(kw);
                  hybrid_system_options so;
@@ -111,24 +124,19 @@ void bind_systems(py::module_& m)
                  return h;
              }),
              py::arg("model"), py::arg("ic"), py::arg("t"), py::arg("options"))
-        .def_property_readonly("state", [](const hybrid_held& h) { return vector_array(h.sys->state()); })
-        .def_property_readonly("time", [](const hybrid_held& h) { return h.sys->time(); })
-        .def_property_readonly("status", [](const hybrid_held& h) { return status_of(h.sys->status()); })
-        .def_property_readonly("stats", [](const hybrid_held& h) { return stats_dict(h.sys->stats()); })
         .def_property_readonly("impacts", [](const hybrid_held& h) { return impacts_dict(h.sys->impacts()); })
         .def_property_readonly("in_contact", [](const hybrid_held& h) { return h.sys->in_contact(); })
-        .def_property_readonly("parameters", [](const hybrid_held& h) { return h.sys->parameters(); })
         .def("step", [](hybrid_held& h) { return status_of(h.sys->step()); })
         .def("advance_to",
              [](hybrid_held& h, double t) { return status_of(released(h, [&] { return h.sys->advance_to(t); })); },
              py::arg("t"))
         .def("reinit", [](hybrid_held& h, const py::object& ic, double t) {
                  h.sys->reinit(state_of(h.sys->system_model(), ic, "ic"), t);
-             }, py::arg("ic"), py::arg("t"))
-        .def("set_parameter", [](hybrid_held& h, int i, double v) { h.sys->set_parameter(i, v); });
+             }, py::arg("ic"), py::arg("t"));
 
-    py::class_<section_held>(m, "_SectionSystem", "Internal: see vimpact.SectionSystem.")
-        .def(py::init([](const model& md, const py::object& ic, double t, const py::dict& kw) {
+    py::class_<section_held> section(m, "_SectionSystem", "Internal: see vimpact.SectionSystem.");
+    bind_common(section);
+    section.def(py::init([](const model& md, const py::object& ic, double t, const py::dict& kw) {
                  auto h = std::make_unique<section_held>();
                  options o(kw);
                  section_system_options so;
@@ -140,12 +148,7 @@ void bind_systems(py::module_& m)
                  return h;
              }),
              py::arg("model"), py::arg("ic"), py::arg("t"), py::arg("options"))
-        .def_property_readonly("state", [](const section_held& h) { return vector_array(h.sys->state()); })
-        .def_property_readonly("time", [](const section_held& h) { return h.sys->time(); })
-        .def_property_readonly("status", [](const section_held& h) { return status_of(h.sys->status()); })
-        .def_property_readonly("stats", [](const section_held& h) { return stats_dict(h.sys->stats()); })
         .def_property_readonly("impacts", [](const section_held& h) { return impacts_dict(h.sys->impacts()); })
-        .def_property_readonly("parameters", [](const section_held& h) { return h.sys->parameters(); })
         .def("step",
              [](section_held& h, long n) {
                  if (n == 1) return status_of(h.sys->step());  // no thread for one return
@@ -154,11 +157,11 @@ void bind_systems(py::module_& m)
              py::arg("n"))
         .def("reinit", [](section_held& h, const py::object& ic, double t) {
                  h.sys->reinit(state_of(h.sys->system_model(), ic, "ic"), t);
-             }, py::arg("ic"), py::arg("t"))
-        .def("set_parameter", [](section_held& h, int i, double v) { h.sys->set_parameter(i, v); });
+             }, py::arg("ic"), py::arg("t"));
 
-    py::class_<tangent_held>(m, "_TangentSystem", "Internal: see vimpact.TangentSystem.")
-        .def(py::init([](const model& md, const py::object& ic, double t, const py::dict& kw) {
+    py::class_<tangent_held> tangent(m, "_TangentSystem", "Internal: see vimpact.TangentSystem.");
+    bind_common(tangent);
+    tangent.def(py::init([](const model& md, const py::object& ic, double t, const py::dict& kw) {
                  auto h = std::make_unique<tangent_held>();
                  options o(kw);
                  tangent_system_options so;
@@ -180,13 +183,8 @@ void bind_systems(py::module_& m)
                  return h;
              }),
              py::arg("model"), py::arg("ic"), py::arg("t"), py::arg("options"))
-        .def_property_readonly("state", [](const tangent_held& h) { return vector_array(h.sys->state()); })
-        .def_property_readonly("time", [](const tangent_held& h) { return h.sys->time(); })
-        .def_property_readonly("status", [](const tangent_held& h) { return status_of(h.sys->status()); })
-        .def_property_readonly("stats", [](const tangent_held& h) { return stats_dict(h.sys->stats()); })
         .def_property_readonly("deviations", [](const tangent_held& h) { return matrix_array(h.sys->deviations()); })
         .def_property_readonly("discrete", [](const tangent_held& h) { return h.sys->discrete(); })
-        .def_property_readonly("parameters", [](const tangent_held& h) { return h.sys->parameters(); })
         .def("step",
              [](tangent_held& h, long n) {
                  if (n == 1) return status_of(h.sys->step());
@@ -202,8 +200,7 @@ void bind_systems(py::module_& m)
                  const Eigen::VectorXd x = state_of(h.sys->system_model(), ic, "ic");
                  if (w.is_none()) h.sys->reinit(x, t);
                  else h.sys->reinit(x, t, matrix_of(w, "w"));
-             }, py::arg("ic"), py::arg("t"), py::arg("w"))
-        .def("set_parameter", [](tangent_held& h, int i, double v) { h.sys->set_parameter(i, v); });
+             }, py::arg("ic"), py::arg("t"), py::arg("w"));
 }
 
 }  // namespace vimpact::python
