@@ -467,7 +467,34 @@ void streamed_output::commit(const std::string& command, const std::string& plot
     json record = record_header(command, m_config);
     record["result"] = summary;
     record["files"] = std::move(files);
+    if (!m_tables.empty()) record["tables"] = m_tables;
     finish_output(out, plot, m_config, record);
+}
+
+json table_schema(const std::vector<std::string>& lead, const std::vector<column_schema>& columns,
+                  const std::vector<std::string>& trail)
+{
+    json cols = json::array();
+    for (const auto& name : lead) cols.push_back({{"name", name}});
+    for (const auto& c : columns) {
+        json j = {{"name", c.name}, {"field", c.field}, {"type", c.type}, {"meaning", c.meaning}, {"unit", c.unit}};
+        if (!c.group.empty()) j["group"] = c.group;
+        if (c.surface >= 0) j["surface"] = c.surface;
+        cols.push_back(std::move(j));
+    }
+    for (const auto& name : trail) cols.push_back({{"name", name}});
+    return {{"columns", cols}};
+}
+
+json series_schema(const std::string& field, const std::string& records,
+                   const std::vector<std::pair<std::string, std::string>>& keys, const std::vector<std::string>& states,
+                   const std::vector<std::string>& extra)
+{
+    json cols = json::array();
+    for (const auto& [name, key] : keys) cols.push_back({{"name", name}, {"key", key}});
+    for (std::size_t k = 0; k < states.size(); ++k) cols.push_back({{"name", states[k]}, {"field", field}, {"state", k}});
+    for (const auto& name : extra) cols.push_back({{"name", name}});
+    return {{"series", field}, {"records", records}, {"columns", cols}};
 }
 
 json label_tally::counts() const

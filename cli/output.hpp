@@ -17,6 +17,8 @@
 #include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
+#include "vimpact/io/csv_writer.hpp"
+#include "vimpact/io/record_table.hpp"
 #include "vimpact/io/staged_output.hpp"
 
 namespace vimpact::cli {
@@ -144,10 +146,58 @@ public:
     // run.json (the summary as its result, `files` and the standard ones), config.toml and
     // the picture of `plot`; then DIR is committed.
     void commit(const std::string& command, const std::string& plot, const json& summary, json files);
+    // What run.json says of a table in the directory (record_table::schema).
+    void describe_table(const std::string& file, json schema) { m_tables[file] = std::move(schema); }
 
 private:
     const run_config& m_config;
     std::optional<staged_output> m_out;
+    json m_tables = json::object();
+};
+
+// run.json's description of a table's columns: the `lead` ones a command puts first (a
+// cell's parameter values) and the `trail` ones it adds (SI values), by name only, around
+// the record's (what each holds).
+json table_schema(const std::vector<std::string>& lead, const std::vector<column_schema>& columns,
+                  const std::vector<std::string>& trail);
+
+// run.json's description of a table of a series field of records (their section points):
+// per row, the `keys` columns (name, field) that say which record the point belongs to (the
+// records are in `records`, in order), then the state columns, then the `extra` ones.
+json series_schema(const std::string& field, const std::string& records,
+                   const std::vector<std::pair<std::string, std::string>>& keys, const std::vector<std::string>& states,
+                   const std::vector<std::string>& extra);
+
+// A table of records of type R, one row each (io/record_table.hpp), between the `lead` and
+// `trail` columns of the command; its schema goes to run.json through
+// streamed_output::describe_table.
+template <class R>
+class record_table {
+public:
+    record_table(streamed_output& out, const std::string& file, table_context context,
+                 std::vector<std::string> lead, std::vector<std::string> trail)
+        : m_context(std::move(context))
+    {
+        const auto columns = record_columns<R>(m_context);
+        std::vector<std::string> header = lead;
+        for (const auto& c : columns) header.push_back(c.name);
+        header.insert(header.end(), trail.begin(), trail.end());
+        m_csv.emplace(out.get()->file(file), header);
+        out.describe_table(file, table_schema(lead, columns, trail));
+    }
+    void row(const std::vector<std::string>& lead, const R& r, const std::vector<std::string>& trail)
+    {
+        std::vector<std::string> cells = lead;
+        const auto mine = record_cells(r, m_context);
+        cells.insert(cells.end(), mine.begin(), mine.end());
+        cells.insert(cells.end(), trail.begin(), trail.end());
+        m_csv->text_row(cells);
+    }
+    void close() { m_csv->close(); }
+
+private:
+    table_context m_context;
+    std::optional<csv_writer> m_csv;
 };
 
 // Labels counted as results stream: label -> count (label_counts' form).

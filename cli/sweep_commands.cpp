@@ -49,11 +49,6 @@ std::vector<std::string> grazing_columns(const model& m, int parameter)
     return surface_columns(m.info(), m.info().parameters[static_cast<std::size_t>(parameter)].name + "_graze");
 }
 
-void append_counts(std::vector<std::string>& row, const std::vector<long>& counts, std::size_t surfaces)
-{
-    for (std::size_t i = 0; i < surfaces; ++i) row.push_back(std::to_string(i < counts.size() ? counts[i] : 0L));
-}
-
 std::string out_json_text(const run_config& c) { return c.out ? c.out->string() : std::string(); }
 
 // With --si: the SI columns of a run of `m` (the statistics in SI).
@@ -116,10 +111,9 @@ int run_sweep(const sweep_args& a)
     const bool si_points = c.si.has_value();
     if (!axis.si_name.empty()) ph.push_back(axis.si_name);
     if (si_points) append(ph, state_si_columns(*tables_at(o.values.front()), info));
-    std::vector<std::string> lh{"branch", pname, "label", "period", "impacts", "closure", "settled", "outcome"};
-    append(lh, grazing_columns(m, gp));
-    append(lh, impact_count_columns(info));
-    append(lh, statistics_columns());
+    // labels.csv: one row per point as the library describes it, then the SI columns.
+    const table_context labels_context = table_context_for(info, pname, gp);
+    std::vector<std::string> lh;
     if (!axis.si_name.empty()) lh.push_back(axis.si_name);
     if (c.si) append(lh, si_statistics_columns());
 
@@ -129,12 +123,14 @@ int run_sweep(const sweep_args& a)
     std::size_t npoints = 0;
     long unsettled = 0;
     streamed_output stream(c);
-    std::optional<csv_writer> pts, lab;
+    std::optional<csv_writer> pts;
+    std::optional<record_table<sweep_point>> lab;
     auto open = [&] {
         if (pts) return;
-        staged_output& out = *stream.get();
-        pts.emplace(out.file("points.csv"), ph);
-        lab.emplace(out.file("labels.csv"), lh);
+        pts.emplace(stream.get()->file("points.csv"), ph);
+        stream.describe_table("points.csv", series_schema("points", "labels.csv", {{"branch", "branch"}, {pname, "value"}},
+                                                          state_columns(info), {ph.begin() + 2 + info.dim(), ph.end()}));
+        lab.emplace(stream, "labels.csv", labels_context, std::vector<std::string>{}, lh);
     };
     std::vector<double> row(ph.size());
     auto each = [&](long, const sweep_point& p) {
@@ -156,18 +152,10 @@ int run_sweep(const sweep_args& a)
             if (si) append_state_si(row, *si, p.points.x(i));
             pts->row(row);
         }
-        std::vector<std::string> cells{format_double(p.branch), format_double(p.value), p.label.label,
-                                       std::to_string(p.label.period), std::to_string(p.label.impacts_per_period),
-                                       format_double(p.label.closure), p.label.settled ? "1" : "0",
-                                       std::string(to_string(p.status))};
-        if (gp >= 0)
-            for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-                cells.push_back(format_double(s < p.grazing.size() ? p.grazing[s] : std::nan("")));
-        append_counts(cells, p.label.impacts_by_surface, info.surfaces.size());
-        append_statistics(cells, p.statistics);
+        std::vector<std::string> cells;
         if (axis.si()) cells.push_back(format_double(axis.si_value(c, p.value)));
         if (c.si) append_si_statistics(cells, c, m.with_parameter(o.parameter, p.value), p.statistics);
-        lab->text_row(cells);
+        lab->row({}, p, cells);
     };
     const sweep_result res = sweep(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -235,9 +223,8 @@ int run_map(const map_args& a)
     o.period_tolerance = a.tol;
     o.grazing = a.grazing;
     const std::size_t nx = mx.values.size(), ny = my.values.size();
-    std::vector<std::string> lh{mx.name, my.name, "label", "period", "impacts", "settled", "outcome"};
-    append(lh, impact_count_columns(info));
-    append(lh, statistics_columns());
+    // labels.csv: the cell's parameter values, the cell as the library describes it, the SI columns.
+    std::vector<std::string> lh;
     for (const auto* axis : {&sx, &sy})
         if (!axis->si_name.empty()) lh.push_back(axis->si_name);
     if (c.si) append(lh, si_statistics_columns());
@@ -247,9 +234,9 @@ int run_map(const map_args& a)
     label_tally tally;
     long unsettled = 0;
     streamed_output stream(c);
-    std::optional<csv_writer> lab;
+    std::optional<record_table<map_cell>> lab;
     auto open = [&] {
-        if (!lab) lab.emplace(stream.get()->file("labels.csv"), lh);
+        if (!lab) lab.emplace(stream, "labels.csv", table_context_for(info, "", -1), std::vector{mx.name, my.name}, lh);
     };
     auto each = [&](long job, const map_cell& cell) {
         tally.add(cell.label.label);
@@ -261,16 +248,11 @@ int run_map(const map_args& a)
         }
         open();
         const auto j = static_cast<std::size_t>(job);
-        std::vector<std::string> cells{format_double(mx.values[j % nx]), format_double(my.values[j / nx]),
-                                       cell.label.label, std::to_string(cell.label.period),
-                                       std::to_string(cell.label.impacts_per_period), cell.label.settled ? "1" : "0",
-                                       std::string(to_string(cell.status))};
-        append_counts(cells, cell.label.impacts_by_surface, info.surfaces.size());
-        append_statistics(cells, cell.statistics);
+        std::vector<std::string> cells;
         if (!sx.si_name.empty()) cells.push_back(format_double(sx.si_values[j % nx]));
         if (!sy.si_name.empty()) cells.push_back(format_double(sy.si_values[j / nx]));
         if (c.si) append_si_statistics(cells, c, at(j % nx, j / nx), cell.statistics);
-        lab->text_row(cells);
+        lab->row({format_double(mx.values[j % nx]), format_double(my.values[j / nx])}, cell, cells);
     };
     const map_result res = map2d(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();

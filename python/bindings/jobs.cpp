@@ -15,6 +15,7 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
+#include "records.hpp"
 #include "vimpact/analysis/basins.hpp"
 #include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/map.hpp"
@@ -80,44 +81,7 @@ py::dict sweep_run(const model& m, const py::dict& kw)
     (void)o.object("grazing");
     const auto analysis = [&](const job_options& c) { return sweep(m, so, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const sweep_result& r) {
-        const auto& p = r.points;
-        const int S = m.surface_count();
-        d["branch"] = column<std::int64_t>(p, [](const auto& x) { return x.branch; });
-        d["value"] = column<double>(p, [](const auto& x) { return x.value; });
-        put_labels(d, p, [](const sweep_point& x) -> const period_label& { return x.label; }, S);
-        d["outcome"] = string_list(p, [](const auto& x) { return to_string(x.status); });
-        std::vector<std::vector<double>> graze;
-        std::vector<Eigen::VectorXd> finals;
-        std::size_t npoints = 0;
-        long steps = 0, rhs = 0;
-        for (const auto& x : p) {
-            graze.push_back(x.grazing);
-            finals.push_back(x.final_state);
-            npoints += x.points.size();
-            steps += x.stats.steps;
-            rhs += x.stats.rhs_calls;
-        }
-        d["grazing"] = per_surface(graze, S);
-        d["final_state"] = rows_array(finals, m.dim());
-        d["steps"] = column<std::int64_t>(p, [](const auto& x) { return x.stats.steps; });
-        d["statistics"] = statistics_columns(p, [](const sweep_point& x) -> const impact_statistics& { return x.statistics; });
-        py::array_t<double> points({static_cast<py::ssize_t>(npoints), static_cast<py::ssize_t>(m.dim())});
-        py::array_t<std::int64_t> point_run(static_cast<py::ssize_t>(npoints));
-        {
-            double* out = points.mutable_data();
-            auto rv = point_run.mutable_unchecked<1>();
-            py::ssize_t k = 0;
-            for (std::size_t job = 0; job < p.size(); ++job) {
-                const auto& v = p[job].points.values();
-                if (!v.empty()) std::memcpy(out, v.data(), v.size() * sizeof(double));
-                out += v.size();
-                for (std::size_t i = 0; i < p[job].points.size(); ++i) rv(k++) = static_cast<std::int64_t>(job);
-            }
-        }
-        d["points"] = points;
-        d["point_run"] = point_run;
-        d["steps_total"] = steps;
-        d["rhs_calls_total"] = rhs;
+        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
     });
 }
 
@@ -137,11 +101,7 @@ py::dict map_run(const model& m, const py::dict& kw)
     mo.grazing = o.get<bool>("grazing", false);
     const auto analysis = [&](const job_options& c) { return map2d(m, mo, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const map_result& r) {
-        const auto& c = r.cells;
-        put_labels(d, c, [](const map_cell& x) -> const period_label& { return x.label; }, m.surface_count());
-        d["outcome"] = string_list(c, [](const auto& x) { return to_string(x.status); });
-        d["steps"] = column<std::int64_t>(c, [](const auto& x) { return x.steps; });
-        d["statistics"] = statistics_columns(c, [](const map_cell& x) -> const impact_statistics& { return x.statistics; });
+        d["records"] = record_arrays(r.cells, m.surface_count(), m.dim());
         d["grazing_axis"] = r.grazing_axis;
         d["grazing_other"] = vector_array(r.grazing_other);
         d["grazing"] = per_surface(r.grazing_values, m.surface_count());

@@ -30,7 +30,8 @@ tree), and everything else raises an ImportError saying why.
 import importlib
 
 from .results import (Attractor, Basins, Clearance, Dimension, Floquet, FloquetSweep, Grazing,  # noqa: F401
-                      JobReport, Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep)
+                      JobReport, Lyapunov, LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep,
+                      read_tables)
 from .results_continuation import Bifurcation, Branch, Continuation, Curve  # noqa: F401
 
 _COMPILED = ("Model", "WakeImpact", "ForcedImpactOscillator", "TwoSidedImpactOscillator", "InputError", "git_hash",

@@ -411,15 +411,12 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
     d, report = _run_jobs(lambda: _vimpact._sweep(model._handle, o), o)
     if d is None:
         return report
-    runs = len(d["value"])
-    opts = _result_options(ic, o, "values")
-    return Sweep(param=param, values=np.array(o["values"]), ic_mode=ic_mode, direction=direction, tol=tol,
-                 branch=d["branch"], value=d["value"], **_labels(d, (runs,), model), grazing_param=gparam,
-                 grazing=d["grazing"], final_state=d["final_state"], steps=d["steps"],
-                 statistics=dict(d["statistics"]), points=d["points"],
-                 point_run=d["point_run"],
-                 stats=_job_stats(d, report, steps=d["steps_total"], rhs_calls=d["rhs_calls_total"]),
-                 jobs=report, **_context(model, opts))
+    r = d["records"]
+    return Sweep.of(r, _context(model, _result_options(ic, o, "values")), param=param, values=np.array(o["values"]),
+                    ic_mode=ic_mode, direction=direction, tol=tol, grazing_param=gparam,
+                    stats=_job_stats(d, report, steps=int(r["stats"]["steps"].sum()),
+                                     rhs_calls=int(r["stats"]["rhs_calls"].sum())),
+                    jobs=report)
 
 
 def _axis(axis, what):
@@ -479,15 +476,12 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
     d, report = _run_jobs(lambda: _vimpact._map(model._handle, o), o)
     if d is None:
         return report
-    shape = (len(ys), len(xs))
     axis = d["grazing_axis"]
-    opts = _result_options(ic, o, "x_values", "y_values")
-    return Map(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, **_labels(d, shape, model),
-               steps=d["steps"].reshape(shape), statistics={k: v.reshape(shape) for k, v in d["statistics"].items()},
-               grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
-               grazing_other=None if axis < 0 else d["grazing_other"], grazing=None if axis < 0 else d["grazing"],
-               stats=_job_stats(d, report), jobs=report,
-               **_context(model, opts))
+    return Map.of(d["records"], _context(model, _result_options(ic, o, "x_values", "y_values")), x=xname, y=yname,
+                  x_values=xs.copy(), y_values=ys.copy(), tol=tol,
+                  grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
+                  grazing_other=None if axis < 0 else d["grazing_other"], grazing=None if axis < 0 else d["grazing"],
+                  stats=_job_stats(d, report), jobs=report)
 
 
 @_with_defaults

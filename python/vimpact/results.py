@@ -143,6 +143,72 @@ def _written(table, key, where):
     return table[key]
 
 
+def _cells(cells, kind):
+    """A column of a table as its schema types it: int64, float64, bool (1/0) or str."""
+    if kind == "text":
+        return list(cells)
+    values = np.array([float(c) for c in cells], dtype=float)
+    return values > 0.5 if kind == "bool" else values.astype(np.int64) if kind == "int" else values
+
+
+def _tabled(schema, table, tables):
+    """The columns of one table as the bindings return them (python/bindings/records.hpp):
+    field -> array, a per-surface or per-state field an (n, width) array, a group a dict; a
+    series table gives its field's points and, from its key columns, NAME_run: the row of
+    each point's record in the records table (its rows come record after record)."""
+    out, parts = {}, {}
+    n = len(next(iter(table.values()), ()))
+    for c in schema["columns"]:
+        if "field" not in c:
+            continue
+        target = out.setdefault(c["group"], {}) if "group" in c else out
+        values = _cells(table[c["name"]], c.get("type", "float"))
+        if "surface" in c or "state" in c:
+            parts.setdefault((c.get("group"), c["field"]), (target, []))[1].append(values)
+        else:
+            target[c["field"]] = values
+    for (_, name), (target, cols) in parts.items():
+        target[name] = np.column_stack(cols) if n else np.empty((0, len(cols)))
+    series = schema.get("series")
+    if series:
+        keys = [(c["name"], c["key"]) for c in schema["columns"] if "key" in c]
+        records = tables[schema["records"]]
+        run, runs = 0, np.empty(n, dtype=np.int64)
+        for k in range(n):
+            while any(float(records[f][run]) != float(table[name][k]) for name, f in keys):
+                run += 1
+            runs[k] = run
+        out[series + "_run"] = runs
+    return out
+
+
+def _shaped(columns, shape):
+    """Columns of the cells of a grid with their first axis made the grid's ``shape`` (rows
+    follow y); text columns as str arrays."""
+    out = {}
+    for name, c in columns.items():
+        if isinstance(c, dict):
+            out[name] = _shaped(c, shape)
+        elif isinstance(c, list):
+            out[name] = _str_array(c, shape)
+        else:
+            out[name] = np.asarray(c).reshape(tuple(shape) + np.shape(c)[1:])
+    return out
+
+
+def read_tables(directory):
+    """The tables of ``vimpact COMMAND --out DIR`` as run.json's ``tables`` describes them:
+    file name -> the columns of its records, as the Python API's calls return them."""
+    record = read_record(directory)
+    if "tables" not in record:
+        raise ValueError(f"{directory}/run.json does not describe its tables: it was written by an older "
+                         f"vimpact; run the command again")
+    out = {}
+    for name, schema in sorted(record["tables"].items(), key=lambda kv: "series" in kv[1]):
+        out[name] = _tabled(schema, read_table(os.path.join(directory, name)), out)
+    return out
+
+
 def _states(columns, names, n=None):
     """The state columns of a CSV as an (n, dim) array."""
     if n is None:
@@ -657,6 +723,9 @@ class Sweep(_Context, _Labels, _PointRuns):
     stats : dict
         ``steps`` and ``rhs_calls`` in all, ``wall_time`` in seconds.
     jobs : JobReport
+    records : dict
+        Every field of the library's record of each run by name (``read_tables``' form: the
+        arrays above are taken from it), a field added to the record included.
     """
     param: str = ""
     values: np.ndarray = None
@@ -681,6 +750,7 @@ class Sweep(_Context, _Labels, _PointRuns):
     point_run: np.ndarray = None
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
+    records: dict = field(default_factory=dict)
 
     @property
     def point_branch(self):
@@ -692,39 +762,26 @@ class Sweep(_Context, _Labels, _PointRuns):
                 f"direction {self.direction}: {self._counts_text()}; {len(self.points)} section points)")
 
     @classmethod
+    def of(cls, records, ctx, **run):
+        """A sweep from the columns of its points (``read_tables``, or the bindings'), the
+        context of its model and what the run says of itself (param, values, ...)."""
+        stats = records.get("stats", {})
+        return cls(branch=records["branch"], value=records["value"], label=_str_array(records["label"]),
+                   period=records["period"], impacts=records["impacts"],
+                   impacts_by_surface=records["impacts_by_surface"], closure=records["closure"],
+                   settled=records["settled"], outcome=_str_array(records["outcome"]), grazing=records["grazing"],
+                   final_state=records.get("final_state"), steps=stats.get("steps"),
+                   statistics=dict(records["statistics"]), points=records["points"],
+                   point_run=records["points_run"], records=records, **run, **ctx)
+
+    @classmethod
     def load(cls, directory):
         """The result of ``vimpact sweep --out DIR``."""
         ctx, res = _loaded(directory)
-        names = ctx["state_names"]
-        param = res["param"]
-        lab = read_table(os.path.join(directory, "labels.csv"))
-        pts = read_csv(os.path.join(directory, "points.csv"))
-        branch = np.array(lab["branch"], dtype=float).astype(np.int64) if "branch" in lab else \
-            np.zeros(len(lab["label"]), dtype=np.int64)
-        value = np.array(lab[param] if param in lab else lab["value"], dtype=float)
-        # Points are written run after run; runs without points (failed) have none.
-        pv = pts[param] if param in pts else pts.get("value", np.empty(0))
-        pb = pts["branch"].astype(np.int64) if "branch" in pts else np.zeros(len(pv), dtype=np.int64)
-        if "run" in pts:
-            point_run = pts["run"].astype(np.int64)
-        else:
-            point_run = np.empty(len(pv), dtype=np.int64)
-            run = 0
-            for k in range(len(pv)):
-                while run < len(value) and (branch[run] != pb[k] or value[run] != pv[k]):
-                    run += 1
-                point_run[k] = run
-        runs = len(value)
-        surfaces = ctx["surfaces"]
-        return cls(param=param, values=np.unique(value), ic_mode=res.get("ic_mode", "fixed"),
-                   direction=res.get("direction", "up"), tol=None, branch=branch, value=value,
-                   label=_str_array(lab["label"]), period=np.array(lab["period"], dtype=np.int64),
-                   impacts=np.array(lab["impacts"], dtype=np.int64), impacts_by_surface=None,
-                   closure=np.array(lab["closure"], dtype=float) if "closure" in lab else None,
-                   settled=_settled(lab), outcome=_str_array(lab["outcome"]), grazing_param=res.get("grazing_param"),
-                   grazing=_grazing_columns(lab, surfaces, runs), final_state=None, steps=None,
-                   statistics=_statistics_columns(lab, res.get("statistics_columns")),
-                   points=_states(pts, names, len(pv)), point_run=point_run, **ctx)
+        t = read_tables(directory)
+        records = dict(t["labels.csv"], **t["points.csv"])
+        return cls.of(records, ctx, param=res["param"], values=np.unique(records["value"]),
+                      ic_mode=res["ic_mode"], direction=res["direction"], grazing_param=res.get("grazing_param"))
 
 
 def _settled(lab, shape=None):
@@ -771,6 +828,9 @@ class Map(_Context, _Labels):
         between impacting and surface-free motion.
     stats : dict
     jobs : JobReport
+    records : dict
+        Every field of the library's record of each run by name (``read_tables``' form: the
+        arrays above are taken from it), a field added to the record included.
     """
     x: str = ""
     y: str = ""
@@ -791,39 +851,34 @@ class Map(_Context, _Labels):
     grazing: Optional[np.ndarray] = None
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
+    records: dict = field(default_factory=dict)
 
     def __repr__(self):
         return f"Map({self.x} x {self.y}, {len(self.x_values)} x {len(self.y_values)}: {self._counts_text()})"
 
     @classmethod
+    def of(cls, records, ctx, **run):
+        """A map from the columns of its cells (``read_tables``, or the bindings'), the context
+        of its model and what the run says of itself (x, y, x_values, y_values, ...)."""
+        r = _shaped(records, (len(run["y_values"]), len(run["x_values"])))
+        return cls(label=r["label"], period=r["period"], impacts=r["impacts"], impacts_by_surface=r["impacts_by_surface"],
+                   closure=r["closure"], settled=r["settled"], outcome=r["outcome"], steps=r.get("steps"),
+                   statistics=r["statistics"], records=r, **run, **ctx)
+
+    @classmethod
     def load(cls, directory):
         """The result of ``vimpact map --out DIR``."""
         ctx, res = _loaded(directory)
-        xs, ys = np.array(res["x_values"], dtype=float), np.array(res["y_values"], dtype=float)
-        shape = (len(ys), len(xs))
-        lab = read_table(os.path.join(directory, "labels.csv"))
         gparam, gother, graze = res.get("grazing_param"), None, None
         path = os.path.join(directory, "grazing.csv")
         if os.path.exists(path):
             g = read_table(path)
-            other = [k for k in g if k not in ("surface",) and not k.startswith("grazing") and k != "sigma_graze"]
-            if other:
-                gother = np.array(g[other[0]], dtype=float)
-                graze = _grazing_columns(g, ctx["surfaces"], len(gother))
-                if gparam is None:
-                    gparam = res["y"] if other[0] == res["x"] else res["x"]
-        elif res.get("grazing") is not None:  # legacy: pairs (other, sigma_graze) in run.json
-            pairs = np.array([[_num(a), _num(b)] for a, b in res["grazing"]], dtype=float).reshape(-1, 2)
-            gother, graze = pairs[:, 0], pairs[:, 1:]
-            gparam = gparam or "sigma"
-        return cls(x=res["x"], y=res["y"], x_values=xs, y_values=ys, tol=None,
-                   label=_str_array(lab["label"], shape),
-                   period=np.array(lab["period"], dtype=np.int64).reshape(shape),
-                   impacts=np.array(lab["impacts"], dtype=np.int64).reshape(shape),
-                   settled=_settled(lab, shape), outcome=_str_array(lab["outcome"], shape), grazing_param=gparam,
-                   statistics=_statistics_columns(lab, res.get("statistics_columns"), shape),
-                   grazing_other=gother,
-                   grazing=graze, **ctx)
+            other = next(k for k in g if k != "surface" and "_graze" not in k and not k.startswith("grazing"))
+            gother = np.array(g[other], dtype=float)
+            graze = _grazing_columns(g, ctx["surfaces"], len(gother))
+        return cls.of(read_tables(directory)["labels.csv"], ctx, x=res["x"], y=res["y"],
+                      x_values=np.array(res["x_values"], dtype=float), y_values=np.array(res["y_values"], dtype=float),
+                      grazing_param=gparam, grazing_other=gother, grazing=graze)
 
 
 @dataclass(repr=False)

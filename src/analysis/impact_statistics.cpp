@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/core/input_error.hpp"
@@ -60,20 +61,58 @@ impact_statistics compute_impact_statistics(const model& m, const simulation& ru
     return s;
 }
 
+namespace {
+
+// The scalar fields of the description, in its order: their names, or their values read into
+// or written from a list of doubles.
+struct scalar_names {
+    std::vector<const char*> names;
+    template <class T>
+    void operator()(const field& f, const T&)
+    {
+        if (f.span == field_span::one) names.push_back(f.name.data());
+    }
+};
+
+struct scalar_values {
+    std::vector<double> values;
+    template <class T>
+    void operator()(const field& f, const T& x)
+    {
+        if constexpr (std::is_arithmetic_v<T>)
+            if (f.span == field_span::one) values.push_back(static_cast<double>(x));
+    }
+};
+
+struct scalar_reader {
+    const std::vector<double>& values;
+    std::size_t next = 0;
+    template <class T>
+    void operator()(const field& f, T& x)
+    {
+        if constexpr (std::is_arithmetic_v<T>)
+            if (f.span == field_span::one) x = static_cast<T>(values[next++]);
+    }
+};
+
+}  // namespace
+
 const std::vector<const char*>& impact_statistics_names()
 {
-    static const std::vector<const char*> names{
-        "impacts_recorded",      "duration",          "impact_rate",          "impact_velocity_min",
-        "impact_velocity_mean",  "impact_velocity_rms", "impact_velocity_max", "energy_per_impact",
-        "power",                 "contact_fraction",  "excursion"};
+    static const std::vector<const char*> names = [] {
+        scalar_names v;
+        const impact_statistics s;
+        describe(v, s);
+        return v.names;
+    }();
     return names;
 }
 
 std::vector<double> impact_statistics_values(const impact_statistics& s)
 {
-    return {static_cast<double>(s.impacts), s.duration,         s.rate,          s.velocity_min,
-            s.velocity_mean,                s.velocity_rms,     s.velocity_max,  s.energy_per_impact,
-            s.power,                        s.contact_fraction, s.excursion};
+    scalar_values v;
+    describe(v, s);
+    return v.values;
 }
 
 impact_statistics impact_statistics_from_values(const std::vector<double>& v)
@@ -82,17 +121,8 @@ impact_statistics impact_statistics_from_values(const std::vector<double>& v)
         throw input_error("impact statistics need " + std::to_string(impact_statistics_names().size()) + " values (got " +
                           std::to_string(v.size()) + ")");
     impact_statistics s;
-    s.impacts = static_cast<long>(v[0]);
-    s.duration = v[1];
-    s.rate = v[2];
-    s.velocity_min = v[3];
-    s.velocity_mean = v[4];
-    s.velocity_rms = v[5];
-    s.velocity_max = v[6];
-    s.energy_per_impact = v[7];
-    s.power = v[8];
-    s.contact_fraction = v[9];
-    s.excursion = v[10];
+    scalar_reader r{v};
+    describe(r, s);
     return s;
 }
 

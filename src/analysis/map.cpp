@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "io/json_codec.hpp"
+#include "io/record_json.hpp"
 #include "jobs/journal.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/core/format.hpp"
@@ -18,24 +18,13 @@ struct map_record {
     std::vector<double> grazing;  // per surface, on the jobs that compute the grazing line
 };
 
-json encode(const map_record& r)
+template <class V, record_of<map_record> R>
+void describe(V& v, R& r)
 {
-    return {{"label", detail::to_json(r.cell.label)},
-            {"status", std::string(to_string(r.cell.status))},
-            {"steps", r.cell.steps},
-            {"statistics", detail::to_json(r.cell.statistics)},
-            {"grazing", detail::numbers(r.grazing)}};
-}
-
-map_record decode(const json& j)
-{
-    map_record r;
-    r.cell.label = detail::label_from(j.at("label"));
-    r.cell.status = detail::outcome_from(j.at("status"));
-    r.cell.steps = j.at("steps").get<long>();
-    r.cell.statistics = detail::statistics_from(j.at("statistics"));
-    r.grazing = detail::numbers_from(j.at("grazing"));
-    return r;
+    describe(v, r.cell);
+    v(field{"grazing", "grazing values per surface, on the jobs of the grazing line", "parameter",
+            field_span::per_surface},
+      r.grazing);
 }
 
 bool moves_a_surface(const model& m, int parameter)
@@ -131,7 +120,8 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
     res.grazing_axis = grazing_axis;
     job_options jb = j;
     jb.batch = res_batch;
-    res.jobs = detail::run_journaled<map_record>(spec, {nx * ny, 0}, jb, job_streamer{stream}, encode, decode,
+    res.jobs = detail::run_journaled<map_record>(spec, {nx * ny, 0}, jb, job_streamer{stream},
+                                                 detail::record_json<map_record>, detail::record_from<map_record>,
                                                  [&](long job, map_record&& r) {
         if (computes_grazing(job % nx, job / nx)) {
             res.grazing_other.push_back(grazing_axis == 1 ? o.x.values[static_cast<std::size_t>(job % nx)]

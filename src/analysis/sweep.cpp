@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "admissible_jobs.hpp"
-#include "io/json_codec.hpp"
+#include "io/record_json.hpp"
 #include "jobs/journal.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/core/format.hpp"
@@ -35,34 +35,6 @@ struct sweep_plan {
         return {0, job};
     }
 };
-
-json encode(const sweep_point& p)
-{
-    return {{"branch", p.branch},
-            {"value", detail::number(p.value)},
-            {"label", detail::to_json(p.label)},
-            {"status", std::string(to_string(p.status))},
-            {"points", detail::to_json(p.points)},
-            {"final_state", detail::vector_json(p.final_state)},
-            {"grazing", detail::numbers(p.grazing)},
-            {"stats", detail::to_json(p.stats)},
-            {"statistics", detail::to_json(p.statistics)}};
-}
-
-sweep_point decode(const json& j)
-{
-    sweep_point p;
-    p.branch = j.at("branch").get<int>();
-    p.value = detail::number_from(j.at("value"));
-    p.label = detail::label_from(j.at("label"));
-    p.status = detail::outcome_from(j.at("status"));
-    p.points = detail::series_from(j.at("points"));
-    p.final_state = detail::vector_from(j.at("final_state"));
-    p.grazing = detail::numbers_from(j.at("grazing"));
-    p.stats = detail::stats_from(j.at("stats"));
-    p.statistics = detail::statistics_from(j.at("statistics"));
-    return p;
-}
 
 }  // namespace
 
@@ -197,7 +169,8 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     sweep_result res;
     job_options jb = j;
     jb.batch = batch;
-    res.jobs = detail::run_journaled<sweep_point>(spec, plan.schedule(), jb, job_runners{single, stream}, encode, decode,
+    res.jobs = detail::run_journaled<sweep_point>(spec, plan.schedule(), jb, job_runners{single, stream}, detail::record_json<sweep_point>,
+                                                  detail::record_from<sweep_point>,
                                                   [&](long job, sweep_point&& p) {
                                                       if (each) each(job, p);
                                                       else res.points.push_back(std::move(p));

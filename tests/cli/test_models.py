@@ -192,8 +192,8 @@ def test_sweep_and_map_files_of_two_surfaces(vimpact, tmp_path):
     assert p.returncode == 0, p.stderr
     lines = (out / "labels.csv").read_text().splitlines()
     header = lines[0].split(",")
-    assert header[:12] == ["branch", "w", "label", "period", "impacts", "closure", "settled", "outcome",
-                           "d_graze_right", "d_graze_left", "impacts_right", "impacts_left"]
+    assert header[:12] == ["branch", "w", "label", "period", "impacts", "closure", "settled", "impacts_right",
+                           "impacts_left", "outcome", "d_graze_right", "d_graze_left"]
     assert header[12:15] == ["impacts_recorded", "duration", "impact_rate"]
     for line in lines[1:]:
         row = dict(zip(header, line.split(",")))

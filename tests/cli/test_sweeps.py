@@ -43,8 +43,15 @@ def test_sweep_files_carry_impacts_by_surface_and_grazing(vimpact, tmp_path):
     p = run(vimpact, "sweep", "--param", "Ur", "--range", "16:19:2", "--grazing", "--no-plot", "--out", str(out))
     assert p.returncode == 0, p.stderr
     header, rows = read_rows(out / "labels.csv")
-    assert header == ["branch", "Ur", "label", "period", "impacts", "closure", "settled", "outcome", "sigma_graze",
-                      "impacts_barrier", *STATISTICS]
+    assert header == ["branch", "Ur", "label", "period", "impacts", "closure", "settled", "impacts_barrier",
+                      "outcome", "sigma_graze", *STATISTICS, "excursion_barrier"]
+    # run.json describes every column: what a reader needs besides the file.
+    schema = json.loads((out / "run.json").read_text())["tables"]["labels.csv"]["columns"]
+    assert [c["name"] for c in schema] == header
+    by = {c["name"]: c for c in schema}
+    assert by["Ur"]["field"] == "value" and by["settled"]["type"] == "bool"
+    assert by["sigma_graze"]["field"] == "grazing" and by["sigma_graze"]["surface"] == 0
+    assert by["power"]["group"] == "statistics" and by["power"]["unit"] == "(g/t)^2/t"
     assert [r["label"] for r in rows] == ["P2", "P3"]
     for r in rows:
         assert int(r["impacts_barrier"]) == int(r["impacts"]) == 1
@@ -363,7 +370,8 @@ def test_map_json_rows_and_picture(vimpact, tmp_path):
     check_png(out / "plot.png")
     assert (out / "grazing.csv").read_text().splitlines()[0] == "Ur,sigma_graze"
     header, rows = read_rows(out / "labels.csv")
-    assert header == ["Ur", "sigma", "label", "period", "impacts", "settled", "outcome", "impacts_barrier", *STATISTICS]
+    assert header == ["Ur", "sigma", "label", "period", "impacts", "closure", "settled", "impacts_barrier", "outcome",
+                      *STATISTICS, "excursion_barrier"]
     assert all(r["impacts"] == r["impacts_barrier"] for r in rows)
 
 

@@ -64,9 +64,16 @@ def test_sweep_fixed_with_grazing(cli, tmp_path):
     assert p.returncode == 0, p.stderr
     s = vimpact.sweep(vimpact.WakeImpact(), "Ur", vimpact.grid(20, 24, 5), grazing=True, threads=2, **Q)
     c = vimpact.Sweep.load(out)
-    for name in ("branch", "value", "label", "period", "impacts", "closure", "outcome", "grazing", "points",
-                 "point_value", "point_branch", "point_run"):
+    for name in ("branch", "value", "label", "period", "impacts", "impacts_by_surface", "closure", "settled",
+                 "outcome", "grazing", "points", "point_value", "point_branch", "point_run"):
         same(getattr(s, name), getattr(c, name))
+    assert set(s.statistics) == set(c.statistics)
+    for name in s.statistics:
+        same(s.statistics[name], c.statistics[name])
+    # Every field of the record that the directory holds, by the library's description.
+    assert set(c.records) - {"statistics"} <= set(s.records)
+    for name in set(c.records) - {"statistics"}:
+        same(s.records[name], c.records[name])
     assert np.isfinite(s.grazing).all()
 
 

@@ -83,8 +83,9 @@ def test_statistics_of_a_run_against_its_impacts():
 def test_sweep_and_map_carry_statistics_per_run():
     w = vimpact.sweep(vimpact.Model("wake_impact"), "Ur", [16, 17], **SHORT)
     single = vimpact.simulate(vimpact.Model("wake_impact", Ur=17), **SHORT).statistics
+    assert set(w.statistics) == set(single)
     for k, col in w.statistics.items():
-        assert col.shape == (2,)
+        assert col.shape == (2,) + np.shape(single[k])  # excursion_by_surface: (runs, surfaces)
         assert col[1] == pytest.approx(single[k], rel=1e-15, nan_ok=True), k
     mp = vimpact.map(vimpact.Model("wake_impact"), x=("Ur", [16, 17]), y=("sigma", [-0.15, -0.14]), **SHORT)
     assert mp.statistics["impact_rate"].shape == (2, 2)

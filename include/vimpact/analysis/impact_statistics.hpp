@@ -25,6 +25,7 @@
 #include <limits>
 #include <vector>
 
+#include "vimpact/core/record.hpp"
 #include "vimpact/core/state_series.hpp"
 
 namespace vimpact {
@@ -45,6 +46,26 @@ struct impact_statistics {
     std::vector<double> excursion_by_surface;
 };
 
+// Units: t the model's time, g its gap; energies per unit of the mass the gap measures.
+template <class V, record_of<impact_statistics> S>
+void describe(V& v, S& s)
+{
+    v(field{"impacts_recorded", "impacts in the recorded window"}, s.impacts);
+    v(field{"duration", "length of the recorded window", "t"}, s.duration);
+    v(field{"impact_rate", "impacts per unit time", "1/t"}, s.rate);
+    v(field{"impact_velocity_min", "smallest normal velocity -dg/dt before an impact", "g/t"}, s.velocity_min);
+    v(field{"impact_velocity_mean", "mean normal velocity", "g/t"}, s.velocity_mean);
+    v(field{"impact_velocity_rms", "root mean square normal velocity", "g/t"}, s.velocity_rms);
+    v(field{"impact_velocity_max", "largest normal velocity", "g/t"}, s.velocity_max);
+    v(field{"energy_per_impact", "mean energy dissipated per impact, (v^2 - u^2)/2", "(g/t)^2"}, s.energy_per_impact);
+    v(field{"power", "energy dissipated per unit time", "(g/t)^2/t"}, s.power);
+    v(field{"contact_fraction", "fraction of the window spent at rest on a surface"}, s.contact_fraction);
+    v(field{"excursion", "largest gap reached over the window and the surfaces", "g"}, s.excursion);
+    v(field{"excursion_by_surface", "largest gap reached, per surface", "g", field_span::per_surface,
+            "excursion_{surface}"},
+      s.excursion_by_surface);
+}
+
 // One impact's normal velocity v, rebound velocity u and dissipated energy e (definitions
 // above).
 struct impact_velocity {
@@ -57,12 +78,11 @@ std::vector<impact_velocity> impact_velocities(const model& m, const impact_seri
 // them; a front end never computes them itself).
 impact_statistics compute_impact_statistics(const model& m, const simulation& run);
 
-// The names of the statistics as the front ends give them, defined once: JSON keys and CSV
-// columns (model units), in this order. The values of `s` in the same order.
+// The statistics that are one number each, as the front ends name them (describe above):
+// their names, the values of `s` in that order, and the inverse (excursion_by_surface left
+// empty; input_error for a list of the wrong length).
 const std::vector<const char*>& impact_statistics_names();
 std::vector<double> impact_statistics_values(const impact_statistics& s);
-// The inverse: statistics from values in that order (excursion_by_surface left empty).
-// Throws input_error for a list of the wrong length.
 impact_statistics impact_statistics_from_values(const std::vector<double>& values);
 
 }  // namespace vimpact

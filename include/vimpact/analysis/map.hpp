@@ -33,6 +33,16 @@ struct map_cell {
     impact_statistics statistics;  // of the recorded window
 };
 
+// One row of labels.csv (after the cell's two parameter values), one entry of Python's arrays.
+template <class V, record_of<map_cell> C>
+void describe(V& v, C& c)
+{
+    describe(v, c.label);
+    v(field{"outcome", "ok, or how the run ended early"}, c.status);
+    v(field{"steps", "accepted steps", "", field_span::one, {}, false}, c.steps);
+    v.group(field{"statistics", "impact statistics of the recorded window"}, c.statistics);
+}
+
 struct map_result {
     std::vector<map_cell> cells;  // job order: cell (ix, iy) is job ix + nx iy (a complete run)
     // The grazing line: for each value of the other axis, the grazing value of the axis

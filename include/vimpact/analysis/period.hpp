@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/record.hpp"
 
 namespace vimpact {
 
@@ -27,6 +28,22 @@ struct period_label {
     // protocol, not about the orbit.
     bool settled = true;
 };
+
+template <class V, record_of<period_label> L>
+void describe(V& v, L& l)
+{
+    v(field{"label", "P0 (no impact after the transient), P1, P2, ..., aperiodic, or a failed run's outcome"},
+      l.label);
+    v(field{"period", "N of a label PN (0 for P0); -1 aperiodic or failed"}, l.period);
+    v(field{"impacts", "impacts per period on every surface"}, l.impacts_per_period);
+    v(field{"closure", "largest max-norm distance between section points one period apart", "state"}, l.closure);
+    v(field{"settled", "false while the record still converges onto an orbit or is periodic only in its last "
+                       "half (a longer transient gives the period)"},
+      l.settled);
+    v(field{"impacts_by_surface", "impacts per period on each surface", "", field_span::per_surface,
+            "impacts_{surface}"},
+      l.impacts_by_surface);
+}
 
 // Whether recorded points still converge onto a periodic orbit: the smallest N for which the
 // distances d_i between points N apart shrink geometrically over the record, 0 if none. Near a

@@ -55,6 +55,25 @@ struct sweep_point {
     impact_statistics statistics;   // of the recorded window
 };
 
+// One row of labels.csv, one journal line, one entry of each of Python's arrays.
+template <class V, record_of<sweep_point> P>
+void describe(V& v, P& p)
+{
+    v(field{"branch", "0 up, 1 down"}, p.branch);
+    v(field{"value", "the swept parameter's value", "parameter", field_span::one, "{axis}"}, p.value);
+    describe(v, p.label);
+    v(field{"outcome", "ok, or how the run ended early"}, p.status);
+    v(field{"grazing", "grazing value of the grazing parameter per surface (NaN: none or not asked)", "parameter",
+            field_span::per_surface, "{grazing}_graze"},
+      p.grazing);
+    v.group(field{"statistics", "impact statistics of the recorded window"}, p.statistics);
+    v(field{"points", "the recorded section points", "state", field_span::series}, p.points);
+    v(field{"final_state", "the state at the end of the run (the next start when followed)", "state",
+            field_span::per_state, {}, false},
+      p.final_state);
+    v.group(field{"stats", "counters of the run", "", field_span::one, {}, false}, p.stats);
+}
+
 struct sweep_result {
     std::vector<sweep_point> points;  // job order: up then down branch interleaved when both
     job_report jobs;

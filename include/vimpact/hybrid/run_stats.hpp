@@ -4,6 +4,8 @@
 #include <limits>
 #include <vector>
 
+#include "vimpact/core/record.hpp"
+
 namespace vimpact {
 
 struct run_stats {
@@ -36,5 +38,22 @@ struct run_stats {
         t_final = s.t_final;
     }
 };
+
+template <class V, record_of<run_stats> S>
+void describe(V& v, S& s)
+{
+    v(field{"steps", "accepted steps"}, s.steps);
+    v(field{"rejected", "rejected trial steps"}, s.rejected);
+    v(field{"rhs_calls", "vector-field evaluations"}, s.rhs_calls);
+    v(field{"impacts", "impacts on every surface, transient included"}, s.impacts);
+    v(field{"impacts_by_surface", "impacts on each surface", "", field_span::per_surface, "impacts_{surface}"},
+      s.impacts_by_surface);
+    v(field{"sections", "section crossings located"}, s.sections);
+    v(field{"sticking_phases", "chatter sequences ended by a contact phase"}, s.sticking_phases);
+    v(field{"sticking_time", "time in contact phases", "t"}, s.sticking_time);
+    v(field{"h_min", "smallest accepted step", "t"}, s.h_min);
+    v(field{"h_max", "largest accepted step", "t"}, s.h_max);
+    v(field{"t_final", "time at the end of the run", "t"}, s.t_final);
+}
 
 }  // namespace vimpact

@@ -1,0 +1,187 @@
+#pragma once
+// Records the library describes (core/record.hpp) as numpy columns, one entry per record: a
+// field of one value is a 1-D array (int64, float64, bool) or a list of str, a per-surface
+// field an array (records, surfaces), a state vector (records, dim), a series its points one
+// record after the other (points, dim) with NAME_run, the record of each point; a group is a
+// dict of its own fields. vimpact/results.py reads the same columns from an output directory
+// (read_tables), so a result is built the same way from either.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vimpact/core/outcome.hpp"
+#include "vimpact/core/record.hpp"
+#include "vimpact/core/state_series.hpp"
+
+namespace vimpact::python {
+
+namespace py = pybind11;
+
+namespace detail {
+
+enum class column_kind { real, integer, flag, text, group };
+
+template <class T>
+constexpr column_kind kind_of()
+{
+    if constexpr (std::is_same_v<T, bool>) return column_kind::flag;
+    else if constexpr (std::is_integral_v<T> || std::is_same_v<T, std::vector<long>>) return column_kind::integer;
+    else if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, outcome>) return column_kind::text;
+    else return column_kind::real;
+}
+
+struct record_column {
+    std::string name;
+    field_span span = field_span::one;
+    column_kind kind = column_kind::real;
+    std::vector<double> reals;
+    std::vector<std::int64_t> integers;
+    std::vector<bool> flags;
+    std::vector<std::string> texts;
+    std::vector<std::int64_t> runs;  // a series: the record of each point
+    int width = 1;                   // values per record (per surface, per state), per point (series)
+    std::vector<record_column> fields;  // a group's
+
+    static record_column of(std::string_view name, field_span span, column_kind kind)
+    {
+        record_column c;
+        c.name = name;
+        c.span = span;
+        c.kind = kind;
+        return c;
+    }
+};
+
+// Appends one record's fields to the columns, creating them on the first record.
+struct column_collector {
+    std::vector<record_column>& columns;
+    std::int64_t record;
+    int surfaces;
+    int dim;
+    std::size_t next = 0;
+
+    record_column& column(const field& f, column_kind kind)
+    {
+        if (columns.size() <= next) columns.push_back(record_column::of(f.name, f.span, kind));
+        return columns[next++];
+    }
+
+    template <class T>
+    void operator()(const field& f, const T& v)
+    {
+        record_column& c = column(f, kind_of<T>());
+        if constexpr (std::is_same_v<T, bool>) {
+            c.flags.push_back(v);
+        } else if constexpr (std::is_integral_v<T>) {
+            c.integers.push_back(static_cast<std::int64_t>(v));
+        } else if constexpr (std::is_floating_point_v<T>) {
+            c.reals.push_back(v);
+        } else if constexpr (std::is_same_v<T, std::string>) {
+            c.texts.push_back(v);
+        } else if constexpr (std::is_same_v<T, outcome>) {
+            c.texts.emplace_back(to_string(v));
+        } else if constexpr (std::is_same_v<T, std::vector<double>> || std::is_same_v<T, std::vector<long>>) {
+            c.width = surfaces;
+            for (int s = 0; s < surfaces; ++s) {
+                const bool has = static_cast<std::size_t>(s) < v.size();
+                if constexpr (std::is_same_v<T, std::vector<double>>)
+                    c.reals.push_back(has ? v[static_cast<std::size_t>(s)] : std::numeric_limits<double>::quiet_NaN());
+                else
+                    c.integers.push_back(has ? v[static_cast<std::size_t>(s)] : 0);
+            }
+        } else if constexpr (std::is_same_v<T, Eigen::VectorXd>) {
+            c.width = dim;
+            for (int k = 0; k < dim; ++k) c.reals.push_back(k < v.size() ? v[k] : std::numeric_limits<double>::quiet_NaN());
+        } else {
+            static_assert(std::is_same_v<T, state_series>, "a field type without a column form");
+            c.width = dim;
+            c.reals.insert(c.reals.end(), v.values().begin(), v.values().end());
+            c.runs.insert(c.runs.end(), v.size(), record);
+        }
+    }
+
+    template <class R>
+    void group(const field& f, const R& r)
+    {
+        record_column& c = column(f, column_kind::group);
+        column_collector sub{c.fields, record, surfaces, dim};
+        describe(sub, r);
+    }
+};
+
+inline py::object column_object(const record_column& c, py::ssize_t records)
+{
+    switch (c.kind) {
+        case column_kind::group: {
+            py::dict d;
+            for (const auto& f : c.fields) d[py::str(f.name)] = column_object(f, records);
+            return d;
+        }
+        case column_kind::text: return py::cast(c.texts);
+        case column_kind::flag: {
+            py::array_t<bool> a(records);
+            for (py::ssize_t i = 0; i < records; ++i) a.mutable_at(i) = c.flags[static_cast<std::size_t>(i)];
+            return a;
+        }
+        case column_kind::integer:
+        case column_kind::real: break;
+    }
+    std::vector<py::ssize_t> shape{c.span == field_span::series ? static_cast<py::ssize_t>(c.runs.size()) : records};
+    if (c.span != field_span::one) shape.push_back(c.width);
+    if (c.kind == column_kind::integer) {
+        py::array_t<std::int64_t> a(shape);
+        if (!c.integers.empty()) std::memcpy(a.mutable_data(), c.integers.data(), c.integers.size() * sizeof(std::int64_t));
+        return a;
+    }
+    py::array_t<double> a(shape);
+    if (!c.reals.empty()) std::memcpy(a.mutable_data(), c.reals.data(), c.reals.size() * sizeof(double));
+    return a;
+}
+
+}  // namespace detail
+
+// The columns of `records` (surfaces and dim: the model's, the width of per-surface fields and
+// states). Every field is present, even for no records.
+template <class R>
+py::dict record_arrays(const std::vector<R>& records, int surfaces, int dim)
+{
+    std::vector<detail::record_column> columns;
+    for (std::size_t i = 0; i < records.size(); ++i) {
+        detail::column_collector c{columns, static_cast<std::int64_t>(i), surfaces, dim};
+        describe(c, records[i]);
+    }
+    if (records.empty()) {  // the fields' names and kinds from a default record, without its values
+        std::vector<detail::record_column> seen;
+        detail::column_collector c{seen, 0, surfaces, dim};
+        const R blank{};
+        describe(c, blank);
+        const auto empty = [&](auto&& self, const detail::record_column& col) -> detail::record_column {
+            detail::record_column e = detail::record_column::of(col.name, col.span, col.kind);
+            e.width = col.width;
+            for (const auto& f : col.fields) e.fields.push_back(self(self, f));
+            return e;
+        };
+        for (const auto& col : seen) columns.push_back(empty(empty, col));
+    }
+    py::dict d;
+    const auto n = static_cast<py::ssize_t>(records.size());
+    for (const auto& c : columns) {
+        d[py::str(c.name)] = detail::column_object(c, n);
+        if (c.span == field_span::series) {
+            py::array_t<std::int64_t> runs(static_cast<py::ssize_t>(c.runs.size()));
+            if (!c.runs.empty()) std::memcpy(runs.mutable_data(), c.runs.data(), c.runs.size() * sizeof(std::int64_t));
+            d[py::str(c.name + "_run")] = runs;
+        }
+    }
+    return d;
+}
+
+}  // namespace vimpact::python

@@ -1,0 +1,171 @@
+// Records described once (core/record.hpp): the journal line, the table row and its schema
+// all follow from one description, so each is checked here against what the record holds and
+// against the naming rules the documentation states, field by field.
+#include <cmath>
+#include <limits>
+
+#include "test_support.hpp"
+#include "io/record_json.hpp"
+#include "vimpact/analysis/sweep.hpp"
+#include "vimpact/io/record_table.hpp"
+
+namespace vimpact {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+sweep_point awkward_point()
+{
+    sweep_point p;
+    p.branch = 1;
+    p.value = 0.1 + 0.2;  // not a short decimal
+    p.label = {"P3", 3, 7, {4, 3}, 1.25e-11, false};
+    p.status = outcome::chattering;
+    p.points = state_series(2);
+    Eigen::VectorXd x(2);
+    x << -0.0, 1.0 / 3.0;
+    p.points.push_back(1.5, x);
+    x << inf, 5e-324;
+    p.points.push_back(2.5, x);
+    p.final_state.resize(2);
+    p.final_state << nan, -inf;
+    p.grazing = {0.75, nan};
+    p.stats.steps = 123456789012L;
+    p.stats.impacts_by_surface = {9, 8};
+    p.stats.h_min = 1e-300;
+    p.statistics.impacts = 7;
+    p.statistics.velocity_max = 2.0 / 3.0;
+    p.statistics.excursion_by_surface = {0.5, -0.25};
+    return p;
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(Records, SweepPointJournalLineReadsBackBitForBit)
+{
+    const sweep_point p = awkward_point();
+    // Through the text of the line, as a journal stores it.
+    const auto text = detail::record_json(p).dump();
+    const auto q = detail::record_from<sweep_point>(detail::json::parse(text));
+    EXPECT_EQ(q.branch, p.branch);
+    EXPECT_TRUE(same_bits(q.value, p.value));
+    EXPECT_EQ(q.label.label, "P3");
+    EXPECT_EQ(q.label.period, 3);
+    EXPECT_EQ(q.label.impacts_per_period, 7);
+    EXPECT_EQ(q.label.impacts_by_surface, (std::vector<long>{4, 3}));
+    EXPECT_TRUE(same_bits(q.label.closure, 1.25e-11));
+    EXPECT_FALSE(q.label.settled);
+    EXPECT_EQ(q.status, outcome::chattering);
+    ASSERT_EQ(q.points.size(), 2U);
+    EXPECT_TRUE(same_bits(q.points.x(0, 0), -0.0));
+    EXPECT_TRUE(same_bits(q.points.x(0, 1), 1.0 / 3.0));
+    EXPECT_EQ(q.points.x(1, 0), inf);
+    EXPECT_TRUE(same_bits(q.points.x(1, 1), 5e-324));
+    EXPECT_EQ(q.points.t(1), 2.5);
+    EXPECT_TRUE(std::isnan(q.final_state[0]));
+    EXPECT_EQ(q.final_state[1], -inf);
+    EXPECT_EQ(q.grazing[0], 0.75);
+    EXPECT_TRUE(std::isnan(q.grazing[1]));
+    EXPECT_EQ(q.stats.steps, 123456789012L);
+    EXPECT_EQ(q.stats.impacts_by_surface, (std::vector<long>{9, 8}));
+    EXPECT_TRUE(same_bits(q.stats.h_min, 1e-300));
+    EXPECT_EQ(q.stats.h_max, 0.0);
+    EXPECT_EQ(q.statistics.impacts, 7);
+    EXPECT_TRUE(same_bits(q.statistics.velocity_max, 2.0 / 3.0));
+    EXPECT_TRUE(std::isnan(q.statistics.velocity_min));
+    EXPECT_EQ(q.statistics.excursion_by_surface, (std::vector<double>{0.5, -0.25}));
+}
+
+TEST(Records, AJournalLineWithoutAFieldIsDamage)
+{
+    auto j = detail::record_json(awkward_point());
+    j["statistics"].erase("power");
+    EXPECT_THROW((void)detail::record_from<sweep_point>(j), detail::json::exception);
+}
+
+// The naming rules of field::column, for a model with surfaces left and right that varies w
+// with grazing values of d (the two-stop oscillator).
+TEST(Records, TableColumnsFollowTheNamingRules)
+{
+    const table_context c{"w", "d", {"right", "left"}};
+    const auto columns = record_columns<sweep_point>(c);
+    std::vector<std::string> names;
+    for (const auto& col : columns) names.push_back(col.name);
+    const std::vector<std::string> first{"branch", "w", "label", "period", "impacts", "closure", "settled",
+                                         "impacts_right", "impacts_left", "outcome", "d_graze_right", "d_graze_left",
+                                         "impacts_recorded"};
+    ASSERT_GE(names.size(), first.size());
+    EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + static_cast<long>(first.size())), first);
+    EXPECT_EQ(names.back(), "excursion_left");
+    // Neither series, state vectors nor counters are columns.
+    for (const auto& n : names) {
+        EXPECT_NE(n, "points");
+        EXPECT_NE(n, "final_state");
+        EXPECT_NE(n, "steps");
+    }
+    // One surface: a per-surface column without an explicit place is named by the field alone.
+    const auto one = record_columns<sweep_point>({"w", "d", {"stop"}});
+    EXPECT_TRUE(std::any_of(one.begin(), one.end(), [](const column_schema& s) { return s.name == "d_graze"; }));
+    EXPECT_TRUE(std::any_of(one.begin(), one.end(), [](const column_schema& s) { return s.name == "impacts_stop"; }));
+    // Without a grazing parameter its columns are left out.
+    const auto none = record_columns<sweep_point>({"w", "", {"stop"}});
+    EXPECT_EQ(none.size(), one.size() - 1);
+}
+
+TEST(Records, EveryCellSitsUnderItsColumn)
+{
+    const table_context c{"w", "d", {"right", "left"}};
+    const auto columns = record_columns<sweep_point>(c);
+    const auto cells = record_cells(awkward_point(), c);
+    ASSERT_EQ(cells.size(), columns.size());
+    const auto at = [&](const std::string& name) {
+        for (std::size_t i = 0; i < columns.size(); ++i)
+            if (columns[i].name == name) return cells[i];
+        ADD_FAILURE() << "no column " << name;
+        return std::string();
+    };
+    EXPECT_EQ(at("w"), format_double(0.1 + 0.2));
+    EXPECT_EQ(at("label"), "P3");
+    EXPECT_EQ(at("settled"), "0");
+    EXPECT_EQ(at("outcome"), "chattering");
+    EXPECT_EQ(at("impacts_left"), "3");
+    EXPECT_EQ(at("d_graze_right"), "0.75");
+    EXPECT_EQ(at("d_graze_left"), "nan");
+    EXPECT_EQ(at("impacts_recorded"), "7");
+    EXPECT_EQ(at("excursion_right"), "0.5");
+    // The schema types each column and says which field and group it holds.
+    for (const auto& col : columns) {
+        if (col.name == "settled") {
+            EXPECT_EQ(col.type, "bool");
+        }
+        if (col.name == "impacts_left") {
+            EXPECT_EQ(col.surface, 1);
+        }
+        if (col.name == "energy_per_impact") {
+            EXPECT_EQ(col.group, "statistics");
+            EXPECT_EQ(col.type, "float");
+        }
+    }
+}
+
+// The statistics that are one number each keep their documented names and order.
+TEST(Records, ImpactStatisticsNamesAreTheDocumentedOnes)
+{
+    const std::vector<std::string> documented{"impacts_recorded", "duration", "impact_rate", "impact_velocity_min",
+                                              "impact_velocity_mean", "impact_velocity_rms", "impact_velocity_max",
+                                              "energy_per_impact", "power", "contact_fraction", "excursion"};
+    const auto& names = impact_statistics_names();
+    ASSERT_EQ(names.size(), documented.size());
+    for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], documented[i]);
+    impact_statistics s;
+    s.impacts = 4;
+    s.power = 0.5;
+    const auto back = impact_statistics_from_values(impact_statistics_values(s));
+    EXPECT_EQ(back.impacts, 4);
+    EXPECT_EQ(back.power, 0.5);
+    EXPECT_TRUE(std::isnan(back.velocity_mean));
+}
+
+}  // namespace
+}  // namespace vimpact
