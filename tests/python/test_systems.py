@@ -1,5 +1,12 @@
 """The steppable systems from Python: HybridSystem, SectionSystem, TangentSystem against other
 paths of the library (simulate's recorded points, vimpact.lyapunov) and finite differences."""
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
 import numpy as np
 import pytest
 
@@ -132,3 +139,32 @@ def test_limits_are_a_status():
     assert hs.status == "step_limit"
     t = hs.time
     assert hs.step() == "step_limit" and hs.time == t
+
+
+INTERRUPTED = textwrap.dedent("""
+    import vimpact
+    s = vimpact.{system}(vimpact.WakeImpact(Ur=19))
+    print("started", flush=True)
+    try:
+        s.{call}
+    except KeyboardInterrupt:
+        print("KeyboardInterrupt", s.status, flush=True)
+        raise
+    print("finished", flush=True)
+""")
+
+
+@pytest.mark.parametrize("system,call", [("HybridSystem", "advance_to(1e12)"), ("SectionSystem", "step(10**12)"),
+                                         ("TangentSystem", "advance_to(1e12)")])
+def test_ctrl_c_stops_a_long_call(system, call):
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    proc = subprocess.Popen([sys.executable, "-c", INTERRUPTED.format(system=system, call=call)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    assert proc.stdout.readline().strip() == "started"
+    time.sleep(0.5)
+    assert proc.poll() is None, "the call finished before it could be interrupted"
+    sent = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    assert "KeyboardInterrupt interrupted" in out and "finished" not in out, out + err
+    assert time.perf_counter() - sent < 1.0

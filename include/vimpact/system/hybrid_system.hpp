@@ -2,9 +2,9 @@
 // The hybrid flow of a model as an object to step: its state and time, one integrator step
 // at a time (through impacts and contact phases) or to a given time exactly, reinit to any
 // state, parameters to change. A researcher's own analysis is a loop over step() or
-// advance_to(); the library's analyses drive the same flow (hybrid/flow.hpp, through
-// engine/stepping.hpp). The engine stays behind the object: this header does not include the
-// integrator.
+// advance_to(). Underneath is the library's hybrid flow (hybrid/flow.hpp), stepped by
+// engine/stepping.hpp, which the Lyapunov spectrum's tangent intervals step too. The engine
+// stays behind the object: this header does not include the integrator.
 //
 // The continuous-time system of the family: section_system.hpp (the section or impact map)
 // and tangent_system.hpp (with deviation vectors) are its discrete and linearised kin.
