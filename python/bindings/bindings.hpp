@@ -11,5 +11,6 @@ void bind_stability(pybind11::module_& m);  // _floquet, _lyapunov and their swe
 void bind_dimension(pybind11::module_& m);  // _dimension
 void bind_continuation(pybind11::module_& m);  // _continuation
 void bind_units(pybind11::module_& m);      // _SIUnits: SI inputs and outputs
+void bind_systems(pybind11::module_& m);    // _HybridSystem, _SectionSystem, _TangentSystem
 
 }  // namespace vimpact::python

@@ -100,4 +100,5 @@ PYBIND11_MODULE(_vimpact, m)
     vimpact::python::bind_dimension(m);
     vimpact::python::bind_continuation(m);
     vimpact::python::bind_units(m);
+    vimpact::python::bind_systems(m);
 }

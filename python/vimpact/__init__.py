@@ -37,7 +37,8 @@ from .results_continuation import Bifurcation, Branch, Continuation, Curve  # no
 _COMPILED = ("Model", "WakeImpact", "ForcedImpactOscillator", "TwoSidedImpactOscillator", "InputError", "git_hash",
              "PhysicalUnits", "basins", "clearance", "continuation", "cylinder_units", "dimension", "floquet",
              "floquet_sweep", "grazing", "grid", "lyapunov",
-             "lyapunov_sweep", "map", "period", "response", "simulate", "sweep")
+             "lyapunov_sweep", "map", "period", "response", "simulate", "sweep", "HybridSystem", "SectionSystem",
+             "TangentSystem")
 
 try:
     from ._vimpact import InputError, __version__, git_hash  # noqa: F401
@@ -45,6 +46,7 @@ try:
     from ._api import (basins, clearance, continuation, cylinder_units, dimension, floquet, floquet_sweep,  # noqa: F401
                        grazing, grid, lyapunov, lyapunov_sweep, map, period, response, simulate, sweep)
     from ._units import PhysicalUnits  # noqa: F401
+    from ._systems import HybridSystem, SectionSystem, TangentSystem  # noqa: F401
 except ImportError as _error:  # the compiled module is not built or not on the path
     _import_error = _error
     __version__ = "unknown (the compiled module vimpact._vimpact is not built)"
@@ -52,6 +54,8 @@ else:
     _import_error = None
     Model.__module__ = __name__
     PhysicalUnits.__module__ = __name__
+    for _c in (HybridSystem, SectionSystem, TangentSystem):
+        _c.__module__ = __name__
     for _f in (basins, clearance, continuation, cylinder_units, dimension, floquet, floquet_sweep, grazing, grid,
                lyapunov, lyapunov_sweep,
                map, period, response, simulate, sweep):

@@ -8,6 +8,7 @@
 #include <Eigen/QR>
 
 #include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/engine/stepping.hpp"
 #include "vimpact/hybrid/flow.hpp"
 #include "vimpact/tangent/variational.hpp"
 
@@ -43,39 +44,33 @@ struct section_recorder {
     }
 };
 
-template <class VModel>
-struct tangent_observer : flow_observer {
+// What one interval of the tangent flow met: its impacts (with the saltation determinants and,
+// for the second-order mapping, the deviations that miss the surface) and the section points,
+// read from the record of its stepping flow.
+template <class VModel, class Record>
+struct tangent_tally {
     static constexpr int N = VModel::base_dim;
-    const VModel& vm;
-    section_recorder sections;
     long impacts = 0;
     std::vector<long> by_surface;
     double log_det_jumps = 0.0;
     long misses = 0;
-    tangent_observer(const VModel& v, section_recorder rec)
-        : vm(v), sections(rec), by_surface(static_cast<std::size_t>(v.surface_count()), 0)
-    {
-    }
 
-    flow_control on_section(int, crossing, double t, const typename VModel::state& X)
+    tangent_tally(const VModel& vm, const Record& rec, const section_recorder& sections)
+        : by_surface(static_cast<std::size_t>(vm.surface_count()), 0)
     {
-        sections.add(t, VModel::point(X));
-        return flow_control::proceed;
-    }
-
-    flow_control on_impact(int surface, double, const typename VModel::state& pre, const typename VModel::state&)
-    {
-        ++impacts;
-        ++by_surface[static_cast<std::size_t>(surface)];
-        const vec<N> x = VModel::point(pre);
-        log_det_jumps += std::log(std::abs(saltation_matrix(vm.base(), surface, x).determinant()));
-        if (vm.jump() == impact_tangent::second_order) {
-            const auto d = prepare_impact(vm.base(), surface, x);
-            const mat<N> Y = VModel::matrix(pre);
-            for (int j = 0; j < N; ++j)
-                if (second_order_map(vm.base(), d, vec<N>(vm.deviation_scale() * Y.col(j))).misses) ++misses;
+        for (const auto& p : rec.points) sections.add(p.t, VModel::point(p.x));
+        for (const auto& i : rec.impacts) {
+            ++impacts;
+            ++by_surface[static_cast<std::size_t>(i.surface)];
+            const vec<N> x = VModel::point(i.pre);
+            log_det_jumps += std::log(std::abs(saltation_matrix(vm.base(), i.surface, x).determinant()));
+            if (vm.jump() == impact_tangent::second_order) {
+                const auto d = prepare_impact(vm.base(), i.surface, x);
+                const mat<N> Y = VModel::matrix(i.pre);
+                for (int j = 0; j < N; ++j)
+                    if (second_order_map(vm.base(), d, vec<N>(vm.deviation_scale() * Y.col(j))).misses) ++misses;
+            }
         }
-        return flow_control::proceed;
     }
 };
 
@@ -204,14 +199,21 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
     typename VM::state X = VM::pack(x_start, mat<N>::Identity(), 0.0);
     double q_start = 0.0, log_det_sum = 0.0;
     double t = t_begin;
+    // Each interval lands on its end (the steppable tangent's way, system/tangent_system.hpp),
+    // where the deviations are re-orthonormalised and the tangent flow starts again.
+    fo.t_max = std::numeric_limits<double>::infinity();
     for (long k = 0;; ++k) {
-        fo.t_max = t_begin + static_cast<double>(k + 1) * opt.t0;
-        hybrid_flow<VM, dop853> flow(vm, fo);
-        flow.start(t, X);
-        tangent_observer<VM> obs(vm, {&res.section_points, opt.record_points, k >= opt.warmup_intervals});
-        if (!run_interval(flow, obs, res)) return;
-        X = flow.x();
-        t = flow.t();
+        stepping_flow<VM, dop853> run(vm, fo, t, X);
+        const outcome o = run.advance_to(t_begin + static_cast<double>(k + 1) * opt.t0);
+        res.stats.add(run.flow().stats());
+        if (o != outcome::ok || run.flow().stats().sticking_phases > 0) {
+            res.status = o != outcome::ok ? o : outcome::sticking;
+            return;
+        }
+        const tangent_tally<VM, step_record<typename VM::state>> obs(
+            vm, run.record(), {&res.section_points, opt.record_points, k >= opt.warmup_intervals});
+        X = run.x();
+        t = run.t();
         mat<N> Y = VM::matrix(X);
         const vec<N> growth = reorthonormalise<N>(Y, 1.0);
         X = VM::pack(VM::point(X), Y, VM::divergence_integral(X));
