@@ -193,9 +193,20 @@ public:
         cells.insert(cells.end(), trail.begin(), trail.end());
         m_csv->text_row(cells);
     }
+    // Lead and trail columns that are numbers (parameter values, SI values).
+    void row(const std::vector<double>& lead, const R& r, const std::vector<double>& trail)
+    {
+        row(texts(lead), r, texts(trail));
+    }
     void close() { m_csv->close(); }
 
 private:
+    static std::vector<std::string> texts(const std::vector<double>& values)
+    {
+        std::vector<std::string> out;
+        for (const double v : values) out.push_back(format_double(v));
+        return out;
+    }
     table_context m_context;
     std::optional<csv_writer> m_csv;
 };

@@ -324,6 +324,7 @@ int run_basins(const basins_args& a)
     const run_config c = resolve(a.common);
     job_session session(a.jobs, c.out);
     const model& m = c.model;
+    const auto& info = c.info();
     const named_range ax = parse_named_range(a.x, "--x"), ay = parse_named_range(a.y, "--y");
     basins_options o;
     o.x_state = state_index(m, ax.name, "--x");
@@ -345,16 +346,17 @@ int run_basins(const basins_args& a)
         return si ? si->scales.of(si->dimensions.at(static_cast<std::size_t>(state))) : std::nan("");
     };
     const double fx = si_factor(o.x_state), fy = si_factor(o.y_state);
-    std::vector<std::string> h{ax.name, ay.name, "attractor", "label", "settled"};
+    // cells.csv: the start's two values, the cell as the library describes it, their SI values.
+    std::vector<std::string> h;
     if (std::isfinite(fx)) h.push_back(ax.name + "_si");
     if (std::isfinite(fy)) h.push_back(ay.name + "_si");
 
     // The cells stream in job order to cells.csv; the summary counts.
     long excluded = 0, unsettled = 0;
     streamed_output stream(c);
-    std::optional<csv_writer> cells;
+    std::optional<record_table<basin_cell>> cells;
     auto open = [&] {
-        if (!cells) cells.emplace(stream.get()->file("cells.csv"), h);
+        if (!cells) cells.emplace(stream, "cells.csv", table_context_for(info, "", -1), std::vector{ax.name, ay.name}, h);
     };
     auto each = [&](long job, const basin_cell& b) {
         if (!b.admissible) ++excluded;
@@ -363,11 +365,10 @@ int run_basins(const basins_args& a)
         open();
         const auto j = static_cast<std::size_t>(job);
         const double x = ax.values[j % nx], y = ay.values[j / nx];
-        std::vector<std::string> row{format_double(x), format_double(y), std::to_string(b.attractor), b.label.label,
-                                     b.label.settled ? "1" : "0"};
-        if (std::isfinite(fx)) row.push_back(format_double(x * fx));
-        if (std::isfinite(fy)) row.push_back(format_double(y * fy));
-        cells->text_row(row);
+        std::vector<double> si_cells;
+        if (std::isfinite(fx)) si_cells.push_back(x * fx);
+        if (std::isfinite(fy)) si_cells.push_back(y * fy);
+        cells->row({x, y}, b, si_cells);
     };
     const basins_result res = basins(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -384,6 +385,8 @@ int run_basins(const basins_args& a)
                     {"x", ax.name},
                     {"y", ay.name},
                     {"shape", {ny, nx}},
+                    {"x_values", ax.values.values()},
+                    {"y_values", ay.values.values()},
                     {"attractors", {{"count", res.attractors.size()}, {"labels", labels}, {"table", table}}},
                     {"inadmissible_cells", excluded},
                     {"unsettled", unsettled},
@@ -504,11 +507,12 @@ int run_response(const response_args& a)
         t.graze.assign(gcols.size(), json::array());
         if (si_gaps) t.clearance_si.assign(gcols.size(), json::array());
     }
-    std::vector<std::string> h{"curve"};
-    for (const int p : curve_params) h.push_back(info.parameters[static_cast<std::size_t>(p)].name);
-    append(h, {pname, "amplitude", vname + "_max", vname + "_min"});
-    append(h, gcols);
-    append(h, {"frequency", "converged"});
+    // response.csv: the curve's parameter values, the point as the library describes it, the SI columns.
+    std::vector<std::string> lead;
+    for (const int p : curve_params) lead.push_back(info.parameters[static_cast<std::size_t>(p)].name);
+    table_context context = table_context_for(info, pname, o.grazing.parameter);
+    context.variable = vname;
+    std::vector<std::string> h;
     const auto ccols = si_gaps ? surface_columns(info, "clearance_si") : std::vector<std::string>{};
     if (axis.si()) h.push_back(axis.si_name);
     if (c.si) {
@@ -542,9 +546,9 @@ int run_response(const response_args& a)
         return q;
     };
     streamed_output stream(c);
-    std::optional<csv_writer> w;
+    std::optional<record_table<response_point>> w;
     auto open = [&] {
-        if (!w) w.emplace(stream.get()->file("response.csv"), h);
+        if (!w) w.emplace(stream, "response.csv", context, lead, h);
     };
     auto each = [&](long, const response_point& r) {
         auto& t = tallies[static_cast<std::size_t>(r.curve)];
@@ -553,10 +557,11 @@ int run_response(const response_args& a)
         const si_point q = c.si ? in_si(r) : si_point{};
         if (std::isfinite(q.amplitude)) t.peak_si = std::max(t.peak_si, q.amplitude);
         if (!c.out) {
+            const auto& graze = o.grazing.parameter >= 0 ? r.grazing : r.margin;
             t.amplitude.push_back(finite_or_null(r.amplitude));
             t.frequency.push_back(finite_or_null(r.frequency));
             for (std::size_t s = 0; s < gcols.size(); ++s)
-                t.graze[s].push_back(finite_or_null(s < r.grazing.size() ? r.grazing[s] : std::nan("")));
+                t.graze[s].push_back(finite_or_null(s < graze.size() ? graze[s] : std::nan("")));
             if (c.si) {
                 t.amplitude_si.push_back(finite_or_null(q.amplitude));
                 t.frequency_si.push_back(finite_or_null(q.frequency));
@@ -565,18 +570,15 @@ int run_response(const response_args& a)
             return;
         }
         open();
-        std::vector<double> row{static_cast<double>(r.curve)};
-        for (const int p : curve_params) row.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
-        row.insert(row.end(), {r.value, r.amplitude, r.maximum, r.minimum});
-        for (std::size_t s = 0; s < gcols.size(); ++s) row.push_back(s < r.grazing.size() ? r.grazing[s] : std::nan(""));
-        row.insert(row.end(), {r.frequency, r.converged ? 1.0 : 0.0});
-        if (axis.si()) row.push_back(axis.si_value(c, r.value));
+        std::vector<double> lead_cells, si_cells;
+        for (const int p : curve_params) lead_cells.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
+        if (axis.si()) si_cells.push_back(axis.si_value(c, r.value));
         if (c.si) {
-            if (vdim != physical_dimension::none) row.insert(row.end(), {q.amplitude, q.maximum, q.minimum});
-            row.push_back(q.frequency);
-            row.insert(row.end(), q.clearance.begin(), q.clearance.end());
+            if (vdim != physical_dimension::none) si_cells.insert(si_cells.end(), {q.amplitude, q.maximum, q.minimum});
+            si_cells.push_back(q.frequency);
+            si_cells.insert(si_cells.end(), q.clearance.begin(), q.clearance.end());
         }
-        w->row(row);
+        w->row(lead_cells, r, si_cells);
     };
     const response_result res = response(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();

@@ -125,11 +125,7 @@ py::dict basins_run(const model& m, const py::dict& kw)
     bo.match.box_fraction = o.get<double>("box_fraction", bo.match.box_fraction);
     const auto analysis = [&](const job_options& c) { return basins(m, bo, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const basins_result& r) {
-        const auto& c = r.cells;
-        put_labels(d, c, [](const basin_cell& x) -> const period_label& { return x.label; }, m.surface_count());
-        d["outcome"] = string_list(c, [](const auto& x) { return to_string(x.status); });
-        d["steps"] = column<std::int64_t>(c, [](const auto& x) { return x.steps; });
-        d["attractor"] = column<std::int64_t>(c, [](const auto& x) { return x.attractor; });
+        d["records"] = record_arrays(r.cells, m.surface_count(), m.dim());
         py::list table;
         for (std::size_t i = 0; i < r.attractors.size(); ++i) {
             const auto& e = r.attractors[i];
@@ -174,17 +170,7 @@ py::dict response_run(const model& m, const py::dict& kw)
     (void)o.object("grazing");
     const auto analysis = [&](const job_options& c) { return response(m, ro, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const response_result& r) {
-        const auto& p = r.points;
-        d["amplitude"] = column<double>(p, [](const auto& x) { return x.amplitude; });
-        d["maximum"] = column<double>(p, [](const auto& x) { return x.maximum; });
-        d["minimum"] = column<double>(p, [](const auto& x) { return x.minimum; });
-        d["frequency"] = column<double>(p, [](const auto& x) { return x.frequency; });
-        std::vector<std::vector<double>> graze;
-        for (const auto& x : p) graze.push_back(x.grazing);
-        d["grazing"] = per_surface(graze, m.surface_count());
-        d["converged"] = column<bool>(p, [](const auto& x) { return x.converged; });
-        d["outcome"] = string_list(p, [](const auto& x) { return to_string(x.status); });
-        d["steps"] = column<std::int64_t>(p, [](const auto& x) { return x.stats.steps; });
+        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
     });
 }
 

@@ -373,14 +373,6 @@ def grazing(model, ic=None, *, param=None, variable=None, tol=_D["grazing_tol"],
 
 # ---------------------------------------------------------------- many-job analyses
 
-def _labels(d, shape, model):
-    by = np.asarray(d["impacts_by_surface"], dtype=np.int64)
-    return dict(label=_strings(d["label"], shape), period=d["period"].reshape(shape),
-                impacts=d["impacts"].reshape(shape), impacts_by_surface=by.reshape(shape + (by.shape[-1],)),
-                closure=d["closure"].reshape(shape), settled=d["settled"].reshape(shape),
-                outcome=_strings(d["outcome"], shape))
-
-
 @_with_defaults
 def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol=_D["period_tol"], grazing=False,
           transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
@@ -563,7 +555,7 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     Returns
     -------
     Basins
-        ``attractor`` (ny, nx) int64, ``label``, ``period``, ``outcome``, ``steps`` (ny, nx),
+        ``attractor`` (ny, nx) int64, ``label``, ``period``, ``settled``, ``outcome``, ``steps`` (ny, nx),
         ``attractors`` (list of Attractor: id, label, cells, cycle, box), ``jobs``.
     """
     model = _model(model)
@@ -577,16 +569,11 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     d, report = _run_jobs(lambda: _vimpact._basins(model._handle, o), o)
     if d is None:
         return report
-    shape = (len(ys), len(xs))
     attractors = [Attractor(id=a["id"], label=a["label"], cells=a["cells"], cycle=a["cycle"], box=a["box"])
                   for a in d["attractors"]]
-    labels = _labels(d, shape, model)
-    opts = _result_options(ic, o, "x_values", "y_values")
-    return Basins(x=xname, y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, match_tol=match_tol,
-                  attractor=d["attractor"].reshape(shape), label=labels["label"], period=labels["period"],
-                  outcome=labels["outcome"], settled=labels["settled"], steps=d["steps"].reshape(shape),
-                  attractors=attractors,
-                  stats=_job_stats(d, report), jobs=report, **_context(model, opts))
+    return Basins.of(d["records"], _context(model, _result_options(ic, o, "x_values", "y_values")), x=xname,
+                     y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, match_tol=match_tol,
+                     attractors=attractors, stats=_job_stats(d, report), jobs=report)
 
 
 @_with_defaults
@@ -631,7 +618,7 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
     Response
         ``values`` (n,), ``curves``; per curve and value, shape (c, n): ``amplitude``,
         ``maximum``, ``minimum``, ``frequency`` (float64), ``converged`` (bool), ``outcome``
-        (str), ``steps`` (int64); ``grazing`` (c, n, surfaces); ``jobs``.
+        (str), ``steps`` (int64); ``grazing`` and ``margin`` (c, n, surfaces); ``jobs``.
     """
     model = _model(model)
     var = model.state_names[0] if variable is None else variable
@@ -654,17 +641,10 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
     d, report = _run_jobs(lambda: _vimpact._response(model._handle, o), o)
     if d is None:
         return report
-    shape = (len(cs), len(vals))
-    opts = _result_options(ic, o, "values")
-    ctx = _context(model, opts)
+    ctx = _context(model, _result_options(ic, o, "values"))
     ctx["plot_variable"] = var
-    return Response(param=param, values=vals.copy(), curves=o["curves"], variable=var,
-                    amplitude=d["amplitude"].reshape(shape), maximum=d["maximum"].reshape(shape),
-                    minimum=d["minimum"].reshape(shape), frequency=d["frequency"].reshape(shape),
-                    grazing_param=gparam, grazing=d["grazing"].reshape(shape + (-1,)),
-                    converged=d["converged"].reshape(shape), outcome=_strings(d["outcome"], shape),
-                    steps=d["steps"].reshape(shape),
-                    stats=_job_stats(d, report), jobs=report, **ctx)
+    return Response.of(d["records"], ctx, param=param, values=vals.copy(), curves=o["curves"], variable=var,
+                       grazing_param=gparam, stats=_job_stats(d, report), jobs=report)
 
 
 @_with_defaults

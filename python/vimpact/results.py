@@ -925,18 +925,18 @@ class Basins(_Context):
     label : ndarray, str, shape (ny, nx)
         Its label (``inadmissible`` for a start beyond a surface).
     period : ndarray, int64, shape (ny, nx)
-        None when loaded.
     outcome : ndarray, str, shape (ny, nx)
-        None when loaded.
     settled : ndarray, bool, shape (ny, nx)
         False where a start's record has not settled (still converging, or periodic only in
         its last half: such a start may show a spurious attractor; lengthen the transient).
-        None when loaded.
     steps : ndarray, int64, shape (ny, nx)
         None when loaded.
     attractors : list of Attractor
     stats : dict
     jobs : JobReport
+    records : dict
+        Every field of the library's record of each cell by name, shape (ny, nx, ...)
+        (``read_tables``' form: the arrays above are taken from it).
     """
     x: str = ""
     y: str = ""
@@ -953,6 +953,7 @@ class Basins(_Context):
     attractors: list = field(default_factory=list)
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
+    records: dict = field(default_factory=dict)
 
     @property
     def inadmissible_cells(self):
@@ -964,23 +965,25 @@ class Basins(_Context):
                 f"{len(self.attractors)} attractor(s) {found}; {self.inadmissible_cells} inadmissible)")
 
     @classmethod
+    def of(cls, records, ctx, **run):
+        """Basins from the columns of their cells (``read_tables``, or the bindings'), the
+        context of the model and what the run says of itself (x, y, x_values, y_values,
+        attractors, ...)."""
+        r = _shaped(records, (len(run["y_values"]), len(run["x_values"])))
+        return cls(attractor=r["attractor"], label=r["label"], period=r["period"], outcome=r["outcome"],
+                   settled=r["settled"], steps=r.get("steps"), records=r, **run, **ctx)
+
+    @classmethod
     def load(cls, directory):
         """The result of ``vimpact basins --out DIR``."""
         ctx, res = _loaded(directory)
-        sx, sy = res["x"], res["y"]
-        ny, nx = res["shape"]
-        tab = read_table(os.path.join(directory, "cells.csv"))
-        xs = np.array(tab[sx], dtype=float)[:nx]
-        ys = np.array(tab[sy], dtype=float)[::nx]
-        table = res["attractors"]["table"] if isinstance(res["attractors"], dict) else res["attractors"]
-        attractors = []
-        for t in table:
-            pts = t.get("section_points") or t.get("cycle") or []
-            attractors.append(Attractor(id=t["id"], label=t["label"], cells=t["cells"],
-                                        cycle=np.array(pts, dtype=float).reshape(len(pts), -1) if pts
-                                        else np.empty((0, 0))))
-        return cls(x=sx, y=sy, x_values=xs, y_values=ys, attractor=np.array(tab["attractor"], dtype=np.int64)
-                   .reshape(ny, nx), label=_str_array(tab["label"], (ny, nx)), attractors=attractors, **ctx)
+        attractors = [Attractor(id=t["id"], label=t["label"], cells=t["cells"],
+                                cycle=np.array(t["section_points"], dtype=float).reshape(len(t["section_points"]), -1)
+                                if t["section_points"] else np.empty((0, 0)))
+                      for t in res["attractors"]["table"]]
+        return cls.of(read_tables(directory)["cells.csv"], ctx, x=res["x"], y=res["y"],
+                      x_values=np.array(res["x_values"], dtype=float), y_values=np.array(res["y_values"], dtype=float),
+                      attractors=attractors)
 
 
 @dataclass(repr=False)
@@ -1006,14 +1009,18 @@ class Response(_Context):
         The parameter whose grazing value ``grazing`` holds (None: ``grazing`` holds each
         surface's margin, the smallest gap).
     grazing : ndarray, float64, shape (c, n, surfaces)
+    margin : ndarray, float64, shape (c, n, surfaces)
+        The smallest gap of each surface on the surface-free orbit (negative: it crosses it).
     converged : ndarray, bool, shape (c, n)
         The minima settled (False: a quasi-periodic response, say).
     outcome : ndarray, str, shape (c, n)
-        None when loaded.
     steps : ndarray, int64, shape (c, n)
         None when loaded.
     stats : dict
     jobs : JobReport
+    records : dict
+        Every field of the library's record of each point by name, shape (c, n, ...)
+        (``read_tables``' form: the arrays above are taken from it).
     """
     param: str = ""
     values: np.ndarray = None
@@ -1025,11 +1032,13 @@ class Response(_Context):
     frequency: np.ndarray = None
     grazing_param: Optional[str] = None
     grazing: np.ndarray = None
+    margin: np.ndarray = None
     converged: np.ndarray = None
     outcome: Optional[np.ndarray] = None
     steps: Optional[np.ndarray] = None
     stats: dict = field(default_factory=dict)
     jobs: Optional[JobReport] = None
+    records: dict = field(default_factory=dict)
 
     @property
     def not_converged(self):
@@ -1046,32 +1055,23 @@ class Response(_Context):
         return f"Response(param={self.param!r}, {len(self.values)} values, {self.variable}; {peaks})"
 
     @classmethod
+    def of(cls, records, ctx, **run):
+        """A response from the columns of its points (``read_tables``, or the bindings'), the
+        context of its model and what the run says of itself (param, values, curves, ...)."""
+        r = _shaped(records, (len(run["curves"]), len(run["values"])))
+        return cls(amplitude=r["amplitude"], maximum=r["maximum"], minimum=r["minimum"], frequency=r["frequency"],
+                   grazing=r["grazing"] if run.get("grazing_param") else r["margin"], margin=r["margin"],
+                   converged=r["converged"], outcome=r["outcome"], steps=r.get("stats", {}).get("steps"), records=r,
+                   **run, **ctx)
+
+    @classmethod
     def load(cls, directory):
         """The result of ``vimpact response --out DIR``."""
         ctx, res = _loaded(directory)
-        param = res["param"]
-        data = read_csv(os.path.join(directory, "response.csv"))
-        # Each curve of run.json is its parameters (or a summary holding them as "parameters").
-        curves = [dict(c.get("parameters", c)) if isinstance(c, dict) else {} for c in res.get("curves", [{}])] \
-            or [{}]
-        c = len(curves)
-        n = len(data[param]) // c if c else 0
-        var = res.get("variable", ctx["plot_variable"])
-
-        def grid(*names):
-            for name in names:
-                if name in data:
-                    return data[name].reshape(c, n)
-            return np.full((c, n), np.nan)
-        # Grazing columns: PARAM_graze (one surface) or PARAM_graze_SURFACE, else grazing_*.
-        gcols = [k for k in data if "_graze" in k] or [k for k in data if k.startswith("grazing")]
-        g = np.column_stack([data[k] for k in gcols]) if gcols else np.full((c * n, 1), np.nan)
-        gparam = res.get("grazing_param") or (gcols[0].split("_graze")[0] if gcols and "_graze" in gcols[0] else None)
-        return cls(param=param, values=data[param][:n].copy(), curves=[{k: float(v) for k, v in cv.items()}
-                                                                      for cv in curves],
-                   variable=var, amplitude=grid("amplitude"), maximum=grid(f"{var}_max", "maximum"),
-                   minimum=grid(f"{var}_min", "minimum"), frequency=grid("frequency", "frequency_ratio"),
-                   grazing_param=gparam, grazing=g.reshape(c, n, -1), converged=grid("converged") != 0, **ctx)
+        records = read_tables(directory)["response.csv"]
+        curves = [{k: float(v) for k, v in c["parameters"].items()} for c in res["curves"]]
+        return cls.of(records, ctx, param=res["param"], values=records["value"][:len(records["value"]) // len(curves)],
+                      curves=curves, variable=res["variable"], grazing_param=res["grazing_param"])
 
 
 # ---------------------------------------------------------------- stability

@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "admissible_jobs.hpp"
-#include "io/json_codec.hpp"
+#include "io/record_json.hpp"
 #include "jobs/journal.hpp"
 
 namespace vimpact {
@@ -13,35 +13,17 @@ namespace {
 
 using detail::json;
 
-json encode(const basin_cell& c)
-{
-    json cycle = json::array();
-    for (const auto& p : c.signature.cycle) cycle.push_back(detail::vector_json(p));
-    return {{"admissible", c.admissible},
-            {"label", detail::to_json(c.label)},
-            {"status", std::string(to_string(c.status))},
-            {"steps", c.steps},
-            {"signature", {{"label", c.signature.label},
-                           {"period", c.signature.period},
-                           {"cycle", cycle},
-                           {"lo", detail::vector_json(c.signature.lo)},
-                           {"hi", detail::vector_json(c.signature.hi)}}}};
-}
+// A journal line: the cell as described and the signature its attractor is identified by.
+// The attractor's id (-1 in the line) is given as the cells are read back, in job order.
+struct basin_record {
+    basin_cell cell;
+};
 
-basin_cell decode(const json& j)
+template <class V, record_of<basin_record> R>
+void describe(V& v, R& r)
 {
-    basin_cell c;
-    c.admissible = j.at("admissible").get<bool>();
-    c.label = detail::label_from(j.at("label"));
-    c.status = detail::outcome_from(j.at("status"));
-    c.steps = j.at("steps").get<long>();
-    const auto& s = j.at("signature");
-    c.signature.label = s.at("label").get<std::string>();
-    c.signature.period = s.at("period").get<int>();
-    for (const auto& p : s.at("cycle")) c.signature.cycle.push_back(detail::vector_from(p));
-    c.signature.lo = detail::vector_from(s.at("lo"));
-    c.signature.hi = detail::vector_from(s.at("hi"));
-    return c;
+    describe(v, r.cell);
+    v.group(field{"signature", "what identifies the attractor the run reached"}, r.cell.signature);
 }
 
 }  // namespace
@@ -91,7 +73,7 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
     const int batch = resolve_batch(m, j.batch);
     // The admissible jobs run their protocols together as lanes free up (SIMD lanes where the
     // model allows).
-    auto stream = [&](const job_source& next, const job_sink<basin_cell>& done) {
+    auto stream = [&](const job_source& next, const job_sink<basin_record>& done) {
         simulate_stream(
             m, po, batch,
             detail::admissible_jobs(
@@ -106,7 +88,7 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
                     basin_cell c;
                     c.status = outcome::inadmissible;
                     c.label.label = std::string(to_string(c.status));
-                    done(pj.key, std::move(c));
+                    done(pj.key, {std::move(c)});
                 }),
             [&](protocol_job&& pj, simulation&& run) {
                 basin_cell c;
@@ -115,7 +97,7 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
                 c.status = run.status;
                 c.steps = run.stats.steps;
                 c.signature = signature_of(m, run, c.label);
-                done(pj.key, std::move(c));
+                done(pj.key, {std::move(c)});
             });
     };
     basins_result res;
@@ -123,8 +105,10 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
     attractor_catalogue catalogue(o.match);
     job_options jb = j;
     jb.batch = batch;
-    res.jobs = detail::run_journaled<basin_cell>(spec, {nx * ny, 0}, jb, job_streamer{stream}, encode, decode,
-                                                 [&](long job, basin_cell&& c) {
+    res.jobs = detail::run_journaled<basin_record>(spec, {nx * ny, 0}, jb, job_streamer{stream},
+                                                   detail::record_json<basin_record>,
+                                                   detail::record_from<basin_record>, [&](long job, basin_record&& r) {
+        basin_cell& c = r.cell;
         c.attractor = c.admissible ? catalogue.identify(c.signature) : -1;
         if (each) each(job, c);
         else res.cells.push_back(std::move(c));

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "io/json_codec.hpp"
+#include "io/record_json.hpp"
 #include "jobs/journal.hpp"
 #include "vimpact/core/format.hpp"
 
@@ -11,36 +11,6 @@ namespace vimpact {
 namespace {
 
 using detail::json;
-
-json encode(const response_point& p)
-{
-    return {{"curve", p.curve},
-            {"value", detail::number(p.value)},
-            {"amplitude", detail::number(p.amplitude)},
-            {"maximum", detail::number(p.maximum)},
-            {"minimum", detail::number(p.minimum)},
-            {"frequency", detail::number(p.frequency)},
-            {"grazing", detail::numbers(p.grazing)},
-            {"converged", p.converged},
-            {"status", std::string(to_string(p.status))},
-            {"stats", detail::to_json(p.stats)}};
-}
-
-response_point decode(const json& j)
-{
-    response_point p;
-    p.curve = j.at("curve").get<int>();
-    p.value = detail::number_from(j.at("value"));
-    p.amplitude = detail::number_from(j.at("amplitude"));
-    p.maximum = detail::number_from(j.at("maximum"));
-    p.minimum = detail::number_from(j.at("minimum"));
-    p.frequency = detail::number_from(j.at("frequency"));
-    p.grazing = detail::numbers_from(j.at("grazing"));
-    p.converged = j.at("converged").get<bool>();
-    p.status = detail::outcome_from(j.at("status"));
-    p.stats = detail::stats_from(j.at("stats"));
-    return p;
-}
 
 model curve_model(const model& m, const std::vector<std::pair<int, double>>& curve)
 {
@@ -100,14 +70,18 @@ response_result response(const model& m, const response_options& o, const job_op
         p.minimum = g.response_min;
         p.amplitude = std::max(std::abs(g.response_max), std::abs(g.response_min));
         p.frequency = g.response_omega;
-        for (const auto& s : g.surfaces) p.grazing.push_back(go.parameter >= 0 ? s.parameter_value : s.margin);
+        for (const auto& s : g.surfaces) {
+            p.grazing.push_back(s.parameter_value);
+            p.margin.push_back(s.margin);
+        }
         p.converged = g.converged;
         p.status = g.status;
         p.stats = g.stats;
         return p;
     };
     response_result res;
-    res.jobs = detail::run_journaled<response_point>(spec, {n * nc, 0}, j, run, encode, decode,
+    res.jobs = detail::run_journaled<response_point>(spec, {n * nc, 0}, j, run, detail::record_json<response_point>,
+                                                     detail::record_from<response_point>,
                                                      [&](long job, response_point&& p) {
                                                          if (each) each(job, p);
                                                          else res.points.push_back(std::move(p));

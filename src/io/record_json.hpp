@@ -21,6 +21,12 @@ inline json value_json(outcome v) { return std::string(to_string(v)); }
 inline json value_json(const std::vector<double>& v) { return numbers(v); }
 inline json value_json(const Eigen::VectorXd& v) { return vector_json(v); }
 inline json value_json(const state_series& v) { return to_json(v); }
+inline json value_json(const std::vector<Eigen::VectorXd>& v)
+{
+    json a = json::array();
+    for (const auto& x : v) a.push_back(vector_json(x));
+    return a;
+}
 template <class T>
     requires std::is_integral_v<T> || std::same_as<T, std::vector<long>>
 json value_json(const T& v)
@@ -33,6 +39,11 @@ inline void value_from(const json& j, outcome& v) { v = outcome_from(j); }
 inline void value_from(const json& j, std::vector<double>& v) { v = numbers_from(j); }
 inline void value_from(const json& j, Eigen::VectorXd& v) { v = vector_from(j); }
 inline void value_from(const json& j, state_series& v) { v = series_from(j); }
+inline void value_from(const json& j, std::vector<Eigen::VectorXd>& v)
+{
+    v.clear();
+    for (const auto& x : j) v.push_back(vector_from(x));
+}
 template <class T>
     requires std::is_integral_v<T> || std::same_as<T, std::string> || std::same_as<T, std::vector<long>>
 void value_from(const json& j, T& v)

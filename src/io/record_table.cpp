@@ -29,6 +29,7 @@ std::vector<std::string> column_names(const field& f, const table_context& c)
     std::string pattern(f.column.empty() ? f.name : f.column);
     replace_all(pattern, "{axis}", c.axis);
     replace_all(pattern, "{grazing}", c.grazing);
+    replace_all(pattern, "{variable}", c.variable);
     if (f.span != field_span::per_surface) return {pattern};
     std::vector<std::string> out;
     const bool placed = pattern.find("{surface}") != std::string::npos;

@@ -383,7 +383,14 @@ def test_basins_find_the_coexisting_attractors(vimpact, tmp_path):
     j = json.loads(p.stdout)
     assert sorted(j["attractors"]["labels"]) == ["P1", "P2"]
     assert j["inadmissible_cells"] == 5  # the column y = -0.2 is below the barrier
-    assert (out / "cells.csv").read_text().splitlines()[0] == "y,ydot,attractor,label,settled"
+    header, cells = read_rows(out / "cells.csv")
+    assert header == ["y", "ydot", "attractor", "label", "period", "impacts", "closure", "settled", "impacts_barrier",
+                      "outcome"]
+    assert j["x_values"] == [float(c["y"]) for c in cells[:6]] and j["y_values"] == [float(c["ydot"]) for c in cells[::6]]
+    # The same attractor, the same label; its id numbers the attractors in the order of the table.
+    for c in cells:
+        a = int(c["attractor"])
+        assert c["label"] == (j["attractors"]["labels"][a] if a >= 0 else "inadmissible")
     check_png(out / "plot.png")
 
 
@@ -408,16 +415,18 @@ def test_response_curves(vimpact, tmp_path):
     assert c["amplitude"][1] > max(c["amplitude"][0], c["amplitude"][2])
     # The model is odd-symmetric, (y, v, x, w) -> -(y, v, x, w), and so is its limit cycle:
     # the largest maximum of y equals minus the grazing value (the smallest minimum).
-    with open(out / "response.csv") as f:
-        header = f.readline().strip().split(",")
-        rows = [dict(zip(header, map(float, line.split(",")))) for line in f]
-    assert header == ["curve", "A", "eps", "Ur", "amplitude", "y_max", "y_min", "sigma_graze", "frequency", "converged"]
-    assert len(rows) == 6
-    assert [(r["A"], r["eps"]) for r in rows] == [(12, 0.3)] * 3 + [(10, 0.25)] * 3
+    header, text_rows = read_rows(out / "response.csv")
+    assert header == ["A", "eps", "curve", "Ur", "amplitude", "y_max", "y_min", "sigma_graze", "margin", "frequency",
+                      "converged", "outcome"]
+    rows = [{k: float(v) for k, v in r.items() if k != "outcome"} for r in text_rows]
+    assert len(rows) == 6 and all(r["outcome"] == "ok" for r in text_rows)
+    assert [(r["A"], r["eps"], r["curve"]) for r in rows] == [(12, 0.3, 0)] * 3 + [(10, 0.25, 1)] * 3
+    sigma = json.loads((out / "run.json").read_text())["config"]["parameters"]["sigma"]
     for row in rows:
         assert abs(row["y_max"] + row["sigma_graze"]) < 1e-9
         assert row["y_min"] == row["sigma_graze"]  # the barrier's grazing value is the minimum of y
         assert row["amplitude"] == max(row["y_max"], -row["sigma_graze"])
+        assert row["margin"] == pytest.approx(row["y_min"] - sigma, abs=1e-15)  # the gap y - sigma at that minimum
     check_png(out / "plot.png")
 
 

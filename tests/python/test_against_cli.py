@@ -24,6 +24,19 @@ def same(a, b):
         assert (a == b).all(), (a, b)
 
 
+def same_records(api, loaded):
+    """Every field of the record that the directory holds (all but the counters and final
+    states, which are not columns), by the library's description, as the module gives it."""
+    assert loaded.records and set(loaded.records) <= set(api.records)
+    for name, column in loaded.records.items():
+        if isinstance(column, dict):  # a group
+            assert set(column) == set(api.records[name])
+            for k in column:
+                same(api.records[name][k], column[k])
+        else:
+            same(api.records[name], column)
+
+
 def test_simulate(cli, tmp_path):
     out = tmp_path / "sim"
     p = cli("simulate", "--set", "Ur=21.5", *QA, "--dt", "0.05", "--out", out, "--no-plot")
@@ -70,10 +83,7 @@ def test_sweep_fixed_with_grazing(cli, tmp_path):
     assert set(s.statistics) == set(c.statistics)
     for name in s.statistics:
         same(s.statistics[name], c.statistics[name])
-    # Every field of the record that the directory holds, by the library's description.
-    assert set(c.records) - {"statistics"} <= set(s.records)
-    for name in set(c.records) - {"statistics"}:
-        same(s.records[name], c.records[name])
+    same_records(s, c)
     assert np.isfinite(s.grazing).all()
 
 
@@ -110,9 +120,12 @@ def test_basins(cli, tmp_path):
     b = vimpact.basins(vimpact.WakeImpact(Ur=14.9), x=("y", vimpact.grid(-0.2, 0.25, 4)),
                        y=("ydot", vimpact.grid(-0.2, 0.2, 3)), transient=300, record=40)
     c = vimpact.Basins.load(out)
-    for name in ("attractor", "label", "x_values", "y_values"):
+    for name in ("attractor", "label", "period", "settled", "outcome", "x_values", "y_values"):
         same(getattr(b, name), getattr(c, name))
+    same_records(b, c)
     assert [(a.id, a.label, a.cells) for a in b.attractors] == [(a.id, a.label, a.cells) for a in c.attractors]
+    for a, ca in zip(b.attractors, c.attractors):
+        same(a.cycle, ca.cycle)
 
 
 def test_response(cli, tmp_path):
@@ -123,9 +136,11 @@ def test_response(cli, tmp_path):
     r = vimpact.response(vimpact.WakeImpact(), "Ur", vimpact.grid(4, 8, 3),
                          curves=[{"A": 12, "eps": 0.3}, {"A": 10, "eps": 0.25}])
     c = vimpact.Response.load(out)
-    for name in ("values", "amplitude", "maximum", "minimum", "frequency", "converged", "grazing"):
+    for name in ("values", "amplitude", "maximum", "minimum", "frequency", "grazing", "margin", "converged",
+                 "outcome"):
         same(getattr(r, name), getattr(c, name))
-    assert c.curves == r.curves and c.grazing_param == "sigma"
+    assert c.curves == r.curves and c.grazing_param == "sigma" and c.variable == r.variable
+    same_records(r, c)
 
 
 def test_floquet(cli_json):

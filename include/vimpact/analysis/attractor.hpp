@@ -17,6 +17,8 @@
 
 #include <Eigen/Core>
 
+#include "vimpact/core/record.hpp"
+
 namespace vimpact {
 
 struct attractor_signature {
@@ -25,6 +27,17 @@ struct attractor_signature {
     std::vector<Eigen::VectorXd> cycle;    // the N section points of one cycle
     Eigen::VectorXd lo, hi;                // bounding box of all recorded section points
 };
+
+// Units "signature": the state's, with each phase a (cos, sin) pair scaled by period / 2 pi.
+template <class V, record_of<attractor_signature> S>
+void describe(V& v, S& s)
+{
+    v(field{"label", "the run's period label"}, s.label);
+    v(field{"period", "N when a cycle was found, else -1"}, s.period);
+    v(field{"cycle", "the N section points of one cycle", "signature"}, s.cycle);
+    v(field{"lo", "lower corner of the bounding box of the recorded section points", "signature"}, s.lo);
+    v(field{"hi", "its upper corner", "signature"}, s.hi);
+}
 
 struct attractor_match_options {
     double tolerance = 1e-6;

@@ -33,6 +33,21 @@ struct basin_cell {
     int attractor = -1;
 };
 
+// One row of cells.csv (after the start's two state values), one entry of Python's arrays.
+// The signature is the journal's only (the attractors table lists each attractor's).
+template <class V, record_of<basin_cell> C>
+void describe(V& v, C& c)
+{
+    v(field{"attractor", "the attractor reached, numbered in order of first appearance (-1: a start beyond a "
+                         "surface)"},
+      c.attractor);
+    describe(v, c.label);
+    v(field{"outcome", "ok, or how the run ended early (inadmissible: a start beyond a surface)"}, c.status);
+    v(field{"admissible", "the start lies on the admissible side of every surface", "", field_span::one, {}, false},
+      c.admissible);
+    v(field{"steps", "accepted steps", "", field_span::one, {}, false}, c.steps);
+}
+
 struct basins_result {
     std::vector<basin_cell> cells;  // job order: cell (ix, iy) is job ix + nx iy
     std::vector<attractor_catalogue::entry> attractors;  // ids in order of first appearance

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "vimpact/analysis/grazing.hpp"
+#include "vimpact/core/record.hpp"
 #include "vimpact/jobs/job_options.hpp"
 #include "vimpact/core/value_grid.hpp"
 
@@ -34,11 +35,37 @@ struct response_point {
     double maximum = std::numeric_limits<double>::quiet_NaN();
     double minimum = std::numeric_limits<double>::quiet_NaN();
     double frequency = std::numeric_limits<double>::quiet_NaN();  // angular, in the model's time
-    std::vector<double> grazing;    // per surface: the grazing parameter's value, or the margin
+    std::vector<double> grazing;    // per surface: the grazing parameter's value (NaN without one)
+    std::vector<double> margin;     // per surface: the smallest gap on the orbit
     bool converged = false;
     outcome status = outcome::ok;
     run_stats stats;
 };
+
+// One row of response.csv (after the curve's parameter values), one journal line, one entry
+// of Python's arrays. Unit "variable": that of the measured state variable.
+template <class V, record_of<response_point> P>
+void describe(V& v, P& p)
+{
+    v(field{"curve", "the curve (its parameter values in run.json's curves)"}, p.curve);
+    v(field{"value", "the varied parameter's value", "parameter", field_span::one, "{axis}"}, p.value);
+    v(field{"amplitude", "max(|maximum|, |minimum|) of the measured variable", "variable"}, p.amplitude);
+    v(field{"maximum", "its largest maximum over the last block of minima", "variable", field_span::one,
+            "{variable}_max"},
+      p.maximum);
+    v(field{"minimum", "its smallest minimum over the last block", "variable", field_span::one, "{variable}_min"},
+      p.minimum);
+    v(field{"grazing", "grazing value of the grazing parameter per surface", "parameter", field_span::per_surface,
+            "{grazing}_graze"},
+      p.grazing);
+    v(field{"margin", "smallest gap on the surface-free orbit per surface (negative: it crosses the surface)", "g",
+            field_span::per_surface},
+      p.margin);
+    v(field{"frequency", "angular frequency of the measured variable", "1/t"}, p.frequency);
+    v(field{"converged", "the minima settled (false: a quasi-periodic response, say)"}, p.converged);
+    v(field{"outcome", "ok, or how the run ended early"}, p.status);
+    v.group(field{"stats", "counters of the run", "", field_span::one, {}, false}, p.stats);
+}
 
 struct response_result {
     std::vector<response_point> points;  // job order: curve-major

@@ -28,13 +28,14 @@ struct field {
     std::string_view name;     // key in JSON, journal and Python; a column's name unless `column` says
     std::string_view meaning;  // for run.json's schema and the documentation
     std::string_view unit;     // in the model's units: "" for none; "parameter" for the unit of the
-                               // parameter a column is named after; t for time, g for gap
+                               // parameter a column is named after, "variable" for that of the
+                               // state variable a run measures; t for time, g for gap
     field_span span;
     // The column's name in a table when it is not `name`. "{axis}" is replaced by the name of
     // the parameter the run varies, "{grazing}" by the grazing parameter's (a field naming one
-    // that the run does not have is left out of the table); a per-surface field's columns are
-    // the name alone for one surface and name_SURFACE for several, unless the name says where
-    // the surface goes with "{surface}".
+    // that the run does not have is left out of the table), "{variable}" by the measured state
+    // variable's; a per-surface field's columns are the name alone for one surface and
+    // name_SURFACE for several, unless the name says where the surface goes with "{surface}".
     std::string_view column;
     bool tabular;              // false: journal and Python only (counters, final states)
 

@@ -22,6 +22,7 @@ struct table_context {
     std::string axis;                   // the parameter the run varies ("{axis}")
     std::string grazing;                // the grazing parameter, empty for none ("{grazing}")
     std::vector<std::string> surfaces;  // the model's surfaces, in order
+    std::string variable = {};          // the state variable a run measures ("{variable}")
 };
 
 struct model_info;
