@@ -37,10 +37,7 @@ struct sweep_request {
 struct floquet_args {
     common_args common;
     sweep_request sweep;
-    double tol = default_period_tolerance;
-    double newton_tol = floquet_options{}.newton_tolerance;
-    int newton_iterations = floquet_options{}.newton_iterations;
-    std::string impact_map = "saltation";
+    floquet_options options;  // what it declares; the protocol and tangent runs from common
 };
 
 struct lyapunov_args {
@@ -218,22 +215,13 @@ int run_floquet(const floquet_args& a)
     if (c.protocol.record_points < 2)
         throw input_error("--record must be >= 2 section points for floquet (got " +
                           std::to_string(c.protocol.record_points) + ")");
-    if (!(a.tol > 0.0) || !std::isfinite(a.tol)) throw input_error("--tol must be > 0 (got " + format_double(a.tol) + ")");
-    if (!(a.newton_tol > 0.0) || !std::isfinite(a.newton_tol))
-        throw input_error("--newton-tol must be > 0 (got " + format_double(a.newton_tol) + ")");
-    if (a.newton_iterations < 0 || a.newton_iterations > 1000)
-        throw input_error("--newton-iterations must be in [0, 1000] (got " + std::to_string(a.newton_iterations) + ")");
-    floquet_options fo;
+    floquet_options fo = a.options;
     fo.protocol = c.protocol;
-    fo.period_tolerance = a.tol;
-    fo.newton_tolerance = a.newton_tol;
-    fo.newton_iterations = a.newton_iterations;
     // The shooting and the monodromy need a map accurate to better than the 1e-11 closure.
     fo.tangent_integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
     fo.tangent_integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
     fo.tangent_integration.hold_band = c.protocol.flow.integration.hold_band;
     fo.tangent_integration.h_max = c.protocol.flow.integration.h_max;
-    fo.jump = parse_name(a.impact_map, monodromy_jumps, "--impact-map");
     validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
     if (c.si) c.plot_options["units"] = "si";  // the orbit in metres and m/s, the period in s
@@ -310,7 +298,7 @@ int run_floquet(const floquet_args& a)
         }
         text += r.stable() ? "stable: every nontrivial |mu| < 1\n" : "unstable: a nontrivial |mu| >= 1\n";
     } else if (r.status == outcome::aperiodic) {
-        text += "no periodic orbit within the period tolerance " + format_double(a.tol) +
+        text += "no periodic orbit within the period tolerance " + format_double(fo.period_tolerance) +
                 ": no multipliers (use `vimpact lyapunov`)\n";
     }
     if (c.out) text += "output written to " + c.out->string() + "\n";
@@ -572,12 +560,7 @@ cli_command add_floquet_command(CLI::App& app)
                                  "Newton shooting, and diagonalise its monodromy (saltation at impacts)");
     add_common_options(*f, a->common);
     add_si_option(*f, a->common);
-    f->add_option("--tol", a->tol, "Period tolerance for the label (default 1e-8)");
-    f->add_option("--newton-tol", a->newton_tol, "Closure |P^k(z) - z| to reach by Newton shooting (default 1e-11)");
-    f->add_option("--newton-iterations", a->newton_iterations, "Newton steps allowed (default 20)");
-    f->add_option("--impact-map", a->impact_map,
-                  "Tangent jump at impacts: saltation (default; correct), reset-jacobian or identity "
-                  "(both wrong, to show why saltation is needed)");
+    add_declared_options(*f, a->options);
     add_sweep_options(*f, a->sweep, "multipliers against it (Figures 14, 15)");
     return {f, [a] { return run_floquet(*a); }};
 }

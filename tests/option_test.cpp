@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "test_support.hpp"
+#include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 
 namespace vimpact {
@@ -83,6 +84,7 @@ void check_every_end()
 }
 
 TEST(Options, LyapunovRefusesEveryEndOfItsDeclaration) { check_every_end<lyapunov_options>(); }
+TEST(Options, FloquetRefusesEveryEndOfItsDeclaration) { check_every_end<floquet_options>(); }
 
 // The paper's r0 = 1e-4 and t0 = pi are the defaults; the ends the analysis needs hold.
 TEST(Options, LyapunovDeclaresThePapersDefaultsAndTheNeededEnds)

@@ -48,11 +48,8 @@ py::dict defaults()
     d["box_fraction"] = attractor_match_options{}.box_fraction;
     d["threads"] = jo.threads;
     const floquet_options fo;
-    d["newton_tol"] = fo.newton_tolerance;
-    d["newton_iterations"] = fo.newton_iterations;
     d["tangent_rtol"] = fo.tangent_integration.rtol;
     d["tangent_atol"] = fo.tangent_integration.atol;
-    d["impact_map"] = std::string(to_string(fo.jump));
     const continuation_options co;
     d["max_points"] = co.arclength.max_points;
     d["closure_tol"] = co.arclength.tolerance;
@@ -85,6 +82,7 @@ PYBIND11_MODULE(_vimpact, m)
     // those keyword arguments, their defaults and their documentation from it.
     py::dict declared;
     declared["lyapunov"] = vimpact::python::declarations<lyapunov_options>();
+    declared["floquet"] = vimpact::python::declarations<floquet_options>();
     m.attr("declared") = declared;
     m.def(
         "grid",

@@ -27,14 +27,10 @@ floquet_options floquet_of(const model& m, options& o)
 {
     floquet_options fo;
     fo.protocol = protocol_of(m, o);
-    fo.period_tolerance = o.need<double>("tol");
-    fo.newton_tolerance = o.get<double>("newton_tol", fo.newton_tolerance);
-    fo.newton_iterations = o.get<int>("newton_iterations", fo.newton_iterations);
+    read_declared(o, fo);
     fo.tangent_integration.rtol = o.get<double>("tangent_rtol", fo.tangent_integration.rtol);
     fo.tangent_integration.atol = o.get<double>("tangent_atol", fo.tangent_integration.atol);
     fo.tangent_integration.hold_band = fo.protocol.flow.integration.hold_band;  // as the command line does
-    fo.jump = parse_name(o.get<std::string>("impact_map", std::string(to_string(fo.jump))), monodromy_jumps,
-                         "impact_map");
     fo.sample_dt = o.get<double>("sample_dt", fo.sample_dt);
     return fo;
 }

@@ -815,10 +815,9 @@ def grid(a, b, n):
 
 # ---------------------------------------------------------------- stability
 
-def _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, sample_dt, tangent_rtol, tangent_atol,
-                     transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max):
-    return _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, tol=tol,
-                     newton_tol=newton_tol, newton_iterations=newton_iterations, impact_map=impact_map,
+def _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
+                     hold_band, method, quiet_time, t_max):
+    return _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, **declared,
                      sample_dt=sample_dt, tangent_rtol=tangent_rtol, tangent_atol=tangent_atol)
 
 
@@ -836,12 +835,10 @@ def _floquet_result(d, model, opts):
 
 
 @_with_defaults
-def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
-            newton_iterations=_D["newton_iterations"], impact_map=_D["impact_map"], sample_dt=0.0,
-            tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"], transient=_D["transient"],
-            record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
-            method=_D["method"],
-            quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+@_declares("floquet")
+def floquet(model, ic=None, *, sample_dt=0.0, tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"],
+            transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
+            hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], declared):
     """Floquet multipliers of the periodic orbit reached from ``ic`` (the paper's Algorithm 1).
 
     1. The protocol (see ``simulate``; on a section crossing) and its period label, as
@@ -859,14 +856,7 @@ def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"]
     model : Model
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
-    tol : float, default $period_tol
-        Period tolerance for the label.
-    newton_tol : float, default $newton_tol
-        Closure to reach by Newton shooting.
-    newton_iterations : int, default $newton_iterations
-    impact_map : {"saltation", "reset-jacobian", "identity"}, default $impact_map
-        The tangent jump at impacts in the final monodromy: saltation is correct; the last two
-        are wrong and there to show it (the trivial multiplier moves off 1).
+    <declared>
     sample_dt : float, default 0
         > 0: also sample the refined orbit over one period (``orbit``).
     tangent_rtol, tangent_atol : float, default $tangent_rtol, $tangent_atol
@@ -886,8 +876,8 @@ def floquet(model, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"]
     ('P2', True)
     """
     model = _model(model)
-    o = _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, sample_dt, tangent_rtol,
-                         tangent_atol, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max)
+    o = _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
+                         hold_band, method, quiet_time, t_max)
     d = _vimpact._floquet(model._handle, _ic(ic), o)
     return _floquet_result(d, model, _options(ic, **o))
 
@@ -969,19 +959,18 @@ def _per_value(call, model, param, values, ic, o, jobs, result):
 
 
 @_with_defaults
-def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton_tol=_D["newton_tol"],
-                  newton_iterations=_D["newton_iterations"], impact_map=_D["impact_map"],
-                  tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"], transient=_D["transient"],
-                  record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
-                  method=_D["method"],
-                  quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None,
-                  resume=False, shard=None, progress=None, keep_journal=False):
+@_declares("floquet")
+def floquet_sweep(model, param, values, ic=None, *, tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"],
+                  transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
+                  hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
+                  threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False,
+                  declared):
     """Floquet multipliers at every value of one parameter (the paper's Figures 14, 15).
 
     <per_value>
-    tol, newton_tol, newton_iterations, impact_map, tangent_rtol, tangent_atol
-        As for ``floquet`` (defaults $period_tol, $newton_tol, $newton_iterations,
-        $impact_map, $tangent_rtol, $tangent_atol).
+    <declared>
+    tangent_rtol, tangent_atol
+        As for ``floquet`` (defaults $tangent_rtol, $tangent_atol).
     <protocol>
     <jobs>
 
@@ -993,8 +982,8 @@ def floquet_sweep(model, param, values, ic=None, *, tol=_D["period_tol"], newton
         section points underneath), ``jobs``.
     """
     model = _model(model)
-    o = _floquet_options(model, tol, newton_tol, newton_iterations, impact_map, 0.0, tangent_rtol, tangent_atol,
-                         transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max)
+    o = _floquet_options(model, declared, 0.0, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
+                         hold_band, method, quiet_time, t_max)
     results, fields = _per_value(_vimpact._floquet_sweep, model, param, values, ic, o,
                                  _jobs(threads, journal, resume, shard, progress, keep_journal), _floquet_result)
     if fields is None:

@@ -18,11 +18,7 @@ void validate(const model& m, const floquet_options& o)
     if (o.protocol.record_points < 2)
         throw input_error("Floquet analysis needs at least 2 recorded section points (got " +
                           std::to_string(o.protocol.record_points) + ")");
-    check_period_tolerance(o.period_tolerance);
-    if (!(o.newton_tolerance > 0.0) || !std::isfinite(o.newton_tolerance))
-        throw input_error("Newton tolerance must be > 0 (got " + format_double(o.newton_tolerance) + ")");
-    if (o.newton_iterations < 0 || o.newton_iterations > 1000)
-        throw input_error("Newton iterations must be in [0, 1000] (got " + std::to_string(o.newton_iterations) + ")");
+    check_options(o);
     // A period of a few time units sampled at the bound is a few million samples; a smaller
     // step would only fill memory (and at 1e-300 never end).
     if (!(o.sample_dt == 0.0 || o.sample_dt >= 1e-6) || !std::isfinite(o.sample_dt))

@@ -159,7 +159,7 @@ BAD_INPUTS = [
     (["lyapunov", "--section", "minima"], "--section"),
     (["floquet", "--tol", "0"], "--tol"),
     (["floquet", "--newton-tol", "-1"], "--newton-tol"),
-    (["floquet", "--newton-iterations", "-2"], "--newton-iterations"),
+    (["floquet", "--newton-iterations", "-2"], "--newton-iterations = -2 is outside its valid range [0, 1000]"),
     (["floquet", "--record", "1"], "--record"),
 ]
 

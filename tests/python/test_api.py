@@ -381,3 +381,20 @@ def test_lyapunov_keywords_are_the_librarys_declaration():
         vimpact.lyapunov(vimpact.WakeImpact(), warmup=-1)
     with pytest.raises(TypeError, match="r1"):
         vimpact.lyapunov(vimpact.WakeImpact(), r1=1e-4)
+
+
+
+def test_floquet_keywords_are_the_librarys_declaration():
+    import inspect
+    declared = vimpact._vimpact.declared["floquet"]
+    assert {e["key"] for e in declared} == {"tol", "newton_tol", "newton_iterations", "impact_map"}
+    for f in (vimpact.floquet, vimpact.floquet_sweep):
+        sig = inspect.signature(f)
+        for e in declared:
+            assert sig.parameters[e["key"]].default == e["default"], e
+            assert f"    {e['key']} : " in f.__doc__, e["key"]
+    assert inspect.signature(vimpact.floquet).parameters["tol"].default == 1e-8  # the paper's Figures 2, 5
+    with pytest.raises(vimpact.InputError, match=r"^newton_iterations = 1001 is outside its valid range \[0, 1000\]$"):
+        vimpact.floquet(vimpact.WakeImpact(), newton_iterations=1001)
+    with pytest.raises(vimpact.InputError, match=r"impact_map 'none' is not one of saltation, reset-jacobian, identity"):
+        vimpact.floquet(vimpact.WakeImpact(), impact_map="none")

@@ -20,6 +20,8 @@
 
 #include <Eigen/Core>
 
+#include "vimpact/core/option.hpp"
+
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/tangent/impact_jump.hpp"
@@ -34,9 +36,23 @@ struct floquet_options {
     // Tolerances of the tangent runs: Newton closes the orbit to 1e-11 only if the map is that
     // accurate, so never looser than 1e-12 whatever the protocol's.
     integrator_options tangent_integration{.rtol = 1e-12, .atol = 1e-12};
+
     impact_tangent jump = impact_tangent::saltation;  // jump used in the final monodromy
     double sample_dt = 0.0;            // >= 1e-6: sample the refined orbit over one period
 };
+
+// What a user sets besides the protocol (the tangent runs' tolerances and the orbit samples
+// are set by each front end).
+template <class V, record_of<floquet_options> O>
+void declare(V& v, O& o)
+{
+    v(option{"tol", "period tolerance for the label", above(0.0)}, o.period_tolerance);
+    v(option{"newton_tol", "closure |P^k(z) - z| to reach by Newton shooting", above(0.0)}, o.newton_tolerance);
+    v(option{"newton_iterations", "Newton steps allowed", between(0.0, 1000.0)}, o.newton_iterations);
+    v(option{"impact_map", "jump at the impacts in the final monodromy: the saltation matrix, the reset's Jacobian "
+                           "alone, or none (the last two to show what the saltation corrects)"},
+      o.jump, monodromy_jumps);
+}
 
 struct floquet_result {
     // ok, not_converged (Newton missed its tolerance; multipliers given), aperiodic, sticking,
