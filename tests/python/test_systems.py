@@ -168,3 +168,27 @@ def test_ctrl_c_stops_a_long_call(system, call):
     out, err = proc.communicate(timeout=30)
     assert "KeyboardInterrupt interrupted" in out and "finished" not in out, out + err
     assert time.perf_counter() - sent < 1.0
+
+
+def test_a_model_file_steps_as_its_builtin_and_as_simulate(two_sided_file):
+    """The systems of a model file (the function-table engine) step like the built-in to 1e-9
+    (separately compiled code, last bits may differ) and, on the file itself, give simulate's
+    section times bit for bit and its states to 1e-12: the systems' and the protocol's
+    table-model code are separate translation units, compiled with the compiler free to fuse a
+    multiply and an add (only the built-ins' are not), so a last bit can differ."""
+    builtin = vimpact.TwoSidedImpactOscillator()
+    a, b = vimpact.SectionSystem(builtin), vimpact.SectionSystem(two_sided_file)
+    ta, xa = a.points(20)
+    tb, xb = b.points(20)
+    assert a.status == b.status == "ok"
+    np.testing.assert_allclose(tb, ta, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(xb, xa, rtol=1e-9, atol=1e-9)
+    s = vimpact.simulate(two_sided_file, transient=0, record=20)
+    assert np.array_equal(tb, s.section_t)
+    np.testing.assert_allclose(xb, s.section, rtol=1e-12, atol=1e-12)
+    h = vimpact.HybridSystem(two_sided_file)
+    h.advance_to(5.0)
+    g = vimpact.HybridSystem(builtin)
+    g.advance_to(5.0)
+    assert h.time == g.time == 5.0 and h.status == "ok"
+    np.testing.assert_allclose(h.state, g.state, rtol=1e-9, atol=1e-9)
