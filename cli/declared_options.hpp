@@ -35,7 +35,12 @@ struct option_adder {
     {
         std::string help = sentence(o.help);
         if constexpr (std::is_same_v<T, bool>) {
-            help += " (default " + std::string(v ? "true" : "false") + ")";
+            // Off by default: a flag (--key, or --key=false); on by default: --key false.
+            if (!v) {
+                app.add_flag(command_line_key(o.key), v, help);
+                return;
+            }
+            help += " (default true)";
         } else {
             help += " (default " + format_double(static_cast<double>(v));
             if (std::isfinite(o.range.lower) || std::isfinite(o.range.upper)) help += "; " + o.range.text();

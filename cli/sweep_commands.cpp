@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "commands.hpp"
+#include "declared_options.hpp"
 #include "job_runner.hpp"
 #include "output.hpp"
 #include "parse.hpp"
@@ -28,11 +29,6 @@ namespace fs = std::filesystem;
 
 namespace vimpact::cli {
 namespace {
-
-void check_tolerance(double tol, const std::string& what)
-{
-    if (!(tol > 0.0) || !std::isfinite(tol)) throw input_error(what + " must be > 0 (got " + format_double(tol) + ")");
-}
 
 // Column names of per-surface values of `prefix` (P_graze, margin): one surface, the prefix
 // alone; several, the prefix and the surface name.
@@ -65,9 +61,7 @@ struct sweep_args {
     common_args common;
     job_args jobs;
     std::string param, range;
-    std::string ic_mode = "fixed";
-    std::string direction = "up";
-    double tol = default_period_tolerance;
+    sweep_options options;  // what it declares
     std::string grazing;
     std::string color_by = "none";
     CLI::Option* grazing_option = nullptr;
@@ -80,21 +74,15 @@ int run_sweep(const sweep_args& a)
     job_session session(a.jobs, c.out);
     const model& m = c.model;
     const auto& info = c.info();
-    sweep_options o;
+    sweep_options o = a.options;
     const axis_values axis = resolve_axis(c, a.param, parse_range(a.range, "--range"), "--param");
     o.parameter = axis.parameter;
     o.values = axis.values;
     warn_validity(c, {m.with_parameter(o.parameter, o.values.front()), m.with_parameter(o.parameter, o.values.back())});
     o.initial_state = c.ic;
-    if (a.ic_mode != "fixed" && a.ic_mode != "follow")
-        throw input_error("--ic-mode '" + a.ic_mode + "' is not one of fixed, follow");
-    o.follow = a.ic_mode == "follow";
-    o.direction = parse_name(a.direction, all_sweep_directions, "--direction");
-    if (o.direction == sweep_direction::both && !o.follow)
+    if (o.direction == sweep_direction::both && o.start != sweep_start::follow)
         throw input_error("--direction both needs --ic-mode follow (with fixed starts both directions are the same runs)");
     o.protocol = c.protocol;
-    check_tolerance(a.tol, "--tol");
-    o.period_tolerance = a.tol;
     if (a.grazing_option->count() > 0) {
         o.grazing_parameter = a.grazing.empty() ? first_gap_parameter(m) : parameter_index(m, a.grazing, "--grazing");
         if (o.grazing_parameter < 0)
@@ -162,7 +150,7 @@ int run_sweep(const sweep_args& a)
 
     const json counts = tally.counts();
     json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
-                    {"ic_mode", a.ic_mode},       {"direction", a.direction}, {"section_points", npoints},
+                    {"ic_mode", to_string(o.start)}, {"direction", to_string(o.direction)}, {"section_points", npoints},
                     {"label_counts", counts},     {"unsettled", unsettled},  {"batch", res.jobs.batch},
                     {"statistics_columns", statistics_columns()}, {"out", out_json(c)}};
     // Each point's label: in labels.csv with --out (the summary stays the same size whatever
@@ -175,8 +163,8 @@ int run_sweep(const sweep_args& a)
         summary["grazing_param"] = info.parameters[static_cast<std::size_t>(o.grazing_parameter)].name;
     if (!axis.si_name.empty()) summary["si_param"] = axis.si_name;
     if (c.si) summary["si"] = si_json(*c.si, m);
-    std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" + a.ic_mode +
-                       " starts): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
+    std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" +
+                       std::string(to_string(o.start)) + " starts): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
         open();
         pts->close();
@@ -195,8 +183,7 @@ struct map_args {
     common_args common;
     job_args jobs;
     std::string x, y;
-    double tol = default_period_tolerance;
-    bool grazing = false;
+    map_options options;  // what it declares
 };
 
 int run_map(const map_args& a)
@@ -207,7 +194,7 @@ int run_map(const map_args& a)
     const auto& info = c.info();
     const named_range ax = parse_named_range(a.x, "--x"), ay = parse_named_range(a.y, "--y");
     const axis_values sx = resolve_axis(c, ax.name, ax.values, "--x"), sy = resolve_axis(c, ay.name, ay.values, "--y");
-    map_options o;
+    map_options o = a.options;
     o.x = {sx.parameter, sx.values};
     o.y = {sy.parameter, sy.values};
     const auto at = [&](std::size_t ix, std::size_t iy) {
@@ -219,9 +206,6 @@ int run_map(const map_args& a)
     // The axes by the model's parameters (an SI axis adds its own columns).
     const named_range mx{info.parameters[static_cast<std::size_t>(o.x.parameter)].name, o.x.values};
     const named_range my{info.parameters[static_cast<std::size_t>(o.y.parameter)].name, o.y.values};
-    check_tolerance(a.tol, "--tol");
-    o.period_tolerance = a.tol;
-    o.grazing = a.grazing;
     const std::size_t nx = mx.values.size(), ny = my.values.size();
     // labels.csv: the cell's parameter values, the cell as the library describes it, the SI columns.
     std::vector<std::string> lh;
@@ -315,8 +299,7 @@ struct basins_args {
     common_args common;
     job_args jobs;
     std::string x, y;
-    double tol = default_period_tolerance;
-    double match_tol = attractor_match_options{}.tolerance;
+    basins_options options;  // what it declares
 };
 
 int run_basins(const basins_args& a)
@@ -326,17 +309,13 @@ int run_basins(const basins_args& a)
     const model& m = c.model;
     const auto& info = c.info();
     const named_range ax = parse_named_range(a.x, "--x"), ay = parse_named_range(a.y, "--y");
-    basins_options o;
+    basins_options o = a.options;
     o.x_state = state_index(m, ax.name, "--x");
     o.y_state = state_index(m, ay.name, "--y");
     o.x_values = ax.values;
     o.y_values = ay.values;
     o.initial_state = c.ic;
     o.protocol = c.protocol;
-    check_tolerance(a.tol, "--tol");
-    o.period_tolerance = a.tol;
-    check_tolerance(a.match_tol, "--match-tol");
-    o.match.tolerance = a.match_tol;
     const std::size_t nx = ax.values.size(), ny = ay.values.size();
     warn_validity(c, {m});
     // With --si: the initial displacement or velocity of each axis also in SI (the axes that are
@@ -417,7 +396,7 @@ struct response_args {
     common_args common;
     job_args jobs;
     std::string param, range, curves, variable;
-    double transient_time = grazing_options{}.transient_time;
+    response_options options;  // what it declares: the surface-free run's
 };
 
 // "A=14,eps=0.35;A=12,eps=0.3": each curve a list of NAME=VALUE.
@@ -448,16 +427,14 @@ int run_response(const response_args& a)
     job_session session(a.jobs, c.out);
     const model& m = c.model;
     const auto& info = c.info();
-    response_options o;
+    response_options o = a.options;
     const axis_values axis = resolve_axis(c, a.param, parse_range(a.range, "--range"), "--param");
     o.parameter = axis.parameter;
     o.values = axis.values;
     o.curves = parse_curves(a.curves, m);
     o.variable = a.variable.empty() ? 0 : state_index(m, a.variable, "--variable");
     o.initial_state = c.ic;
-    if (!(a.transient_time >= 0.0) || !std::isfinite(a.transient_time))
-        throw input_error("--transient-time must be >= 0 (got " + format_double(a.transient_time) + ")");
-    o.grazing = job_grazing_options(c.protocol.flow.integration, a.transient_time);
+    o.grazing.integration = job_grazing_options(c.protocol.flow.integration).integration;
     o.grazing.method = c.protocol.method;
     o.grazing.parameter = first_gap_parameter(m);
     const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
@@ -648,10 +625,7 @@ cli_command add_sweep_command(CLI::App& app)
                   "Parameter to vary (`vimpact models` lists a model's parameters; with --si also U [m/s] or gap [m])")
         ->required();
     s->add_option("--range", a->range, "Values a:b:n (from a to b, n points)")->required();
-    s->add_option("--ic-mode", a->ic_mode,
-                  "fixed (every point from --ic, the paper's way) or follow (from the previous point's final state)");
-    s->add_option("--direction", a->direction, "up, down, or both (both needs --ic-mode follow)");
-    s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
+    add_declared_options(*s, a->options);
     a->grazing_option = s->add_option("--grazing", a->grazing,
                                       "Also the grazing value of parameter P (default: the first that moves a surface "
                                       "without entering the vector field) at each point, per surface")
@@ -672,9 +646,7 @@ cli_command add_map_command(CLI::App& app)
     add_job_options(*s, a->jobs);
     s->add_option("--x", a->x, "Horizontal axis P:a:b:n (with --si P may be U [m/s] or gap [m])")->required();
     s->add_option("--y", a->y, "Vertical axis Q:c:d:m")->required();
-    s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8; the paper's Fig. 4 used 1e-5)");
-    s->add_flag("--grazing", a->grazing,
-                "The grazing line: the grazing value of the axis parameter that moves a surface, against the other");
+    add_declared_options(*s, a->options);
     return {s, [a] { return run_map(*a); }};
 }
 
@@ -690,8 +662,7 @@ cli_command add_basins_command(CLI::App& app)
                   "also with --si)")
         ->required();
     s->add_option("--y", a->y, "Vertical axis T:c:d:m")->required();
-    s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
-    s->add_option("--match-tol", a->match_tol, "Section points closer than this are the same attractor (default 1e-6)");
+    add_declared_options(*s, a->options);
     return {s, [a] { return run_basins(*a); }};
 }
 
@@ -711,7 +682,7 @@ cli_command add_response_command(CLI::App& app)
                   "Several curves, each a list of parameter values: 'A=14,eps=0.35;A=12,eps=0.3' (default: one curve at "
                   "the configured values)");
     s->add_option("--variable", a->variable, "The state variable measured (default the model's first)");
-    s->add_option("--transient-time", a->transient_time, "Time discarded before measuring (default 1000)");
+    add_declared_options(*s, a->options);
     return {s, [a] { return run_response(*a); }};
 }
 

@@ -426,7 +426,7 @@ TEST(ContinuationPaper, PeriodDoublingOfP1AgreesWithFloquetAndTheSweep)
     // From the branch's orbit (P1 and P2 coexist there: the paper's start goes to P2).
     for (const auto& p : res.branches[0].points)
         if (p.parameter <= so.values.front()) so.initial_state = p.state;
-    so.follow = true;
+    so.start = vimpact::sweep_start::follow;
     vimpact::job_options jo;
     jo.threads = 1;
     const auto sw = vimpact::sweep(vimpact::test::with(m, "Ur", 14.94), so, jo);

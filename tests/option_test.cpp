@@ -6,8 +6,13 @@
 #include <vector>
 
 #include "test_support.hpp"
+#include "vimpact/analysis/basins.hpp"
 #include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/analysis/map.hpp"
+#include "vimpact/analysis/response.hpp"
+#include "vimpact/analysis/sweep.hpp"
 
 namespace vimpact {
 namespace {
@@ -85,6 +90,56 @@ void check_every_end()
 
 TEST(Options, LyapunovRefusesEveryEndOfItsDeclaration) { check_every_end<lyapunov_options>(); }
 TEST(Options, FloquetRefusesEveryEndOfItsDeclaration) { check_every_end<floquet_options>(); }
+TEST(Options, SweepRefusesEveryEndOfItsDeclaration) { check_every_end<sweep_options>(); }
+TEST(Options, MapRefusesEveryEndOfItsDeclaration) { check_every_end<map_options>(); }
+TEST(Options, BasinsRefusesEveryEndOfItsDeclaration) { check_every_end<basins_options>(); }
+TEST(Options, GrazingRefusesEveryEndOfItsDeclaration) { check_every_end<grazing_options>(); }
+TEST(Options, ResponseRefusesEveryEndOfItsDeclaration) { check_every_end<response_options>(); }
+
+// The option_error of `call`, whose key must be `key`: the analysis checked its declaration
+// before computing anything.
+template <class Call>
+void refuses_key(const std::string& key, Call&& call)
+{
+    try {
+        call();
+        ADD_FAILURE() << key << " out of range was accepted";
+    } catch (const option_error& e) {
+        EXPECT_EQ(e.key(), key) << e.what();
+    }
+}
+
+// Each grid analysis checks its declared options at its entry (the front ends check none), so
+// a value outside the ranges the analyses needed before the declarations (a period tolerance
+// > 0, a match tolerance > 0, a transient time >= 0, a block of >= 1 minima) is refused.
+TEST(Options, GridAnalysesCheckTheirDeclarationsAtTheirEntry)
+{
+    const model m = test::paper(16.0);
+    const int ur = m.info().parameter_index("Ur"), sigma = m.info().parameter_index("sigma");
+    sweep_options s;
+    s.parameter = ur;
+    s.values = value_grid::range(15.0, 16.0, 2);
+    s.period_tolerance = 0.0;
+    refuses_key("tol", [&] { (void)sweep(m, s); });
+    map_options mo;
+    mo.x = {ur, value_grid::range(15.0, 16.0, 2)};
+    mo.y = {sigma, value_grid::range(-0.16, -0.15, 2)};
+    mo.period_tolerance = -1e-8;
+    refuses_key("tol", [&] { (void)map2d(m, mo); });
+    basins_options b;
+    b.x_values = value_grid::range(-0.1, 0.1, 2);
+    b.y_values = value_grid::range(-0.1, 0.1, 2);
+    b.match.tolerance = 0.0;
+    refuses_key("match_tol", [&] { (void)basins(m, b); });
+    response_options r;
+    r.parameter = ur;
+    r.values = value_grid::range(15.0, 16.0, 2);
+    r.grazing.transient_time = -1.0;
+    refuses_key("transient_time", [&] { (void)response(m, r); });
+    grazing_options g;
+    g.block = 0;
+    refuses_key("block", [&] { (void)grazing(m, test::paper_ic(), g); });
+}
 
 // The paper's r0 = 1e-4 and t0 = pi are the defaults; the ends the analysis needs hold.
 TEST(Options, LyapunovDeclaresThePapersDefaultsAndTheNeededEnds)

@@ -174,7 +174,7 @@ sweep_options short_sweep()
     o.values = grid_values(14.0, 20.0, 12);
     o.protocol.transient_impacts = 60;
     o.protocol.record_points = 20;
-    o.follow = true;
+    o.start = sweep_start::follow;
     o.direction = sweep_direction::both;
     return o;
 }

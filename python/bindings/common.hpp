@@ -445,15 +445,6 @@ inline protocol_options protocol_of(const model& m, options& o)
     return po;
 }
 
-// The surface-free run's keys (as in vimpact.grazing and vimpact.response).
-inline void read_grazing_run(options& o, grazing_options& go)
-{
-    read_integration(o, go.integration, go.method);
-    go.transient_time = o.get<double>("transient_time", go.transient_time);
-    go.block = o.get<int>("block", go.block);
-    go.tolerance = o.get<double>("tol", go.tolerance);
-    go.t_max = o.get<double>("t_max", go.t_max);
-}
 
 // ---------------------------------------------------------------- job options
 

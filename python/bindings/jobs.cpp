@@ -26,13 +26,6 @@
 namespace vimpact::python {
 namespace {
 
-bool follow_of(const std::string& s)
-{
-    if (s == "fixed") return false;
-    if (s == "follow") return true;
-    throw input_error("ic_mode '" + s + "' is not one of fixed, follow");
-}
-
 // Per-job labels as columns.
 template <class Range, class Label>
 void put_labels(py::dict& d, const Range& items, Label&& label_of, int surfaces)
@@ -72,11 +65,8 @@ py::dict sweep_run(const model& m, const py::dict& kw)
     options o(kw);
     sweep_options so;
     read_parameter_values(m, o, so);
-    so.follow = follow_of(o.get<std::string>("ic_mode", "fixed"));
-    so.direction = parse_name(o.get<std::string>("direction", std::string(to_string(so.direction))),
-                              all_sweep_directions, "direction");
+    read_declared(o, so);
     so.protocol = protocol_of(m, o);
-    so.period_tolerance = o.need<double>("tol");
     if (o.has("grazing")) so.grazing_parameter = parameter_index(m, o.need<std::string>("grazing"), "grazing");
     (void)o.object("grazing");
     const auto analysis = [&](const job_options& c) { return sweep(m, so, c); };
@@ -97,8 +87,7 @@ py::dict map_run(const model& m, const py::dict& kw)
     mo.y.values = values_of(o.object("y_values"), "y values");
     mo.initial_state = state_of(m, o.object("ic"), "ic");
     mo.protocol = protocol_of(m, o);
-    mo.period_tolerance = o.need<double>("tol");
-    mo.grazing = o.get<bool>("grazing", false);
+    read_declared(o, mo);
     const auto analysis = [&](const job_options& c) { return map2d(m, mo, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const map_result& r) {
         d["records"] = record_arrays(r.cells, m.surface_count(), m.dim());
@@ -120,9 +109,7 @@ py::dict basins_run(const model& m, const py::dict& kw)
     bo.y_values = values_of(o.object("y_values"), "y values");
     bo.initial_state = state_of(m, o.object("ic"), "ic");
     bo.protocol = protocol_of(m, o);
-    bo.period_tolerance = o.need<double>("tol");
-    bo.match.tolerance = o.get<double>("match_tol", bo.match.tolerance);
-    bo.match.box_fraction = o.get<double>("box_fraction", bo.match.box_fraction);
+    read_declared(o, bo);
     const auto analysis = [&](const job_options& c) { return basins(m, bo, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const basins_result& r) {
         d["records"] = record_arrays(r.cells, m.surface_count(), m.dim());
@@ -165,7 +152,8 @@ py::dict response_run(const model& m, const py::dict& kw)
     ro.variable = state_index(m, o.need<std::string>("variable"), "variable");
     ro.initial_state = state_of(m, o.object("ic"), "ic");
     grazing_options& go = ro.grazing;
-    read_grazing_run(o, go);
+    read_integration(o, go.integration, go.method);
+    read_declared(o, ro);
     if (o.has("grazing")) go.parameter = parameter_index(m, o.need<std::string>("grazing"), "grazing");
     (void)o.object("grazing");
     const auto analysis = [&](const job_options& c) { return response(m, ro, c); };

@@ -6,12 +6,14 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
-#include "vimpact/analysis/attractor.hpp"
+#include "vimpact/analysis/basins.hpp"
 #include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/analysis/map.hpp"
+#include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/io/build_info.hpp"
 
@@ -38,14 +40,9 @@ py::dict defaults()
     d["quiet_time"] = po.quiet_time;
     d["t_max"] = po.flow.t_max;
     d["period_tol"] = default_period_tolerance;
-    d["grazing_tol"] = go.tolerance;
     d["grazing_transient_time"] = go.transient_time;
     d["grazing_rtol"] = go.integration.rtol;
     d["grazing_atol"] = go.integration.atol;
-    d["grazing_block"] = go.block;
-    d["grazing_t_max"] = go.t_max;
-    d["match_tol"] = attractor_match_options{}.tolerance;
-    d["box_fraction"] = attractor_match_options{}.box_fraction;
     d["threads"] = jo.threads;
     const floquet_options fo;
     d["tangent_rtol"] = fo.tangent_integration.rtol;
@@ -83,6 +80,11 @@ PYBIND11_MODULE(_vimpact, m)
     py::dict declared;
     declared["lyapunov"] = vimpact::python::declarations<lyapunov_options>();
     declared["floquet"] = vimpact::python::declarations<floquet_options>();
+    declared["sweep"] = vimpact::python::declarations<sweep_options>();
+    declared["map"] = vimpact::python::declarations<map_options>();
+    declared["basins"] = vimpact::python::declarations<basins_options>();
+    declared["grazing"] = vimpact::python::declarations<grazing_options>();
+    declared["response"] = vimpact::python::declarations<response_options>();
     m.attr("declared") = declared;
     m.def(
         "grid",

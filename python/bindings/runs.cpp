@@ -82,7 +82,8 @@ py::dict period(const model& m, const py::object& ic, const py::dict& kw)
 grazing_options grazing_of(const model& m, options& o)
 {
     grazing_options go;
-    read_grazing_run(o, go);
+    read_integration(o, go.integration, go.method);
+    read_declared(o, go);
     // None: each surface's own gap parameter (the library's rule).
     go.parameter = o.has("param") ? parameter_index(m, o.need<std::string>("param"), "param") : each_surface_gap_parameter;
     (void)o.object("param");

@@ -309,9 +309,9 @@ def _default_gap_parameter(model):
 
 
 @_with_defaults
-def grazing(model, ic=None, *, param=None, variable=None, tol=_D["grazing_tol"],
-            transient_time=_D["grazing_transient_time"], rtol=_D["grazing_rtol"], atol=_D["grazing_atol"],
-            method=_D["method"], block=_D["grazing_block"], t_max=_D["grazing_t_max"]):
+@_declares("grazing")
+def grazing(model, ic=None, *, param=None, variable=None, rtol=_D["grazing_rtol"], atol=_D["grazing_atol"],
+            method=_D["method"], declared):
     """Where the attracting surface-free orbit just touches each surface.
 
     The system runs with every surface switched off from ``ic``; after ``transient_time`` the
@@ -334,17 +334,10 @@ def grazing(model, ic=None, *, param=None, variable=None, tol=_D["grazing_tol"],
     variable : str, optional
         Also measure the response of this state variable: its largest and smallest extremum
         over the last block and its angular frequency (see ``response``).
-    tol : float, default $grazing_tol
-        Agreement of successive block minima.
-    transient_time : float, default $grazing_transient_time
-        Time discarded before minima count.
+    <declared>
     rtol, atol : float, default $grazing_rtol, $grazing_atol
         Tolerances (the grazing value is wanted to about 1e-9).
     method : {"dop853", "dopri5"}, default $method
-    block : int, default $grazing_block
-        Minima per block.
-    t_max : float, default $grazing_t_max
-        Give up (``converged`` False, outcome ``time_limit``) at this time.
 
     Returns
     -------
@@ -361,8 +354,7 @@ def grazing(model, ic=None, *, param=None, variable=None, tol=_D["grazing_tol"],
     -0.150298
     """
     model = _model(model)
-    o = dict(param=param, variable=variable, tol=tol, transient_time=transient_time, rtol=rtol, atol=atol,
-             method=method, block=block, t_max=t_max)
+    o = dict(declared, param=param, variable=variable, rtol=rtol, atol=atol, method=method)
     d = _vimpact._grazing(model._handle, _ic(ic), o)
     return Grazing(param=tuple(d["param"]), value=np.array(d["value"], dtype=float), margin=d["margin"], converged=d["converged"],
                    surface_converged=d["surface_converged"], change=d["change"], t=d["t"], x=d["x"],
@@ -374,11 +366,11 @@ def grazing(model, ic=None, *, param=None, variable=None, tol=_D["grazing_tol"],
 # ---------------------------------------------------------------- many-job analyses
 
 @_with_defaults
-def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol=_D["period_tol"], grazing=False,
-          transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
-          hold_band=_D["hold_band"],
-          method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0,
-          journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+@_declares("sweep")
+def sweep(model, param, values, ic=None, *, grazing=False, transient=_D["transient"], record=_D["record"],
+          section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"],
+          quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0, journal=None, resume=False,
+          shard=None, progress=None, keep_journal=False, declared):
     """Bifurcation diagram: the protocol and the period label at every value of one parameter.
 
     Each value is one job of the library's job loop: ``threads`` workers, results delivered
@@ -396,16 +388,7 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
         Its values. ``vimpact.grid(a, b, n)`` gives the command line's ``a:b:n`` bit for bit.
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``.
-    ic_mode : {"fixed", "follow"}, default "fixed"
-        ``fixed``: every point starts from ``ic`` (the paper's way; ``ic`` must be admissible
-        at every point). ``follow``: each point starts from the previous point's final state,
-        so the sweep stays on its attractor while it exists (hysteresis, coexisting
-        attractors); a state beyond the next point's surface is put on it.
-    direction : {"up", "down", "both"}, default "up"
-        Order of the values; ``both`` (follow only) runs the upward and downward branches as
-        two chains in parallel.
-    tol : float, default $period_tol
-        Period tolerance.
+    <declared>
     grazing : bool or str, default False
         Also compute, at every point, the grazing value per surface of a parameter that moves
         the surfaces (from ``ic``, surface-free): of this parameter, or with True of the first
@@ -436,9 +419,8 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
     if grazing is True and gparam is None:
         raise InputError(f"grazing: no parameter of model {model.name} moves a surface without entering the "
                          f"vector field")
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, param=param,
-                  values=np.asarray(values, dtype=float), ic=_ic(ic), ic_mode=ic_mode, direction=direction, tol=tol,
-                  grazing=gparam)
+    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, **declared,
+                  param=param, values=np.asarray(values, dtype=float), ic=_ic(ic), grazing=gparam)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._sweep(model._handle, o), o)
@@ -446,7 +428,8 @@ def sweep(model, param, values, ic=None, *, ic_mode="fixed", direction="up", tol
         return report
     r = d["records"]
     return Sweep.of(r, _context(model, _result_options(ic, o, "values")), param=param, values=np.array(o["values"]),
-                    ic_mode=ic_mode, direction=direction, tol=tol, grazing_param=gparam,
+                    ic_mode=declared["ic_mode"], direction=declared["direction"], tol=declared["tol"],
+                    grazing_param=gparam,
                     stats=_job_stats(d, report, steps=int(r["stats"]["steps"].sum()),
                                      rhs_calls=int(r["stats"]["rhs_calls"].sum())),
                     jobs=report)
@@ -463,11 +446,11 @@ def _axis(axis, what):
 
 
 @_with_defaults
-def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=_D["transient"],
-        record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
-        method=_D["method"],
-        quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0, journal=None, resume=False,
-        shard=None, progress=None, keep_journal=False):
+@_declares("map")
+def map(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
+        atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
+        threads=_D["threads"], batch=0, journal=None, resume=False, shard=None, progress=None, keep_journal=False,
+        declared):
     """Periodicity map: the period label over a grid of two parameters.
 
     Every cell runs the protocol from the same ``ic`` on the model with both parameters set
@@ -480,11 +463,7 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
         The parameters on the axes and their values, e.g. ``("Ur", vimpact.grid(16, 25, 10))``.
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``. It must be admissible at every cell.
-    tol : float, default $period_tol
-    grazing : bool, default False
-        Also compute the grazing line: the grazing value per surface of the axis parameter
-        that moves the surfaces without entering the vector field (``y`` if it does, else
-        ``x``), against the other axis.
+    <declared>
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
@@ -502,8 +481,7 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
     xname, xs = _axis(x, "x")
     yname, ys = _axis(y, "y")
     o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  x=xname, x_values=xs,
-                  y=yname, y_values=ys, ic=_ic(ic), tol=tol, grazing=bool(grazing))
+                  **declared, x=xname, x_values=xs, y=yname, y_values=ys, ic=_ic(ic))
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._map(model._handle, o), o)
@@ -511,18 +489,18 @@ def map(model, x, y, ic=None, *, tol=_D["period_tol"], grazing=False, transient=
         return report
     axis = d["grazing_axis"]
     return Map.of(d["records"], _context(model, _result_options(ic, o, "x_values", "y_values")), x=xname, y=yname,
-                  x_values=xs.copy(), y_values=ys.copy(), tol=tol,
+                  x_values=xs.copy(), y_values=ys.copy(), tol=declared["tol"],
                   grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
                   grazing_other=None if axis < 0 else d["grazing_other"], grazing=None if axis < 0 else d["grazing"],
                   stats=_job_stats(d, report), jobs=report)
 
 
 @_with_defaults
-def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_tol"],
-           box_fraction=_D["box_fraction"], transient=_D["transient"], record=_D["record"], section=None,
-           rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
-           method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
-           threads=_D["threads"], batch=0, journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+@_declares("basins")
+def basins(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
+           atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"],
+           t_max=_D["t_max"], threads=_D["threads"], batch=0, journal=None, resume=False, shard=None, progress=None,
+           keep_journal=False, declared):
     """Basins of attraction: the attractor reached from every initial state of a grid.
 
     The grid spans two state variables; the others are taken from ``ic``. Every admissible
@@ -541,11 +519,7 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
         0.2, 41))``.
     ic : array_like, shape (dim,), optional
         The other components of the starts; default ``model.default_ic``.
-    tol : float, default $period_tol
-    match_tol : float, default $match_tol
-        Cycle points of one attractor agree within this.
-    box_fraction : float, default $box_fraction
-        Aperiodic attractors: bounding boxes agree within this fraction of their extent.
+    <declared>
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
@@ -562,8 +536,7 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     xname, xs = _axis(x, "x")
     yname, ys = _axis(y, "y")
     o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  x=xname, x_values=xs,
-                  y=yname, y_values=ys, ic=_ic(ic), tol=tol, match_tol=match_tol, box_fraction=box_fraction)
+                  **declared, x=xname, x_values=xs, y=yname, y_values=ys, ic=_ic(ic))
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._basins(model._handle, o), o)
@@ -572,15 +545,15 @@ def basins(model, x, y, ic=None, *, tol=_D["period_tol"], match_tol=_D["match_to
     attractors = [Attractor(id=a["id"], label=a["label"], cells=a["cells"], cycle=a["cycle"], box=a["box"])
                   for a in d["attractors"]]
     return Basins.of(d["records"], _context(model, _result_options(ic, o, "x_values", "y_values")), x=xname,
-                     y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=tol, match_tol=match_tol,
-                     attractors=attractors, stats=_job_stats(d, report), jobs=report)
+                     y=yname, x_values=xs.copy(), y_values=ys.copy(), tol=declared["tol"],
+                     match_tol=declared["match_tol"], attractors=attractors, stats=_job_stats(d, report), jobs=report)
 
 
 @_with_defaults
-def response(model, param, values, ic=None, *, curves=None, variable=None, grazing=True,
-             transient_time=_D["grazing_transient_time"], tol=_D["grazing_tol"], rtol=_D["grazing_rtol"],
-             atol=_D["grazing_atol"], method=_D["method"], block=_D["grazing_block"], t_max=_D["grazing_t_max"],
-             threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+@_declares("response")
+def response(model, param, values, ic=None, *, curves=None, variable=None, grazing=True, rtol=_D["grazing_rtol"],
+             atol=_D["grazing_atol"], method=_D["method"], threads=_D["threads"], journal=None, resume=False,
+             shard=None, progress=None, keep_journal=False, declared):
     """The surface-free response over a parameter (lock-in curves, the paper's Figure 10a, b).
 
     One job per (curve, value) (threaded, deterministic, see ``sweep``). Each runs the
@@ -606,11 +579,9 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
         Per surface, the grazing value of this parameter, or with True of the first
         parameter that moves a surface (none: the margin); with False the margin, the smallest
         gap.
-    transient_time : float, default $grazing_transient_time
-        Time discarded before measuring.
-    tol, rtol, atol, method, block, t_max
-        As for ``grazing`` (defaults $grazing_tol, $grazing_rtol, $grazing_atol, $method,
-        $grazing_block, $grazing_t_max).
+    <declared>
+    rtol, atol, method
+        As for ``grazing`` (defaults $grazing_rtol, $grazing_atol, $method).
     <jobs>
 
     Returns
@@ -634,9 +605,8 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
             if isinstance(v, bool) or not isinstance(v, (int, float, np.number)):
                 raise TypeError(f"curves: the value of {k} must be a number (got {type(v).__name__})")
     vals = np.asarray(values, dtype=float)
-    o = dict(param=param, values=vals, curves=[{k: float(v) for k, v in c.items()} for c in cs], variable=var,
-             ic=_ic(ic), grazing=gparam, transient_time=transient_time, tol=tol, rtol=rtol, atol=atol, method=method,
-             block=block, t_max=t_max)
+    o = dict(declared, param=param, values=vals, curves=[{k: float(v) for k, v in c.items()} for c in cs],
+             variable=var, ic=_ic(ic), grazing=gparam, rtol=rtol, atol=atol, method=method)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     d, report = _run_jobs(lambda: _vimpact._response(model._handle, o), o)
     if d is None:

@@ -46,8 +46,7 @@ basins_result basins(const model& m, const basins_options& o, const job_options&
 {
     validate(o.protocol);
     validate(m, o.protocol.section);
-    check_period_tolerance(o.period_tolerance);
-    if (!(o.match.tolerance > 0.0)) throw input_error("the attractor match tolerance must be > 0");
+    check_options(o);
     if (o.x_state < 0 || o.x_state >= m.dim() || o.y_state < 0 || o.y_state >= m.dim())
         throw input_error("basin axis state index out of range");
     if (o.x_state == o.y_state)

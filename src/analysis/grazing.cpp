@@ -63,12 +63,7 @@ bool enters_field(const model& m, const model& moved, const std::vector<Eigen::V
 void validate(const grazing_options& o)
 {
     validate(o.integration);
-    if (o.block < 1) throw input_error("grazing block must be >= 1 minima (got " + std::to_string(o.block) + ")");
-    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
-        throw input_error("grazing tolerance must be > 0 (got " + format_double(o.tolerance) + ")");
-    if (!(o.transient_time >= 0.0) || !std::isfinite(o.transient_time))
-        throw input_error("transient time must be >= 0 and finite (got " + format_double(o.transient_time) + ")");
-    if (!(o.t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(o.t_max) + ")");
+    check_options(o);
 }
 
 std::vector<int> gap_parameters(const model& m, int surface)

@@ -42,7 +42,7 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
 {
     validate(o.protocol);
     validate(m, o.protocol.section);
-    check_period_tolerance(o.period_tolerance);
+    check_options(o);
     const int P = static_cast<int>(m.parameters().size());
     if (o.x.parameter < 0 || o.x.parameter >= P || o.y.parameter < 0 || o.y.parameter >= P)
         throw input_error("map axis parameter index out of range");

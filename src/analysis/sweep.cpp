@@ -73,11 +73,12 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
 {
     validate(o.protocol);
     validate(m, o.protocol.section);
-    check_period_tolerance(o.period_tolerance);
+    check_options(o);
+    const bool follow = o.start == sweep_start::follow;
     const int P = static_cast<int>(m.parameters().size());
     if (o.parameter < 0 || o.parameter >= P) throw input_error("sweep parameter index out of range");
     if (o.values.empty()) throw input_error("a sweep needs at least one value");
-    if (o.direction == sweep_direction::both && !o.follow)
+    if (o.direction == sweep_direction::both && !follow)
         throw input_error("a sweep in both directions needs followed starts (with fixed starts both directions "
                           "are the same runs)");
     if (o.grazing_parameter >= P) throw input_error("grazing parameter index out of range");
@@ -86,12 +87,12 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     const auto& pname = m.info().parameters[static_cast<std::size_t>(o.parameter)].name;
     for (const double v : o.values) {
         const model mv = m.with_parameter(o.parameter, v);  // validates the value
-        if (!o.follow && violated_surface(mv, ic) >= 0)
+        if (!follow && violated_surface(mv, ic) >= 0)
             throw input_error("the initial state lies beyond surface " +
                               mv.info().surfaces[static_cast<std::size_t>(violated_surface(mv, ic))].name + " at " +
                               pname + " = " + format_double(v) + "; choose another initial state or range");
     }
-    if (o.follow) {
+    if (follow) {
         const double first = o.direction == sweep_direction::down ? o.values.back() : o.values.front();
         if (violated_surface(m.with_parameter(o.parameter, first), ic) >= 0)
             throw input_error("the initial state lies beyond a surface at the first point of the sweep (" + pname +
@@ -102,13 +103,13 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     go.method = o.protocol.method;
     if (o.grazing_parameter >= 0) validate(m, go);
 
-    const sweep_plan plan{static_cast<long>(o.values.size()), o.follow, o.direction};
+    const sweep_plan plan{static_cast<long>(o.values.size()), follow, o.direction};
     const json spec = {{"analysis", "sweep"},
                        {"model", detail::to_json(m)},
                        {"parameter", o.parameter},
                        {"values", detail::to_json(o.values)},
                        {"initial_state", detail::vector_json(ic)},
-                       {"follow", o.follow},
+                       {"follow", follow},
                        {"direction", std::string(to_string(o.direction))},
                        {"protocol", detail::to_json(o.protocol)},
                        {"period_tolerance", detail::number(o.period_tolerance)},
@@ -116,7 +117,7 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     protocol_options po = o.protocol;
     po.flow.cancel = j.stop;
     go.cancel = j.stop;
-    const int batch = o.follow ? 1 : resolve_batch(m, j.batch);
+    const int batch = follow ? 1 : resolve_batch(m, j.batch);
     // The points `next` gives, from the fixed start or, on a followed branch, from where the
     // previous point `prev` ended. Independent points run their protocols together (SIMD
     // lanes where the model allows); a followed branch goes one point after the other.

@@ -24,6 +24,17 @@ struct basins_options {
     attractor_match_options match{};
 };
 
+// The options a user sets by name (core/option.hpp); the axes are resolved by each front end.
+template <class V, record_of<basins_options> O>
+void declare(V& v, O& o)
+{
+    v(period_tolerance_option, o.period_tolerance);
+    v(option{"match_tol", "cycle points of one attractor agree within this", above(0.0)}, o.match.tolerance);
+    v(option{"box_fraction", "aperiodic attractors: bounding boxes agree within this fraction of their extent",
+             at_least(0.0)},
+      o.match.box_fraction);
+}
+
 struct basin_cell {
     bool admissible = false;
     period_label label;             // "inadmissible" when not admissible

@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/option.hpp"
 
 namespace vimpact {
 
@@ -42,6 +43,17 @@ struct grazing_options {
     int response_variable = -1;  // >= 0: also the response of this state variable
     const std::atomic<bool>* cancel = nullptr;  // see flow_options::cancel
 };
+
+// The options of the surface-free run a user sets by name (core/option.hpp); the integration
+// is the run's (rtol, atol, method), the parameter resolved by each front end.
+template <class V, record_of<grazing_options> O>
+void declare(V& v, O& o)
+{
+    v(option{"transient_time", "time discarded before minima count", at_least(0.0)}, o.transient_time);
+    v(option{"tol", "agreement of successive block minima", above(0.0)}, o.tolerance);
+    v(option{"block", "minima per block", at_least(1.0)}, o.block);
+    v(option{"t_max", "give up (not converged, outcome time_limit) at this time", above(0.0)}, o.t_max);
+}
 
 struct surface_grazing {
     bool converged = false;

@@ -26,6 +26,16 @@ struct map_options {
     bool grazing = false;  // the grazing line: the axis parameter that moves the surfaces against the other
 };
 
+// The options a user sets by name (core/option.hpp); the axes are resolved by each front end.
+template <class V, record_of<map_options> O>
+void declare(V& v, O& o)
+{
+    v(period_tolerance_option, o.period_tolerance);
+    v(option{"grazing", "also the grazing line: the grazing value per surface of the axis parameter that moves the "
+                        "surfaces without entering the vector field, against the other axis"},
+      o.grazing);
+}
+
 struct map_cell {
     period_label label;
     outcome status = outcome::ok;

@@ -28,6 +28,13 @@ struct response_options {
     grazing_options grazing{};      // the run (its parameter: a grazing parameter, or -1)
 };
 
+// The options a user sets by name (core/option.hpp): the surface-free run's.
+template <class V, record_of<response_options> O>
+void declare(V& v, O& o)
+{
+    declare(v, o.grazing);
+}
+
 struct response_point {
     int curve = 0;
     double value = 0.0;

@@ -32,16 +32,36 @@ constexpr std::string_view to_string(sweep_direction d)
 inline constexpr std::array<sweep_direction, 3> all_sweep_directions{sweep_direction::up, sweep_direction::down,
                                                                     sweep_direction::both};
 
+// Where each point starts: fixed (every point from the same initial state) or follow (from
+// the final state of the previous point).
+enum class sweep_start { fixed, follow };
+
+constexpr std::string_view to_string(sweep_start s) { return s == sweep_start::follow ? "follow" : "fixed"; }
+inline constexpr std::array<sweep_start, 2> all_sweep_starts{sweep_start::fixed, sweep_start::follow};
+
 struct sweep_options {
     int parameter = 0;
     value_grid values;              // a:b:n kept as a range (core/value_grid.hpp)
     Eigen::VectorXd initial_state;  // empty: the model's
-    bool follow = false;            // false: fixed starts
+    sweep_start start = sweep_start::fixed;
     sweep_direction direction = sweep_direction::up;  // both: needs follow
     protocol_options protocol{};
     double period_tolerance = default_period_tolerance;
     int grazing_parameter = -1;     // >= 0: its grazing value per surface at every point
 };
+
+// The options a user sets by name (core/option.hpp); the axis and the grazing parameter are
+// resolved against the model by each front end.
+template <class V, record_of<sweep_options> O>
+void declare(V& v, O& o)
+{
+    v(option{"ic_mode", "fixed: every point from the initial state (the paper's way; it must be admissible at every "
+                        "point); follow: from the previous point's final state (hysteresis, coexisting attractors)"},
+      o.start, all_sweep_starts);
+    v(option{"direction", "order of the values; both (follow only) runs the upward and downward branches in parallel"},
+      o.direction, all_sweep_directions);
+    v(period_tolerance_option, o.period_tolerance);
+}
 
 struct sweep_point {
     int branch = 0;                 // 0 up, 1 down

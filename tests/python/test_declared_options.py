@@ -1,0 +1,120 @@
+"""The grid analyses' options declared once in the library (core/option.hpp): the keyword
+arguments of vimpact.sweep, map, basins, response and grazing, their defaults and their
+documentation follow the declaration, the library refuses a value out of its range naming the
+keyword, and the command line gives the same refusal naming --key (where it is built)."""
+import inspect
+
+import pytest
+
+import vimpact
+
+W = vimpact.WakeImpact()
+GRID = vimpact.grid(15, 16, 2)
+
+# What each analysis declared before the declarations existed (today's keywords): the same
+# names, defaults and ranges the front ends checked by hand.
+KEYWORDS = {
+    "sweep": {"ic_mode": "fixed", "direction": "up", "tol": 1e-8},
+    "map": {"tol": 1e-8, "grazing": False},
+    "basins": {"tol": 1e-8, "match_tol": 1e-6, "box_fraction": 0.05},
+    "grazing": {"transient_time": 1000.0, "tol": 1e-11, "block": 16, "t_max": 1e5},
+    "response": {"transient_time": 1000.0, "tol": 1e-11, "block": 16, "t_max": 1e5},
+}
+
+CALLS = {
+    "sweep": lambda **kw: vimpact.sweep(W, "Ur", GRID, **kw),
+    "map": lambda **kw: vimpact.map(W, ("Ur", GRID), ("sigma", [-0.16, -0.15]), **kw),
+    "basins": lambda **kw: vimpact.basins(W, ("y", [-0.1, 0.1]), ("ydot", [-0.1, 0.1]), **kw),
+    "grazing": lambda **kw: vimpact.grazing(W, **kw),
+    "response": lambda **kw: vimpact.response(W, "Ur", GRID, **kw),
+}
+
+# The same run on the command line (none for grazing, whose command adds its own options).
+COMMANDS = {
+    "sweep": ["sweep", "--param", "Ur", "--range", "15:16:2"],
+    "map": ["map", "--x", "Ur:15:16:2", "--y", "sigma:-0.16:-0.15:2"],
+    "basins": ["basins", "--x", "y:-0.1:0.1:2", "--y", "ydot:-0.1:0.1:2"],
+    "response": ["response", "--param", "Ur", "--range", "15:16:2"],
+}
+
+# A value just outside each bounded range, and the range as the message gives it.
+OUT_OF_RANGE = [
+    ("sweep", "tol", 0, "> 0"),
+    ("map", "tol", -1e-8, "> 0"),
+    ("basins", "tol", 0, "> 0"),
+    ("basins", "match_tol", 0, "> 0"),
+    ("basins", "box_fraction", -0.5, ">= 0"),
+    ("grazing", "transient_time", -1, ">= 0"),
+    ("grazing", "block", 0, ">= 1"),
+    ("response", "transient_time", -1, ">= 0"),
+    ("response", "tol", 0, "> 0"),
+    ("response", "block", 0, ">= 1"),
+    ("response", "t_max", 0, "> 0"),
+]
+
+
+@pytest.mark.parametrize("kind", sorted(KEYWORDS))
+def test_keywords_are_the_librarys_declaration(kind):
+    declared = vimpact._vimpact.declared[kind]
+    assert {e["key"]: e["default"] for e in declared} == KEYWORDS[kind]
+    f = getattr(vimpact, kind)
+    sig = inspect.signature(f)
+    assert "declared" not in sig.parameters
+    for e in declared:
+        p = sig.parameters[e["key"]]
+        assert p.kind == p.KEYWORD_ONLY and p.default == e["default"], e
+        assert f"    {e['key']} : " in f.__doc__, e["key"]
+        if e["range"] and not isinstance(e["default"], str):
+            assert f"In {e['range']}." in f.__doc__, e["key"]
+
+
+def test_names_of_an_enumeration_are_the_declarations():
+    by_key = {e["key"]: e for e in vimpact._vimpact.declared["sweep"]}
+    assert by_key["ic_mode"]["range"] == "fixed, follow"
+    assert by_key["direction"]["range"] == "up, down, both"
+    with pytest.raises(vimpact.InputError, match=r"^ic_mode 'chase' is not one of fixed, follow$"):
+        CALLS["sweep"](ic_mode="chase")
+    with pytest.raises(vimpact.InputError, match="both"):  # both directions need followed starts
+        CALLS["sweep"](direction="both")
+
+
+@pytest.mark.parametrize("kind,key,value,where", OUT_OF_RANGE)
+def test_the_library_refuses_a_value_out_of_range_naming_the_keyword(kind, key, value, where):
+    with pytest.raises(vimpact.InputError) as e:
+        CALLS[kind](**{key: value})
+    assert str(e.value) == f"{key} = {value:g} is outside its valid range {where}"
+
+
+@pytest.mark.parametrize("kind,key,value,where", [c for c in OUT_OF_RANGE if c[0] in COMMANDS])
+def test_the_command_line_gives_the_same_refusal_naming_the_option(cli, tmp_path, kind, key, value, where):
+    option = "--" + key.replace("_", "-")
+    p = cli(*COMMANDS[kind], f"{option}={value}", cwd=tmp_path)
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.strip() == f"vimpact: error: {option} = {value:g} is outside its valid range {where}"
+
+
+@pytest.mark.parametrize("kind", sorted(COMMANDS))
+def test_the_command_lines_help_lists_every_declared_option(cli, kind):
+    p = cli(COMMANDS[kind][0], "--help")
+    assert p.returncode == 0, p.stderr
+    text = " ".join(p.stdout.split())
+    for e in vimpact._vimpact.declared[kind]:
+        option = "--" + e["key"].replace("_", "-")
+        assert option in text, option
+        help_text = e["help"][0].upper() + e["help"][1:]
+        if isinstance(e["default"], bool):
+            assert f"{option} {help_text}" in text, option  # a flag
+        elif isinstance(e["default"], str):
+            assert f"{help_text} (default {e['default']}; one of {e['range']})" in text, option
+        else:
+            assert f"{help_text} (default " in text and f"; {e['range']})" in text, option
+
+
+def test_declared_options_reach_the_run(cli_json):
+    # The same declared options from both front ends give the same labels.
+    j = cli_json(*COMMANDS["sweep"], "--ic-mode", "follow", "--direction", "down", "--tol", "1e-5",
+                 "--transient", "80", "--record", "40")
+    s = vimpact.sweep(W, "Ur", GRID, ic_mode="follow", direction="down", tol=1e-5, transient=80, record=40)
+    assert j["ic_mode"] == "follow" and j["direction"] == "down"
+    assert [v for v, _ in j["labels"]] == list(s.value) == [16.0, 15.0]  # downwards
+    assert [label for _, label in j["labels"]] == list(s.label)
