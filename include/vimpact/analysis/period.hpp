@@ -95,9 +95,8 @@ int converging_period(int n, Distance&& d, Candidate&& candidate)
 // The paper's period tolerance for its Figures 2 and 5 (Figure 4 used 1e-5).
 inline constexpr double default_period_tolerance = 1e-8;
 // The period tolerance as the analyses that label their runs declare it (core/option.hpp).
-inline constexpr option period_tolerance_option{"tol", "period tolerance on the section state (the paper: 1e-8 "
-                                                       "for its Figures 2 and 5, 1e-5 for Figure 4)",
-                                                above(0.0)};
+inline constexpr option period_tolerance_option{
+    "tol", "period tolerance on the section state; the paper used 1e-8, and 1e-5 for its Figure 4", above(0.0)};
 
 // Smallest N <= n/2 with max_i d(i, i + N) <= tol, 0 if none; d(i, j) the max-norm distance
 // of points i and j. Generic in the distance so it can be tested on synthetic data.

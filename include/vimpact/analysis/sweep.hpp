@@ -55,8 +55,9 @@ struct sweep_options {
 template <class V, record_of<sweep_options> O>
 void declare(V& v, O& o)
 {
-    v(option{"ic_mode", "fixed: every point from the initial state (the paper's way; it must be admissible at every "
-                        "point); follow: from the previous point's final state (hysteresis, coexisting attractors)"},
+    v(option{"ic_mode", "where each point starts: fixed, from the initial state (the paper's way; it must be "
+                        "admissible at every point), or follow, from the previous point's final state (hysteresis, "
+                        "coexisting attractors)"},
       o.start, all_sweep_starts);
     v(option{"direction", "order of the values; both (follow only) runs the upward and downward branches in parallel"},
       o.direction, all_sweep_directions);
