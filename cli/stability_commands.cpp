@@ -20,6 +20,7 @@
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/csv_writer.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 #include "vimpact/io/state_columns.hpp"
 #include "vimpact/model/model_phrases.hpp"
 #include "vimpact/physical/si_units.hpp"
@@ -217,11 +218,7 @@ int run_floquet(const floquet_args& a)
                           std::to_string(c.protocol.record_points) + ")");
     floquet_options fo = a.options;
     fo.protocol = c.protocol;
-    // The shooting and the monodromy need a map accurate to better than the 1e-11 closure.
-    fo.tangent_integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
-    fo.tangent_integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
-    fo.tangent_integration.hold_band = c.protocol.flow.integration.hold_band;
-    fo.tangent_integration.h_max = c.protocol.flow.integration.h_max;
+    fo.tangent_integration = tangent_integration(c.protocol.flow.integration);
     validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
     if (c.si) c.plot_options["units"] = "si";  // the orbit in metres and m/s, the period in s

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "test_support.hpp"
+#include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 
@@ -85,6 +86,25 @@ void check_every_end()
 
 TEST(Options, LyapunovRefusesEveryEndOfItsDeclaration) { check_every_end<lyapunov_options>(); }
 TEST(Options, FloquetRefusesEveryEndOfItsDeclaration) { check_every_end<floquet_options>(); }
+TEST(Options, ContinuationRefusesEveryEndOfItsDeclaration) { check_every_end<continuation_options>(); }
+
+// The library's own check of a continuation applies the declaration before it runs: a step
+// count the arclength loop could not even start with is refused by its key.
+TEST(Options, ContinuationValidateAppliesTheDeclaration)
+{
+    const model m = test::paper(14.0);
+    continuation_options o;
+    o.parameter = m.info().parameter_index("Ur");
+    o.start = 14.0;
+    o.end = 15.0;
+    o.arclength.max_points = 1;  // a branch of one point has no tangent
+    try {
+        validate(m, o);
+        ADD_FAILURE() << "max_points = 1 was accepted";
+    } catch (const option_error& e) {
+        EXPECT_EQ(e.key(), "max_points");
+    }
+}
 
 // The paper's r0 = 1e-4 and t0 = pi are the defaults; the ends the analysis needs hold.
 TEST(Options, LyapunovDeclaresThePapersDefaultsAndTheNeededEnds)

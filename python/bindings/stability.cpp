@@ -17,6 +17,7 @@
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/stability_sweep.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 
 namespace vimpact::python {
 namespace {
@@ -28,9 +29,9 @@ floquet_options floquet_of(const model& m, options& o)
     floquet_options fo;
     fo.protocol = protocol_of(m, o);
     read_declared(o, fo);
+    fo.tangent_integration = tangent_integration(fo.protocol.flow.integration);
     fo.tangent_integration.rtol = o.get<double>("tangent_rtol", fo.tangent_integration.rtol);
     fo.tangent_integration.atol = o.get<double>("tangent_atol", fo.tangent_integration.atol);
-    fo.tangent_integration.hold_band = fo.protocol.flow.integration.hold_band;  // as the command line does
     fo.sample_dt = o.get<double>("sample_dt", fo.sample_dt);
     return fo;
 }

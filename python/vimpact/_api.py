@@ -1129,13 +1129,11 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
 
 
 @_with_defaults
-def continuation(model, param, range, ic=None, *, period=None, starts=None, switch=0, param2=None, range2=None,
-                 curves=("fold", "period_doubling", "grazing"), ds=0.0, ds_min=0.0, ds_max=0.0,
-                 max_points=_D["max_points"], closure_tol=_D["closure_tol"], locate_tol=_D["locate_tol"],
-                 newton_iterations=_D["continuation_newton_iterations"], detect=True, tol=_D["period_tol"],
-                 threads=_D["threads"], transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
-                 atol=_D["atol"], hold_band=_D["hold_band"],
-                 method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+@_declares("continuation")
+def continuation(model, param, range, ic=None, *, starts=None, param2=None, range2=None,
+                 curves=("fold", "period_doubling", "grazing"), threads=_D["threads"], transient=_D["transient"],
+                 record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+                 method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], declared):
     """Continuation of periodic orbits in one parameter, stable and unstable, with their
     bifurcations; optionally the curves of the bifurcation points in a second parameter.
 
@@ -1162,36 +1160,17 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
         ``(a, b)``: the branch starts at a and runs towards b; it ends where the parameter
         leaves [a, b].
     ic : array_like, shape (dim,), optional
-        Without ``period``: the initial state of the protocol whose attractor at a starts the
-        branch (default ``model.default_ic``). With ``period``: a point near the orbit on the
-        section.
-    period : int, optional
-        Section returns per period of the orbit to start from ``ic`` by Newton's method (no
-        transient): for unstable orbits.
+        With ``period`` 0: the initial state of the protocol whose attractor at a starts the
+        branch (default ``model.default_ic``). Else a point near the orbit on the section.
     starts : list of array_like, optional
         Further initial states, each giving a branch (the same orbit found twice is kept once).
-    switch : int, default 0
-        Switch onto the doubled branch at period doublings, this many times in a row.
     param2 : str, optional
         Two-parameter mode: every located bifurcation of the types in ``curves`` is followed in
         (param, param2).
     range2 : (float, float)
         The range of ``param2``; the model's value of it must lie inside.
     curves : sequence of str, default ("fold", "period_doubling", "grazing")
-    ds, ds_min, ds_max : float, default 0
-        Arclength steps; 0: range / 100, range * 1e-9 and range / 20.
-    max_points : int, default $max_points
-        Points per branch at most.
-    closure_tol : float, default $closure_tol
-        |G|_inf of every point.
-    locate_tol : float, default $locate_tol
-        Parameter accuracy of a located bifurcation.
-    newton_iterations : int, default $continuation_newton_iterations
-        Corrector iterations per step.
-    detect : bool, default True
-        Locate folds, period doublings and Neimark-Sacker points (grazings always are).
-    tol : float, default $period_tol
-        Period tolerance of the start's label.
+    <declared>
     threads : int, default $threads
         Worker threads for several starts, switched branches and curves; results never depend
         on it.
@@ -1214,10 +1193,7 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
     model = _model(model)
     a, b = (float(v) for v in range)
     o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  param=str(param), start=a,
-                  end=b, tol=tol, period=0 if period is None else int(period), switch=int(switch), detect=bool(detect),
-                  locate_tol=locate_tol, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=int(max_points),
-                  closure_tol=closure_tol, newton_iterations=int(newton_iterations), threads=int(threads))
+                  param=str(param), start=a, end=b, threads=int(threads), **declared)
     if param2 is not None or range2 is not None:
         if param2 is None or range2 is None:
             raise InputError("param2 and range2 go together")

@@ -359,6 +359,23 @@ def test_an_output_directory_without_a_newer_column_says_so(tmp_path):
         vimpact.LyapunovSweep.load(str(out))
 
 
+def test_continuation_keywords_are_the_librarys_declaration():
+    """vimpact.continuation's step and tolerance keywords come from the library's declaration,
+    which refuses a value out of range naming the keyword before any run."""
+    import inspect
+    declared = {e["key"]: e for e in vimpact._vimpact.declared["continuation"]}
+    assert set(declared) >= {"period", "switch", "tol", "ds", "ds_min", "ds_max", "max_points", "closure_tol",
+                             "newton_iterations", "locate_tol", "detect"}
+    sig = inspect.signature(vimpact.continuation)
+    for key, e in declared.items():
+        assert sig.parameters[key].default == e["default"] and f"    {key} : " in vimpact.continuation.__doc__
+    assert sig.parameters["detect"].default is True
+    with pytest.raises(vimpact.InputError, match=r"^max_points = 1 is outside its valid range \[2, 1e\+06\]$"):
+        vimpact.continuation(vimpact.WakeImpact(), "Ur", (14, 15), max_points=1)
+    with pytest.raises(vimpact.InputError, match=r"^switch = 9 is outside its valid range \[0, 8\]$"):
+        vimpact.continuation(vimpact.WakeImpact(), "Ur", (14, 15), switch=9)
+
+
 def test_lyapunov_keywords_are_the_librarys_declaration():
     """The keyword arguments of vimpact.lyapunov and lyapunov_sweep, their defaults and their
     documentation come from the library's declaration (core/option.hpp), and the library
