@@ -257,5 +257,5 @@ def test_lyapunov_options_come_from_the_librarys_declaration(vimpact):
     assert "--r0 FLOAT Size of the deviation vectors (default 1e-04; (0, 1))" in text
     assert "--warmup INT Intervals of t0 not counted while the vectors align (default 16; [0, 1e+06])" in text
     assert "(default saltation; one of saltation, second-order, trajectory)" in text
-    for key in ("--t0", "--impacts", "--time", "--p0-time", "--max-time", "--divergence"):
+    for key in ("--t0", "--impacts", "--time", "--p0-time", "--max-time", "--no-divergence"):
         assert key in text, key
