@@ -346,8 +346,9 @@ def test_labels_read_in_the_librarys_order():
                                                      "non_finite"]
 
 
-def test_an_output_directory_without_a_newer_column_says_so(tmp_path):
-    # exponents.csv of a lyapunov sweep written before the library's verdict column existed.
+def test_an_output_directory_without_a_tables_schema_says_so(tmp_path):
+    # A lyapunov sweep written before run.json described its tables (and before the verdict
+    # column existed).
     out = tmp_path / "old"
     out.mkdir()
     (out / "run.json").write_text(json.dumps({"command": "lyapunov", "state_names": ["y", "ydot", "x", "xdot"],
@@ -355,7 +356,7 @@ def test_an_output_directory_without_a_newer_column_says_so(tmp_path):
                                               "result": {"param": "Ur", "tdm": "saltation"}}))
     (out / "exponents.csv").write_text("Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,settled,outcome\n"
                                        "14,0.1,-0.1,-0.3,-1.3,0.01,1,ok\n")
-    with pytest.raises(ValueError, match=r"exponents.csv has no 'positive': it was written by an older vimpact"):
+    with pytest.raises(ValueError, match=r"does not describe its tables: it was written by an older vimpact"):
         vimpact.LyapunovSweep.load(str(out))
 
 
