@@ -208,6 +208,29 @@ def test_a_stopped_sweep_resumes_from_its_journal(tmp_path):
         np.testing.assert_array_equal(getattr(resumed, name), getattr(whole, name))
 
 
+@pytest.mark.parametrize("call", [
+    lambda **kw: vimpact.floquet_sweep(W, "Ur", [16, 17, 18.426, 19], **Q, **kw),
+    lambda **kw: vimpact.lyapunov_sweep(W, "Ur", [16, 17, 18, 19], impacts=30, transient=60, record=5, **kw)],
+    ids=["floquet", "lyapunov"])
+def test_a_stopped_stability_sweep_resumes_its_records_bit_for_bit(tmp_path, call):
+    # The points read back from the journal are the points run: every field of the records.
+    whole, journal = call(threads=2), tmp_path / "journal"
+
+    def stop_after_two(done, total):
+        if done >= 2:
+            raise KeyboardInterrupt
+    with pytest.raises(KeyboardInterrupt):
+        call(threads=2, journal=journal, progress=stop_after_two)
+    resumed = call(threads=1, journal=journal, resume=True)
+    assert resumed.jobs.resumed >= 2 and resumed.jobs.resumed + resumed.jobs.computed == 4
+    for name, column in whole.records.items():
+        if isinstance(column, dict):
+            for k in column:
+                np.testing.assert_array_equal(resumed.records[name][k], column[k], err_msg=f"{name}.{k}")
+        else:
+            np.testing.assert_array_equal(resumed.records[name], column, err_msg=name)
+
+
 def test_shards_meet_in_a_journal(tmp_path):
     two = vimpact.TwoSidedImpactOscillator()
     grid = dict(x=("w", [1.0, 1.1, 1.2, 1.3]), y=("d", [0.9, 1.5]), **Q)
