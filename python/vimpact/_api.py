@@ -936,26 +936,15 @@ def lyapunov(model, ic=None, *, record=0, section=None, transient=_D["transient"
     return _lyapunov_result(d, model, _options(ic, **o))
 
 
-def _sweep_points(results, dim):
-    pts = [r.section for r in results]
-    run = np.concatenate([np.full(len(p), i, dtype=np.int64) for i, p in enumerate(pts)]) if pts else \
-        np.empty(0, dtype=np.int64)
-    return (np.vstack(pts) if pts else np.empty((0, dim))), run
-
-
-def _per_value(call, model, param, values, ic, o, jobs, result):
-    """Runs ``call`` (a compiled stability sweep) over the values as jobs. Returns the JobReport
-    alone when the run is not complete; else the per-value results (made by ``result``) and
-    the fields every per-value sweep has."""
+def _per_value(call, cls, model, param, values, ic, o, jobs, **run):
+    """Runs ``call`` (a compiled stability sweep) over the values as jobs: a result of ``cls``
+    made of its records, or the JobReport alone when the run is not complete."""
     o.update(param=param, values=np.asarray(values, dtype=float), ic=_ic(ic), **jobs)
     d, report = _run_jobs(lambda: call(model._handle, o), o)
     if d is None:
-        return report, None
-    opts = _result_options(ic, o, "values")
-    results = [result(r, model, opts) for r in d["results"]]
-    pts, run = _sweep_points(results, model.dim)
-    return results, dict(param=param, value=d["value"], results=results, points=pts, point_run=run,
-                         stats=_job_stats(d, report), jobs=report, **_context(model, opts))
+        return report
+    return cls.of(d["records"], _context(model, _result_options(ic, o, "values")), param=param,
+                  stats=_job_stats(d, report), jobs=report, **run)
 
 
 @_with_defaults
@@ -984,18 +973,8 @@ def floquet_sweep(model, param, values, ic=None, *, tangent_rtol=_D["tangent_rto
     model = _model(model)
     o = _floquet_options(model, declared, 0.0, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
                          hold_band, method, quiet_time, t_max)
-    results, fields = _per_value(_vimpact._floquet_sweep, model, param, values, ic, o,
-                                 _jobs(threads, journal, resume, shard, progress, keep_journal), _floquet_result)
-    if fields is None:
-        return results
-    n, dim = len(results), model.dim
-    mus = np.full((n, dim), np.nan + 0j)
-    trivial = np.zeros((n, dim), dtype=bool)
-    for i, r in enumerate(results):
-        mus[i, :len(r.multipliers)] = r.multipliers
-        trivial[i, 0] = len(r.multipliers) > 0
-    return FloquetSweep(label=_strings([r.label for r in results]), multipliers=mus, trivial=trivial,
-                        stable=np.array([r.stable for r in results], dtype=object), **fields)
+    return _per_value(_vimpact._floquet_sweep, FloquetSweep, model, param, values, ic, o,
+                      _jobs(threads, journal, resume, shard, progress, keep_journal))
 
 
 @_with_defaults
@@ -1024,16 +1003,8 @@ def lyapunov_sweep(model, param, values, ic=None, *, record=0, section=None, tra
     """
     model = _model(model)
     o = _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max)
-    results, fields = _per_value(_vimpact._lyapunov_sweep, model, param, values, ic, o,
-                                 _jobs(threads, journal, resume, shard, progress, keep_journal), _lyapunov_result)
-    if fields is None:
-        return results
-    exps = np.vstack([r.exponents for r in results]) if results else np.empty((0, model.dim))
-    return LyapunovSweep(exponents=exps,
-                         lle_standard_error=np.array([r.lle_standard_error for r in results], dtype=float),
-                         positive_exponent=np.array([r.positive for r in results], dtype=bool),
-                         settled=np.array([r.settled for r in results], dtype=bool),
-                         status=_strings([r.status for r in results]), tdm=declared["tdm"], **fields)
+    return _per_value(_vimpact._lyapunov_sweep, LyapunovSweep, model, param, values, ic, o,
+                      _jobs(threads, journal, resume, shard, progress, keep_journal), tdm=declared["tdm"])
 
 
 # ---------------------------------------------------------------- correlation dimension

@@ -220,8 +220,8 @@ def test_sweep_out_directory(vimpact, tmp_path, command, files):
         assert rows[0] == "Ur,y,ydot,x,xdot"
         assert len(rows) == 1 + 3 * 50
         assert (out / "exponents.csv").read_text().splitlines()[0] == (
-            "Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,positive,settled,impacts,time,misses,outcome,"
-            "impacts_barrier")
+            "Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,settled,impacts,time,misses,outcome,"
+            "impacts_barrier,positive")
     else:
         assert (out / "labels.csv").read_text().splitlines()[0] == (
             "sigma,label,period,impacts,trivial_error,max_nontrivial_modulus,closure,outcome,impacts_barrier")
