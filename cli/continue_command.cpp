@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "declared_options.hpp"
 #include "interrupts.hpp"
 #include "output.hpp"
 #include "parse.hpp"
@@ -16,6 +17,7 @@
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 #include "vimpact/io/continuation_json.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
@@ -28,18 +30,10 @@ namespace {
 struct continue_args {
     common_args common;
     std::string param, range;
-    int period = 0;
+    continuation_options options;  // what it declares; the rest from the arguments here
     std::string ics;
-    int switches = 0;
     std::string param2, range2;
     std::string curve_types = "fold,period_doubling,grazing";
-    double step = 0.0, min_step = 0.0, max_step = 0.0;
-    long max_points = arclength_options{}.max_points;
-    double closure_tol = arclength_options{}.tolerance;
-    double locate_tol = continuation_options{}.locate_tolerance;
-    int newton_iterations = arclength_options{}.newton_iterations;
-    double tol = default_period_tolerance;
-    bool no_detect = false;
     long diagram = 0;
     std::string map;
     int threads = 0;
@@ -121,7 +115,7 @@ int run_continue(const continue_args& a)
     const model& m = c.model;
     const auto& info = c.info();
     if (a.param.empty() || a.range.empty()) throw input_error("continue needs --param P and --range a:b");
-    continuation_options o;
+    continuation_options o = a.options;
     // With --si the parameter may be U [m/s] or gap [m], the range in SI.
     const axis_values axis = resolve_axis(c, a.param, as_grid(parse_interval(a.range, "--range")), "--param");
     o.parameter = axis.parameter;
@@ -131,26 +125,9 @@ int run_continue(const continue_args& a)
     if (o.protocol.section.type != section_choice::kind::crossing)
         throw input_error("--section " + c.section_name() + ": continuation needs a section crossing (" +
                           sections_it_has(info) + ")");
-    check_period_tolerance(a.tol);
-    o.period_tolerance = a.tol;
-    if (a.period < 0 || a.period > 1000)
-        throw input_error("--period must be in [1, 1000] (got " + std::to_string(a.period) + ")");
-    o.from_attractor = a.period == 0;
-    o.returns = a.period;
-    o.switch_depth = a.switches;
-    o.detect = !a.no_detect;
-    o.locate_tolerance = a.locate_tol;
-    o.arclength.step = a.step;
-    o.arclength.min_step = a.min_step;
-    o.arclength.max_step = a.max_step;
-    o.arclength.max_points = a.max_points;
-    o.arclength.tolerance = a.closure_tol;
-    o.arclength.newton_iterations = a.newton_iterations;
-    // The shooting needs a map far more accurate than the closure: never looser than 1e-12.
-    o.arclength.integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
-    o.arclength.integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
-    o.arclength.integration.hold_band = c.protocol.flow.integration.hold_band;
-    o.arclength.integration.h_max = c.protocol.flow.integration.h_max;
+    check_options(o);  // before anything runs
+    o.from_attractor = o.returns == 0;
+    o.arclength.integration = tangent_integration(c.protocol.flow.integration);
     o.cancel = &interrupt_flag();
     const model m0 = m.with_parameter(o.parameter, o.start);
     warn_validity(c, {m0, m.with_parameter(o.parameter, o.end)});
@@ -308,7 +285,7 @@ int run_continue(const continue_args& a)
             so.values = value_grid::range(std::min(o.start, o.end), std::max(o.start, o.end), a.diagram);
             so.initial_state = c.ic;
             so.protocol = c.protocol;
-            so.period_tolerance = a.tol;
+            so.period_tolerance = o.period_tolerance;
             diagram = sweep(m, so, jo);
         }
         if (map_nx > 0) {
@@ -319,7 +296,7 @@ int run_continue(const continue_args& a)
             mo.y = {co.parameter2, map_y};
             mo.initial_state = c.ic;
             mo.protocol = c.protocol;
-            mo.period_tolerance = a.tol;
+            mo.period_tolerance = o.period_tolerance;
             bmap = map2d(m, mo, jo);
         }
         throw_if_interrupted();
@@ -477,27 +454,14 @@ cli_command add_continue_command(CLI::App& app)
     s->add_option("--range", a->range, "a:b: the branch starts at a (the attractor there, or --period) and runs towards b; "
                                       "it ends where the parameter leaves [a, b]")
         ->required();
-    s->add_option("--period", a->period,
-                  "Start from --ic as a point near a periodic orbit on the section with this many section returns per "
-                  "period (Newton, no transient): for unstable orbits. Default: the protocol's attractor from --ic");
     s->add_option("--ics", a->ics, "Further initial states, ';'-separated, each like --ic: a branch from each");
-    s->add_option("--switch", a->switches,
-                  "Switch onto the doubled branch at period doublings, this many times in a row (default 0, at most 8)");
     s->add_option("--param2", a->param2, "Two-parameter mode: follow each located bifurcation in this parameter too");
     s->add_option("--range2", a->range2, "c:d: the range of --param2 (the model's value of it must lie inside)");
     a->curves_option = s->add_option(
         "--curves", a->curve_types,
         "With --param2: the bifurcation types followed, comma-separated (default fold,period_doubling,grazing)");
     // ds, as AUTO names the arclength step; --max-step is the integrator's, as in every command.
-    s->add_option("--ds", a->step, "First arclength step (default: range / 100)");
-    s->add_option("--ds-min", a->min_step, "Smallest arclength step (default: range * 1e-9)");
-    s->add_option("--ds-max", a->max_step, "Largest arclength step (default: range / 20)");
-    s->add_option("--max-points", a->max_points, "Points per branch at most (default 2000)");
-    s->add_option("--closure-tol", a->closure_tol, "Closure |P^k(z) - z| of every point (default 1e-10)");
-    s->add_option("--locate-tol", a->locate_tol, "Parameter accuracy of located bifurcations (default 1e-10)");
-    s->add_option("--newton-iterations", a->newton_iterations, "Corrector iterations per step (default 10)");
-    s->add_option("--tol", a->tol, "Period tolerance of the start's label (default 1e-8)");
-    s->add_flag("--no-detect", a->no_detect, "Do not look for folds, period doublings and Neimark-Sacker points");
+    add_declared_options(*s, a->options);
     s->add_option("--diagram", a->diagram,
                   "With --out: also the brute-force bifurcation diagram at N values (fixed starts from --ic), drawn "
                   "under the branches");

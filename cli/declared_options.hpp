@@ -35,12 +35,13 @@ struct option_adder {
     {
         std::string help = sentence(o.help);
         if constexpr (std::is_same_v<T, bool>) {
-            // Off by default: a flag (--key, or --key=false); on by default: --key false.
-            if (!v) {
+            // A switch: --key turns on one that is off by default, --no-key turns off one that is on.
+            if (v)
+                app.add_flag_callback("--no-" + command_line_key(o.key).substr(2), [&v] { v = false; },
+                                      help + " (on by default; this turns it off)");
+            else
                 app.add_flag(command_line_key(o.key), v, help);
-                return;
-            }
-            help += " (default true)";
+            return;
         } else {
             help += " (default " + format_double(static_cast<double>(v));
             if (std::isfinite(o.range.lower) || std::isfinite(o.range.upper)) help += "; " + o.range.text();

@@ -480,6 +480,7 @@ json table_schema(const std::vector<std::string>& lead, const std::vector<column
         json j = {{"name", c.name}, {"field", c.field}, {"type", c.type}, {"meaning", c.meaning}, {"unit", c.unit}};
         if (!c.group.empty()) j["group"] = c.group;
         if (c.surface >= 0) j["surface"] = c.surface;
+        if (c.state >= 0) j["state"] = c.state;
         cols.push_back(std::move(j));
     }
     for (const auto& name : trail) cols.push_back({{"name", name}});
@@ -495,6 +496,17 @@ json series_schema(const std::string& field, const std::string& records,
     for (std::size_t k = 0; k < states.size(); ++k) cols.push_back({{"name", states[k]}, {"field", field}, {"state", k}});
     for (const auto& name : extra) cols.push_back({{"name", name}});
     return {{"series", field}, {"records", records}, {"columns", cols}};
+}
+
+json spectrum_schema(const std::string& field, const std::string& records,
+                     const std::vector<std::pair<std::string, std::string>>& keys, int width,
+                     const std::vector<std::string>& extra)
+{
+    json cols = json::array();
+    for (const auto& [name, key] : keys) cols.push_back({{"name", name}, {"key", key}});
+    for (const char* name : {"index", "re", "im"}) cols.push_back({{"name", name}, {"field", field}, {"part", name}});
+    for (const auto& name : extra) cols.push_back({{"name", name}});
+    return {{"spectrum", field}, {"records", records}, {"width", width}, {"columns", cols}};
 }
 
 json label_tally::counts() const

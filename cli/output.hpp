@@ -168,6 +168,13 @@ json series_schema(const std::string& field, const std::string& records,
                    const std::vector<std::pair<std::string, std::string>>& keys, const std::vector<std::string>& states,
                    const std::vector<std::string>& extra);
 
+// run.json's description of a table of a spectrum field of records (their multipliers): per
+// row, the `keys` columns, then index, re and im of one value (at most `width` per record),
+// then the `extra` ones.
+json spectrum_schema(const std::string& field, const std::string& records,
+                     const std::vector<std::pair<std::string, std::string>>& keys, int width,
+                     const std::vector<std::string>& extra);
+
 // A table of records of type R, one row each (io/record_table.hpp), between the `lead` and
 // `trail` columns of the command; its schema goes to run.json through
 // streamed_output::describe_table.

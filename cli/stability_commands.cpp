@@ -20,6 +20,7 @@
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
 #include "vimpact/io/csv_writer.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 #include "vimpact/io/state_columns.hpp"
 #include "vimpact/model/model_phrases.hpp"
 #include "vimpact/physical/si_units.hpp"
@@ -53,8 +54,6 @@ std::string fixed(double v, int digits)
     return buf;
 }
 
-double nan_unless(bool have, double v) { return have ? v : std::nan(""); }
-
 // The swept parameter (with --si also U [m/s] or gap [m]), its name in the model and values.
 struct sweep_values : axis_values {
     std::string name;
@@ -83,13 +82,15 @@ void add_si_sweep(json& summary, const run_config& c, const sweep_values& sv)
     if (c.si) summary["si"] = si_json(*c.si, c.model);
 }
 
-// points.csv of a stability sweep: the section points of every value's result, a value at a
-// time as the results stream.
-std::vector<std::string> sweep_points_header(const std::string& param, const model_info& info)
+// points.csv of a stability sweep: the section points of every value's result (the records
+// of `records`), a value at a time as the results stream.
+void open_points(std::optional<csv_writer>& pts, streamed_output& out, const std::string& param,
+                 const std::string& records, const model_info& info)
 {
     std::vector<std::string> h{param};
-    for (const auto& n : state_columns(info)) h.push_back(n);
-    return h;
+    append(h, state_columns(info));
+    pts.emplace(out.get()->file("points.csv"), h);
+    out.describe_table("points.csv", series_schema("section_points", records, {{param, "value"}}, state_columns(info), {}));
 }
 
 void write_sweep_points(csv_writer& w, double value, const state_series& pts)
@@ -114,14 +115,11 @@ json multipliers_json(const floquet_result& r)
 int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_options& fo)
 {
     job_session session(a.sweep.jobs, c.out);
-    const model& m = c.model;
     const auto& info = c.info();
     const sweep_values sv = parse_sweep(a.sweep, c);
-    std::vector<std::string> lh{sv.name, "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
-                                "closure", "outcome"};
-    for (const auto& n : impact_count_columns(info)) lh.push_back(n);
-    if (sv.si()) lh.push_back(sv.si_name);
-    if (c.si) lh.emplace_back("period_si");
+    std::vector<std::string> trail;  // labels.csv's SI columns after the record's
+    if (sv.si()) trail.push_back(sv.si_name);
+    if (c.si) trail.emplace_back("period_si");
 
     // The values stream in job order: rows to --out DIR, or each value's result to the
     // summary without it (with it they are in the CSV files).
@@ -129,55 +127,48 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
     json per_value = json::array();
     long unstable = 0;
     streamed_output stream(c);
-    std::optional<csv_writer> lab, mu, pts;
+    std::optional<record_table<floquet_sweep_point>> lab;
+    std::optional<csv_writer> mu, pts;
     auto open = [&] {
         if (lab) return;
-        staged_output& out = *stream.get();
-        lab.emplace(out.file("labels.csv"), lh);
-        mu.emplace(out.file("multipliers.csv"), std::vector<std::string>{sv.name, "index", "re", "im", "modulus", "trivial"});
-        pts.emplace(out.file("points.csv"), sweep_points_header(sv.name, info));
+        lab.emplace(stream, "labels.csv", table_context_for(info, sv.name, -1), std::vector<std::string>{}, trail);
+        mu.emplace(stream.get()->file("multipliers.csv"),
+                   std::vector<std::string>{sv.name, "index", "re", "im", "modulus", "trivial"});
+        stream.describe_table("multipliers.csv", spectrum_schema("multipliers", "labels.csv", {{sv.name, "value"}},
+                                                                 info.dim(), {"modulus", "trivial"}));
+        open_points(pts, stream, sv.name, "labels.csv", info);
     };
     auto each = [&](long, const floquet_sweep_point& p) {
-        const auto& r = p.result;
+        const auto& r = p.result;  // NaN and 0 where it has no multipliers (floquet_sweep_point)
         const bool have = r.has_multipliers();
         tally.add(r.label);
         if (have && r.max_nontrivial_modulus >= 1.0) ++unstable;
-        const double period_si = c.si && have ? r.period * time_scale_at(c, sv, p.value) : std::nan("");
+        const double period_si = c.si ? r.period * time_scale_at(c, sv, p.value) : std::nan("");
+        std::vector<double> si;
+        if (sv.si()) si.push_back(sv.si_value(c, p.value));
+        if (c.si) si.push_back(period_si);
         if (!c.out) {
             per_value.push_back({{"value", p.value},
                                  {"label", r.label},
                                  {"outcome", std::string(to_string(r.status))},
-                                 {"period", have ? json(r.period) : json(nullptr)},
+                                 {"period", finite_or_null(r.period)},
                                  {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
                                  {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
                                  {"multipliers", multipliers_json(r)},
-                                 {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)}});
-            if (sv.si()) per_value.back()[sv.si_name] = sv.si_value(c, p.value);
+                                 {"trivial_error", finite_or_null(r.trivial_error)}});
+            if (sv.si()) per_value.back()[sv.si_name] = si.front();
             if (c.si) per_value.back()["period_si"] = finite_or_null(period_si);
             return;
         }
         open();
-        std::vector<std::string> row{format_double(p.value),
-                                     r.label,
-                                     format_double(nan_unless(have, r.period)),
-                                     format_double(nan_unless(have, static_cast<double>(r.impacts_per_period))),
-                                     format_double(nan_unless(have, r.trivial_error)),
-                                     format_double(nan_unless(have, r.max_nontrivial_modulus)),
-                                     format_double(nan_unless(r.section_returns > 0, r.closure)),
-                                     std::string(to_string(r.status))};
-        for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-            row.push_back(have && s < r.impacts_by_surface.size() ? std::to_string(r.impacts_by_surface[s])
-                                                                   : std::string("nan"));
-        if (sv.si()) row.push_back(format_double(sv.si_value(c, p.value)));
-        if (c.si) row.push_back(format_double(period_si));
-        lab->text_row(row);
+        lab->row({}, p, si);
         for (std::size_t i = 0; i < r.multipliers.size(); ++i)
             mu->row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
                      std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
         write_sweep_points(*pts, p.value, r.section_points);
     };
     const floquet_sweep_result res =
-        floquet_sweep(m, {sv.parameter, sv.values, c.ic, fo}, session.options(), each);
+        floquet_sweep(c.model, {sv.parameter, sv.values, c.ic, fo}, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
 
     const json counts = tally.counts();
@@ -217,11 +208,7 @@ int run_floquet(const floquet_args& a)
                           std::to_string(c.protocol.record_points) + ")");
     floquet_options fo = a.options;
     fo.protocol = c.protocol;
-    // The shooting and the monodromy need a map accurate to better than the 1e-11 closure.
-    fo.tangent_integration.rtol = std::min(c.protocol.flow.integration.rtol, 1e-12);
-    fo.tangent_integration.atol = std::min(c.protocol.flow.integration.atol, 1e-12);
-    fo.tangent_integration.hold_band = c.protocol.flow.integration.hold_band;
-    fo.tangent_integration.h_max = c.protocol.flow.integration.h_max;
+    fo.tangent_integration = tangent_integration(c.protocol.flow.integration);
     validate(c.model, fo);
     if (a.sweep.wanted()) return run_floquet_sweep(a, c, fo);
     if (c.si) c.plot_options["units"] = "si";  // the orbit in metres and m/s, the period in s
@@ -319,78 +306,63 @@ json exponents_json(const lyapunov_result& r)
 int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_options lo)
 {
     job_session session(a.sweep.jobs, c.out);
-    const model& m = c.model;
     const auto& info = c.info();
+    const int dim = c.model.dim();
     const sweep_values sv = parse_sweep(a.sweep, c);
     if (c.protocol.section.type != section_choice::kind::crossing)
         throw input_error("--section " + c.section_name() + ": a lyapunov sweep records points on a section crossing (" +
                           sections_it_has(info) + ")");
     lo.record_points = c.protocol.record_points;
     lo.section = c.protocol.section.index;
-    std::vector<std::string> h{sv.name};
-    for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i));
-    for (const char* k : {"lle_standard_error", "positive", "settled", "impacts", "time", "misses", "outcome"})
-        h.emplace_back(k);
-    for (const auto& n : impact_count_columns(info)) h.push_back(n);
-    if (sv.si()) h.push_back(sv.si_name);
+    std::vector<std::string> trail;  // exponents.csv's SI columns after the record's
+    if (sv.si()) trail.push_back(sv.si_name);
     if (c.si)
-        for (int i = 1; i <= m.dim(); ++i) h.push_back("lambda" + std::to_string(i) + "_si");
+        for (int i = 1; i <= dim; ++i) trail.push_back("lambda" + std::to_string(i) + "_si");
 
     // The values stream in job order: rows to --out DIR, or each value's result to the
     // summary without it (with it they are in the CSV files).
     json per_value = json::array();
     long positive = 0, unsettled = 0;
     streamed_output stream(c);
-    std::optional<csv_writer> w, pts;
+    std::optional<record_table<lyapunov_sweep_point>> w;
+    std::optional<csv_writer> pts;
     auto open = [&] {
         if (w) return;
-        staged_output& out = *stream.get();
-        w.emplace(out.file("exponents.csv"), h);
-        pts.emplace(out.file("points.csv"), sweep_points_header(sv.name, info));
+        w.emplace(stream, "exponents.csv", table_context_for(info, sv.name, -1), std::vector<std::string>{}, trail);
+        open_points(pts, stream, sv.name, "exponents.csv", info);
     };
     auto each = [&](long, const lyapunov_sweep_point& p) {
-        const auto& r = p.result;
+        const auto& r = p.result;  // NaN exponents where it has none (lyapunov_sweep_point)
         const bool have = r.has_exponents();
-        const double lle = have ? r.exponents[0] : std::nan("");
-        if (r.positive_largest_exponent()) ++positive;
+        if (p.positive) ++positive;
         if (have && !r.settled) ++unsettled;
         // Exponents per second with --si: per unit of model time over its length in seconds.
         const double per_second = c.si ? 1.0 / time_scale_at(c, sv, p.value) : std::nan("");
+        const auto exponent = [&](int i) { return i < r.exponents.size() ? r.exponents[i] : std::nan(""); };
+        std::vector<double> si;
+        if (sv.si()) si.push_back(sv.si_value(c, p.value));
+        if (c.si)
+            for (int i = 0; i < dim; ++i) si.push_back(exponent(i) * per_second);
         if (!c.out) {
             per_value.push_back({{"value", p.value},
                                  {"outcome", std::string(to_string(r.status))},
-                                 {"lle", finite_or_null(lle)},
-                                 {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
-                                 {"positive", r.positive_largest_exponent()},
+                                 {"lle", finite_or_null(exponent(0))},
+                                 {"lle_standard_error", finite_or_null(r.lle_standard_error)},
+                                 {"positive", p.positive},
                                  {"settled", r.settled},
                                  {"exponents", exponents_json(r)},
                                  {"impacts", r.impacts},
                                  {"impacts_by_surface", by_surface(r.impacts_by_surface, info)}});
-            if (sv.si()) per_value.back()[sv.si_name] = sv.si_value(c, p.value);
-            if (c.si) per_value.back()["lle_si"] = finite_or_null(lle * per_second);
+            if (sv.si()) per_value.back()[sv.si_name] = si.front();
+            if (c.si) per_value.back()["lle_si"] = finite_or_null(exponent(0) * per_second);
             return;
         }
         open();
-        const bool all = have && r.exponents.size() == m.dim();
-        std::vector<std::string> row{format_double(p.value)};
-        for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(all ? r.exponents[i] : std::nan("")));
-        row.push_back(format_double(nan_unless(have, r.lle_standard_error)));
-        row.emplace_back(r.positive_largest_exponent() ? "1" : "0");
-        row.emplace_back(r.settled ? "1" : "0");
-        row.push_back(std::to_string(r.impacts));
-        row.push_back(format_double(r.time));
-        row.push_back(std::to_string(r.misses));
-        row.emplace_back(to_string(r.status));
-        for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-            row.push_back(std::to_string(s < r.impacts_by_surface.size() ? r.impacts_by_surface[s] : 0L));
-        if (sv.si()) row.push_back(format_double(sv.si_value(c, p.value)));
-        if (c.si)
-            for (int i = 0; i < m.dim(); ++i) row.push_back(format_double(all ? r.exponents[i] * per_second : std::nan("")));
-        w->text_row(row);
+        w->row({}, p, si);
         write_sweep_points(*pts, p.value, r.section_points);
     };
     const lyapunov_sweep_result res =
-        lyapunov_sweep(m, {sv.parameter, sv.values, c.ic, lo}, session.options(), each);
+        lyapunov_sweep(c.model, {sv.parameter, sv.values, c.ic, lo}, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
 
     json summary = {{"command", "lyapunov"},

@@ -7,6 +7,7 @@
 
 #include "test_support.hpp"
 #include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
@@ -90,6 +91,26 @@ void check_every_end()
 
 TEST(Options, LyapunovRefusesEveryEndOfItsDeclaration) { check_every_end<lyapunov_options>(); }
 TEST(Options, FloquetRefusesEveryEndOfItsDeclaration) { check_every_end<floquet_options>(); }
+TEST(Options, ContinuationRefusesEveryEndOfItsDeclaration) { check_every_end<continuation_options>(); }
+
+// The library's own check of a continuation applies the declaration before it runs: a step
+// count the arclength loop could not even start with is refused by its key.
+TEST(Options, ContinuationValidateAppliesTheDeclaration)
+{
+    const model m = test::paper(14.0);
+    continuation_options o;
+    o.parameter = m.info().parameter_index("Ur");
+    o.start = 14.0;
+    o.end = 15.0;
+    o.arclength.max_points = 1;  // a branch of one point has no tangent
+    try {
+        validate(m, o);
+        ADD_FAILURE() << "max_points = 1 was accepted";
+    } catch (const option_error& e) {
+        EXPECT_EQ(e.key(), "max_points");
+    }
+}
+
 TEST(Options, SweepRefusesEveryEndOfItsDeclaration) { check_every_end<sweep_options>(); }
 TEST(Options, MapRefusesEveryEndOfItsDeclaration) { check_every_end<map_options>(); }
 TEST(Options, BasinsRefusesEveryEndOfItsDeclaration) { check_every_end<basins_options>(); }

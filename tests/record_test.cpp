@@ -8,6 +8,7 @@
 #include "io/record_json.hpp"
 #include "vimpact/analysis/basins.hpp"
 #include "vimpact/analysis/response.hpp"
+#include "vimpact/analysis/stability_sweep.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/io/record_table.hpp"
 
@@ -217,6 +218,105 @@ TEST(Records, BasinCellJournalLineKeepsTheSignature)
     EXPECT_TRUE(same_bits(s.cycle[0][1], -0.0));
     EXPECT_TRUE(s.cycle[1] == -x);
     EXPECT_TRUE(s.hi == x);
+}
+
+// The multipliers are complex and read back part by part, NaN and infinities included; the
+// journal line of a whole point reads back to the same line.
+TEST(Records, StabilitySweepPointsJournalLinesReadBackBitForBit)
+{
+    floquet_sweep_point f;
+    f.value = 0.1 + 0.2;
+    f.result.status = outcome::not_converged;
+    f.result.label = "P2";
+    f.result.period = 1.0 / 3.0;
+    f.result.trivial_error = nan;
+    f.result.max_nontrivial_modulus = inf;
+    f.result.impacts_by_surface = {3, 0};
+    f.result.multipliers = {{1.0, -0.0}, {nan, inf}, {-inf, 5e-324}};
+    f.result.orbit_point.resize(2);
+    f.result.orbit_point << -inf, 2.0 / 3.0;
+    f.result.section_points = state_series(2);
+    Eigen::VectorXd x(2);
+    x << nan, -0.0;
+    f.result.section_points.push_back(0.5, x);
+    f.result.tangent_stats.steps = 123456789012L;
+    expect_line_reads_back(f);
+    const auto g = detail::record_from<floquet_sweep_point>(detail::json::parse(detail::record_json(f).dump()));
+    EXPECT_TRUE(same_bits(g.value, f.value));
+    EXPECT_EQ(g.result.status, outcome::not_converged);
+    EXPECT_EQ(g.result.label, "P2");
+    EXPECT_TRUE(same_bits(g.result.period, 1.0 / 3.0));
+    EXPECT_TRUE(std::isnan(g.result.trivial_error));
+    EXPECT_EQ(g.result.max_nontrivial_modulus, inf);
+    EXPECT_EQ(g.result.impacts_by_surface, (std::vector<long>{3, 0}));
+    ASSERT_EQ(g.result.multipliers.size(), 3U);
+    EXPECT_EQ(g.result.multipliers[0].real(), 1.0);
+    EXPECT_TRUE(same_bits(g.result.multipliers[0].imag(), -0.0));
+    EXPECT_TRUE(std::isnan(g.result.multipliers[1].real()));
+    EXPECT_EQ(g.result.multipliers[1].imag(), inf);
+    EXPECT_EQ(g.result.multipliers[2].real(), -inf);
+    EXPECT_TRUE(same_bits(g.result.multipliers[2].imag(), 5e-324));
+    EXPECT_EQ(g.result.orbit_point[0], -inf);
+    ASSERT_EQ(g.result.section_points.size(), 1U);
+    EXPECT_TRUE(same_bits(g.result.section_points.x(0, 1), -0.0));
+    EXPECT_EQ(g.result.tangent_stats.steps, 123456789012L);
+
+    lyapunov_sweep_point l;
+    l.value = -0.0;
+    l.result.status = outcome::time_limit;
+    l.result.exponents.resize(3);
+    l.result.exponents << 0.1 + 0.2, -inf, nan;
+    l.result.lle_standard_error = 5e-324;
+    l.result.settled = false;
+    l.result.impacts = 123456789012L;
+    l.result.impacts_by_surface = {1, 2};
+    l.result.misses = 7;
+    l.result.sum_rule = inf;
+    l.positive = true;
+    expect_line_reads_back(l);
+    const auto m = detail::record_from<lyapunov_sweep_point>(detail::json::parse(detail::record_json(l).dump()));
+    EXPECT_TRUE(same_bits(m.value, -0.0));
+    EXPECT_EQ(m.result.status, outcome::time_limit);
+    ASSERT_EQ(m.result.exponents.size(), 3);
+    EXPECT_TRUE(same_bits(m.result.exponents[0], 0.1 + 0.2));
+    EXPECT_EQ(m.result.exponents[1], -inf);
+    EXPECT_TRUE(std::isnan(m.result.exponents[2]));
+    EXPECT_TRUE(same_bits(m.result.lle_standard_error, 5e-324));
+    EXPECT_FALSE(m.result.settled);
+    EXPECT_EQ(m.result.impacts, 123456789012L);
+    EXPECT_EQ(m.result.impacts_by_surface, (std::vector<long>{1, 2}));
+    EXPECT_EQ(m.result.misses, 7);
+    EXPECT_EQ(m.result.sum_rule, inf);
+    EXPECT_TRUE(m.positive);
+}
+
+// labels.csv and exponents.csv of the stability sweeps of the two-stop oscillator (states x,
+// v, phi) over w: the documented columns (docs/stability.md); the multipliers and section
+// points take none (tables of their own); exponents padded with NaN to the model's dimension.
+TEST(Records, StabilitySweepColumnsAreTheDocumentedOnes)
+{
+    const table_context c{"w", "", {"right", "left"}, "", {"x", "v", "phi"}};
+    const auto names = [](const std::vector<column_schema>& cols) {
+        std::vector<std::string> out;
+        for (const auto& col : cols) out.push_back(col.name);
+        return out;
+    };
+    EXPECT_EQ(names(record_columns<floquet_sweep_point>(c)),
+              (std::vector<std::string>{"w", "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
+                                        "closure", "outcome", "impacts_right", "impacts_left"}));
+    const auto lc = record_columns<lyapunov_sweep_point>(c);
+    EXPECT_EQ(names(lc), (std::vector<std::string>{"w", "lambda1", "lambda2", "lambda3", "lle_standard_error",
+                                                   "settled", "impacts", "time", "misses", "outcome",
+                                                   "impacts_right", "impacts_left", "positive"}));
+    EXPECT_EQ(lc[3].state, 2);
+    EXPECT_EQ(lc[3].field, "exponents");
+    lyapunov_sweep_point l;
+    l.result.exponents.resize(2);
+    l.result.exponents << 0.5, -1.0;
+    const auto cells = record_cells(l, c);
+    ASSERT_EQ(cells.size(), lc.size());
+    EXPECT_EQ(cells[1], format_double(0.5));
+    EXPECT_EQ(cells[3], format_double(nan));
 }
 
 // The statistics that are one number each keep their documented names and order.

@@ -12,6 +12,7 @@
 #include "common.hpp"
 #include "vimpact/analysis/bifurcation_curve.hpp"
 #include "vimpact/analysis/continuation.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 #include "vimpact/io/continuation_json.hpp"
 
 namespace vimpact::python {
@@ -25,24 +26,9 @@ std::string continuation_run(const model& m, const py::list& starts, const py::d
     co.start = o.need<double>("start");
     co.end = o.need<double>("end");
     co.protocol = protocol_of(m, o);
-    co.period_tolerance = o.get<double>("tol", co.period_tolerance);
-    const int period = o.get<int>("period", 0);
-    if (period < 0) throw input_error("period must be >= 1 (got " + std::to_string(period) + ")");
-    co.from_attractor = period == 0;
-    co.returns = period;
-    co.switch_depth = o.get<int>("switch", co.switch_depth);
-    co.detect = o.get<bool>("detect", co.detect);
-    co.locate_tolerance = o.get<double>("locate_tol", co.locate_tolerance);
-    arclength_options& a = co.arclength;
-    a.step = o.get<double>("ds", a.step);
-    a.min_step = o.get<double>("ds_min", a.min_step);
-    a.max_step = o.get<double>("ds_max", a.max_step);
-    a.max_points = o.get<long>("max_points", a.max_points);
-    a.tolerance = o.get<double>("closure_tol", a.tolerance);
-    a.newton_iterations = o.get<int>("newton_iterations", a.newton_iterations);
-    a.integration.rtol = std::min(co.protocol.flow.integration.rtol, 1e-12);
-    a.integration.atol = std::min(co.protocol.flow.integration.atol, 1e-12);
-    a.integration.hold_band = co.protocol.flow.integration.hold_band;
+    read_declared(o, co);
+    co.from_attractor = co.returns == 0;
+    co.arclength.integration = tangent_integration(co.protocol.flow.integration);
     const int threads = o.get<int>("threads", 0);
     const bool two = o.has("param2");
     curve_options cv;
@@ -55,7 +41,7 @@ std::string continuation_run(const model& m, const py::list& starts, const py::d
             cv.types.push_back(parse_name(t, std::array{bifurcation_type::fold, bifurcation_type::period_doubling,
                                                         bifurcation_type::grazing},
                                           "curves"));
-        cv.arclength = a;
+        cv.arclength = co.arclength;
     } else {
         (void)o.object("param2");
         (void)o.object("lo2");

@@ -47,11 +47,6 @@ py::dict defaults()
     const floquet_options fo;
     d["tangent_rtol"] = fo.tangent_integration.rtol;
     d["tangent_atol"] = fo.tangent_integration.atol;
-    const continuation_options co;
-    d["max_points"] = co.arclength.max_points;
-    d["closure_tol"] = co.arclength.tolerance;
-    d["locate_tol"] = co.locate_tolerance;
-    d["continuation_newton_iterations"] = co.arclength.newton_iterations;
     const dimension_options dop;
     d["centres"] = dop.centre.centres;
     d["radii"] = py::make_tuple(dop.centre.r_min, dop.centre.r_max, dop.centre.r_step);
@@ -80,6 +75,7 @@ PYBIND11_MODULE(_vimpact, m)
     py::dict declared;
     declared["lyapunov"] = vimpact::python::declarations<lyapunov_options>();
     declared["floquet"] = vimpact::python::declarations<floquet_options>();
+    declared["continuation"] = vimpact::python::declarations<continuation_options>();
     declared["sweep"] = vimpact::python::declarations<sweep_options>();
     declared["map"] = vimpact::python::declarations<map_options>();
     declared["basins"] = vimpact::python::declarations<basins_options>();

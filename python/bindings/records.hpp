@@ -2,12 +2,15 @@
 // Records the library describes (core/record.hpp) as numpy columns, one entry per record: a
 // field of one value is a 1-D array (int64, float64, bool) or a list of str, a per-surface
 // field an array (records, surfaces), a state vector (records, dim), a series its points one
-// record after the other (points, dim) with NAME_run, the record of each point; a group is a
-// dict of its own fields. vimpact/results.py reads the same columns from an output directory
+// record after the other (points, dim) with NAME_run, the record of each point, a spectrum an
+// array (records, dim) of complex128 (NaN where a record has fewer values); a group is a dict
+// of its own fields. vimpact/results.py reads the same columns from an output directory
 // (read_tables), so a result is built the same way from either.
+#include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <complex>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -27,7 +30,7 @@ namespace py = pybind11;
 
 namespace detail {
 
-enum class column_kind { real, integer, flag, text, group };
+enum class column_kind { real, integer, flag, text, complex, group };
 
 template <class T>
 constexpr column_kind kind_of()
@@ -35,6 +38,7 @@ constexpr column_kind kind_of()
     if constexpr (std::is_same_v<T, bool>) return column_kind::flag;
     else if constexpr (std::is_integral_v<T> || std::is_same_v<T, std::vector<long>>) return column_kind::integer;
     else if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, outcome>) return column_kind::text;
+    else if constexpr (std::is_same_v<T, std::vector<std::complex<double>>>) return column_kind::complex;
     else return column_kind::real;
 }
 
@@ -45,6 +49,7 @@ struct record_column {
     std::vector<double> reals;
     std::vector<std::int64_t> integers;
     std::vector<bool> flags;
+    std::vector<std::complex<double>> complexes;
     std::vector<std::string> texts;
     std::vector<std::int64_t> runs;  // a series: the record of each point
     int width = 1;                   // values per record (per surface, per state), per point (series)
@@ -97,6 +102,12 @@ struct column_collector {
                 else
                     c.integers.push_back(has ? v[static_cast<std::size_t>(s)] : 0);
             }
+        } else if constexpr (std::is_same_v<T, std::vector<std::complex<double>>>) {
+            c.width = dim;
+            for (int k = 0; k < dim; ++k)
+                c.complexes.push_back(static_cast<std::size_t>(k) < v.size()
+                                          ? v[static_cast<std::size_t>(k)]
+                                          : std::complex<double>(std::numeric_limits<double>::quiet_NaN(), 0.0));
         } else if constexpr (std::is_same_v<T, Eigen::VectorXd>) {
             c.width = dim;
             for (int k = 0; k < dim; ++k) c.reals.push_back(k < v.size() ? v[k] : std::numeric_limits<double>::quiet_NaN());
@@ -132,10 +143,17 @@ inline py::object column_object(const record_column& c, py::ssize_t records)
             return a;
         }
         case column_kind::integer:
+        case column_kind::complex:
         case column_kind::real: break;
     }
     std::vector<py::ssize_t> shape{c.span == field_span::series ? static_cast<py::ssize_t>(c.runs.size()) : records};
     if (c.span != field_span::one) shape.push_back(c.width);
+    if (c.kind == column_kind::complex) {
+        py::array_t<std::complex<double>> a(shape);
+        if (!c.complexes.empty())
+            std::memcpy(a.mutable_data(), c.complexes.data(), c.complexes.size() * sizeof(std::complex<double>));
+        return a;
+    }
     if (c.kind == column_kind::integer) {
         py::array_t<std::int64_t> a(shape);
         if (!c.integers.empty()) std::memcpy(a.mutable_data(), c.integers.data(), c.integers.size() * sizeof(std::int64_t));

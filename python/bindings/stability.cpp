@@ -1,7 +1,7 @@
 // Stability of the attractor: Floquet multipliers of a periodic orbit
 // (include/vimpact/analysis/floquet.hpp), the Lyapunov spectrum (lyapunov.hpp) and both over
-// a range of one parameter (stability_sweep.hpp). Dicts of numpy arrays; vimpact/_api.py makes
-// result objects of them.
+// a range of one parameter (stability_sweep.hpp; their points as records.hpp's columns).
+// Dicts of numpy arrays; vimpact/_api.py makes result objects of them.
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -14,9 +14,11 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
+#include "records.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/stability_sweep.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 
 namespace vimpact::python {
 namespace {
@@ -28,9 +30,9 @@ floquet_options floquet_of(const model& m, options& o)
     floquet_options fo;
     fo.protocol = protocol_of(m, o);
     read_declared(o, fo);
+    fo.tangent_integration = tangent_integration(fo.protocol.flow.integration);
     fo.tangent_integration.rtol = o.get<double>("tangent_rtol", fo.tangent_integration.rtol);
     fo.tangent_integration.atol = o.get<double>("tangent_atol", fo.tangent_integration.atol);
-    fo.tangent_integration.hold_band = fo.protocol.flow.integration.hold_band;  // as the command line does
     fo.sample_dt = o.get<double>("sample_dt", fo.sample_dt);
     return fo;
 }
@@ -155,16 +157,6 @@ py::dict lyapunov_run(const model& m, const py::object& ic, const py::dict& kw)
     return lyapunov_dict(m, r);
 }
 
-// The per-value results of a stability sweep, each value's a whole result's dict.
-template <class Result, class Dict>
-void put_results(py::dict& d, const model& m, const Result& r, Dict&& dict_of)
-{
-    d["value"] = column<double>(r.points, [](const auto& p) { return p.value; });
-    py::list results;
-    for (const auto& p : r.points) results.append(dict_of(m, p.result));
-    d["results"] = results;
-}
-
 py::dict floquet_sweep_run(const model& m, const py::dict& kw)
 {
     options o(kw);
@@ -173,8 +165,9 @@ py::dict floquet_sweep_run(const model& m, const py::dict& kw)
     so.floquet = floquet_of(m, o);
     no_protocol_samples(so.floquet);
     const auto analysis = [&](const job_options& c) { return floquet_sweep(m, so, c); };
-    return run_jobs(o, analysis,
-                    [&](py::dict& d, const floquet_sweep_result& r) { put_results(d, m, r, floquet_dict); });
+    return run_jobs(o, analysis, [&](py::dict& d, const floquet_sweep_result& r) {
+        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
+    });
 }
 
 py::dict lyapunov_sweep_run(const model& m, const py::dict& kw)
@@ -184,8 +177,9 @@ py::dict lyapunov_sweep_run(const model& m, const py::dict& kw)
     read_parameter_values(m, o, so);
     so.lyapunov = lyapunov_of(m, o);
     const auto analysis = [&](const job_options& c) { return lyapunov_sweep(m, so, c); };
-    return run_jobs(o, analysis,
-                    [&](py::dict& d, const lyapunov_sweep_result& r) { put_results(d, m, r, lyapunov_dict); });
+    return run_jobs(o, analysis, [&](py::dict& d, const lyapunov_sweep_result& r) {
+        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
+    });
 }
 
 }  // namespace

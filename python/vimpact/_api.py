@@ -906,26 +906,15 @@ def lyapunov(model, ic=None, *, record=0, section=None, transient=_D["transient"
     return _lyapunov_result(d, model, _options(ic, **o))
 
 
-def _sweep_points(results, dim):
-    pts = [r.section for r in results]
-    run = np.concatenate([np.full(len(p), i, dtype=np.int64) for i, p in enumerate(pts)]) if pts else \
-        np.empty(0, dtype=np.int64)
-    return (np.vstack(pts) if pts else np.empty((0, dim))), run
-
-
-def _per_value(call, model, param, values, ic, o, jobs, result):
-    """Runs ``call`` (a compiled stability sweep) over the values as jobs. Returns the JobReport
-    alone when the run is not complete; else the per-value results (made by ``result``) and
-    the fields every per-value sweep has."""
+def _per_value(call, cls, model, param, values, ic, o, jobs, **run):
+    """Runs ``call`` (a compiled stability sweep) over the values as jobs: a result of ``cls``
+    made of its records, or the JobReport alone when the run is not complete."""
     o.update(param=param, values=np.asarray(values, dtype=float), ic=_ic(ic), **jobs)
     d, report = _run_jobs(lambda: call(model._handle, o), o)
     if d is None:
-        return report, None
-    opts = _result_options(ic, o, "values")
-    results = [result(r, model, opts) for r in d["results"]]
-    pts, run = _sweep_points(results, model.dim)
-    return results, dict(param=param, value=d["value"], results=results, points=pts, point_run=run,
-                         stats=_job_stats(d, report), jobs=report, **_context(model, opts))
+        return report
+    return cls.of(d["records"], _context(model, _result_options(ic, o, "values")), param=param,
+                  stats=_job_stats(d, report), jobs=report, **run)
 
 
 @_with_defaults
@@ -954,18 +943,8 @@ def floquet_sweep(model, param, values, ic=None, *, tangent_rtol=_D["tangent_rto
     model = _model(model)
     o = _floquet_options(model, declared, 0.0, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
                          hold_band, method, quiet_time, t_max)
-    results, fields = _per_value(_vimpact._floquet_sweep, model, param, values, ic, o,
-                                 _jobs(threads, journal, resume, shard, progress, keep_journal), _floquet_result)
-    if fields is None:
-        return results
-    n, dim = len(results), model.dim
-    mus = np.full((n, dim), np.nan + 0j)
-    trivial = np.zeros((n, dim), dtype=bool)
-    for i, r in enumerate(results):
-        mus[i, :len(r.multipliers)] = r.multipliers
-        trivial[i, 0] = len(r.multipliers) > 0
-    return FloquetSweep(label=_strings([r.label for r in results]), multipliers=mus, trivial=trivial,
-                        stable=np.array([r.stable for r in results], dtype=object), **fields)
+    return _per_value(_vimpact._floquet_sweep, FloquetSweep, model, param, values, ic, o,
+                      _jobs(threads, journal, resume, shard, progress, keep_journal))
 
 
 @_with_defaults
@@ -994,16 +973,8 @@ def lyapunov_sweep(model, param, values, ic=None, *, record=0, section=None, tra
     """
     model = _model(model)
     o = _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max)
-    results, fields = _per_value(_vimpact._lyapunov_sweep, model, param, values, ic, o,
-                                 _jobs(threads, journal, resume, shard, progress, keep_journal), _lyapunov_result)
-    if fields is None:
-        return results
-    exps = np.vstack([r.exponents for r in results]) if results else np.empty((0, model.dim))
-    return LyapunovSweep(exponents=exps,
-                         lle_standard_error=np.array([r.lle_standard_error for r in results], dtype=float),
-                         positive_exponent=np.array([r.positive for r in results], dtype=bool),
-                         settled=np.array([r.settled for r in results], dtype=bool),
-                         status=_strings([r.status for r in results]), tdm=declared["tdm"], **fields)
+    return _per_value(_vimpact._lyapunov_sweep, LyapunovSweep, model, param, values, ic, o,
+                      _jobs(threads, journal, resume, shard, progress, keep_journal), tdm=declared["tdm"])
 
 
 # ---------------------------------------------------------------- correlation dimension
@@ -1099,13 +1070,11 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
 
 
 @_with_defaults
-def continuation(model, param, range, ic=None, *, period=None, starts=None, switch=0, param2=None, range2=None,
-                 curves=("fold", "period_doubling", "grazing"), ds=0.0, ds_min=0.0, ds_max=0.0,
-                 max_points=_D["max_points"], closure_tol=_D["closure_tol"], locate_tol=_D["locate_tol"],
-                 newton_iterations=_D["continuation_newton_iterations"], detect=True, tol=_D["period_tol"],
-                 threads=_D["threads"], transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
-                 atol=_D["atol"], hold_band=_D["hold_band"],
-                 method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+@_declares("continuation")
+def continuation(model, param, range, ic=None, *, starts=None, param2=None, range2=None,
+                 curves=("fold", "period_doubling", "grazing"), threads=_D["threads"], transient=_D["transient"],
+                 record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
+                 method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], declared):
     """Continuation of periodic orbits in one parameter, stable and unstable, with their
     bifurcations; optionally the curves of the bifurcation points in a second parameter.
 
@@ -1132,36 +1101,17 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
         ``(a, b)``: the branch starts at a and runs towards b; it ends where the parameter
         leaves [a, b].
     ic : array_like, shape (dim,), optional
-        Without ``period``: the initial state of the protocol whose attractor at a starts the
-        branch (default ``model.default_ic``). With ``period``: a point near the orbit on the
-        section.
-    period : int, optional
-        Section returns per period of the orbit to start from ``ic`` by Newton's method (no
-        transient): for unstable orbits.
+        With ``period`` 0: the initial state of the protocol whose attractor at a starts the
+        branch (default ``model.default_ic``). Else a point near the orbit on the section.
     starts : list of array_like, optional
         Further initial states, each giving a branch (the same orbit found twice is kept once).
-    switch : int, default 0
-        Switch onto the doubled branch at period doublings, this many times in a row.
     param2 : str, optional
         Two-parameter mode: every located bifurcation of the types in ``curves`` is followed in
         (param, param2).
     range2 : (float, float)
         The range of ``param2``; the model's value of it must lie inside.
     curves : sequence of str, default ("fold", "period_doubling", "grazing")
-    ds, ds_min, ds_max : float, default 0
-        Arclength steps; 0: range / 100, range * 1e-9 and range / 20.
-    max_points : int, default $max_points
-        Points per branch at most.
-    closure_tol : float, default $closure_tol
-        |G|_inf of every point.
-    locate_tol : float, default $locate_tol
-        Parameter accuracy of a located bifurcation.
-    newton_iterations : int, default $continuation_newton_iterations
-        Corrector iterations per step.
-    detect : bool, default True
-        Locate folds, period doublings and Neimark-Sacker points (grazings always are).
-    tol : float, default $period_tol
-        Period tolerance of the start's label.
+    <declared>
     threads : int, default $threads
         Worker threads for several starts, switched branches and curves; results never depend
         on it.
@@ -1184,10 +1134,7 @@ def continuation(model, param, range, ic=None, *, period=None, starts=None, swit
     model = _model(model)
     a, b = (float(v) for v in range)
     o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  param=str(param), start=a,
-                  end=b, tol=tol, period=0 if period is None else int(period), switch=int(switch), detect=bool(detect),
-                  locate_tol=locate_tol, ds=ds, ds_min=ds_min, ds_max=ds_max, max_points=int(max_points),
-                  closure_tol=closure_tol, newton_iterations=int(newton_iterations), threads=int(threads))
+                  param=str(param), start=a, end=b, threads=int(threads), **declared)
     if param2 is not None or range2 is not None:
         if param2 is None or range2 is None:
             raise InputError("param2 and range2 go together")

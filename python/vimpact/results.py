@@ -15,7 +15,7 @@ import csv
 import json
 import os
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Optional
 
 import numpy as np
@@ -155,11 +155,12 @@ def _tabled(schema, table, tables):
     """The columns of one table as the bindings return them (python/bindings/records.hpp):
     field -> array, a per-surface or per-state field an (n, width) array, a group a dict; a
     series table gives its field's points and, from its key columns, NAME_run: the row of
-    each point's record in the records table (its rows come record after record)."""
+    each point's record in the records table (its rows come record after record); a spectrum
+    table its field's values, (records, width) complex."""
     out, parts = {}, {}
     n = len(next(iter(table.values()), ()))
     for c in schema["columns"]:
-        if "field" not in c:
+        if "field" not in c or "part" in c:
             continue
         target = out.setdefault(c["group"], {}) if "group" in c else out
         values = _cells(table[c["name"]], c.get("type", "float"))
@@ -169,8 +170,7 @@ def _tabled(schema, table, tables):
             target[c["field"]] = values
     for (_, name), (target, cols) in parts.items():
         target[name] = np.column_stack(cols) if n else np.empty((0, len(cols)))
-    series = schema.get("series")
-    if series:
+    if "records" in schema:
         keys = [(c["name"], c["key"]) for c in schema["columns"] if "key" in c]
         records = tables[schema["records"]]
         run, runs = 0, np.empty(n, dtype=np.int64)
@@ -178,7 +178,12 @@ def _tabled(schema, table, tables):
             while any(float(records[f][run]) != float(table[name][k]) for name, f in keys):
                 run += 1
             runs[k] = run
-        out[series + "_run"] = runs
+        if "spectrum" in schema:  # (records, width) complex, NaN where a record has fewer values
+            values = np.full((len(records[keys[0][1]]), schema["width"]), np.nan + 0j)
+            part = {k: _cells(table[k], "float") for k in ("index", "re", "im")}
+            values[runs, part["index"].astype(np.int64)] = part["re"] + 1j * part["im"]
+            return {schema["spectrum"]: values}
+        out[schema["series"] + "_run"] = runs
     return out
 
 
@@ -204,7 +209,7 @@ def read_tables(directory):
         raise ValueError(f"{directory}/run.json does not describe its tables: it was written by an older "
                          f"vimpact; run the command again")
     out = {}
-    for name, schema in sorted(record["tables"].items(), key=lambda kv: "series" in kv[1]):
+    for name, schema in sorted(record["tables"].items(), key=lambda kv: "records" in kv[1]):
         out[name] = _tabled(schema, read_table(os.path.join(directory, name)), out)
     return out
 
@@ -784,14 +789,6 @@ class Sweep(_Context, _Labels, _PointRuns):
                       ic_mode=res["ic_mode"], direction=res["direction"], grazing_param=res.get("grazing_param"))
 
 
-def _settled(lab, shape=None):
-    """The labels table's settled column (1/0) as booleans; None for a table without it."""
-    if "settled" not in lab:
-        return None
-    a = np.array(lab["settled"], dtype=float) > 0.5
-    return a.reshape(shape) if shape is not None else a
-
-
 @dataclass(repr=False)
 class Map(_Context, _Labels):
     """A periodicity map over two parameters (``vimpact.map``, the command ``map``).
@@ -1288,16 +1285,56 @@ class Lyapunov(_Context):
 
 
 @dataclass(repr=False)
-class FloquetSweep(_Context, _Labels, _PointRuns):
+class _ValueSweep(_Context, _PointRuns):
+    """What a stability sweep holds besides its own arrays: ``param``; ``value`` (n,), the
+    value of each run; ``results``, the result of each value with the fields of its record;
+    ``points`` and ``point_run``, the section points of every value and the value index of
+    each (the bifurcation diagram underneath); ``stats``; ``jobs``; and ``records``, every
+    field of the library's record of each value by name (``read_tables``' form)."""
+    param: str = ""
+    value: np.ndarray = None
+    results: list = field(default_factory=list)
+    points: np.ndarray = None
+    point_run: np.ndarray = None
+    stats: dict = field(default_factory=dict)
+    jobs: Optional[JobReport] = None
+    records: dict = field(default_factory=dict)
+
+    @classmethod
+    def _of(cls, result, records, ctx, run, **own):
+        """The sweep of the columns of its records (``read_tables``', or the bindings'), the
+        context of its model, what the run says of itself (``run``) and its own arrays; each
+        value's ``result`` (a spectrum without its NaN, impacts by surface name)."""
+        cols, same = dict(records, **own), {"tdm": run["tdm"]} if "tdm" in run else {}
+        names = [f.name for f in fields(result) if f.name in cols and f.name != "impacts_by_surface"
+                 and not isinstance(cols[f.name], dict)]
+        pts, at = records["section_points"], records["section_points_run"]
+        cell = lambda v: v[~np.isnan(v)] if np.iscomplexobj(v) else v  # noqa: E731
+        results = [result(**{k: cell(cols[k][i]) for k in names}, section=pts[at == i], **same,
+                          impacts_by_surface=dict(zip(ctx["surfaces"], records["impacts_by_surface"][i].tolist())),
+                          **ctx) for i in range(len(records["value"]))]
+        return cls(value=records["value"], results=results, points=pts, point_run=at, records=records, **own,
+                   **run, **ctx)
+
+    @classmethod
+    def load(cls, directory):
+        """The result of ``vimpact floquet`` (``lyapunov``) ``--param P --range a:b:n --out DIR``."""
+        ctx, res = _loaded(directory)
+        records = {}
+        for columns in read_tables(directory).values():
+            records.update(columns)
+        return cls.of(records, ctx, **{k: res[k] for k in ("param", "tdm") if k in res})
+
+
+@dataclass(repr=False)
+class FloquetSweep(_ValueSweep, _Labels):
     """Floquet multipliers over a range of one parameter (``vimpact.floquet_sweep``, the
     command ``floquet --param P --range a:b:n``; the paper's Figures 14 and 15).
 
     Attributes
     ----------
-    param : str
-    value : ndarray, float64, shape (n,)
-    results : list of Floquet
-        One per value (without the orbit samples).
+    param, value, results (of Floquet: no monodromy, impacts or orbit), points, point_run, stats, jobs, records
+        As every stability sweep's (``_ValueSweep``).
     label : ndarray, str, shape (n,)
     multipliers : ndarray, complex128, shape (n, dim)
         NaN rows where there are none (aperiodic or failed points).
@@ -1305,22 +1342,11 @@ class FloquetSweep(_Context, _Labels, _PointRuns):
         Marks the trivial multiplier (column 0 where there are multipliers).
     stable : ndarray, object, shape (n,)
         True, False or None.
-    points, point_run : ndarray
-        The protocol's section points of every value and the value index of each, for the
-        bifurcation diagram underneath.
-    jobs : JobReport
     """
-    param: str = ""
-    value: np.ndarray = None
-    results: list = field(default_factory=list)
     label: np.ndarray = None
     multipliers: np.ndarray = None
     trivial: np.ndarray = None
     stable: np.ndarray = None
-    points: np.ndarray = None
-    point_run: np.ndarray = None
-    stats: dict = field(default_factory=dict)
-    jobs: Optional[JobReport] = None
 
     def __repr__(self):
         unstable = sum(1 for s in self.stable if s is False)
@@ -1328,40 +1354,27 @@ class FloquetSweep(_Context, _Labels, _PointRuns):
                 f"{unstable} unstable)")
 
     @classmethod
-    def load(cls, directory):
-        """The result of ``vimpact floquet --param P --range a:b:n --out DIR``."""
-        ctx, res = _loaded(directory)
-        param = res["param"]
-        lab = read_table(os.path.join(directory, "labels.csv"))
-        value = np.array(lab[param], dtype=float)
-        mult = read_csv(os.path.join(directory, "multipliers.csv"))
-        dim = len(ctx["state_names"])
-        mus = np.full((len(value), dim), np.nan + 0j)
-        trivial = np.zeros((len(value), dim), dtype=bool)
-        count = {}
-        for v, re_, im, tr in zip(mult[param], mult["re"], mult["im"], mult.get("trivial", np.zeros(len(mult["re"])))):
-            i = int(np.flatnonzero(value == v)[0])
-            k = count.get(i, 0)
-            if k < dim:
-                mus[i, k] = re_ + 1j * im
-                trivial[i, k] = tr > 0.5
-            count[i] = k + 1
-        pts, run = _points(directory, param, value, ctx["state_names"])
-        return cls(param=param, value=value, label=_str_array(lab["label"]), multipliers=mus, trivial=trivial,
-                   stable=np.array([None] * len(value), dtype=object), points=pts, point_run=run, **ctx)
+    def of(cls, records, ctx, **run):
+        mus = records["multipliers"]
+        have = ~np.isnan(mus[:, 0]) if mus.shape[1] else np.zeros(len(mus), dtype=bool)
+        trivial = np.zeros(mus.shape, dtype=bool)
+        trivial[:, :1] = have[:, None]
+        stable = np.array([bool(s == "ok" and m < 1) if h else None for s, m, h in
+                           zip(records["status"], records["max_nontrivial_modulus"], have)], dtype=object)
+        return cls._of(Floquet, records, ctx, run, label=_str_array(records["label"]),
+                       multipliers=mus, trivial=trivial, stable=stable)
 
 
 @dataclass(repr=False)
-class LyapunovSweep(_Context, _PointRuns):
+class LyapunovSweep(_ValueSweep):
     """Lyapunov exponents over a range of one parameter (``vimpact.lyapunov_sweep``, the
     command ``lyapunov --param P --range a:b:n``; the paper's Figures 16 and 17).
 
     Attributes
     ----------
-    param : str
-    value : ndarray, float64, shape (n,)
-    results : list of Lyapunov
-        One per value (without the interval history).
+    param, value, results (of Lyapunov: no interval history), points, point_run, stats, jobs, records
+        As every stability sweep's (``_ValueSweep``; the points those of each averaging
+        window, with ``record > 0``).
     exponents : ndarray, float64, shape (n, dim)
     lle : ndarray, float64, shape (n,)
     lle_standard_error : ndarray, float64, shape (n,)
@@ -1371,25 +1384,14 @@ class LyapunovSweep(_Context, _PointRuns):
     settled : ndarray, bool, shape (n,)
         False where the largest exponent drifts between the halves of the averaging.
     status : ndarray, str, shape (n,)
-    points, point_run : ndarray
-        Section points of each value's averaging window (``record > 0``) and the value
-        index of each, for the bifurcation diagram underneath.
     tdm : str
-    jobs : JobReport
     """
-    param: str = ""
-    value: np.ndarray = None
-    results: list = field(default_factory=list)
     exponents: np.ndarray = None
     lle_standard_error: np.ndarray = None
     positive_exponent: np.ndarray = None
     settled: Optional[np.ndarray] = None
     status: np.ndarray = None
-    points: np.ndarray = None
-    point_run: np.ndarray = None
     tdm: str = "saltation"
-    stats: dict = field(default_factory=dict)
-    jobs: Optional[JobReport] = None
 
     @property
     def lle(self):
@@ -1405,33 +1407,10 @@ class LyapunovSweep(_Context, _PointRuns):
                 f"with a positive largest exponent)")
 
     @classmethod
-    def load(cls, directory):
-        """The result of ``vimpact lyapunov --param P --range a:b:n --out DIR``."""
-        ctx, res = _loaded(directory)
-        param = res["param"]
-        tab = read_table(os.path.join(directory, "exponents.csv"))
-        value = np.array([float(x) for x in tab[param]])
-        lam = sorted((k for k in tab if re.fullmatch(r"lambda\d+", k)), key=lambda k: int(k[6:]))
-        exps = np.column_stack([[_num(x) if x not in ("", "nan") else np.nan for x in tab[k]] for k in lam]) \
-            if len(value) else np.empty((0, len(lam)))
-        se = np.array([float(x) if x not in ("", "nan") else np.nan for x in tab.get("lle_standard_error", [])])
-        pts, run = _points(directory, param, value, ctx["state_names"])
-        return cls(param=param, value=value, exponents=exps, lle_standard_error=se,
-                   positive_exponent=np.array(_written(tab, "positive", os.path.join(directory, "exponents.csv")),
-                                              dtype=float) > 0.5, settled=_settled(tab),
-                   status=_str_array(tab.get("outcome", ["ok"] * len(value))), points=pts, point_run=run,
-                   tdm=res.get("tdm", "saltation"), **ctx)
-
-
-def _points(directory, param, value, names):
-    """points.csv of a stability sweep: section points with their parameter value."""
-    path = os.path.join(directory, "points.csv")
-    if not os.path.exists(path):
-        return np.empty((0, len(names))), np.empty(0, dtype=np.int64)
-    pts = read_csv(path)
-    pv = pts[param]
-    index = {v: i for i, v in enumerate(value)}
-    return _states(pts, names, len(pv)), np.array([index.get(v, 0) for v in pv], dtype=np.int64)
+    def of(cls, records, ctx, **run):
+        return cls._of(Lyapunov, records, ctx, run, exponents=records["exponents"],
+                       lle_standard_error=records["lle_standard_error"], positive_exponent=records["positive"],
+                       settled=records["settled"], status=_str_array(records["status"]))
 
 
 # ---------------------------------------------------------------- correlation dimension

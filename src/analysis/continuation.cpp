@@ -62,18 +62,9 @@ std::string end_reason(const continuation_branch& b, std::string_view parameter)
 
 void validate(const arclength_options& a)
 {
-    for (const auto& [name, v] : {std::pair{"ds", a.step}, {"ds_min", a.min_step}, {"ds_max", a.max_step}})
-        if (!(v >= 0.0) || !std::isfinite(v))
-            throw input_error(std::string(name) + " must be >= 0 and finite (0: from the range; got " + format_double(v) +
-                              ")");
+    check_options(a);
     if (a.min_step > 0.0 && a.max_step > 0.0 && a.min_step > a.max_step)
         throw input_error("ds_min (" + format_double(a.min_step) + ") exceeds ds_max (" + format_double(a.max_step) + ")");
-    if (a.max_points < 2 || a.max_points > 1'000'000)
-        throw input_error("max_points must be in [2, 1000000] (got " + std::to_string(a.max_points) + ")");
-    if (!(a.tolerance > 0.0) || !(a.tolerance <= 1e-4))
-        throw input_error("the closure tolerance must be in (0, 1e-4] (got " + format_double(a.tolerance) + ")");
-    if (a.newton_iterations < 1 || a.newton_iterations > 100)
-        throw input_error("Newton iterations must be in [1, 100] (got " + std::to_string(a.newton_iterations) + ")");
     validate(a.integration);
 }
 
@@ -91,21 +82,15 @@ void validate(const model& m, const continuation_options& o)
     // The parameter's own valid range: with_parameter names it.
     (void)m.with_parameter(o.parameter, o.start);
     (void)m.with_parameter(o.parameter, o.end);
+    check_options(o);
     validate(o.protocol);
     validate(m, o.protocol.section);
     if (o.protocol.section.type != section_choice::kind::crossing)
         throw input_error("continuation needs a section crossing (one of " + m.info().section_names() +
                           "), not the impacts");
-    check_period_tolerance(o.period_tolerance);
-    if (o.returns < 0 || o.returns > 1000)
-        throw input_error("section returns per period must be in [0, 1000] (got " + std::to_string(o.returns) + ")");
     if (!o.from_attractor && o.returns < 1)
         throw input_error("a continuation from a given point needs its section returns per period (>= 1)");
     validate(o.arclength);
-    if (!(o.locate_tolerance > 0.0) || !std::isfinite(o.locate_tolerance))
-        throw input_error("the location tolerance must be > 0 (got " + format_double(o.locate_tolerance) + ")");
-    if (o.switch_depth < 0 || o.switch_depth > 8)
-        throw input_error("switch depth must be in [0, 8] (got " + std::to_string(o.switch_depth) + ")");
 }
 
 namespace detail {

@@ -6,6 +6,7 @@
 
 #include "dispatch.hpp"
 #include "vimpact/core/format.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 
 namespace vimpact {
 
@@ -145,9 +146,7 @@ double parameter_for_gap(const model& m, int surface, int parameter, const Eigen
 grazing_options job_grazing_options(const integrator_options& protocol_integration, double transient_time)
 {
     grazing_options go;
-    go.integration.rtol = std::min(protocol_integration.rtol, 1e-12);
-    go.integration.atol = std::min(protocol_integration.atol, 1e-12);
-    go.integration.hold_band = protocol_integration.hold_band;
+    go.integration = tangent_integration(protocol_integration);
     go.transient_time = transient_time;
     return go;
 }

@@ -61,21 +61,6 @@ Eigen::VectorXd vector_from(const json& j)
     return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
 
-json matrix_json(const Eigen::MatrixXd& m)
-{
-    json rows = json::array();
-    for (Eigen::Index i = 0; i < m.rows(); ++i) rows.push_back(vector_json(m.row(i).transpose()));
-    return rows;
-}
-
-Eigen::MatrixXd matrix_from(const json& j)
-{
-    if (j.empty()) return {};
-    Eigen::MatrixXd m(static_cast<Eigen::Index>(j.size()), static_cast<Eigen::Index>(j[0].size()));
-    for (Eigen::Index i = 0; i < m.rows(); ++i) m.row(i) = vector_from(j[static_cast<std::size_t>(i)]).transpose();
-    return m;
-}
-
 json to_json(const model& m)
 {
     return {{"name", m.name()}, {"identity", m.info().identity}, {"parameters", numbers(m.parameters())}};
@@ -169,31 +154,6 @@ json to_json(const lyapunov_options& o)
             {"section", o.section}};
 }
 
-json to_json(const run_stats& s)
-{
-    return {{"steps", s.steps},   {"rejected", s.rejected}, {"rhs_calls", s.rhs_calls},
-            {"impacts", s.impacts}, {"impacts_by_surface", s.impacts_by_surface}, {"sections", s.sections},
-            {"sticking_phases", s.sticking_phases}, {"sticking_time", number(s.sticking_time)},
-            {"h_min", number(s.h_min)}, {"h_max", number(s.h_max)}, {"t_final", number(s.t_final)}};
-}
-
-run_stats stats_from(const json& j)
-{
-    run_stats s;
-    s.steps = j.at("steps").get<long>();
-    s.rejected = j.at("rejected").get<long>();
-    s.rhs_calls = j.at("rhs_calls").get<long>();
-    s.impacts = j.at("impacts").get<long>();
-    s.impacts_by_surface = j.at("impacts_by_surface").get<std::vector<long>>();
-    s.sections = j.at("sections").get<long>();
-    s.sticking_phases = j.at("sticking_phases").get<long>();
-    s.sticking_time = number_from(j.at("sticking_time"));
-    s.h_min = number_from(j.at("h_min"));
-    s.h_max = number_from(j.at("h_max"));
-    s.t_final = number_from(j.at("t_final"));
-    return s;
-}
-
 json to_json(const impact_statistics& s)
 {
     json values = json::array();
@@ -239,20 +199,6 @@ state_series series_from(const json& j)
     const auto x = numbers_from(j.at("x"));
     s.reserve(t.size());
     for (std::size_t i = 0; i < t.size(); ++i) s.push_back(t[i], x.data() + i * static_cast<std::size_t>(s.dim()));
-    return s;
-}
-
-json to_json(const impact_series& s)
-{
-    return {{"pre", to_json(s.pre)}, {"post", to_json(s.post)}, {"surface", s.surface}};
-}
-
-impact_series impacts_from(const json& j)
-{
-    impact_series s;
-    s.pre = series_from(j.at("pre"));
-    s.post = series_from(j.at("post"));
-    s.surface = j.at("surface").get<std::vector<int>>();
     return s;
 }
 

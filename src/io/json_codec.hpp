@@ -24,8 +24,6 @@ json to_json(const value_grid& g);
 std::vector<double> numbers_from(const json& j);
 json vector_json(const Eigen::VectorXd& v);
 Eigen::VectorXd vector_from(const json& j);
-json matrix_json(const Eigen::MatrixXd& m);
-Eigen::MatrixXd matrix_from(const json& j);
 
 json to_json(const model& m);  // identity and parameter values
 json to_json(const integrator_options& o);
@@ -36,16 +34,12 @@ json to_json(const grazing_options& o);
 json to_json(const floquet_options& o);
 json to_json(const lyapunov_options& o);
 
-json to_json(const run_stats& s);
-run_stats stats_from(const json& j);
 json to_json(const impact_statistics& s);
 impact_statistics statistics_from(const json& j);
 json to_json(const period_label& l);
 period_label label_from(const json& j);
 json to_json(const state_series& s);
 state_series series_from(const json& j);
-json to_json(const impact_series& s);
-impact_series impacts_from(const json& j);
 outcome outcome_from(const json& j);
 
 }  // namespace vimpact::detail

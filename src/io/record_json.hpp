@@ -1,6 +1,7 @@
 #pragma once
 // A described record (core/record.hpp) as a JSON object keyed by its fields' names, and back,
 // bit for bit: a many-job run's journal lines. A group is a nested object.
+#include <complex>
 #include <string>
 #include <type_traits>
 
@@ -27,6 +28,12 @@ inline json value_json(const std::vector<Eigen::VectorXd>& v)
     for (const auto& x : v) a.push_back(vector_json(x));
     return a;
 }
+inline json value_json(const std::vector<std::complex<double>>& v)
+{
+    json a = json::array();
+    for (const auto& z : v) a.push_back({number(z.real()), number(z.imag())});
+    return a;
+}
 template <class T>
     requires std::is_integral_v<T> || std::same_as<T, std::vector<long>>
 json value_json(const T& v)
@@ -43,6 +50,11 @@ inline void value_from(const json& j, std::vector<Eigen::VectorXd>& v)
 {
     v.clear();
     for (const auto& x : j) v.push_back(vector_from(x));
+}
+inline void value_from(const json& j, std::vector<std::complex<double>>& v)
+{
+    v.clear();
+    for (const auto& z : j) v.emplace_back(number_from(z.at(0)), number_from(z.at(1)));
 }
 template <class T>
     requires std::is_integral_v<T> || std::same_as<T, std::string> || std::same_as<T, std::vector<long>>

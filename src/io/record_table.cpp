@@ -9,6 +9,7 @@ table_context table_context_for(const model_info& info, std::string axis, int gr
     table_context c{std::move(axis), {}, {}};
     if (grazing_parameter >= 0) c.grazing = info.parameters[static_cast<std::size_t>(grazing_parameter)].name;
     for (const auto& s : info.surfaces) c.surfaces.push_back(s.name);
+    for (const auto& x : info.state) c.states.push_back(x.name);
     return c;
 }
 
@@ -30,8 +31,18 @@ std::vector<std::string> column_names(const field& f, const table_context& c)
     replace_all(pattern, "{axis}", c.axis);
     replace_all(pattern, "{grazing}", c.grazing);
     replace_all(pattern, "{variable}", c.variable);
-    if (f.span != field_span::per_surface) return {pattern};
     std::vector<std::string> out;
+    if (f.span == field_span::per_state) {
+        const bool indexed = pattern.find("{index}") != std::string::npos;
+        for (std::size_t k = 0; k < c.states.size(); ++k) {
+            std::string name = pattern;
+            if (indexed) replace_all(name, "{index}", std::to_string(k + 1));
+            else name += "_" + c.states[k];
+            out.push_back(std::move(name));
+        }
+        return out;
+    }
+    if (f.span != field_span::per_surface) return {pattern};
     const bool placed = pattern.find("{surface}") != std::string::npos;
     for (const auto& s : c.surfaces) {
         std::string name = pattern;

@@ -1,9 +1,9 @@
 #pragma once
 // The steppable systems' engines behind virtual interfaces, so that the public classes
 // (include/vimpact/system/) hold a model-independent pointer: declared here, defined in
-// system_engines.ipp and instantiated for every engine model in src/instances/systems_*.cpp
-// (one source file per model, apart from the analyses' so that a change here rebuilds these
-// only). The public classes reach them through detail::with_engine (dispatch.hpp).
+// system_engines.ipp and instantiated for every engine model beside its analyses in
+// src/instances/ (one unit per model: the flow and integrator templates both use are then
+// compiled once). The public classes reach them through detail::with_engine (dispatch.hpp).
 #include <memory>
 
 #include <Eigen/Core>

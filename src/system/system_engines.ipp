@@ -1,4 +1,4 @@
-// The definitions of system_engines.hpp: included by the source files src/instances/systems_*.cpp,
+// The definitions of system_engines.hpp: included by the engine instances (src/instances/),
 // each of which instantiates them for one engine model with VIMPACT_INSTANTIATE_SYSTEMS.
 #include "system/system_engines.hpp"
 

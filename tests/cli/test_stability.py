@@ -220,8 +220,8 @@ def test_sweep_out_directory(vimpact, tmp_path, command, files):
         assert rows[0] == "Ur,y,ydot,x,xdot"
         assert len(rows) == 1 + 3 * 50
         assert (out / "exponents.csv").read_text().splitlines()[0] == (
-            "Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,positive,settled,impacts,time,misses,outcome,"
-            "impacts_barrier")
+            "Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,settled,impacts,time,misses,outcome,"
+            "impacts_barrier,positive")
     else:
         assert (out / "labels.csv").read_text().splitlines()[0] == (
             "sigma,label,period,impacts,trivial_error,max_nontrivial_modulus,closure,outcome,impacts_barrier")
@@ -257,5 +257,5 @@ def test_lyapunov_options_come_from_the_librarys_declaration(vimpact):
     assert "--r0 FLOAT Size of the deviation vectors (default 1e-04; (0, 1))" in text
     assert "--warmup INT Intervals of t0 not counted while the vectors align (default 16; [0, 1e+06])" in text
     assert "(default saltation; one of saltation, second-order, trajectory)" in text
-    for key in ("--t0", "--impacts", "--time", "--p0-time", "--max-time", "--divergence"):
+    for key in ("--t0", "--impacts", "--time", "--p0-time", "--max-time", "--no-divergence"):
         assert key in text, key

@@ -18,7 +18,9 @@ def same(a, b):
     """Bit for bit (NaN where NaN)."""
     a, b = np.asarray(a), np.asarray(b)
     assert a.shape == b.shape, (a.shape, b.shape)
-    if a.dtype.kind == "f" or b.dtype.kind == "f":
+    if a.dtype.kind == "c" or b.dtype.kind == "c":
+        np.testing.assert_array_equal(a, b)
+    elif a.dtype.kind == "f" or b.dtype.kind == "f":
         np.testing.assert_array_equal(a.astype(float), b.astype(float))
     else:
         assert (a == b).all(), (a, b)
@@ -141,6 +143,36 @@ def test_response(cli, tmp_path):
         same(getattr(r, name), getattr(c, name))
     assert c.curves == r.curves and c.grazing_param == "sigma" and c.variable == r.variable
     same_records(r, c)
+
+
+def test_floquet_sweep(cli, tmp_path):
+    # Ur = 18.426 is the paper's chaotic point: no multipliers there (NaN rows, stable None).
+    out = tmp_path / "f"
+    p = cli("floquet", "--param", "Ur", "--range", "16:18.426:2", *QA, "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    s = vimpact.floquet_sweep(vimpact.WakeImpact(), "Ur", vimpact.grid(16, 18.426, 2), **Q)
+    c = vimpact.FloquetSweep.load(out)
+    assert (c.param, s.param) == ("Ur", "Ur") and s.label.tolist() == ["P2", "aperiodic"]
+    for name in ("value", "label", "multipliers", "trivial", "stable", "points", "point_run", "point_value"):
+        same(getattr(s, name), getattr(c, name))
+    same_records(s, c)
+    for name in ("label", "period", "closure", "stable"):
+        same([getattr(r, name) for r in s.results], [getattr(r, name) for r in c.results])
+
+
+def test_lyapunov_sweep(cli, tmp_path):
+    out = tmp_path / "l"
+    p = cli("lyapunov", "--param", "Ur", "--range", "16:17:2", "--impacts", "30", "--transient", "60", "--record",
+            "5", "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    s = vimpact.lyapunov_sweep(vimpact.WakeImpact(), "Ur", vimpact.grid(16, 17, 2), impacts=30, transient=60,
+                               record=5)
+    c = vimpact.LyapunovSweep.load(out)
+    assert (c.param, c.tdm) == (s.param, s.tdm)
+    for name in ("value", "exponents", "lle", "lle_standard_error", "positive_exponent", "settled", "status",
+                 "points", "point_run"):
+        same(getattr(s, name), getattr(c, name))
+    same_records(s, c)
 
 
 def test_floquet(cli_json):

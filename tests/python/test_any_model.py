@@ -17,7 +17,8 @@ Q = dict(transient=40, record=24)
 # Not compared: counters of steps and jobs; where a run stopped (the step it ended on); the time
 # and state of a grazing minimum (among equal minima one period apart, which one is smallest
 # by a last bit decides; its value is compared).
-SKIP = ("model", "options", "stats", "steps", "jobs", "final_state", "t", "x")
+SKIP = ("model", "options", "stats", "protocol_stats", "tangent_stats", "transient_stats", "steps", "jobs",
+        "final_state", "t", "x")
 
 
 def same(a, b, path="result"):

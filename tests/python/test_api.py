@@ -208,6 +208,29 @@ def test_a_stopped_sweep_resumes_from_its_journal(tmp_path):
         np.testing.assert_array_equal(getattr(resumed, name), getattr(whole, name))
 
 
+@pytest.mark.parametrize("call", [
+    lambda **kw: vimpact.floquet_sweep(W, "Ur", [16, 17, 18.426, 19], **Q, **kw),
+    lambda **kw: vimpact.lyapunov_sweep(W, "Ur", [16, 17, 18, 19], impacts=30, transient=60, record=5, **kw)],
+    ids=["floquet", "lyapunov"])
+def test_a_stopped_stability_sweep_resumes_its_records_bit_for_bit(tmp_path, call):
+    # The points read back from the journal are the points run: every field of the records.
+    whole, journal = call(threads=2), tmp_path / "journal"
+
+    def stop_after_two(done, total):
+        if done >= 2:
+            raise KeyboardInterrupt
+    with pytest.raises(KeyboardInterrupt):
+        call(threads=2, journal=journal, progress=stop_after_two)
+    resumed = call(threads=1, journal=journal, resume=True)
+    assert resumed.jobs.resumed >= 2 and resumed.jobs.resumed + resumed.jobs.computed == 4
+    for name, column in whole.records.items():
+        if isinstance(column, dict):
+            for k in column:
+                np.testing.assert_array_equal(resumed.records[name][k], column[k], err_msg=f"{name}.{k}")
+        else:
+            np.testing.assert_array_equal(resumed.records[name], column, err_msg=name)
+
+
 def test_shards_meet_in_a_journal(tmp_path):
     two = vimpact.TwoSidedImpactOscillator()
     grid = dict(x=("w", [1.0, 1.1, 1.2, 1.3]), y=("d", [0.9, 1.5]), **Q)
@@ -346,8 +369,9 @@ def test_labels_read_in_the_librarys_order():
                                                      "non_finite"]
 
 
-def test_an_output_directory_without_a_newer_column_says_so(tmp_path):
-    # exponents.csv of a lyapunov sweep written before the library's verdict column existed.
+def test_an_output_directory_without_a_tables_schema_says_so(tmp_path):
+    # A lyapunov sweep written before run.json described its tables (and before the verdict
+    # column existed).
     out = tmp_path / "old"
     out.mkdir()
     (out / "run.json").write_text(json.dumps({"command": "lyapunov", "state_names": ["y", "ydot", "x", "xdot"],
@@ -355,8 +379,25 @@ def test_an_output_directory_without_a_newer_column_says_so(tmp_path):
                                               "result": {"param": "Ur", "tdm": "saltation"}}))
     (out / "exponents.csv").write_text("Ur,lambda1,lambda2,lambda3,lambda4,lle_standard_error,settled,outcome\n"
                                        "14,0.1,-0.1,-0.3,-1.3,0.01,1,ok\n")
-    with pytest.raises(ValueError, match=r"exponents.csv has no 'positive': it was written by an older vimpact"):
+    with pytest.raises(ValueError, match=r"does not describe its tables: it was written by an older vimpact"):
         vimpact.LyapunovSweep.load(str(out))
+
+
+def test_continuation_keywords_are_the_librarys_declaration():
+    """vimpact.continuation's step and tolerance keywords come from the library's declaration,
+    which refuses a value out of range naming the keyword before any run."""
+    import inspect
+    declared = {e["key"]: e for e in vimpact._vimpact.declared["continuation"]}
+    assert set(declared) >= {"period", "switch", "tol", "ds", "ds_min", "ds_max", "max_points", "closure_tol",
+                             "newton_iterations", "locate_tol", "detect"}
+    sig = inspect.signature(vimpact.continuation)
+    for key, e in declared.items():
+        assert sig.parameters[key].default == e["default"] and f"    {key} : " in vimpact.continuation.__doc__
+    assert sig.parameters["detect"].default is True
+    with pytest.raises(vimpact.InputError, match=r"^max_points = 1 is outside its valid range \[2, 1e\+06\]$"):
+        vimpact.continuation(vimpact.WakeImpact(), "Ur", (14, 15), max_points=1)
+    with pytest.raises(vimpact.InputError, match=r"^switch = 9 is outside its valid range \[0, 8\]$"):
+        vimpact.continuation(vimpact.WakeImpact(), "Ur", (14, 15), switch=9)
 
 
 def test_lyapunov_keywords_are_the_librarys_declaration():

@@ -49,6 +49,7 @@
 #include "vimpact/analysis/orbit_map.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/option.hpp"
 
 namespace vimpact {
 
@@ -106,6 +107,21 @@ struct arclength_options {
     integrator_options integration{.rtol = 1e-12, .atol = 1e-12};
 };
 
+// What a user sets of the steps and tolerances (the tangent runs' accuracy follows the
+// protocol's: integrate/tangent_integration.hpp).
+template <class V, record_of<arclength_options> O>
+void declare(V& v, O& o)
+{
+    v(option{"ds", "first arclength step, parameter and section coordinates together (0: the range / 100)",
+             at_least(0.0)},
+      o.step);
+    v(option{"ds_min", "smallest arclength step (0: the range * 1e-9)", at_least(0.0)}, o.min_step);
+    v(option{"ds_max", "largest arclength step (0: the range / 20)", at_least(0.0)}, o.max_step);
+    v(option{"max_points", "points per branch at most", between(2.0, 1e6)}, o.max_points);
+    v(option{"closure_tol", "closure |P^k(z) - z| of every point", value_range{0.0, 1e-4, false, true}}, o.tolerance);
+    v(option{"newton_iterations", "corrector iterations per step", between(1.0, 100.0)}, o.newton_iterations);
+}
+
 struct continuation_options {
     int parameter = 0;
     double start = 0.0;   // the branch starts here
@@ -123,6 +139,24 @@ struct continuation_options {
     int switch_depth = 0;            // period doublings switched onto, recursively (0: none)
     const std::atomic<bool>* cancel = nullptr;
 };
+
+// What a user sets besides the parameter, its range, the protocol and the starts.
+template <class V, record_of<continuation_options> O>
+void declare(V& v, O& o)
+{
+    v(option{"period",
+             "section returns per period of the first orbit, found by Newton's method from the initial state taken "
+             "as a point near it on the section (no transient; for unstable orbits); 0: the protocol's attractor",
+             between(0.0, 1000.0)},
+      o.returns);
+    v(option{"switch", "switch onto the doubled branch at period doublings, this many times in a row",
+             between(0.0, 8.0)},
+      o.switch_depth);
+    v(option{"tol", "period tolerance of the start's label", above(0.0)}, o.period_tolerance);
+    declare(v, o.arclength);
+    v(option{"locate_tol", "parameter accuracy of located bifurcations", above(0.0)}, o.locate_tolerance);
+    v(option{"detect", "locate folds, period doublings and Neimark-Sacker points (grazings always are)"}, o.detect);
+}
 
 struct continuation_point {
     double parameter = 0.0;

@@ -92,6 +92,45 @@ struct floquet_result {
     [[nodiscard]] bool stable() const { return status == outcome::ok && max_nontrivial_modulus < 1.0; }
 };
 
+// What a sweep keeps of a result (its journal, its tables, Python's arrays): all but the
+// monodromy, the impacts and the orbit samples. Without multipliers the period, the trivial
+// error and the largest modulus are NaN and the impact counts 0.
+template <class V, record_of<floquet_result> R>
+void describe(V& v, R& r)
+{
+    v(field{"label", "the protocol's period label"}, r.label);
+    v(field{"period", "the period T", "t"}, r.period);
+    v(field{"impacts_per_period", "impacts per period on every surface", "", field_span::one, "impacts"},
+      r.impacts_per_period);
+    v(field{"trivial_error", "|mu_trivial - 1|: the accuracy of the monodromy"}, r.trivial_error);
+    v(field{"max_nontrivial_modulus", "the largest modulus of the nontrivial multipliers"}, r.max_nontrivial_modulus);
+    v(field{"closure", "|P^k(z) - z| after Newton shooting (NaN without a period)", "state"}, r.closure);
+    v(field{"status", "ok, not_converged (multipliers given), aperiodic, sticking or a failed run's outcome", "",
+            field_span::one, "outcome"},
+      r.status);
+    v(field{"impacts_by_surface", "impacts per period on each surface", "", field_span::per_surface,
+            "impacts_{surface}"},
+      r.impacts_by_surface);
+    v(field{"multipliers", "the multipliers, the trivial one first, then by decreasing modulus", "",
+            field_span::spectrum},
+      r.multipliers);
+    v(field{"section_points", "the protocol's recorded section points", "state", field_span::series}, r.section_points);
+    constexpr auto one = field_span::one;
+    v(field{"section_returns", "section points per period", "", one, {}, false}, r.section_returns);
+    v(field{"initial_closure", "|P^k(z) - z| before Newton shooting", "state", one, {}, false}, r.initial_closure);
+    v(field{"newton_iterations", "Newton steps taken", "", one, {}, false}, r.newton_iterations);
+    v(field{"orbit_point", "the refined point on the section", "state", field_span::per_state, {}, false},
+      r.orbit_point);
+    v(field{"trivial_residual", "|Phi F - mu_trivial F| / |F|", "", one, {}, false}, r.trivial_residual);
+    v(field{"det_monodromy", "det Phi(T)", "", one, {}, false}, r.det_monodromy);
+    v(field{"liouville_det", "exp(integral of div F) * prod det(jump)", "", one, {}, false}, r.liouville_det);
+    v(field{"divergence_integral", "integral of div F over the period", "", one, {}, false}, r.divergence_integral);
+    v(field{"log_det_jumps", "sum of ln|det(jump)| over the impacts", "", one, {}, false}, r.log_det_jumps);
+    v.group(field{"protocol_stats", "counters of the protocol's run", "", one, {}, false}, r.protocol_stats);
+    v.group(field{"tangent_stats", "counters of the last map evaluation", "", one, {}, false}, r.tangent_stats);
+    v(field{"map_evaluations", "evaluations of the return map", "", one, {}, false}, r.map_evaluations);
+}
+
 void validate(const model& m, const floquet_options& o);
 
 // The whole analysis from an initial state.

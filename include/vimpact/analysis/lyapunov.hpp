@@ -129,6 +129,40 @@ struct lyapunov_result {
     }
 };
 
+// What a sweep keeps of a result (its journal, its tables, Python's arrays): all but the
+// interval history. Without exponents they and their error are NaN.
+template <class V, record_of<lyapunov_result> R>
+void describe(V& v, R& r)
+{
+    v(field{"exponents", "the exponents, descending", "1/t", field_span::per_state, "lambda{index}"}, r.exponents);
+    v(field{"lle_standard_error", "standard error of the largest exponent (8 block means)", "1/t"},
+      r.lle_standard_error);
+    v(field{"settled", "false when the largest exponent drifts between the halves of the window"}, r.settled);
+    v(field{"impacts", "impacts of the reference orbit in the averaging window"}, r.impacts);
+    v(field{"time", "length of the averaging window", "t"}, r.time);
+    v(field{"misses", "second_order: deviations missing a surface; trajectory: orbit-intervals with another "
+                      "impact count"},
+      r.misses);
+    v(field{"status", "ok, time_limit (exponents given), sticking or a failed run's outcome", "", field_span::one,
+            "outcome"},
+      r.status);
+    v(field{"impacts_by_surface", "impacts in the window on each surface", "", field_span::per_surface,
+            "impacts_{surface}"},
+      r.impacts_by_surface);
+    v(field{"section_points", "section points of the averaging window", "state", field_span::series},
+      r.section_points);
+    constexpr auto one = field_span::one;
+    v(field{"impacting", "false: no impact during the transient's quiet time", "", one, {}, false}, r.impacting);
+    v(field{"t_start", "start of the averaging window", "t", one, {}, false}, r.t_start);
+    v(field{"intervals", "counted intervals", "", one, {}, false}, r.intervals);
+    v(field{"divergence_average", "<div F> over the window", "1/t", one, {}, false}, r.divergence_average);
+    v(field{"jump_log_det_rate", "sum of ln|det S| over the window's impacts per time", "1/t", one, {}, false},
+      r.jump_log_det_rate);
+    v(field{"sum_rule", "the two added: what the exponents add up to", "1/t", one, {}, false}, r.sum_rule);
+    v.group(field{"transient_stats", "counters of the transient", "", one, {}, false}, r.transient_stats);
+    v.group(field{"stats", "counters of the interval runs", "", one, {}, false}, r.stats);
+}
+
 void validate(const model& m, const lyapunov_options& o);
 
 lyapunov_result lyapunov(const model& m, const Eigen::VectorXd& x0, const lyapunov_options& o);

@@ -21,8 +21,15 @@ struct floquet_sweep_options {
 
 struct floquet_sweep_point {
     double value = 0.0;
-    floquet_result result;  // without the orbit samples
+    floquet_result result;  // what its describe() keeps (no monodromy, impacts or orbit samples)
 };
+
+template <class V, record_of<floquet_sweep_point> P>
+void describe(V& v, P& p)
+{
+    v(field{"value", "the swept parameter's value", "parameter", field_span::one, "{axis}"}, p.value);
+    describe(v, p.result);
+}
 
 struct floquet_sweep_result {
     std::vector<floquet_sweep_point> points;
@@ -43,8 +50,17 @@ struct lyapunov_sweep_options {
 
 struct lyapunov_sweep_point {
     double value = 0.0;
-    lyapunov_result result;  // without the interval history
+    lyapunov_result result;  // what its describe() keeps (no interval history)
+    bool positive = false;   // result.positive_largest_exponent(), the verdict every front end shows
 };
+
+template <class V, record_of<lyapunov_sweep_point> P>
+void describe(V& v, P& p)
+{
+    v(field{"value", "the swept parameter's value", "parameter", field_span::one, "{axis}"}, p.value);
+    describe(v, p.result);
+    v(field{"positive", "the largest exponent lies more than 3 standard errors above 0"}, p.positive);
+}
 
 struct lyapunov_sweep_result {
     std::vector<lyapunov_sweep_point> points;

@@ -22,6 +22,8 @@ enum class field_span {
     per_surface,  // one value per surface of the model (a vector; missing entries read as 0 or NaN)
     per_state,    // one value per state variable (a state vector)
     series,       // many timed states (a state_series): a table of its own, never a column
+    spectrum,     // complex values, at most one per state variable (eigenvalues, in the record's
+                  // order): a table of its own, a row per value, never a column
 };
 
 struct field {
@@ -35,7 +37,9 @@ struct field {
     // the parameter the run varies, "{grazing}" by the grazing parameter's (a field naming one
     // that the run does not have is left out of the table), "{variable}" by the measured state
     // variable's; a per-surface field's columns are the name alone for one surface and
-    // name_SURFACE for several, unless the name says where the surface goes with "{surface}".
+    // name_SURFACE for several, unless the name says where the surface goes with "{surface}";
+    // a per-state field's are name_STATE, or the pattern with "{index}" replaced by 1, 2, ...
+    // (values in their own order, such as exponents by size, not one per state variable).
     std::string_view column;
     bool tabular;              // false: journal and Python only (counters, final states)
 

@@ -1,8 +1,9 @@
 #pragma once
 // A described record (core/record.hpp) as one row of a table: its columns, their schema (what
 // run.json says of each column, so that a reader needs no knowledge of the record), and its
-// cells. Fields that are not tabular, and series, take no column; a group's fields are
+// cells. Fields that are not tabular, series and spectra take no column; a group's fields are
 // columns of the row like the others.
+#include <complex>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -23,6 +24,7 @@ struct table_context {
     std::string grazing;                // the grazing parameter, empty for none ("{grazing}")
     std::vector<std::string> surfaces;  // the model's surfaces, in order
     std::string variable = {};          // the state variable a run measures ("{variable}")
+    std::vector<std::string> states = {};  // the model's state variables (per-state fields)
 };
 
 struct model_info;
@@ -31,12 +33,13 @@ struct model_info;
 table_context table_context_for(const model_info& info, std::string axis, int grazing_parameter);
 
 // One column: its name in the file, the field (and group) it holds, the surface of a
-// per-surface field, its type (int, float, bool or text) and what the field means.
+// per-surface field or the state of a per-state one, its type (int, float, bool or text) and what the field means.
 struct column_schema {
     std::string name;
     std::string field;
     std::string group;  // empty outside a group
     int surface = -1;   // a per-surface field's surface
+    int state = -1;     // a per-state field's index
     std::string type;
     std::string meaning;
     std::string unit;
@@ -51,6 +54,7 @@ inline std::size_t column_count(const field& f, const table_context& c)
 {
     if (f.column.find("{grazing}") != std::string_view::npos && c.grazing.empty()) return 0;
     if (f.column.find("{axis}") != std::string_view::npos && c.axis.empty()) return 0;
+    if (f.span == field_span::per_state) return c.states.size();
     return f.span == field_span::per_surface ? c.surfaces.size() : 1;
 }
 
@@ -64,7 +68,7 @@ constexpr const char* column_type()
 }
 
 template <class T>
-constexpr bool has_columns = !std::is_same_v<T, state_series> && !std::is_same_v<T, Eigen::VectorXd>;
+constexpr bool has_columns = !std::is_same_v<T, state_series> && !std::is_same_v<T, std::vector<std::complex<double>>>;
 
 struct schema_visitor {
     const table_context& context;
@@ -76,10 +80,11 @@ struct schema_visitor {
     {
         if (!f.tabular || !has_columns<T>) return;
         const auto names = column_names(f, context);
+        const auto at = [&](field_span s, std::size_t i) { return f.span == s ? static_cast<int>(i) : -1; };
         for (std::size_t i = 0; i < names.size(); ++i)
-            columns.push_back({names[i], std::string(f.name), in_group,
-                               f.span == field_span::per_surface ? static_cast<int>(i) : -1, column_type<T>(),
-                               std::string(f.meaning), std::string(f.unit)});
+            columns.push_back({names[i], std::string(f.name), in_group, at(field_span::per_surface, i),
+                               at(field_span::per_state, i), column_type<T>(), std::string(f.meaning),
+                               std::string(f.unit)});
     }
     template <class R>
     void group(const field& f, const R& r)
@@ -117,6 +122,10 @@ struct cell_visitor {
                 using E = typename T::value_type;
                 const E missing = std::is_floating_point_v<E> ? std::numeric_limits<double>::quiet_NaN() : E{0};
                 for (std::size_t i = 0; i < n; ++i) cells.push_back(cell(i < v.size() ? v[i] : missing));
+            } else if constexpr (std::is_same_v<T, Eigen::VectorXd>) {
+                for (std::size_t i = 0; i < n; ++i)
+                    cells.push_back(cell(static_cast<Eigen::Index>(i) < v.size() ? v[static_cast<Eigen::Index>(i)]
+                                                                                 : std::numeric_limits<double>::quiet_NaN()));
             } else if (n > 0) {
                 cells.push_back(cell(v));
             }

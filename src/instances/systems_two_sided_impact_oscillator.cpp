@@ -1,5 +1,0 @@
-// The steppable systems (include/vimpact/system/) on the built-in model two_sided_impact_oscillator, compiled natively
-// (see src/dispatch.hpp), apart from its analyses (src/instances/two_sided_impact_oscillator.cpp).
-#include "system/system_engines.ipp"
-
-VIMPACT_INSTANTIATE_SYSTEMS(vimpact::native_model<vimpact::two_sided_impact_oscillator>)
