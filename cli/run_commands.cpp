@@ -4,12 +4,14 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "declared_options.hpp"
 #include "interrupts.hpp"
 #include "output.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 #include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
@@ -25,8 +27,7 @@ struct period_args {
 };
 struct grazing_args {
     common_args common;
-    double tol = grazing_options{}.tolerance;
-    double transient_time = grazing_options{}.transient_time;
+    grazing_options options;  // what it declares; the integration from the protocol's
     std::string param;
 };
 
@@ -142,14 +143,12 @@ int run_period(const period_args& a)
 int run_grazing(const grazing_args& a)
 {
     const run_config c = resolve(a.common);
-    check_positive(a.tol, "--tol");
-    if (!(a.transient_time >= 0.0) || !std::isfinite(a.transient_time))
-        throw input_error("--transient-time must be >= 0 (got " + format_double(a.transient_time) + ")");
+    check_options(a.options);  // before the run
     const model& m = c.model;
     const auto& info = c.info();
     if (m.surface_count() == 0) throw input_error("model " + m.name() + " has no impact surface to graze");
-    grazing_options go = job_grazing_options(c.protocol.flow.integration, a.transient_time);
-    go.tolerance = a.tol;
+    grazing_options go = a.options;
+    go.integration = tangent_integration(c.protocol.flow.integration);
     go.method = c.protocol.method;
     // The parameter whose grazing value each surface reports: --param, or each surface's own.
     go.parameter = a.param.empty() ? each_surface_gap_parameter : parameter_index(m, a.param, "--param");
@@ -238,8 +237,7 @@ cli_command add_grazing_command(CLI::App& app)
                                  "Grazing: where the surface-free attracting orbit just touches each impact surface");
     add_common_options(*g, a->common);
     add_si_option(*g, a->common);
-    g->add_option("--tol", a->tol, "Agreement of successive block minima (default 1e-11)");
-    g->add_option("--transient-time", a->transient_time, "Time discarded before minima count (default 1000)");
+    add_declared_options(*g, a->options);
     g->add_option("--param", a->param,
                   "Report the grazing value of this parameter for every surface (default: per surface, the first "
                   "parameter that moves it without entering the vector field)");

@@ -29,8 +29,9 @@ CALLS = {
     "response": lambda **kw: vimpact.response(W, "Ur", GRID, **kw),
 }
 
-# The same run on the command line (none for grazing, whose command adds its own options).
+# The same run on the command line.
 COMMANDS = {
+    "grazing": ["grazing"],
     "sweep": ["sweep", "--param", "Ur", "--range", "15:16:2"],
     "map": ["map", "--x", "Ur:15:16:2", "--y", "sigma:-0.16:-0.15:2"],
     "basins": ["basins", "--x", "y:-0.1:0.1:2", "--y", "ydot:-0.1:0.1:2"],
