@@ -21,6 +21,7 @@
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
+#include "vimpact/integrate/tangent_integration.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/state_columns.hpp"
 #include "vimpact/physical/si_units.hpp"
@@ -80,8 +81,6 @@ int run_sweep(const sweep_args& a)
     o.values = axis.values;
     warn_validity(c, {m.with_parameter(o.parameter, o.values.front()), m.with_parameter(o.parameter, o.values.back())});
     o.initial_state = c.ic;
-    if (o.direction == sweep_direction::both && o.start != sweep_start::follow)
-        throw input_error("--direction both needs --ic-mode follow (with fixed starts both directions are the same runs)");
     o.protocol = c.protocol;
     if (a.grazing_option->count() > 0) {
         o.grazing_parameter = a.grazing.empty() ? first_gap_parameter(m) : parameter_index(m, a.grazing, "--grazing");
@@ -434,7 +433,7 @@ int run_response(const response_args& a)
     o.curves = parse_curves(a.curves, m);
     o.variable = a.variable.empty() ? 0 : state_index(m, a.variable, "--variable");
     o.initial_state = c.ic;
-    o.grazing.integration = job_grazing_options(c.protocol.flow.integration).integration;
+    o.grazing.integration = tangent_integration(c.protocol.flow.integration);
     o.grazing.method = c.protocol.method;
     o.grazing.parameter = first_gap_parameter(m);
     const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;

@@ -79,8 +79,8 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
     if (o.parameter < 0 || o.parameter >= P) throw input_error("sweep parameter index out of range");
     if (o.values.empty()) throw input_error("a sweep needs at least one value");
     if (o.direction == sweep_direction::both && !follow)
-        throw input_error("a sweep in both directions needs followed starts (with fixed starts both directions "
-                          "are the same runs)");
+        throw option_error("direction", " = both needs ic_mode follow (with fixed starts both directions are the "
+                                        "same runs)");
     if (o.grazing_parameter >= P) throw input_error("grazing parameter index out of range");
     const Eigen::VectorXd ic = o.initial_state.size() ? o.initial_state : m.initial_state();
     check_state_size(m, ic.size(), "the initial state");

@@ -75,7 +75,7 @@ def test_names_of_an_enumeration_are_the_declarations():
     assert by_key["direction"]["range"] == "up, down, both"
     with pytest.raises(vimpact.InputError, match=r"^ic_mode 'chase' is not one of fixed, follow$"):
         CALLS["sweep"](ic_mode="chase")
-    with pytest.raises(vimpact.InputError, match="both"):  # both directions need followed starts
+    with pytest.raises(vimpact.InputError, match="^direction = both needs ic_mode follow"):
         CALLS["sweep"](direction="both")
 
 
