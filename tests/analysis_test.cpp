@@ -194,6 +194,27 @@ TEST(Grazing, PaperValuesAtUr25)
     }
 }
 
+// The grazing runs take the protocol's step cap (integrate/tangent_integration.hpp): no step
+// longer than the cap, while without it the same run takes longer steps, so the cap is what
+// bounds them.
+TEST(Grazing, RunsKeepTheProtocolsStepCap)
+{
+    const model m = paper(25.0);
+    integrator_options protocol;
+    grazing_options free = job_grazing_options(protocol, 200.0);
+    free.parameter = m.info().parameter_index("sigma");
+    free.t_max = 2000.0;
+    const double cap = 0.02;
+    protocol.h_max = cap;
+    grazing_options capped = job_grazing_options(protocol, 200.0);
+    capped.parameter = free.parameter;
+    capped.t_max = free.t_max;
+    const auto a = grazing(m, paper_ic(), free), b = grazing(m, paper_ic(), capped);
+    EXPECT_GT(a.stats.h_max, cap);
+    EXPECT_LE(b.stats.h_max, cap);
+    EXPECT_GE(static_cast<double>(b.stats.steps), b.stats.t_final / cap * (1.0 - 1e-9));
+}
+
 // The definition: a barrier just below the surface-free orbit's minimum is never hit (P0), one
 // just above it is.
 TEST(Grazing, BarrierJustBelowIsNotHitJustAboveIs)
