@@ -7,6 +7,7 @@
 #include "bindings.hpp"
 #include "common.hpp"
 #include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/floquet.hpp"
@@ -81,6 +82,7 @@ PYBIND11_MODULE(_vimpact, m)
     declared["basins"] = vimpact::python::declarations<basins_options>();
     declared["grazing"] = vimpact::python::declarations<grazing_options>();
     declared["response"] = vimpact::python::declarations<response_options>();
+    declared["clearance"] = vimpact::python::declarations<clearance_options>();
     m.attr("declared") = declared;
     m.def(
         "grid",
