@@ -906,8 +906,8 @@ class Lyapunov(_Context):
         # Back from running averages to per-interval growth, so running_exponents round-trips.
         total = running * (conv["t"] - res["t_start"])[:, None]
         growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
-        return _made(cls, dict(res, **ctx, status=res["outcome"], history_t=conv["t"], history_growth=growth,
-                               stats={}, si=_si(res, "exponents_si")))
+        return _made(cls, dict(res, **ctx, status=res["outcome"], positive=res["positive"], history_t=conv["t"],
+                               history_growth=growth, stats={}, si=_si(res, "exponents_si")))
 
 
 @dataclass(repr=False)
