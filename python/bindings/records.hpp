@@ -204,6 +204,8 @@ py::dict record_arrays(const std::vector<R>& records, int surfaces, int dim)
 
 namespace detail {
 
+// The type names of run.json's schema (io/record_table.hpp), and complex and group, which take
+// no column there.
 constexpr const char* kind_name(column_kind k)
 {
     switch (k) {

@@ -299,7 +299,8 @@ def _documented(record=None, shape="", **renamed):
     the library's record ``record`` (a name in ``_vimpact.described``, or a list of fields),
     each under the name the class gives it (``renamed``: field -> attribute, None for none)."""
     def entry(name, what, doc):
-        return [f"{name} : {what}"] + textwrap.wrap(doc, 92, initial_indent="    ", subsequent_indent="    ")
+        return [f"{name} : {what}"] + textwrap.wrap(doc, 92, initial_indent="    ", subsequent_indent="    ",
+                                                   break_on_hyphens=False)
 
     def document(cls):
         lines = ["", "Attributes", "----------"]
@@ -441,9 +442,6 @@ class _PointRuns:
 
 # ---------------------------------------------------------------- single runs
 
-_IMPACTS = "the recorded window's impacts"
-
-
 @_documented([dict(name="statistics", type="group", span="one", unit="", tabular=True,
                    meaning="the impact statistics of the recorded window (docs/model.md; NaN where undefined, "
                            "a per-surface one a list)", fields=(_DESCRIBED or {}).get("impact_statistics", []))])
@@ -460,7 +458,7 @@ class Simulation(_Context):
     section_t: np.ndarray = _a("ndarray, float64, shape (n,)")
     section: np.ndarray = _a("ndarray, float64, shape (n, dim)", "The recorded section points (states, "
                              "columns as ``state_names``).")
-    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", f"Times of {_IMPACTS}.")
+    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", "Times of the impacts of the recorded window.")
     impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "The surface hit (an index into ``surfaces``).")
     impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just before each impact.")
     impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just after each impact.")
@@ -471,8 +469,8 @@ class Simulation(_Context):
     t_record_end: Optional[float] = _a("float", "End of the recorded window (its last point), the end of the "
                                        "statistics' window.")
     statistics: dict = field(default_factory=dict)
-    impact_velocity: np.ndarray = _a("ndarray, float64, shape (k,)", f"Per impact of {_IMPACTS}: the normal "
-                                     "velocity -dg/dt before the reset.")
+    impact_velocity: np.ndarray = _a("ndarray, float64, shape (k,)", "Per impact: the normal velocity -dg/dt "
+                                     "before the reset.")
     impact_rebound: np.ndarray = _a("ndarray, float64, shape (k,)", "Its rebound velocity dg/dt after the reset.")
     impact_energy: np.ndarray = _a("ndarray, float64, shape (k,)", "The energy it dissipated, (v^2 - u^2)/2 per "
                                    "unit mass.")
