@@ -8,6 +8,7 @@
 #include "common.hpp"
 #include "records.hpp"
 #include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/floquet.hpp"
@@ -84,6 +85,7 @@ PYBIND11_MODULE(_vimpact, m)
     declared["basins"] = vimpact::python::declarations<basins_options>();
     declared["grazing"] = vimpact::python::declarations<grazing_options>();
     declared["response"] = vimpact::python::declarations<response_options>();
+    declared["clearance"] = vimpact::python::declarations<clearance_options>();
     m.attr("declared") = declared;
     // What each record says of its fields (core/record.hpp): vimpact/results.py documents the
     // results' arrays from it.
