@@ -332,7 +332,11 @@ int run_basins(const basins_args& a)
         const auto& e = res.attractors[i];
         json pts = json::array();
         for (const auto& p : e.signature.cycle) pts.push_back(vector_json(p));
-        table.push_back({{"id", i}, {"label", e.signature.label}, {"cells", e.members}, {"section_points", pts}});
+        table.push_back({{"id", i},
+                         {"label", e.signature.label},
+                         {"cells", e.members},
+                         {"section_points", pts},
+                         {"box", {vector_json(e.signature.lo), vector_json(e.signature.hi)}}});
         labels.push_back(e.signature.label);
     }
     json summary = {{"command", "basins"},

@@ -714,8 +714,8 @@ class Attractor:
     cycle: np.ndarray = _a("ndarray, float64, shape (N, k)", "For a periodic attractor, its N section points in "
                            "the signature's coordinates (the state, with each phase as a (cos, sin) pair scaled "
                            "by its period / 2 pi); empty otherwise.")
-    box: Optional[np.ndarray] = _a("ndarray, float64, shape (2, k), or None", "Bounding box (lower, upper row) of "
-                                   "the first run's section points; None when loaded.")
+    box: Optional[np.ndarray] = _a("ndarray, float64, shape (2, k)", "Bounding box (lower, upper row) of the "
+                                   "first run's section points.")
 
     def __repr__(self):
         return f"Attractor(id={self.id}, label={self.label!r}, cells={self.cells})"
@@ -741,10 +741,11 @@ class Basins(_Grid):
     @staticmethod
     def _run(res, records, directory):
         table = res["attractors"]["table"]
-        points = [np.array(t["section_points"], dtype=float) for t in table]
+        boxes = [np.array(t["box"], dtype=float) for t in table]
         return dict(Basins._axes(res), attractors=[
-            Attractor(id=t["id"], label=t["label"], cells=t["cells"],
-                      cycle=p.reshape(len(p), -1) if len(p) else np.empty((0, 0))) for t, p in zip(table, points)])
+            Attractor(id=t["id"], label=t["label"], cells=t["cells"], box=box,
+                      cycle=np.array(t["section_points"], dtype=float).reshape(-1, box.shape[1]))
+            for t, box in zip(table, boxes)])
 
 
 @_documented("response", "c, n", stats=None, grazing=None)

@@ -128,6 +128,23 @@ def test_basins(cli, tmp_path):
     assert [(a.id, a.label, a.cells) for a in b.attractors] == [(a.id, a.label, a.cells) for a in c.attractors]
     for a, ca in zip(b.attractors, c.attractors):
         same(a.cycle, ca.cycle)
+        same(a.box, ca.box)
+
+
+def test_basins_aperiodic_attractor_loads_its_shapes(cli, tmp_path):
+    """An aperiodic attractor (Ur = 21) has no cycle: (0, k) with k the signature's width, as
+    the API gives it, and its box."""
+    out = tmp_path / "b"
+    p = cli("basins", "--set", "Ur=21", "--x", "y:-0.2:0.25:2", "--y", "ydot:-0.2:0.2:2", "--transient", "300",
+            "--record", "40", "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    b = vimpact.basins(vimpact.WakeImpact(Ur=21), x=("y", vimpact.grid(-0.2, 0.25, 2)),
+                       y=("ydot", vimpact.grid(-0.2, 0.2, 2)), transient=300, record=40)
+    c = vimpact.Basins.load(out)
+    assert "aperiodic" in [a.label for a in b.attractors]
+    for a, ca in zip(b.attractors, c.attractors):
+        assert ca.cycle.shape == a.cycle.shape and a.cycle.shape[1] == a.box.shape[1] > 0
+        same(a.box, ca.box)
 
 
 def test_response(cli, tmp_path):
