@@ -152,7 +152,7 @@ void declare(V& v, O& o)
     v(option{"switch", "switch onto the doubled branch at period doublings, this many times in a row",
              between(0.0, 8.0)},
       o.switch_depth);
-    v(option{"tol", "period tolerance of the start's label", above(0.0)}, o.period_tolerance);
+    v(period_tolerance_option, o.period_tolerance);
     declare(v, o.arclength);
     v(option{"locate_tol", "parameter accuracy of located bifurcations", above(0.0)}, o.locate_tolerance);
     v(option{"detect", "locate folds, period doublings and Neimark-Sacker points (grazings always are)"}, o.detect);

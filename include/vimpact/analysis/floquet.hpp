@@ -46,7 +46,7 @@ struct floquet_options {
 template <class V, record_of<floquet_options> O>
 void declare(V& v, O& o)
 {
-    v(option{"tol", "period tolerance for the label", above(0.0)}, o.period_tolerance);
+    v(period_tolerance_option, o.period_tolerance);
     v(option{"newton_tol", "closure |P^k(z) - z| to reach by Newton shooting", above(0.0)}, o.newton_tolerance);
     v(option{"newton_iterations", "Newton steps allowed", between(0.0, 1000.0)}, o.newton_iterations);
     v(option{"impact_map", "jump at the impacts in the final monodromy: the saltation matrix, the reset's Jacobian "
