@@ -13,6 +13,7 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/map.hpp"
+#include "vimpact/analysis/protocol_declaration.hpp"
 #include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/io/build_info.hpp"
@@ -81,6 +82,7 @@ PYBIND11_MODULE(_vimpact, m)
     declared["basins"] = vimpact::python::declarations<basins_options>();
     declared["grazing"] = vimpact::python::declarations<grazing_options>();
     declared["response"] = vimpact::python::declarations<response_options>();
+    declared["protocol"] = vimpact::python::declarations<protocol_options>();
     m.attr("declared") = declared;
     m.def(
         "grid",
