@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "declared_options.hpp"
 #include "job_runner.hpp"
 #include "output.hpp"
 #include "parse.hpp"
@@ -22,8 +23,7 @@ struct clearance_args {
     common_args common;
     job_args jobs;
     std::string speeds, param, range, gaps, fractions, gap_param;
-    double tol = default_period_tolerance;
-    double transient_time = grazing_options{}.transient_time;
+    clearance_options options;  // what it declares
 };
 
 int run_clearance(const clearance_args& a)
@@ -40,7 +40,7 @@ int run_clearance(const clearance_args& a)
     if (by_speed && !(c.si && c.si->cylinder))
         throw input_error("--speeds needs a cylinder in --si (D=..,m=..,fn=..,zeta=..,rho=..)");
 
-    clearance_options o;
+    clearance_options o = a.options;
     value_grid speeds;  // as given, with --speeds
     if (by_speed) {
         speeds = parse_range(a.speeds, "--speeds");
@@ -64,11 +64,7 @@ int run_clearance(const clearance_args& a)
     o.gap_parameter = a.gap_param.empty() ? -1 : parameter_index(m, a.gap_param, "--gap-param");
     o.initial_state = c.ic;
     o.protocol = c.protocol;
-    if (!(a.tol > 0.0) || !std::isfinite(a.tol)) throw input_error("--tol must be > 0 (got " + format_double(a.tol) + ")");
-    o.period_tolerance = a.tol;
-    if (!(a.transient_time >= 0.0) || !std::isfinite(a.transient_time))
-        throw input_error("--transient-time must be >= 0 (got " + format_double(a.transient_time) + ")");
-    o.grazing = job_grazing_options(c.protocol.flow.integration, a.transient_time);
+    o.grazing = job_grazing_options(c.protocol.flow.integration, a.options.grazing.transient_time);
     o.grazing.method = c.protocol.method;
     // The calibrated range's warnings at the ends of the flow axis (the Reynolds number grows
     // with the speed): a model per value would hold the whole axis.
@@ -205,8 +201,7 @@ cli_command add_clearance_command(CLI::App& app)
                   "The chart's gaps as fractions of each speed's clearance, a:b:n (default 0.1:1.3:13)");
     s->add_option("--gap-param", a->gap_param,
                   "The parameter that moves the surface (default: the model's first, sigma for the wake model)");
-    s->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
-    s->add_option("--transient-time", a->transient_time, "Grazing runs: time discarded before minima count (1000)");
+    add_declared_options(*s, a->options);
     return {s, [a] { return run_clearance(*a); }};
 }
 

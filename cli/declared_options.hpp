@@ -71,6 +71,13 @@ struct option_adder {
 
 }  // namespace detail
 
+// One option declared on its own (period_tolerance_option), bound to `v`.
+template <class T>
+void add_declared_option(CLI::App& app, const option& o, T& v)
+{
+    detail::option_adder{app}(o, v);
+}
+
 // Adds every option `o` declares to `app`, bound to o's members.
 template <class O>
 void add_declared_options(CLI::App& app, O& o)

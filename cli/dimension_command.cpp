@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "declared_options.hpp"
 #include "interrupts.hpp"
 #include "output.hpp"
 #include "parse.hpp"
@@ -119,8 +120,7 @@ dimension_options make_options(const dimension_args& a)
     } catch (const input_error& e) {
         throw input_error(std::string("--bins-per-octave and the other dimension options: ") + e.what());
     }
-    if (!(a.period_tol > 0.0) || !std::isfinite(a.period_tol))
-        throw input_error("--tol must be > 0 (got " + format_double(a.period_tol) + ")");
+    check_period_tolerance(a.period_tol);
     return o;
 }
 
@@ -353,7 +353,7 @@ cli_command add_dimension_command(CLI::App& app)
     s->add_option("--bins-per-octave", a->bins_per_octave, "correlation_sum: radii per factor 2 (power of two, default 16)");
     s->add_option("--search", a->search, "correlation_sum: pair search grid (default), kd_tree or brute_force (same counts)");
     s->add_option("--threads", a->threads, "correlation_sum: threads, 0 = all cores (default 1; same result)");
-    s->add_option("--tol", a->period_tol, "Period tolerance for the label of the run (default 1e-8)");
+    add_declared_option(*s, period_tolerance_option, a->period_tol);
     return {s, [a, s] { return run_dimension(*a, *s); }};
 }
 

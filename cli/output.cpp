@@ -461,14 +461,33 @@ staged_output* streamed_output::get()
     return &*m_out;
 }
 
-void streamed_output::commit(const std::string& command, const std::string& plot, const json& summary, json files)
+std::string streamed_output::commit(const std::string& command, const std::string& plot, const json& summary)
 {
     staged_output& out = *get();
     json record = record_header(command, m_config);
     record["result"] = summary;
-    record["files"] = std::move(files);
-    if (!m_tables.empty()) record["tables"] = m_tables;
+    record["files"] = json::array();
+    json schemas = json::object();
+    for (streamed_table* t : m_tables) {
+        t->open().close();
+        record["files"].push_back(t->m_file);
+        if (!t->m_schema.is_null()) schemas[t->m_file] = t->m_schema;
+    }
+    if (!schemas.empty()) record["tables"] = schemas;
     finish_output(out, plot, m_config, record);
+    return "output written to " + m_config.out->string() + "\n";
+}
+
+streamed_table::streamed_table(streamed_output& out, std::string file, std::vector<std::string> header, json schema)
+    : m_out(out), m_file(std::move(file)), m_header(std::move(header)), m_schema(std::move(schema))
+{
+    m_out.m_tables.push_back(this);
+}
+
+csv_writer& streamed_table::open()
+{
+    if (!m_csv) m_csv.emplace(m_out.get()->file(m_file), m_header);
+    return *m_csv;
 }
 
 json table_schema(const std::vector<std::string>& lead, const std::vector<column_schema>& columns,

@@ -133,26 +133,49 @@ void write_run(const run_config& c, const std::string& kind, const json& summary
     write_run(c, kind, kind, summary, std::forward<Write>(write));
 }
 
+class streamed_table;
+
 // --out DIR of a many-job run, filled while its results stream in job order (the library's
-// job_stream): the staging directory is made at the first result, so a shard that does not
-// complete the run and the MPI ranks other than 0 write nothing, and the command's files are
-// written row by row, so memory does not grow with the number of jobs. Without commit() (a
-// stop, an error) nothing is written.
+// job_stream): the staging directory is made at the first row of one of its tables, so a
+// shard that does not complete the run and the MPI ranks other than 0 write nothing, and the
+// tables are written row by row, so memory does not grow with the number of jobs. Without
+// commit() (a stop, an error) nothing is written.
 class streamed_output {
 public:
     explicit streamed_output(const run_config& c) : m_config(c) {}
     // The staging directory, made on the first call; null without --out.
     staged_output* get();
-    // run.json (the summary as its result, `files` and the standard ones), config.toml and
-    // the picture of `plot`; then DIR is committed.
-    void commit(const std::string& command, const std::string& plot, const json& summary, json files);
-    // What run.json says of a table in the directory (record_table::schema).
-    void describe_table(const std::string& file, json schema) { m_tables[file] = std::move(schema); }
+    // Closes the tables (a table without rows keeps its header), writes run.json (the summary
+    // as its result, the tables and the standard files), config.toml and the picture of
+    // `plot`, and commits DIR. Returns the text output's line saying where.
+    std::string commit(const std::string& command, const std::string& plot, const json& summary);
 
 private:
+    friend class streamed_table;
     const run_config& m_config;
     std::optional<staged_output> m_out;
-    json m_tables = json::object();
+    std::vector<streamed_table*> m_tables;  // in the order run.json's `files` lists them
+};
+
+// A CSV file of a streamed run, opened at its first row (streamed_output); run.json's
+// `tables` describes it with `schema` (table_schema, series_schema, spectrum_schema; null:
+// not described).
+class streamed_table {
+public:
+    streamed_table(streamed_output& out, std::string file, std::vector<std::string> header, json schema);
+    streamed_table(const streamed_table&) = delete;  // the stream keeps its address
+    streamed_table& operator=(const streamed_table&) = delete;
+    void row(const std::vector<double>& cells) { open().row(cells); }
+    void text_row(const std::vector<std::string>& cells) { open().text_row(cells); }
+
+private:
+    friend class streamed_output;
+    csv_writer& open();
+    streamed_output& m_out;
+    std::string m_file;
+    std::vector<std::string> m_header;
+    json m_schema;
+    std::optional<csv_writer> m_csv;
 };
 
 // run.json's description of a table's columns: the `lead` ones a command puts first (a
@@ -175,22 +198,15 @@ json spectrum_schema(const std::string& field, const std::string& records,
                      const std::vector<std::pair<std::string, std::string>>& keys, int width,
                      const std::vector<std::string>& extra);
 
-// A table of records of type R, one row each (io/record_table.hpp), between the `lead` and
-// `trail` columns of the command; its schema goes to run.json through
-// streamed_output::describe_table.
+// A streamed table of records of type R, one row each (io/record_table.hpp), between the
+// `lead` and `trail` columns of the command.
 template <class R>
 class record_table {
 public:
-    record_table(streamed_output& out, const std::string& file, table_context context,
-                 std::vector<std::string> lead, std::vector<std::string> trail)
-        : m_context(std::move(context))
+    record_table(streamed_output& out, const std::string& file, table_context context, std::vector<std::string> lead,
+                 std::vector<std::string> trail)
+        : m_context(std::move(context)), m_table(out, file, header(lead, trail), schema(lead, trail))
     {
-        const auto columns = record_columns<R>(m_context);
-        std::vector<std::string> header = lead;
-        for (const auto& c : columns) header.push_back(c.name);
-        header.insert(header.end(), trail.begin(), trail.end());
-        m_csv.emplace(out.get()->file(file), header);
-        out.describe_table(file, table_schema(lead, columns, trail));
     }
     void row(const std::vector<std::string>& lead, const R& r, const std::vector<std::string>& trail)
     {
@@ -198,16 +214,25 @@ public:
         const auto mine = record_cells(r, m_context);
         cells.insert(cells.end(), mine.begin(), mine.end());
         cells.insert(cells.end(), trail.begin(), trail.end());
-        m_csv->text_row(cells);
+        m_table.text_row(cells);
     }
     // Lead and trail columns that are numbers (parameter values, SI values).
     void row(const std::vector<double>& lead, const R& r, const std::vector<double>& trail)
     {
         row(texts(lead), r, texts(trail));
     }
-    void close() { m_csv->close(); }
 
 private:
+    std::vector<std::string> header(std::vector<std::string> lead, const std::vector<std::string>& trail) const
+    {
+        for (const auto& c : record_columns<R>(m_context)) lead.push_back(c.name);
+        lead.insert(lead.end(), trail.begin(), trail.end());
+        return lead;
+    }
+    json schema(const std::vector<std::string>& lead, const std::vector<std::string>& trail) const
+    {
+        return table_schema(lead, record_columns<R>(m_context), trail);
+    }
     static std::vector<std::string> texts(const std::vector<double>& values)
     {
         std::vector<std::string> out;
@@ -215,7 +240,7 @@ private:
         return out;
     }
     table_context m_context;
-    std::optional<csv_writer> m_csv;
+    streamed_table m_table;
 };
 
 // Labels counted as results stream: label -> count (label_counts' form).

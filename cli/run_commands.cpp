@@ -91,7 +91,6 @@ int run_period(const period_args& a)
 {
     run_config c = resolve(a.common);
     if (c.si) c.plot_options["units"] = "si";  // the section points in metres and m/s
-    check_positive(a.tol, "--tol");
     check_admissible(c);
     warn_validity(c, {c.model});
     const classified_run r = run_and_classify(c.model, c.ic, c.protocol, a.tol);
@@ -226,7 +225,7 @@ cli_command add_period_command(CLI::App& app)
     auto* p = app.add_subcommand("period", "Classify the attractor: P0, P1, P2, ..., aperiodic");
     add_common_options(*p, a->common);
     add_si_option(*p, a->common);
-    p->add_option("--tol", a->tol, "Period tolerance on the section state (default 1e-8)");
+    add_declared_option(*p, period_tolerance_option, a->tol);
     return {p, [a] { return run_period(*a); }};
 }
 

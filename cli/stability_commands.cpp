@@ -84,16 +84,18 @@ void add_si_sweep(json& summary, const run_config& c, const sweep_values& sv)
 
 // points.csv of a stability sweep: the section points of every value's result (the records
 // of `records`), a value at a time as the results stream.
-void open_points(std::optional<csv_writer>& pts, streamed_output& out, const std::string& param,
-                 const std::string& records, const model_info& info)
+std::vector<std::string> points_header(const std::string& param, const model_info& info)
 {
     std::vector<std::string> h{param};
     append(h, state_columns(info));
-    pts.emplace(out.get()->file("points.csv"), h);
-    out.describe_table("points.csv", series_schema("section_points", records, {{param, "value"}}, state_columns(info), {}));
+    return h;
+}
+json points_schema(const std::string& param, const std::string& records, const model_info& info)
+{
+    return series_schema("section_points", records, {{param, "value"}}, state_columns(info), {});
 }
 
-void write_sweep_points(csv_writer& w, double value, const state_series& pts)
+void write_sweep_points(streamed_table& w, double value, const state_series& pts)
 {
     std::vector<double> row(static_cast<std::size_t>(pts.dim()) + 1);
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -127,17 +129,10 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
     json per_value = json::array();
     long unstable = 0;
     streamed_output stream(c);
-    std::optional<record_table<floquet_sweep_point>> lab;
-    std::optional<csv_writer> mu, pts;
-    auto open = [&] {
-        if (lab) return;
-        lab.emplace(stream, "labels.csv", table_context_for(info, sv.name, -1), std::vector<std::string>{}, trail);
-        mu.emplace(stream.get()->file("multipliers.csv"),
-                   std::vector<std::string>{sv.name, "index", "re", "im", "modulus", "trivial"});
-        stream.describe_table("multipliers.csv", spectrum_schema("multipliers", "labels.csv", {{sv.name, "value"}},
-                                                                 info.dim(), {"modulus", "trivial"}));
-        open_points(pts, stream, sv.name, "labels.csv", info);
-    };
+    record_table<floquet_sweep_point> lab(stream, "labels.csv", table_context_for(info, sv.name, -1), {}, trail);
+    streamed_table mu(stream, "multipliers.csv", {sv.name, "index", "re", "im", "modulus", "trivial"},
+                      spectrum_schema("multipliers", "labels.csv", {{sv.name, "value"}}, info.dim(), {"modulus", "trivial"}));
+    streamed_table pts(stream, "points.csv", points_header(sv.name, info), points_schema(sv.name, "labels.csv", info));
     auto each = [&](long, const floquet_sweep_point& p) {
         const auto& r = p.result;  // NaN and 0 where it has no multipliers (floquet_sweep_point)
         const bool have = r.has_multipliers();
@@ -160,12 +155,11 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
             if (c.si) per_value.back()["period_si"] = finite_or_null(period_si);
             return;
         }
-        open();
-        lab->row({}, p, si);
+        lab.row({}, p, si);
         for (std::size_t i = 0; i < r.multipliers.size(); ++i)
-            mu->row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
-                     std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
-        write_sweep_points(*pts, p.value, r.section_points);
+            mu.row({p.value, static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
+                    std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
+        write_sweep_points(pts, p.value, r.section_points);
     };
     const floquet_sweep_result res =
         floquet_sweep(c.model, {sv.parameter, sv.values, c.ic, fo}, session.options(), each);
@@ -185,13 +179,8 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
                        " values: " + counts_text(counts) + "; " + std::to_string(unstable) +
                        " periodic orbit(s) with a multiplier outside the unit circle\n";
     if (c.out) {
-        open();
-        lab->close();
-        mu->close();
-        pts->close();
-        stream.commit("floquet", "floquet_sweep", summary, summary["files"]);
+        text += stream.commit("floquet", "floquet_sweep", summary);
         session.finish();
-        text += "output written to " + c.out->string() + "\n";
     }
     print(c, summary, text);
     return 0;
@@ -324,13 +313,8 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
     json per_value = json::array();
     long positive = 0, unsettled = 0;
     streamed_output stream(c);
-    std::optional<record_table<lyapunov_sweep_point>> w;
-    std::optional<csv_writer> pts;
-    auto open = [&] {
-        if (w) return;
-        w.emplace(stream, "exponents.csv", table_context_for(info, sv.name, -1), std::vector<std::string>{}, trail);
-        open_points(pts, stream, sv.name, "exponents.csv", info);
-    };
+    record_table<lyapunov_sweep_point> w(stream, "exponents.csv", table_context_for(info, sv.name, -1), {}, trail);
+    streamed_table pts(stream, "points.csv", points_header(sv.name, info), points_schema(sv.name, "exponents.csv", info));
     auto each = [&](long, const lyapunov_sweep_point& p) {
         const auto& r = p.result;  // NaN exponents where it has none (lyapunov_sweep_point)
         const bool have = r.has_exponents();
@@ -357,9 +341,8 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
             if (c.si) per_value.back()["lle_si"] = finite_or_null(exponent(0) * per_second);
             return;
         }
-        open();
-        w->row({}, p, si);
-        write_sweep_points(*pts, p.value, r.section_points);
+        w.row({}, p, si);
+        write_sweep_points(pts, p.value, r.section_points);
     };
     const lyapunov_sweep_result res =
         lyapunov_sweep(c.model, {sv.parameter, sv.values, c.ic, lo}, session.options(), each);
@@ -382,12 +365,8 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         text += "warning: the largest exponent drifts between the halves of the averaging at " +
                 std::to_string(unsettled) + " value(s) (column settled = 0): lengthen --transient or --impacts\n";
     if (c.out) {
-        open();
-        w->close();
-        pts->close();
-        stream.commit("lyapunov", "lyapunov_sweep", summary, summary["files"]);
+        text += stream.commit("lyapunov", "lyapunov_sweep", summary);
         session.finish();
-        text += "output written to " + c.out->string() + "\n";
     }
     print(c, summary, text);
     return 0;

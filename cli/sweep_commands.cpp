@@ -46,7 +46,6 @@ std::vector<std::string> grazing_columns(const model& m, int parameter)
     return surface_columns(m.info(), m.info().parameters[static_cast<std::size_t>(parameter)].name + "_graze");
 }
 
-std::string out_json_text(const run_config& c) { return c.out ? c.out->string() : std::string(); }
 
 // With --si: the SI columns of a run of `m` (the statistics in SI).
 void append_si_statistics(std::vector<std::string>& cells, const run_config& c, const model& m,
@@ -110,15 +109,10 @@ int run_sweep(const sweep_args& a)
     std::size_t npoints = 0;
     long unsettled = 0;
     streamed_output stream(c);
-    std::optional<csv_writer> pts;
-    std::optional<record_table<sweep_point>> lab;
-    auto open = [&] {
-        if (pts) return;
-        pts.emplace(stream.get()->file("points.csv"), ph);
-        stream.describe_table("points.csv", series_schema("points", "labels.csv", {{"branch", "branch"}, {pname, "value"}},
-                                                          state_columns(info), {ph.begin() + 2 + info.dim(), ph.end()}));
-        lab.emplace(stream, "labels.csv", labels_context, std::vector<std::string>{}, lh);
-    };
+    streamed_table pts(stream, "points.csv", ph,
+                       series_schema("points", "labels.csv", {{"branch", "branch"}, {pname, "value"}}, state_columns(info),
+                                     {ph.begin() + 2 + info.dim(), ph.end()}));
+    record_table<sweep_point> lab(stream, "labels.csv", labels_context, {}, lh);
     std::vector<double> row(ph.size());
     auto each = [&](long, const sweep_point& p) {
         tally.add(p.label.label);
@@ -128,7 +122,6 @@ int run_sweep(const sweep_args& a)
             (p.branch == 0 ? labels : labels_down).push_back({p.value, p.label.label});
             return;
         }
-        open();
         row[0] = p.branch;
         row[1] = p.value;
         const auto si = si_points ? tables_at(p.value) : std::nullopt;
@@ -137,12 +130,12 @@ int run_sweep(const sweep_args& a)
             row.resize(static_cast<std::size_t>(p.points.dim()) + 2);
             if (!axis.si_name.empty()) row.push_back(axis.si_value(c, p.value));
             if (si) append_state_si(row, *si, p.points.x(i));
-            pts->row(row);
+            pts.row(row);
         }
         std::vector<std::string> cells;
         if (axis.si()) cells.push_back(format_double(axis.si_value(c, p.value)));
         if (c.si) append_si_statistics(cells, c, m.with_parameter(o.parameter, p.value), p.statistics);
-        lab->row({}, p, cells);
+        lab.row({}, p, cells);
     };
     const sweep_result res = sweep(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -165,12 +158,8 @@ int run_sweep(const sweep_args& a)
     std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" +
                        std::string(to_string(o.start)) + " starts): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
-        open();
-        pts->close();
-        lab->close();
-        stream.commit("sweep", "sweep", summary, {"points.csv", "labels.csv"});
+        text += stream.commit("sweep", "sweep", summary);
         session.finish();
-        text += "output written to " + out_json_text(c) + "\n";
     }
     print(c, summary, text);
     return 0;
@@ -217,10 +206,7 @@ int run_map(const map_args& a)
     label_tally tally;
     long unsettled = 0;
     streamed_output stream(c);
-    std::optional<record_table<map_cell>> lab;
-    auto open = [&] {
-        if (!lab) lab.emplace(stream, "labels.csv", table_context_for(info, "", -1), std::vector{mx.name, my.name}, lh);
-    };
+    record_table<map_cell> lab(stream, "labels.csv", table_context_for(info, "", -1), {mx.name, my.name}, lh);
     auto each = [&](long job, const map_cell& cell) {
         tally.add(cell.label.label);
         if (!cell.label.settled) ++unsettled;
@@ -229,13 +215,12 @@ int run_map(const map_args& a)
             if (row.size() == nx) rows.push_back(std::exchange(row, json::array()));
             return;
         }
-        open();
         const auto j = static_cast<std::size_t>(job);
         std::vector<std::string> cells;
         if (!sx.si_name.empty()) cells.push_back(format_double(sx.si_values[j % nx]));
         if (!sy.si_name.empty()) cells.push_back(format_double(sy.si_values[j / nx]));
         if (c.si) append_si_statistics(cells, c, at(j % nx, j / nx), cell.statistics);
-        lab->row({format_double(mx.values[j % nx]), format_double(my.values[j / nx])}, cell, cells);
+        lab.row({format_double(mx.values[j % nx]), format_double(my.values[j / nx])}, cell, cells);
     };
     const map_result res = map2d(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -268,25 +253,20 @@ int run_map(const map_args& a)
     std::string text = "map " + mx.name + " x " + my.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
                        "): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
     if (c.out) {
-        open();
-        lab->close();
-        json files = {"labels.csv"};
+        std::optional<streamed_table> g;
         if (gp >= 0) {
             std::vector<std::string> gh{other};
             append(gh, grazing_columns(m, gp));
-            csv_writer g(stream.get()->file("grazing.csv"), gh);
+            g.emplace(stream, "grazing.csv", gh, json());
             for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
                 std::vector<double> grow{res.grazing_other[k]};
                 grow.insert(grow.end(), res.grazing_values[k].begin(), res.grazing_values[k].end());
                 grow.resize(gh.size(), std::nan(""));
-                g.row(grow);
+                g->row(grow);
             }
-            g.close();
-            files.push_back("grazing.csv");
         }
-        stream.commit("map", "map", summary, files);
+        text += stream.commit("map", "map", summary);
         session.finish();
-        text += "output written to " + out_json_text(c) + "\n";
     }
     print(c, summary, text);
     return 0;
@@ -332,21 +312,17 @@ int run_basins(const basins_args& a)
     // The cells stream in job order to cells.csv; the summary counts.
     long excluded = 0, unsettled = 0;
     streamed_output stream(c);
-    std::optional<record_table<basin_cell>> cells;
-    auto open = [&] {
-        if (!cells) cells.emplace(stream, "cells.csv", table_context_for(info, "", -1), std::vector{ax.name, ay.name}, h);
-    };
+    record_table<basin_cell> cells(stream, "cells.csv", table_context_for(info, "", -1), {ax.name, ay.name}, h);
     auto each = [&](long job, const basin_cell& b) {
         if (!b.admissible) ++excluded;
         if (!b.label.settled) ++unsettled;
         if (!c.out) return;
-        open();
         const auto j = static_cast<std::size_t>(job);
         const double x = ax.values[j % nx], y = ay.values[j / nx];
         std::vector<double> si_cells;
         if (std::isfinite(fx)) si_cells.push_back(x * fx);
         if (std::isfinite(fy)) si_cells.push_back(y * fy);
-        cells->row({x, y}, b, si_cells);
+        cells.row({x, y}, b, si_cells);
     };
     const basins_result res = basins(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -379,11 +355,8 @@ int run_basins(const basins_args& a)
     if (excluded) text += "  (" + std::to_string(excluded) + " cells start beyond a surface and are excluded)\n";
     text += unsettled_text(unsettled);
     if (c.out) {
-        open();
-        cells->close();
-        stream.commit("basins", "basins", summary, {"cells.csv"});
+        text += stream.commit("basins", "basins", summary);
         session.finish();
-        text += "output written to " + out_json_text(c) + "\n";
     }
     print(c, summary, text);
     return 0;
@@ -522,10 +495,7 @@ int run_response(const response_args& a)
         return q;
     };
     streamed_output stream(c);
-    std::optional<record_table<response_point>> w;
-    auto open = [&] {
-        if (!w) w.emplace(stream, "response.csv", context, lead, h);
-    };
+    record_table<response_point> w(stream, "response.csv", context, lead, h);
     auto each = [&](long, const response_point& r) {
         auto& t = tallies[static_cast<std::size_t>(r.curve)];
         t.unconverged += r.converged ? 0 : 1;
@@ -545,7 +515,6 @@ int run_response(const response_args& a)
             }
             return;
         }
-        open();
         std::vector<double> lead_cells, si_cells;
         for (const int p : curve_params) lead_cells.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
         if (axis.si()) si_cells.push_back(axis.si_value(c, r.value));
@@ -554,7 +523,7 @@ int run_response(const response_args& a)
             si_cells.push_back(q.frequency);
             si_cells.insert(si_cells.end(), q.clearance.begin(), q.clearance.end());
         }
-        w->row(lead_cells, r, si_cells);
+        w.row(lead_cells, r, si_cells);
     };
     const response_result res = response(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -601,11 +570,8 @@ int run_response(const response_args& a)
     if (axis.si()) summary["si_param"] = axis.si_name;
     if (c.si) summary["si"] = si_json(*c.si, m);
     if (c.out) {
-        open();
-        w->close();
-        stream.commit("response", "response", summary, {"response.csv"});
+        text += stream.commit("response", "response", summary);
         session.finish();
-        text += "output written to " + out_json_text(c) + "\n";
     }
     print(c, summary, text);
     return 0;

@@ -8,6 +8,7 @@
 
 #include "test_support.hpp"
 #include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
@@ -211,6 +212,7 @@ TEST(Options, MapRefusesEveryEndOfItsDeclaration) { check_every_end<map_options>
 TEST(Options, BasinsRefusesEveryEndOfItsDeclaration) { check_every_end<basins_options>(); }
 TEST(Options, GrazingRefusesEveryEndOfItsDeclaration) { check_every_end<grazing_options>(); }
 TEST(Options, ResponseRefusesEveryEndOfItsDeclaration) { check_every_end<response_options>(); }
+TEST(Options, ClearanceRefusesEveryEndOfItsDeclaration) { check_every_end<clearance_options>(); }
 
 // The option_error of `call`, whose key must be `key`: the analysis checked its declaration
 // before computing anything.
@@ -255,6 +257,14 @@ TEST(Options, GridAnalysesCheckTheirDeclarationsAtTheirEntry)
     grazing_options g;
     g.block = 0;
     refuses_key("block", [&] { (void)grazing(m, test::paper_ic(), g); });
+    clearance_options c;
+    c.parameter = ur;
+    c.values = value_grid::range(15.0, 16.0, 2);
+    c.grazing.transient_time = -1.0;
+    refuses_key("transient_time", [&] { (void)clearance(m, c); });
+    c.grazing.transient_time = 10.0;
+    c.period_tolerance = 0.0;
+    refuses_key("tol", [&] { (void)clearance(m, c); });
 }
 
 // The paper's r0 = 1e-4 and t0 = pi are the defaults; the ends the analysis needs hold.

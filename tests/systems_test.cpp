@@ -250,9 +250,12 @@ TEST(Systems, HybridLandsOnTimesInAContactPhase)
                                  std::numbers::pi / 2.0;
     const double t = t0 + 0.5 * std::max(0.0, (theta_release - sys.state()[2]) / omega);
     ASSERT_GT(t, t0);
+    const double stuck_before = sys.stats().sticking_time;
     ASSERT_EQ(sys.advance_to(t), outcome::ok);
     EXPECT_EQ(sys.time(), t);
     EXPECT_TRUE(sys.in_contact());
+    // Time in contact is counted once: the contact step that went past t is cut back to t.
+    EXPECT_NEAR(sys.stats().sticking_time - stuck_before, t - t0, 1e-12 * t);
     EXPECT_EQ(sys.state()[0], 0.0);
     EXPECT_EQ(sys.state()[1], 0.0);
     EXPECT_NEAR(sys.state()[2], omega * t, 1e-9 * std::max(1.0, omega * t));

@@ -185,8 +185,8 @@ py::dict clearance_run(const model& m, const py::dict& kw)
     (void)o.object("fractions");
     co.initial_state = state_of(m, o.object("ic"), "ic");
     co.protocol = protocol_of(m, o);
-    co.period_tolerance = o.need<double>("tol");
-    co.grazing = job_grazing_options(co.protocol.flow.integration, o.need<double>("transient_time"));
+    read_declared(o, co);
+    co.grazing = job_grazing_options(co.protocol.flow.integration, co.grazing.transient_time);
     co.grazing.method = co.protocol.method;
     const auto analysis = [&](const job_options& c) { return clearance(m, co, c); };
     const auto put = [&](py::dict& d, const clearance_result& r) {

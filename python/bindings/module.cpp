@@ -6,15 +6,19 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
+#include "records.hpp"
 #include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/map.hpp"
+#include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol_declaration.hpp"
 #include "vimpact/analysis/response.hpp"
+#include "vimpact/analysis/stability_sweep.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/io/build_info.hpp"
 
@@ -82,8 +86,24 @@ PYBIND11_MODULE(_vimpact, m)
     declared["basins"] = vimpact::python::declarations<basins_options>();
     declared["grazing"] = vimpact::python::declarations<grazing_options>();
     declared["response"] = vimpact::python::declarations<response_options>();
+    declared["clearance"] = vimpact::python::declarations<clearance_options>();
     declared["protocol"] = vimpact::python::declarations<protocol_options>();
     m.attr("declared") = declared;
+    // What each record says of its fields (core/record.hpp): vimpact/results.py documents the
+    // results' arrays from it.
+    py::dict described;
+    described["sweep"] = vimpact::python::described<sweep_point>();
+    described["map"] = vimpact::python::described<map_cell>();
+    described["basins"] = vimpact::python::described<basin_cell>();
+    described["response"] = vimpact::python::described<response_point>();
+    described["floquet_sweep"] = vimpact::python::described<floquet_sweep_point>();
+    described["lyapunov_sweep"] = vimpact::python::described<lyapunov_sweep_point>();
+    described["floquet"] = vimpact::python::described<floquet_result>();
+    described["lyapunov"] = vimpact::python::described<lyapunov_result>();
+    described["period"] = vimpact::python::described<period_label>();
+    described["impact_statistics"] = vimpact::python::described<impact_statistics>();
+    described["run_stats"] = vimpact::python::described<run_stats>();
+    m.attr("described") = described;
     m.def(
         "grid",
         [](double a, double b, long n) { return vimpact::python::vector_array(grid_values(a, b, n)); },

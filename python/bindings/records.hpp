@@ -202,4 +202,78 @@ py::dict record_arrays(const std::vector<R>& records, int surfaces, int dim)
     return d;
 }
 
+namespace detail {
+
+// The type names of run.json's schema (io/record_table.hpp), and complex and group, which take
+// no column there.
+constexpr const char* kind_name(column_kind k)
+{
+    switch (k) {
+        case column_kind::integer: return "int";
+        case column_kind::flag: return "bool";
+        case column_kind::text: return "text";
+        case column_kind::complex: return "complex";
+        case column_kind::group: return "group";
+        case column_kind::real: break;
+    }
+    return "float";
+}
+
+constexpr const char* span_name(field_span s)
+{
+    switch (s) {
+        case field_span::per_surface: return "per_surface";
+        case field_span::per_state: return "per_state";
+        case field_span::series: return "series";
+        case field_span::spectrum: return "spectrum";
+        case field_span::one: break;
+    }
+    return "one";
+}
+
+struct description_visitor {
+    py::list fields;
+
+    static py::dict entry(const field& f, column_kind kind)
+    {
+        py::dict d;
+        d["name"] = std::string(f.name);
+        d["meaning"] = std::string(f.meaning);
+        d["unit"] = std::string(f.unit);
+        d["span"] = span_name(f.span);
+        d["type"] = kind_name(kind);
+        d["tabular"] = f.tabular;
+        return d;
+    }
+    template <class T>
+    void operator()(const field& f, const T&)
+    {
+        fields.append(entry(f, kind_of<T>()));
+    }
+    template <class R>
+    void group(const field& f, const R& r)
+    {
+        description_visitor sub;
+        describe(sub, r);
+        py::dict d = entry(f, column_kind::group);
+        d["fields"] = sub.fields;
+        fields.append(d);
+    }
+};
+
+}  // namespace detail
+
+// What record type R says of its fields, in order, for Python's documentation of the arrays
+// of record_arrays: each field's name, meaning, unit, span (one, per_surface, per_state,
+// series, spectrum), type (int, float, bool, text, complex, group: its own "fields") and
+// whether a command's table has it (tabular).
+template <class R>
+py::list described()
+{
+    detail::description_visitor v;
+    const R blank{};
+    describe(v, blank);
+    return v.fields;
+}
+
 }  // namespace vimpact::python

@@ -71,9 +71,9 @@ std::vector<double> default_clearance_fractions() { return grid_values(0.1, 1.3,
 
 clearance_result clearance(const model& m, const clearance_options& o, const job_options& j)
 {
+    check_options(o);
     validate(o.protocol);
     validate(m, o.protocol.section);
-    check_period_tolerance(o.period_tolerance);
     const int P = static_cast<int>(m.parameters().size());
     if (o.parameter < 0 || o.parameter >= P) throw input_error("clearance: flow parameter index out of range");
     if (o.values.empty()) throw input_error("clearance needs at least one value of the flow parameter");

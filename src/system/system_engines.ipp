@@ -84,7 +84,7 @@ public:
         m_x = to_dynamic(p.x);
         return outcome::ok;  // the flow may have ended after this point: the next call says so
     }
-    [[nodiscard]] run_stats stats() const override { return m_run.flow().stats(); }
+    [[nodiscard]] run_stats stats() const override { return m_run.stats(); }
     [[nodiscard]] bool in_contact() const override { return m_run.flow().mode() == flow_mode::sticking; }
 
 private:
@@ -164,13 +164,13 @@ public:
     }
     void set_deviations(const Eigen::MatrixXd& w) override
     {
-        m_before.add(m_run->flow().stats());
+        m_before.add(m_run->stats());
         start(m_t, vec<N>(m_x), w);
     }
     [[nodiscard]] run_stats stats() const override
     {
         run_stats s = m_before;
-        s.add(m_run->flow().stats());
+        s.add(m_run->stats());
         return s;
     }
 

@@ -237,6 +237,8 @@ BAD_INPUTS = [
     (["period", "--rtol", "2"], "rtol"),
     (["period", "--hold-band", "1"], "--hold-band = 1 is outside its valid range [0, 1)"),
     (["period", "--record", "0"], "record"),
+    (["period", "--tol", "0"], "--tol = 0 is outside its valid range > 0"),
+    (["dimension", "--tol", "-1"], "--tol = -1 is outside its valid range > 0"),
     (["period", "--method", "euler"], "method"),
     (["period", "--section", "sideways"], "maxima, minima, impacts, impacts:barrier"),
     (["period", "--preset", "nope"], "paper, facchinetti"),

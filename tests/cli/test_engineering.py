@@ -172,6 +172,9 @@ def test_the_calibration_warning(vimpact):
     (["continue", "--si", SI, "--param", "U", "--range", "0:4"], "U (flow speed, m/s) must be"),
     (["lyapunov", "--si", SI, "--param", "U", "--range", "3:4:2", "--model", "forced_impact_oscillator"],
      "model forced_impact_oscillator"),
+    (["clearance", "--si", SI, "--speeds", "3:4:2", "--transient-time", "-1"],
+     "--transient-time = -1 is outside its valid range >= 0"),
+    (["clearance", "--si", SI, "--speeds", "3:4:2", "--tol", "0"], "--tol = 0 is outside its valid range > 0"),
 ])
 def test_bad_physical_input_exits_2_naming_it_and_writes_nothing(vimpact, tmp_path, args, needle):
     out = tmp_path / "out"

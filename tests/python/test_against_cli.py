@@ -206,6 +206,49 @@ def test_grid_is_the_command_lines_range(cli_json):
     same(vimpact.grid(-0.3, -0.29, 2), j["y_values"])
 
 
+def tabular(fields, group=None):
+    """(group, name) of every field of a description (vimpact._vimpact.described) that a table
+    holds, a group's fields under its name."""
+    for f in fields:
+        if f["tabular"] and f["type"] == "group":
+            yield from tabular(f["fields"], f["name"])
+        elif f["tabular"]:
+            yield group, f["name"], f
+
+
+@pytest.mark.parametrize("record,args", [
+    ("sweep", ["sweep", "--param", "Ur", "--range", "20:21:2", "--grazing"]),
+    ("map", ["map", "--x", "Ur:16:20:2", "--y", "sigma:-0.16:-0.1:2"]),
+    ("basins", ["basins", "--set", "Ur=14.9", "--x", "y:-0.2:0.1:2", "--y", "ydot:0:0.1:2"]),
+    ("response", ["response", "--param", "Ur", "--range", "5:6:2"]),
+    ("floquet_sweep", ["floquet", "--param", "Ur", "--range", "16:17:2"]),
+    ("lyapunov_sweep", ["lyapunov", "--param", "Ur", "--range", "16:17:2", "--impacts", "20"])])
+def test_the_described_records_are_the_tables_the_program_writes(cli, tmp_path, record, args):
+    # The description the Python results document themselves from is the schema of the
+    # program's tables: the same fields, meanings, units and types.
+    out = tmp_path / "o"
+    p = cli(*args, *(QA if record != "response" else []), "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    columns = [c for t in vimpact.results.read_record(out)["tables"].values() for c in t["columns"] if "field" in c]
+    described = {(g, n): f for g, n, f in tabular(vimpact._vimpact.described[record])}
+    assert {(c.get("group"), c["field"]) for c in columns} == set(described)
+    for c in columns:
+        f = described[c.get("group"), c["field"]]
+        if "meaning" in c:
+            assert (c["meaning"], c["unit"], c["type"]) == (f["meaning"], f["unit"], f["type"]), c["name"]
+
+
+def test_the_described_sweep_point_is_the_arrays_of_a_sweep():
+    s = vimpact.sweep(vimpact.WakeImpact(), "Ur", [20, 21], **Q)
+    fields = vimpact._vimpact.described["sweep"]
+    assert set(s.records) == {f["name"] for f in fields} | {"points_run"}
+    for f in fields:
+        if f["type"] == "group":
+            assert set(s.records[f["name"]]) == {g["name"] for g in f["fields"]}
+        if f["name"] != "stats":  # the run's counters in all
+            assert getattr(s, f["name"]) is s.records[f["name"]]
+
+
 # ---------------------------------------------------------------- errors the library checks
 # (the command line checks some options, --tol and --threads among them, in its own words first)
 

@@ -383,6 +383,15 @@ def test_an_output_directory_without_a_tables_schema_says_so(tmp_path):
         vimpact.LyapunovSweep.load(str(out))
 
 
+def test_an_output_directory_without_what_this_vimpact_writes_says_so(tmp_path):
+    # A lyapunov run written before run.json held the library's verdict on the exponents.
+    (tmp_path / "run.json").write_text(json.dumps({"command": "lyapunov", "model": {"name": "wake_impact"},
+                                                   "result": {"outcome": "ok", "exponents": [0.1], "t_start": 0}}))
+    (tmp_path / "convergence.csv").write_text("t,lambda1\n1,0.1\n")
+    with pytest.raises(ValueError, match=r"has no 'positive': it was written by an older vimpact"):
+        vimpact.Lyapunov.load(str(tmp_path))
+
+
 def test_continuation_keywords_are_the_librarys_declaration():
     """vimpact.continuation's step and tolerance keywords come from the library's declaration,
     which refuses a value out of range naming the keyword before any run."""

@@ -40,6 +40,15 @@ struct clearance_options {
     grazing_options grazing = job_grazing_options(integrator_options{});
 };
 
+// What a user sets (core/option.hpp); the rest are the command's axes and the protocol.
+template <class V, record_of<clearance_options> O>
+void declare(V& v, O& o)
+{
+    v(period_tolerance_option, o.period_tolerance);
+    v(option{"transient_time", "grazing runs: time discarded before minima count", at_least(0.0)},
+      o.grazing.transient_time);
+}
+
 struct clearance_cell {
     static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     double gap = nan;                  // model units

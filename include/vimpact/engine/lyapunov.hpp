@@ -205,7 +205,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
     for (long k = 0;; ++k) {
         stepping_flow<VM, dop853> run(vm, fo, t, X);
         const outcome o = run.advance_to(t_begin + static_cast<double>(k + 1) * opt.t0);
-        res.stats.add(run.flow().stats());
+        res.stats.add(run.stats());
         if (o != outcome::ok || run.flow().stats().sticking_phases > 0) {
             res.status = o != outcome::ok ? o : outcome::sticking;
             return;

@@ -59,6 +59,14 @@ public:
     }
 
     [[nodiscard]] const flow_type& flow() const { return m_flow; }
+    // The flow's counters, less the contact time of steps cut back by advance_to (the flow
+    // counted them to their ends, and counts that stretch again after the landing).
+    [[nodiscard]] run_stats stats() const
+    {
+        run_stats s = m_flow.stats();
+        s.sticking_time -= m_cut_contact;
+        return s;
+    }
     [[nodiscard]] double t() const { return m_flow.t(); }
     [[nodiscard]] const state& x() const { return m_flow.x(); }
     // ok while the flow can go on; else why it ended (then nothing moves any more).
@@ -123,12 +131,14 @@ private:
                 return;
             }
         while (!m_record.points.empty() && m_record.points.back().t > t) m_record.points.pop_back();
+        m_cut_contact += m_flow.t() - t;
         m_flow.start(t, m.rest(surface, integ.x()));
     }
 
     flow_type m_flow;
     step_record<state> m_record;
     outcome m_status = outcome::ok;
+    double m_cut_contact = 0.0;
 };
 
 }  // namespace vimpact::engine
