@@ -100,8 +100,9 @@ struct option_checker {
     {
         if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
             const double x = static_cast<double>(v);
-            if (!o.admits(x))
-                throw option_error(o.key, " = " + format_double(x) + " is outside its valid range " + o.range_text());
+            // An integer as typed (2000000000, not 2e+09).
+            const std::string shown = std::is_integral_v<T> ? std::to_string(v) : format_double(x);
+            if (!o.admits(x)) throw option_error(o.key, " = " + shown + " is outside its valid range " + o.range_text());
         }
     }
     // Unset: the library's choice, nothing to check.
