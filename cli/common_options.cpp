@@ -11,7 +11,9 @@
 #include "interrupts.hpp"
 #include "output.hpp"
 #include "parse.hpp"
+#include "declared_options.hpp"
 #include "replay.hpp"
+#include "vimpact/analysis/protocol_declaration.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
@@ -22,6 +24,70 @@
 namespace fs = std::filesystem;
 
 namespace vimpact::cli {
+
+namespace {
+
+std::string joined(const std::vector<std::string>& v)
+{
+    std::string s;
+    for (const auto& x : v) {
+        if (!s.empty()) s += ", ";
+        s += x;
+    }
+    return s;
+}
+
+// The declared protocol options as config.toml and run.json record them (protocol_settings).
+struct protocol_writer {
+    nlohmann::json& j;
+    template <class T>
+    void operator()(const option& o, const T& v) const
+    {
+        if constexpr (std::is_floating_point_v<T>)
+            if (!std::isfinite(v)) return;  // none
+        if (command_line_sets(o.key)) j[std::string(o.key)] = v;
+    }
+    void operator()(const option& o, const std::optional<double>& v) const
+    {
+        if (v && command_line_sets(o.key)) j[std::string(o.key)] = *v;
+    }
+    template <class E, std::size_t K>
+    void operator()(const option& o, const E& v, const std::array<E, K>&) const
+    {
+        if (command_line_sets(o.key)) j[std::string(o.key)] = std::string(to_string(v));
+    }
+};
+
+}  // namespace
+
+// The protocol's time limits stay at their defaults on the command line: a run that needs
+// longer is given a longer transient or record, and grazing's --t-max is its own run's.
+bool command_line_sets(std::string_view key) { return key != "quiet_time" && key != "t_max"; }
+
+const std::vector<std::string>& protocol_keys()
+{
+    static const std::vector<std::string> keys = [] {
+        std::vector<std::string> k;
+        const auto collect = [&k](const option& o, const auto&...) {
+            if (command_line_sets(o.key)) k.emplace_back(o.key);
+        };
+        const protocol_options defaults{};
+        declare(collect, defaults);
+        return k;
+    }();
+    return keys;
+}
+
+nlohmann::json protocol_settings(const protocol_options& p)
+{
+    protocol_options shown = p;
+    const double band = effective_hold_band(p.flow.integration, p.method);
+    if (p.flow.integration.hold_band || band > 0.0) shown.flow.integration.hold_band = band;
+    nlohmann::json j = nlohmann::json::object();
+    const protocol_writer w{j};
+    declare(w, shown);
+    return j;
+}
 
 void add_common_options(CLI::App& app, common_args& a)
 {
@@ -34,21 +100,14 @@ void add_common_options(CLI::App& app, common_args& a)
     a.command = &app;
     app.add_option("--config", a.config,
                    "TOML file with the same settings: model, preset, parameters by name (or in a table "
-                   "[parameters]), ic = [..], rtol, atol, transient, record, method, section, and the command's "
-                   "own options in a table named after it; every --out directory holds one (config.toml) that "
+                   "[parameters]), ic = [..], " + joined(protocol_keys()) + ", section, and the command's own "
+                   "options in a table named after it; every --out directory holds one (config.toml) that "
                    "replays the run");
-    a.rtol_option = app.add_option("--rtol", a.rtol, "Relative tolerance (default 1e-10)");
-    a.atol_option = app.add_option("--atol", a.atol, "Absolute tolerance (default 1e-10)");
-    a.hold_band_option = app.add_option("--hold-band", a.hold_band,
-                                        "Step sizes held while the error norm lies in [B, 1], in [0, 1); 0: the "
-                                        "controller acts on every step (default 0.1 with dopri5, 0 with dop853); faster "
-                                        "steps, more rejections (docs/performance.md)");
-    a.max_step_option = app.add_option("--max-step", a.max_step,
-                                       "Longest integration step, > 0 (default none: the error control and the "
-                                       "resolution of the model's gaps and sections set it; docs/model.md)");
-    a.transient_option = app.add_option("--transient", a.transient, "Impacts discarded before recording (default 500)");
-    a.record_option = app.add_option("--record", a.record, "Section points kept (default " + std::to_string(a.record) + ")");
-    a.method_option = app.add_option("--method", a.method, "Integrator: dop853 (default) or dopri5");
+    detail::option_adder adder{app};
+    const auto add = [&](const option& o, auto&... member) {
+        if (command_line_sets(o.key)) adder(o, member...);
+    };
+    declare(add, a.protocol);
     a.section_option = app.add_option("--section", a.section,
                                       "Where points are recorded: a section of the model (default its first), impacts "
                                       "(after every impact) or impacts:SURFACE");
@@ -134,16 +193,6 @@ bool is_builtin(const std::string& name)
     return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-std::string joined(const std::vector<std::string>& v)
-{
-    std::string s;
-    for (const auto& x : v) {
-        if (!s.empty()) s += ", ";
-        s += x;
-    }
-    return s;
-}
-
 section_choice parse_section(const model& m, const std::string& s)
 {
     if (const auto choice = section_choice_named(m, s)) return *choice;
@@ -194,13 +243,59 @@ std::string toml_string(const toml::node& node, const std::string& key, const st
 }
 
 // The keys a config file may have besides the model's parameters.
-const std::vector<std::string>& setting_keys()
+std::vector<std::string> setting_keys()
 {
-    static const std::vector<std::string> keys{"model",     "model_identity", "preset",  "ic",
-                                               "rtol",      "atol",           "hold_band", "max_step", "method", "transient",
-                                               "record",    "section",        "[parameters]"};
+    std::vector<std::string> keys{"model", "model_identity", "preset", "ic"};
+    keys.insert(keys.end(), protocol_keys().begin(), protocol_keys().end());
+    keys.insert(keys.end(), {"section", "[parameters]"});
     return keys;
 }
+
+// The protocol's options from a config file's top level, each checked against its declared
+// range where it is read, so that a mistake names the file (even one the command line
+// overrides); an option given on the command line wins (its value is already in the options).
+struct protocol_config_reader {
+    const toml::table& cfg;
+    const CLI::App& command;
+    const std::string& file;
+
+    [[nodiscard]] const toml::node* node(const option& o) const
+    {
+        return command_line_sets(o.key) ? cfg.get(o.key) : nullptr;
+    }
+    template <class T>
+    void set(const option& o, T& member, const T& value) const
+    {
+        try {
+            check_option(o, value);
+        } catch (const input_error& e) {
+            throw input_error(config_where(file) + ": " + e.what());
+        }
+        if (command.get_option(command_line_key(o.key))->count() == 0) member = value;
+    }
+    template <class T>
+    void operator()(const option& o, T& member) const
+    {
+        if (const toml::node* n = node(o)) {
+            const std::string key(o.key);
+            if constexpr (std::is_integral_v<T>) set(o, member, static_cast<T>(toml_integer(*n, key, file)));
+            else set(o, member, T(toml_number(*n, key, file)));
+        }
+    }
+    template <class E, std::size_t K>
+    void operator()(const option& o, E& member, const std::array<E, K>& all) const
+    {
+        if (const toml::node* n = node(o)) {
+            const std::string key(o.key);
+            const std::string name = toml_string(*n, key, file);
+            try {
+                set(o, member, parse_name(name, all, key));
+            } catch (const input_error& e) {
+                throw input_error(config_where(file) + ": " + e.what());
+            }
+        }
+    }
+};
 
 }  // namespace
 
@@ -315,12 +410,8 @@ run_config resolve(const common_args& a)
     }
     std::vector<double> values = m.parameters();
     c.ic = m.initial_state();
-    c.protocol.transient_impacts = a.transient;
-    c.protocol.record_points = a.record;
-    c.protocol.flow.integration.rtol = a.rtol;
-    c.protocol.flow.integration.atol = a.atol;
+    c.protocol = a.protocol;  // the command line's values, else the defaults; the config file's below
     c.protocol.flow.cancel = &interrupt_flag();  // Ctrl-C ends a run with the outcome `interrupted`
-    std::string method = a.method;
     std::string section;
 
     if (cfg) {
@@ -341,12 +432,6 @@ run_config resolve(const common_args& a)
             values[static_cast<std::size_t>(i)] = v;
             return true;
         };
-        const auto set_protocol = [&](const auto& set) {
-            protocol_options probe;
-            set(probe);
-            in_file([&] { validate(probe); });
-            set(c.protocol);
-        };
         for (const auto& [k, node] : *cfg) {
             const std::string key(k.str());
             if (key == c.command && node.is_table()) continue;  // the command's options: applied when parsing
@@ -365,26 +450,8 @@ run_config resolve(const common_args& a)
                                       " numbers (" + info.state_names() + ")");
                 for (std::size_t i = 0; i < arr->size(); ++i)
                     c.ic[static_cast<Eigen::Index>(i)] = toml_number(*arr->get(i), "ic", file);
-            } else if (key == "rtol") {
-                const double v = toml_number(node, key, file);
-                set_protocol([v](protocol_options& p) { p.flow.integration.rtol = v; });
-            } else if (key == "atol") {
-                const double v = toml_number(node, key, file);
-                set_protocol([v](protocol_options& p) { p.flow.integration.atol = v; });
-            } else if (key == "hold_band") {
-                const double v = toml_number(node, key, file);
-                set_protocol([v](protocol_options& p) { p.flow.integration.hold_band = v; });
-            } else if (key == "max_step") {
-                const double v = toml_number(node, key, file);
-                set_protocol([v](protocol_options& p) { p.flow.integration.h_max = v; });
-            } else if (key == "transient") {
-                const long v = toml_integer(node, key, file);
-                set_protocol([v](protocol_options& p) { p.transient_impacts = v; });
-            } else if (key == "record") {
-                const long v = toml_integer(node, key, file);
-                set_protocol([v](protocol_options& p) { p.record_points = v; });
-            } else if (key == "method") {
-                method = toml_string(node, key, file);
+            } else if (std::find(protocol_keys().begin(), protocol_keys().end(), key) != protocol_keys().end()) {
+                // read by protocol_config_reader below
             } else if (key == "section") {
                 section = toml_string(node, key, file);
             } else if (set_parameter(key, node)) {
@@ -394,14 +461,11 @@ run_config resolve(const common_args& a)
             }
         }
     }
+    if (cfg) {
+        const protocol_config_reader read{*cfg, *a.command, a.config};
+        declare(read, c.protocol);
+    }
     // Command-line values override the config file.
-    if (a.rtol_option->count()) c.protocol.flow.integration.rtol = a.rtol;
-    if (a.atol_option->count()) c.protocol.flow.integration.atol = a.atol;
-    if (a.hold_band_option->count()) c.protocol.flow.integration.hold_band = a.hold_band;
-    if (a.max_step_option->count()) c.protocol.flow.integration.h_max = a.max_step;
-    if (a.transient_option->count()) c.protocol.transient_impacts = a.transient;
-    if (a.record_option->count()) c.protocol.record_points = a.record;
-    if (a.method_option->count()) method = a.method;
     if (a.section_option->count()) section = a.section;
 
     std::map<int, std::string> set_by;
@@ -431,7 +495,6 @@ run_config resolve(const common_args& a)
         check_state_size(m, static_cast<Eigen::Index>(x.size()), "--ic");
         c.ic = Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
     }
-    c.protocol.method = parse_name(method, all_integration_methods, "--method");
     c.protocol.section = section.empty() ? default_section(m) : parse_section(m, section);
     validate(c.protocol);
     validate(m, c.protocol.section);
@@ -468,15 +531,7 @@ nlohmann::json run_config::to_json() const
     j["preset"] = preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(preset);
     j["parameters"] = parameters_json(model);
     j["ic"] = std::vector<double>(ic.data(), ic.data() + ic.size());
-    j["rtol"] = protocol.flow.integration.rtol;
-    j["atol"] = protocol.flow.integration.atol;
-    // The band the run used: given, or its method's when that holds.
-    const double band = effective_hold_band(protocol.flow.integration, protocol.method);
-    if (protocol.flow.integration.hold_band || band > 0.0) j["hold_band"] = band;
-    if (std::isfinite(protocol.flow.integration.h_max)) j["max_step"] = protocol.flow.integration.h_max;
-    j["method"] = std::string(to_string(protocol.method));
-    j["transient"] = protocol.transient_impacts;
-    j["record"] = protocol.record_points;
+    j.update(protocol_settings(protocol));
     j["section"] = section_name();
     if (si) j["si"] = si_json(*si, model);
     return j;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -26,13 +27,9 @@ struct common_args {
     std::string ic;
     std::string config;
     std::string section;
-    std::string method = "dop853";
-    double rtol = 1e-10;
-    double atol = 1e-10;
-    double hold_band = 0.0;
-    double max_step = 0.0;
-    long transient = 500;
-    long record = 200;
+    // The protocol's declared options (analysis/protocol_declaration.hpp) as given on the
+    // command line, else their defaults; resolve() applies the config file between the two.
+    protocol_options protocol;
     std::string out;
     bool json = false;
     bool no_plot = false;
@@ -40,13 +37,6 @@ struct common_args {
     std::string si;  // --si KEY=VALUE,...: the run in SI units (physical/si_units.hpp)
     CLI::Option* model_option = nullptr;
     CLI::Option* preset_option = nullptr;
-    CLI::Option* rtol_option = nullptr;
-    CLI::Option* atol_option = nullptr;
-    CLI::Option* hold_band_option = nullptr;
-    CLI::Option* max_step_option = nullptr;
-    CLI::Option* transient_option = nullptr;
-    CLI::Option* record_option = nullptr;
-    CLI::Option* method_option = nullptr;
     CLI::Option* section_option = nullptr;
     const CLI::App* command = nullptr;  // the command these options belong to
 };
@@ -77,6 +67,15 @@ struct run_config {
 };
 
 void add_common_options(CLI::App& app, common_args& args);
+// Whether the command line (its options, config.toml's top level, run.json) sets the protocol's
+// declared option `key`: all but quiet_time and t_max, whose defaults every command keeps.
+bool command_line_sets(std::string_view key);
+// Those options' keys, in the order of the declaration.
+const std::vector<std::string>& protocol_keys();
+// Their values in `p` as config.toml and run.json record them, {key: value}: the hold band the
+// run used (given, or its method's when that holds), so that a replay holds alike whatever the
+// default then; a limit that is none (inf) left out.
+nlohmann::json protocol_settings(const protocol_options& p);
 // --si on the commands where SI units make sense (docs/engineering.md lists them).
 void add_si_option(CLI::App& app, common_args& args);
 // The warnings of the SI inputs at the model `m` (a cylinder outside the wake model's

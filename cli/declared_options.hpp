@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <type_traits>
 
@@ -41,14 +42,22 @@ struct option_adder {
                                       help + " (on by default; this turns it off)");
             else
                 app.add_flag(command_line_key(o.key), v, help);
-            return;
         } else {
-            help += " (default " + format_double(static_cast<double>(v));
-            if (std::isfinite(o.range.lower) || std::isfinite(o.range.upper)) help += "; " + o.range.text();
-            help += ")";
+            app.add_option(command_line_key(o.key), v, help + " (default " + format_double(static_cast<double>(v)) +
+                                                            range_note(o) + ")");
         }
-        app.add_option(command_line_key(o.key), v, help);
     }
+
+    // Unset by default (none: the library chooses, as the help says); a value given sets it.
+    template <class T>
+    void operator()(const option& o, std::optional<T>& v) const
+    {
+        app.add_option_function<T>(
+            command_line_key(o.key), [&v](const T& x) { v = x; },
+            sentence(o.help) + " (default " + (v ? format_double(static_cast<double>(*v)) : "none") + range_note(o) + ")");
+    }
+
+    static std::string range_note(const option& o) { return o.bounded() ? "; " + o.range_text() : std::string(); }
 
     template <class E, std::size_t K>
     void operator()(const option& o, E& v, const std::array<E, K>& all) const

@@ -328,7 +328,7 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
 cli_command add_dimension_command(CLI::App& app)
 {
     auto a = std::make_shared<dimension_args>();
-    a->common.record = default_dimension_record;  // the command's own default, shown by --help
+    a->common.protocol.record_points = default_dimension_record;  // the command's own default, shown by --help
     auto* s = app.add_subcommand("dimension",
                                  "Correlation dimension of the section points of a run (default --record 20000) or of a CSV file");
     add_common_options(*s, a->common);

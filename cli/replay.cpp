@@ -13,6 +13,7 @@
 #include "parse.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/core/option.hpp"
 #include "vimpact/io/build_info.hpp"
 #include "vimpact/model/model_file.hpp"
 
@@ -33,9 +34,12 @@ const CLI::App* subcommand_named(const CLI::App& app, const std::string& name)
 // that only choose where and how to run; none of them belongs in the command's table.
 bool is_unrecorded(const std::string& name)
 {
-    static const std::set<std::string> names{"--model", "--preset", "--set",   "--ic",     "--config", "--rtol",
-                                             "--atol",  "--hold-band", "--max-step", "--transient", "--record", "--method", "--section",
-                                             "--out",   "--json",   "--threads", "--shard",  "--resume", "--help"};
+    static const std::set<std::string> names = [] {
+        std::set<std::string> n{"--model", "--preset", "--set",     "--ic",    "--config", "--section",
+                                "--out",   "--json",   "--threads", "--shard", "--resume", "--help"};
+        for (const auto& key : protocol_keys()) n.insert(command_line_key(key));
+        return n;
+    }();
     return names.count(name) > 0;
 }
 
@@ -269,16 +273,9 @@ void write_replay_config(const fs::path& path, const run_config& c)
         line("model_identity", info.identity);
         if (!c.preset.empty()) line("preset", c.preset);
         line("ic", std::vector<double>(c.ic.data(), c.ic.data() + c.ic.size()));
-        line("rtol", c.protocol.flow.integration.rtol);
-        line("atol", c.protocol.flow.integration.atol);
-        // The band the run used, so the replay holds alike whatever the default then.
-        const double band = effective_hold_band(c.protocol.flow.integration, c.protocol.method);
-        if (c.protocol.flow.integration.hold_band || band > 0.0) line("hold_band", band);
-        if (std::isfinite(c.protocol.flow.integration.h_max)) line("max_step", c.protocol.flow.integration.h_max);
-        line("method", std::string(to_string(c.protocol.method)));
+        const nlohmann::json protocol = protocol_settings(c.protocol);
+        for (const auto& [key, value] : protocol.items()) line(key, value);
         line("section", c.section_name());
-        line("transient", static_cast<int64_t>(c.protocol.transient_impacts));
-        line("record", static_cast<int64_t>(c.protocol.record_points));
         t << "\n[parameters]\n";
         for (std::size_t i = 0; i < info.parameters.size(); ++i) line(info.parameters[i].name, c.model.parameters()[i]);
     }

@@ -1,6 +1,7 @@
 // Options declared once (core/option.hpp): the declaration's ranges are what the library
 // enforces, each end on the right side, and every default lies inside its range.
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -13,8 +14,10 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/map.hpp"
+#include "vimpact/analysis/protocol_declaration.hpp"
 #include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/sweep.hpp"
+#include "vimpact/integrate/runge_kutta.hpp"
 
 namespace vimpact {
 namespace {
@@ -26,7 +29,7 @@ struct numeric_keys {
     void operator()(const option& o, const T& v)
     {
         if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
-            EXPECT_TRUE(o.range.admits(static_cast<double>(v))) << o.key << " default outside its range";
+            EXPECT_TRUE(o.admits(static_cast<double>(v))) << o.key << " default outside its range";
             keys.emplace_back(o.key);
         }
     }
@@ -109,6 +112,98 @@ TEST(Options, ContinuationValidateAppliesTheDeclaration)
         ADD_FAILURE() << "max_points = 1 was accepted";
     } catch (const option_error& e) {
         EXPECT_EQ(e.key(), "max_points");
+    }
+}
+
+// The protocol's options (transient, record, the tolerances, max_step, quiet_time, t_max), which
+// every front end takes from the declaration: both ends of each checked by the library.
+TEST(Options, ProtocolRefusesEveryEndOfItsDeclaration) { check_every_end<protocol_options>(); }
+
+// The ranges the library enforced before the declaration (validate(protocol_options) and
+// validate(integrator_options), written out by hand), each end a value on either side.
+TEST(Options, ProtocolDeclarationKeepsTheRangesCheckedBefore)
+{
+    struct probe {
+        const char* key;
+        void (*set)(protocol_options&, double);
+        double refused, admitted;
+    };
+    const probe probes[] = {
+        {"rtol", [](protocol_options& o, double x) { o.flow.integration.rtol = x; }, 0.0, 1e-15},
+        {"rtol", [](protocol_options& o, double x) { o.flow.integration.rtol = x; }, 1.0, 0.5},
+        {"rtol", [](protocol_options& o, double x) { o.flow.integration.rtol = x; }, 5e-16, 1e-14},
+        {"atol", [](protocol_options& o, double x) { o.flow.integration.atol = x; }, 1.0, 1e-300},
+        {"atol", [](protocol_options& o, double x) { o.flow.integration.atol = x; }, 1e-301, 0.9},
+        {"max_step", [](protocol_options& o, double x) { o.flow.integration.h_max = x; }, 0.0, 1e-3},
+        {"transient", [](protocol_options& o, double x) { o.transient_impacts = static_cast<long>(x); }, -1.0, 0.0},
+        {"transient", [](protocol_options& o, double x) { o.transient_impacts = static_cast<long>(x); }, 1e9 + 1, 1e9},
+        {"record", [](protocol_options& o, double x) { o.record_points = static_cast<long>(x); }, 0.0, 1.0},
+        {"record", [](protocol_options& o, double x) { o.record_points = static_cast<long>(x); }, 1e7 + 1, 1e7},
+        {"quiet_time", [](protocol_options& o, double x) { o.quiet_time = x; }, 0.0, 1e-9},
+        {"t_max", [](protocol_options& o, double x) { o.flow.t_max = x; }, -1.0, 1.0},
+    };
+    for (const auto& p : probes) {
+        protocol_options o;
+        p.set(o, p.admitted);
+        EXPECT_NO_THROW(validate(o)) << p.key << " = " << p.admitted;
+        p.set(o, p.refused);
+        try {
+            validate(o);
+            ADD_FAILURE() << p.key << " = " << p.refused << " was accepted";
+        } catch (const option_error& e) {
+            EXPECT_EQ(e.key(), p.key) << e.what();
+        }
+    }
+}
+
+// check_options(o) refuses o with an option_error naming `key` and giving its range as `range`.
+template <class O>
+void expect_refused(const O& o, const std::string& key, const std::string& range)
+{
+    try {
+        check_options(o);
+        ADD_FAILURE() << key << " out of its range was accepted";
+    } catch (const option_error& e) {
+        EXPECT_EQ(e.key(), key);
+        EXPECT_NE(std::string(e.what()).find(" is outside its valid range " + range), std::string::npos) << e.what();
+    }
+}
+
+// A limit whose default is none (+inf) admits infinity, and only +inf: NaN and -inf are no
+// limit at all. Its range reads (0, inf] in every message.
+TEST(Options, InfiniteLimitsAreAdmittedAsNone)
+{
+    protocol_options o;
+    EXPECT_EQ(o.flow.integration.h_max, std::numeric_limits<double>::infinity());
+    o.quiet_time = o.flow.t_max = std::numeric_limits<double>::infinity();
+    EXPECT_NO_THROW(check_options(o));
+    for (const double bad : {std::nan(""), -std::numeric_limits<double>::infinity()}) {
+        protocol_options b;
+        b.flow.integration.h_max = bad;
+        expect_refused(b, "max_step", "(0, inf]");
+    }
+}
+
+// The hold band unset is the method's (none is never checked); set, it must lie in [0, 1),
+// and the integrator's own check (grazing's, the systems') is the same declaration.
+TEST(Options, HoldBandUnsetIsTheMethodsAndSetIsInItsRange)
+{
+    protocol_options o;
+    EXPECT_FALSE(o.flow.integration.hold_band.has_value());
+    EXPECT_NO_THROW(check_options(o));
+    EXPECT_EQ(effective_hold_band(o.flow.integration, integration_method::dopri5), dopri5<1>::default_hold_band);
+    EXPECT_EQ(effective_hold_band(o.flow.integration, integration_method::dop853), dop853<1>::default_hold_band);
+    for (const double good : {0.0, 0.5, 0.999}) {
+        o.flow.integration.hold_band = good;
+        EXPECT_NO_THROW(check_options(o)) << good;
+        EXPECT_EQ(effective_hold_band(o.flow.integration, integration_method::dopri5), good);
+    }
+    for (const double bad : {-0.1, 1.0, std::nan("")}) {
+        o.flow.integration.hold_band = bad;
+        expect_refused(o, "hold_band", "[0, 1)");
+        integrator_options in;
+        in.hold_band = bad;
+        EXPECT_THROW(validate(in), option_error) << bad;
     }
 }
 

@@ -27,6 +27,7 @@
 
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/analysis/protocol_declaration.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/option.hpp"
 #include "vimpact/core/input_error.hpp"
@@ -312,6 +313,14 @@ struct declared_reader {
     {
         v = kw.get<T>(std::string(o.key).c_str(), v);
     }
+    // None: unset, the library's choice.
+    template <class T>
+    void operator()(const option& o, std::optional<T>& v) const
+    {
+        const std::string key(o.key);
+        if (kw.has(key.c_str())) v = kw.get<T>(key.c_str(), T{});
+        else (void)kw.object(key.c_str());
+    }
     template <class E, std::size_t K>
     void operator()(const option& o, E& v, const std::array<E, K>& all) const
     {
@@ -327,16 +336,25 @@ void read_declared(options& kw, O& o)
     declare(r, o);
 }
 
-// The declarations of O for Python: per option its key, help, default and range ("" for any
-// value, or the names of an enumeration's values).
+// The declarations of O for Python: per option its key, help, default (None for an option
+// unset by default) and range ("" for any value, or the names of an enumeration's values).
 struct declaration_lister {
     py::list out;
     template <class T>
     void operator()(const option& o, const T& v)
     {
-        const bool bounded = std::isfinite(o.range.lower) || std::isfinite(o.range.upper);
+        add(o, py::cast(v));
+    }
+    template <class T>
+    void operator()(const option& o, const std::optional<T>& v)
+    {
+        add(o, v ? py::cast(*v) : py::none());
+    }
+    void add(const option& o, py::object v)
+    {
         out.append(py::dict(py::arg("key") = std::string(o.key), py::arg("help") = std::string(o.help),
-                            py::arg("default") = v, py::arg("range") = bounded ? o.range.text() : std::string()));
+                            py::arg("default") = std::move(v),
+                            py::arg("range") = o.bounded() ? o.range_text() : std::string()));
     }
     template <class E, std::size_t K>
     void operator()(const option& o, const E& v, const std::array<E, K>& all)
@@ -384,8 +402,8 @@ inline section_choice section_of(const model& m, const std::string& name)
     throw input_error("section '" + name + "' is not one of model " + m.name() + "'s: " + section_choice_names(m));
 }
 
-// rtol, atol, hold_band and method (as in vimpact.simulate) into an analysis' integration
-// options.
+// rtol, atol, hold_band and method into the integration options of an analysis that runs
+// without the protocol (grazing, response, the steppable systems), whose defaults are its own.
 inline void read_integration(options& o, integrator_options& in, integration_method& method)
 {
     in.rtol = o.get<double>("rtol", in.rtol);
@@ -431,17 +449,14 @@ void read_parameter_values(const model& m, options& o, SweepOptions& so)
     so.initial_state = state_of(m, o.object("ic"), "ic");
 }
 
-// The protocol's options (keys as in vimpact.simulate).
+// The protocol's options: the declared ones (analysis/protocol_declaration.hpp), the section
+// and simulate's sample_dt.
 inline protocol_options protocol_of(const model& m, options& o)
 {
     protocol_options po;
-    po.transient_impacts = o.get<long>("transient", po.transient_impacts);
-    po.record_points = o.get<long>("record", po.record_points);
+    read_declared(o, po);
     po.section = section_of(m, o.need<std::string>("section"));
-    po.quiet_time = o.get<double>("quiet_time", po.quiet_time);
     po.sample_dt = o.get<double>("sample_dt", po.sample_dt);
-    read_integration(o, po.flow.integration, po.method);
-    po.flow.t_max = o.get<double>("t_max", po.flow.t_max);
     return po;
 }
 

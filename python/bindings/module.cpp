@@ -16,6 +16,7 @@
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/map.hpp"
 #include "vimpact/analysis/period.hpp"
+#include "vimpact/analysis/protocol_declaration.hpp"
 #include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/stability_sweep.hpp"
 #include "vimpact/analysis/sweep.hpp"
@@ -86,6 +87,7 @@ PYBIND11_MODULE(_vimpact, m)
     declared["grazing"] = vimpact::python::declarations<grazing_options>();
     declared["response"] = vimpact::python::declarations<response_options>();
     declared["clearance"] = vimpact::python::declarations<clearance_options>();
+    declared["protocol"] = vimpact::python::declarations<protocol_options>();
     m.attr("declared") = declared;
     // What each record says of its fields (core/record.hpp): vimpact/results.py documents the
     // results' arrays from it.

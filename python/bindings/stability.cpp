@@ -43,12 +43,17 @@ void no_protocol_samples(floquet_options& fo) { fo.protocol.sample_dt = 0.0; }
 lyapunov_options lyapunov_of(const model& m, options& o)
 {
     lyapunov_options lo;
-    lo.transient_impacts = o.get<long>("transient", lo.transient_impacts);
-    lo.quiet_time = o.get<double>("quiet_time", lo.quiet_time);
-    read_integration(o, lo.flow.integration, lo.method);
-    lo.flow.t_max = o.get<double>("t_max", lo.flow.t_max);
+    // The protocol's keywords, read as the protocol's (record 0 is the Lyapunov analysis' own
+    // default, checked by it: no points).
+    protocol_options po;
+    read_declared(o, po);
+    lo.transient_impacts = po.transient_impacts;
+    lo.record_points = po.record_points;
+    lo.method = po.method;
+    lo.flow.integration = po.flow.integration;
+    lo.quiet_time = po.quiet_time;
+    lo.flow.t_max = po.flow.t_max;
     read_declared(o, lo);
-    lo.record_points = o.get<long>("record", lo.record_points);
     if (o.has("section")) {
         const section_choice s = section_of(m, o.need<std::string>("section"));
         if (s.type != section_choice::kind::crossing)

@@ -30,37 +30,41 @@ _D = _vimpact.defaults
 
 def _with_defaults(f):
     """Fills ``$name`` in the docstring with the library's default, so the text cannot drift
-    from the numbers; and the shared paragraphs ``<protocol>``, ``<jobs>`` and, for
+    from the numbers; and the shared paragraphs ``<section>``, ``<jobs>`` and, for
     ``ANALYSIS_sweep``, ``<per_value>``."""
-    doc = f.__doc__.replace("    <protocol>", _PROTOCOL_DOC).replace("    <jobs>", _JOBS_DOC)
+    doc = f.__doc__.replace("    <section>", _SECTION_DOC).replace("    <jobs>", _JOBS_DOC)
     doc = doc.replace("    <per_value>", _PER_VALUE_DOC.replace("ANALYSIS", f.__name__.removesuffix("_sweep")))
     f.__doc__ = string.Template(doc).substitute({k: repr(v) for k, v in _D.items()})
     return f
 
 
-def _declares(kind):
-    """The keyword arguments that the library declares for the options of ``kind``
-    (``_vimpact.declared``, core/option.hpp), added to f's signature as keyword-only arguments
-    with the library's defaults and documented in place of ``<declared>`` by the
-    declaration's help and range; f receives them as one dict ``declared``, which the
-    bindings read by key. A new option is one line in the library."""
-    entries = _vimpact.declared[kind]
+def _declares(*kinds, without=()):
+    """The keyword arguments that the library declares for the options of each of ``kinds``
+    (``_vimpact.declared``, core/option.hpp) but those named in ``without``, added to f's
+    signature as keyword-only arguments with the library's defaults and documented by the
+    declaration's help and range: the protocol's (``"protocol"``) in place of ``<protocol>``,
+    an analysis' own in place of ``<declared>``. f receives them as one dict ``declared``, which
+    the bindings read by key. A new option is one line in the library."""
+    entries = {k: [e for e in _vimpact.declared[k] if e["key"] not in without] for k in kinds}
 
     def kind_of(e):
         d = e["default"]
         return "bool" if isinstance(d, bool) else "int" if isinstance(d, int) else "float" if isinstance(d, float) \
-            else "{" + ", ".join(f'"{n}"' for n in e["range"].split(", ")) + "}"
+            else "float or None" if d is None else "{" + ", ".join(f'"{n}"' for n in e["range"].split(", ")) + "}"
 
     def where(e):
         return "" if not e["range"] or isinstance(e["default"], str) else f" In {e['range']}."
 
-    doc = "".join(f"    {e['key']} : {kind_of(e)}, default {e['default']!r}\n        "
-                  f"{e['help'][0].upper()}{e['help'][1:]}.{where(e)}\n" for e in entries)
+    def doc(kind):
+        return "".join(f"    {e['key']} : {kind_of(e)}, default {e['default']!r}\n        "
+                       f"{e['help'][0].upper()}{e['help'][1:]}.{where(e)}\n" for e in entries[kind])
+
+    every = [e for k in kinds for e in entries[k]]
 
     def wrap(f):
         inner = inspect.signature(f)
         params = [p for p in inner.parameters.values() if p.name != "declared"]
-        params += [inspect.Parameter(e["key"], inspect.Parameter.KEYWORD_ONLY, default=e["default"]) for e in entries]
+        params += [inspect.Parameter(e["key"], inspect.Parameter.KEYWORD_ONLY, default=e["default"]) for e in every]
         outer = inner.replace(parameters=params)
 
         @functools.wraps(f)
@@ -68,37 +72,23 @@ def _declares(kind):
             bound = outer.bind(*args, **kw)  # a TypeError names a keyword nobody declares
             bound.apply_defaults()
             a = dict(bound.arguments)
-            declared = {e["key"]: a.pop(e["key"]) for e in entries}
+            declared = {e["key"]: a.pop(e["key"]) for e in every}
             return f(**a, declared=declared)
 
         call.__signature__ = outer
-        call.__doc__ = f.__doc__.replace("    <declared>\n", doc)
+        text = f.__doc__
+        for k in kinds:
+            text = text.replace("    <protocol>\n" if k == "protocol" else "    <declared>\n", doc(k))
+        call.__doc__ = text
         return call
     return wrap
 
 
-_PROTOCOL_DOC = """    transient : int, default $transient
-        Impacts discarded before recording (the paper: 500).
-    record : int, default $record
-        Section points kept (the paper: 200).
-    section : str, optional
+_SECTION_DOC = """    section : str, optional
         Where points are recorded: a section of the model (``model.sections``, e.g.
         ``"maxima"``), ``"impacts"`` (the state just after every impact) or
         ``"impacts:SURFACE"`` (after impacts on one surface). Default: the model's first
-        section, or the impacts if it declares none.
-    rtol, atol : float, default $rtol, $atol
-        Relative and absolute tolerances of the adaptive integrator.
-    hold_band : float, optional
-        In [0, 1): an accepted step whose error norm lies in [hold_band, 1] keeps its step
-        size (faster steps, more rejections; docs/performance.md, "The hold band"). 0: off.
-        Default (None): the method's, 0.1 for DOPRI5 and 0 (off) for DOP853.
-    method : {"dop853", "dopri5"}, default $method
-        Runge-Kutta pair: DOP853 (8th order, 7th-order interpolant) or DOPRI5.
-    quiet_time : float, default $quiet_time
-        No impact for this long means the orbit has left the surfaces (label P0); the points
-        recorded from then on describe the surface-free steady state.
-    t_max : float, default $t_max
-        The run ends with outcome ``time_limit`` at this time."""
+        section, or the impacts if it declares none."""
 
 _JOBS_DOC = """    threads : int, default $threads
         Worker threads, 0 = every core. Results never depend on it.
@@ -153,9 +143,9 @@ def _context(model, options):
                 state_info=state_info, parameter_info=parameter_info)
 
 
-def _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, **extra):
-    return dict(transient=transient, record=record, section=_section(model, section), rtol=rtol, atol=atol,
-                hold_band=hold_band, method=method, quiet_time=quiet_time, t_max=t_max, **extra)
+def _protocol(model, section, declared, **extra):
+    """The keywords the library's protocol_of reads: the declared ones, the section by name."""
+    return dict(declared, section=_section(model, section), **extra)
 
 
 def _jobs(threads, journal, resume, shard, progress, keep_journal):
@@ -210,10 +200,8 @@ def _options(ic, **kw):
 # ---------------------------------------------------------------- single runs
 
 @_with_defaults
-def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
-             atol=_D["atol"], hold_band=_D["hold_band"],
-             method=_D["method"], sample_dt=_D["sample_dt"], quiet_time=_D["quiet_time"],
-             t_max=_D["t_max"]):
+@_declares("protocol")
+def simulate(model, ic=None, *, section=None, sample_dt=_D["sample_dt"], declared):
     """Run the simulation protocol: discard a transient of impacts, then record section points.
 
     From ``ic`` at t = 0 the hybrid flow runs: smooth flight integrated by an adaptive
@@ -228,6 +216,7 @@ def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], 
     ic : array_like, shape (dim,), optional
         Initial state, in the order of ``model.state_names``; default ``model.default_ic``.
         It must be admissible (no surface's gap negative).
+    <section>
     <protocol>
     sample_dt : float, default $sample_dt
         > 0: also sample the recorded window every ``sample_dt`` (``series``).
@@ -253,16 +242,14 @@ def simulate(model, ic=None, *, transient=_D["transient"], record=_D["record"], 
     (200, 4)
     """
     model = _model(model)
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  sample_dt=sample_dt)
+    o = _protocol(model, section, declared, sample_dt=sample_dt)
     d = _vimpact._simulate(model._handle, _ic(ic), o)
     return _simulation(d, model, _options(ic, **o))
 
 
 @_with_defaults
-def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], record=_D["record"], section=None,
-           rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
-           method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"]):
+@_declares("protocol")
+def period(model, ic=None, *, tol=_D["period_tol"], section=None, declared):
     """Classify the attractor reached from ``ic``: P0, P1, P2, ..., aperiodic.
 
     Runs the protocol (see ``simulate``) and labels its section points with the smallest N <=
@@ -277,6 +264,7 @@ def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], r
         Initial state; default ``model.default_ic``.
     tol : float, default $period_tol
         Period tolerance (the paper: 1e-8 for Figures 2 and 5, 1e-5 for Figure 4).
+    <section>
     <protocol>
 
     Returns
@@ -292,7 +280,7 @@ def period(model, ic=None, *, tol=_D["period_tol"], transient=_D["transient"], r
     'P3'
     """
     model = _model(model)
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, tol=tol)
+    o = _protocol(model, section, declared, tol=tol)
     d = _vimpact._period(model._handle, _ic(ic), o)
     opts = _options(ic, **o)
     by = dict(zip(model.surfaces, d["impacts_by_surface"]))
@@ -366,11 +354,9 @@ def grazing(model, ic=None, *, param=None, variable=None, rtol=_D["grazing_rtol"
 # ---------------------------------------------------------------- many-job analyses
 
 @_with_defaults
-@_declares("sweep")
-def sweep(model, param, values, ic=None, *, grazing=False, transient=_D["transient"], record=_D["record"],
-          section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"],
-          quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], batch=0, journal=None, resume=False,
-          shard=None, progress=None, keep_journal=False, declared):
+@_declares("sweep", "protocol")
+def sweep(model, param, values, ic=None, *, grazing=False, section=None, threads=_D["threads"], batch=0, journal=None,
+          resume=False, shard=None, progress=None, keep_journal=False, declared):
     """Bifurcation diagram: the protocol and the period label at every value of one parameter.
 
     Each value is one job of the library's job loop: ``threads`` workers, results delivered
@@ -393,6 +379,7 @@ def sweep(model, param, values, ic=None, *, grazing=False, transient=_D["transie
         Also compute, at every point, the grazing value per surface of a parameter that moves
         the surfaces (from ``ic``, surface-free): of this parameter, or with True of the first
         one found (``sigma`` for the paper's model, ``d`` for the two stops).
+    <section>
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
@@ -419,8 +406,8 @@ def sweep(model, param, values, ic=None, *, grazing=False, transient=_D["transie
     if grazing is True and gparam is None:
         raise InputError(f"grazing: no parameter of model {model.name} moves a surface without entering the "
                          f"vector field")
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, **declared,
-                  param=param, values=np.asarray(values, dtype=float), ic=_ic(ic), grazing=gparam)
+    o = _protocol(model, section, declared, param=param, values=np.asarray(values, dtype=float), ic=_ic(ic),
+                  grazing=gparam)
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._sweep(model._handle, o), o)
@@ -446,11 +433,9 @@ def _axis(axis, what):
 
 
 @_with_defaults
-@_declares("map")
-def map(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
-        atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
-        threads=_D["threads"], batch=0, journal=None, resume=False, shard=None, progress=None, keep_journal=False,
-        declared):
+@_declares("map", "protocol")
+def map(model, x, y, ic=None, *, section=None, threads=_D["threads"], batch=0, journal=None, resume=False, shard=None,
+        progress=None, keep_journal=False, declared):
     """Periodicity map: the period label over a grid of two parameters.
 
     Every cell runs the protocol from the same ``ic`` on the model with both parameters set
@@ -464,6 +449,7 @@ def map(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record"],
     ic : array_like, shape (dim,), optional
         Initial state; default ``model.default_ic``. It must be admissible at every cell.
     <declared>
+    <section>
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
@@ -480,8 +466,7 @@ def map(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record"],
     model = _model(model)
     xname, xs = _axis(x, "x")
     yname, ys = _axis(y, "y")
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  **declared, x=xname, x_values=xs, y=yname, y_values=ys, ic=_ic(ic))
+    o = _protocol(model, section, declared, x=xname, x_values=xs, y=yname, y_values=ys, ic=_ic(ic))
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._map(model._handle, o), o)
@@ -496,11 +481,9 @@ def map(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record"],
 
 
 @_with_defaults
-@_declares("basins")
-def basins(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"],
-           atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"],
-           t_max=_D["t_max"], threads=_D["threads"], batch=0, journal=None, resume=False, shard=None, progress=None,
-           keep_journal=False, declared):
+@_declares("basins", "protocol")
+def basins(model, x, y, ic=None, *, section=None, threads=_D["threads"], batch=0, journal=None, resume=False,
+           shard=None, progress=None, keep_journal=False, declared):
     """Basins of attraction: the attractor reached from every initial state of a grid.
 
     The grid spans two state variables; the others are taken from ``ic``. Every admissible
@@ -520,6 +503,7 @@ def basins(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record
     ic : array_like, shape (dim,), optional
         The other components of the starts; default ``model.default_ic``.
     <declared>
+    <section>
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
@@ -535,8 +519,7 @@ def basins(model, x, y, ic=None, *, transient=_D["transient"], record=_D["record
     model = _model(model)
     xname, xs = _axis(x, "x")
     yname, ys = _axis(y, "y")
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  **declared, x=xname, x_values=xs, y=yname, y_values=ys, ic=_ic(ic))
+    o = _protocol(model, section, declared, x=xname, x_values=xs, y=yname, y_values=ys, ic=_ic(ic))
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     o["batch"] = int(batch)
     d, report = _run_jobs(lambda: _vimpact._basins(model._handle, o), o)
@@ -618,12 +601,11 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
 
 
 @_with_defaults
+@_declares("protocol")
 def clearance(model=None, param=None, values=None, ic=None, *, units=None, speeds=None, gaps=None, fractions=None,
-              gap_param=None, tol=_D["period_tol"], transient_time=_D["grazing_transient_time"],
-              transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
-              hold_band=_D["hold_band"],
-              method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"],
-              journal=None, resume=False, shard=None, progress=None, keep_journal=False):
+              gap_param=None, tol=_D["period_tol"], transient_time=_D["grazing_transient_time"], section=None,
+              threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False,
+              declared):
     """Clearance design: the smallest gap to a surface without impact over a range of flow
     speeds (or of any parameter), the gaps where the response is aperiodic, and a design chart.
 
@@ -656,6 +638,7 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
     tol : float, default $period_tol
     transient_time : float, default $grazing_transient_time
         Grazing runs: time discarded before minima count.
+    <section>
     <protocol>
     <jobs>
 
@@ -688,8 +671,7 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
         pairs = [units.parameter("U", u, model) for u in speed]
         param, values = (pairs[0][0] if pairs else "Ur"), np.array([v for _, v in pairs], dtype=float)
     values = np.asarray(values, dtype=float)
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, param=param,
-                  values=values, ic=_ic(ic), gap_param=gap_param,
+    o = _protocol(model, section, declared, param=param, values=values, ic=_ic(ic), gap_param=gap_param,
                   gaps=None if gaps is None else np.asarray(gaps, dtype=float),
                   units=None if units is None else units._handle,
                   fractions=None if fractions is None else np.asarray(fractions, dtype=float), tol=tol,
@@ -785,10 +767,9 @@ def grid(a, b, n):
 
 # ---------------------------------------------------------------- stability
 
-def _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
-                     hold_band, method, quiet_time, t_max):
-    return _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max, **declared,
-                     sample_dt=sample_dt, tangent_rtol=tangent_rtol, tangent_atol=tangent_atol)
+def _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, section):
+    return _protocol(model, section, declared, sample_dt=sample_dt, tangent_rtol=tangent_rtol,
+                     tangent_atol=tangent_atol)
 
 
 def _floquet_result(d, model, opts):
@@ -805,10 +786,9 @@ def _floquet_result(d, model, opts):
 
 
 @_with_defaults
-@_declares("floquet")
+@_declares("floquet", "protocol")
 def floquet(model, ic=None, *, sample_dt=0.0, tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"],
-            transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
-            hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], declared):
+            section=None, declared):
     """Floquet multipliers of the periodic orbit reached from ``ic`` (the paper's Algorithm 1).
 
     1. The protocol (see ``simulate``; on a section crossing) and its period label, as
@@ -831,6 +811,7 @@ def floquet(model, ic=None, *, sample_dt=0.0, tangent_rtol=_D["tangent_rtol"], t
         > 0: also sample the refined orbit over one period (``orbit``).
     tangent_rtol, tangent_atol : float, default $tangent_rtol, $tangent_atol
         Tolerances of the tangent runs (Newton closes the orbit only as far as they allow).
+    <section>
     <protocol>
 
     Returns
@@ -846,15 +827,13 @@ def floquet(model, ic=None, *, sample_dt=0.0, tangent_rtol=_D["tangent_rtol"], t
     ('P2', True)
     """
     model = _model(model)
-    o = _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
-                         hold_band, method, quiet_time, t_max)
+    o = _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, section)
     d = _vimpact._floquet(model._handle, _ic(ic), o)
     return _floquet_result(d, model, _options(ic, **o))
 
 
-def _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max):
-    return dict(declared, record=record, section=section, transient=transient, rtol=rtol, atol=atol,
-                hold_band=hold_band, method=method, quiet_time=quiet_time, t_max=t_max)
+def _lyapunov_options(declared, record, section):
+    return dict(declared, record=record, section=section)
 
 
 def _lyapunov_result(d, model, opts):
@@ -869,10 +848,8 @@ def _lyapunov_result(d, model, opts):
 
 
 @_with_defaults
-@_declares("lyapunov")
-def lyapunov(model, ic=None, *, record=0, section=None, transient=_D["transient"], rtol=_D["rtol"], atol=_D["atol"],
-             hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
-             declared):
+@_declares("lyapunov", "protocol", without=("record",))
+def lyapunov(model, ic=None, *, record=0, section=None, declared):
     """The Lyapunov spectrum of the attractor reached from ``ic`` (the paper's Algorithm 2).
 
     After ``transient`` impacts, dim deviation vectors of size ``r0`` follow the orbit; every
@@ -891,8 +868,7 @@ def lyapunov(model, ic=None, *, record=0, section=None, transient=_D["transient"
         > 0: also record this many section points in the averaging window (``section``).
     section : str, optional
         The section crossing those points lie on (default the model's first).
-    transient, rtol, atol, hold_band, method, quiet_time, t_max
-        As for ``simulate`` (defaults $transient, $rtol, $atol, $hold_band, $method, $quiet_time, $t_max).
+    <protocol>
 
     Returns
     -------
@@ -901,7 +877,7 @@ def lyapunov(model, ic=None, *, record=0, section=None, transient=_D["transient"
         ``history_t`` (h,) and ``history_growth`` (h, dim), ``running_exponents``, ``status``.
     """
     model = _model(model)
-    o = _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max)
+    o = _lyapunov_options(declared, record, section)
     d = _vimpact._lyapunov(model._handle, _ic(ic), o)
     return _lyapunov_result(d, model, _options(ic, **o))
 
@@ -918,18 +894,17 @@ def _per_value(call, cls, model, param, values, ic, o, jobs, **run):
 
 
 @_with_defaults
-@_declares("floquet")
+@_declares("floquet", "protocol")
 def floquet_sweep(model, param, values, ic=None, *, tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"],
-                  transient=_D["transient"], record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"],
-                  hold_band=_D["hold_band"], method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"],
-                  threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False,
-                  declared):
+                  section=None, threads=_D["threads"], journal=None, resume=False, shard=None, progress=None,
+                  keep_journal=False, declared):
     """Floquet multipliers at every value of one parameter (the paper's Figures 14, 15).
 
     <per_value>
     <declared>
     tangent_rtol, tangent_atol
         As for ``floquet`` (defaults $tangent_rtol, $tangent_atol).
+    <section>
     <protocol>
     <jobs>
 
@@ -941,17 +916,14 @@ def floquet_sweep(model, param, values, ic=None, *, tangent_rtol=_D["tangent_rto
         section points underneath), ``jobs``.
     """
     model = _model(model)
-    o = _floquet_options(model, declared, 0.0, tangent_rtol, tangent_atol, transient, record, section, rtol, atol,
-                         hold_band, method, quiet_time, t_max)
+    o = _floquet_options(model, declared, 0.0, tangent_rtol, tangent_atol, section)
     return _per_value(_vimpact._floquet_sweep, FloquetSweep, model, param, values, ic, o,
                       _jobs(threads, journal, resume, shard, progress, keep_journal))
 
 
 @_with_defaults
-@_declares("lyapunov")
-def lyapunov_sweep(model, param, values, ic=None, *, record=0, section=None, transient=_D["transient"],
-                   rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"], method=_D["method"],
-                   quiet_time=_D["quiet_time"], t_max=_D["t_max"], threads=_D["threads"], journal=None,
+@_declares("lyapunov", "protocol", without=("record",))
+def lyapunov_sweep(model, param, values, ic=None, *, record=0, section=None, threads=_D["threads"], journal=None,
                    resume=False, shard=None, progress=None, keep_journal=False, declared):
     """Lyapunov exponents at every value of one parameter (the paper's Figures 16, 17).
 
@@ -961,8 +933,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, record=0, section=None, tra
         As for ``lyapunov`` (the model's first section).
     record : int, default 0
         > 0: section points per value in the averaging window (the diagram underneath).
-    transient, rtol, atol, hold_band, method, quiet_time, t_max
-        As for ``simulate``.
+    <protocol>
     <jobs>
 
     Returns
@@ -972,7 +943,7 @@ def lyapunov_sweep(model, param, values, ic=None, *, record=0, section=None, tra
         ``lle_standard_error``, ``status``, ``points``/``point_run``, ``jobs``.
     """
     model = _model(model)
-    o = _lyapunov_options(declared, record, section, transient, rtol, atol, hold_band, method, quiet_time, t_max)
+    o = _lyapunov_options(declared, record, section)
     return _per_value(_vimpact._lyapunov_sweep, LyapunovSweep, model, param, values, ic, o,
                       _jobs(threads, journal, resume, shard, progress, keep_journal), tdm=declared["tdm"])
 
@@ -1070,11 +1041,9 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
 
 
 @_with_defaults
-@_declares("continuation")
+@_declares("continuation", "protocol")
 def continuation(model, param, range, ic=None, *, starts=None, param2=None, range2=None,
-                 curves=("fold", "period_doubling", "grazing"), threads=_D["threads"], transient=_D["transient"],
-                 record=_D["record"], section=None, rtol=_D["rtol"], atol=_D["atol"], hold_band=_D["hold_band"],
-                 method=_D["method"], quiet_time=_D["quiet_time"], t_max=_D["t_max"], declared):
+                 curves=("fold", "period_doubling", "grazing"), threads=_D["threads"], section=None, declared):
     """Continuation of periodic orbits in one parameter, stable and unstable, with their
     bifurcations; optionally the curves of the bifurcation points in a second parameter.
 
@@ -1115,6 +1084,7 @@ def continuation(model, param, range, ic=None, *, starts=None, param2=None, rang
     threads : int, default $threads
         Worker threads for several starts, switched branches and curves; results never depend
         on it.
+    <section>
     <protocol>
 
     Returns
@@ -1133,8 +1103,7 @@ def continuation(model, param, range, ic=None, *, starts=None, param2=None, rang
     """
     model = _model(model)
     a, b = (float(v) for v in range)
-    o = _protocol(model, transient, record, section, rtol, atol, hold_band, method, quiet_time, t_max,
-                  param=str(param), start=a, end=b, threads=int(threads), **declared)
+    o = _protocol(model, section, declared, param=str(param), start=a, end=b, threads=int(threads))
     if param2 is not None or range2 is not None:
         if param2 is None or range2 is None:
             raise InputError("param2 and range2 go together")

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "dispatch.hpp"
+#include "vimpact/analysis/protocol_declaration.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/integrate/runge_kutta.hpp"
 #include "vimpact/model/model_phrases.hpp"
@@ -69,35 +70,14 @@ void validate(const model& m, const section_choice& s)
     }
 }
 
-void validate(const integrator_options& in)
-{
-    if (!(in.rtol > 0.0 && in.rtol < 1.0) || !std::isfinite(in.rtol))
-        throw input_error("rtol = " + format_double(in.rtol) + " is outside its valid range (0, 1)");
-    if (!(in.atol > 0.0 && in.atol < 1.0) || !std::isfinite(in.atol))
-        throw input_error("atol = " + format_double(in.atol) + " is outside its valid range (0, 1)");
-    if (in.rtol < 1e-15) throw input_error("rtol must be >= 1e-15 (double precision cannot do better)");
-    if (in.atol < 1e-300) throw input_error("atol must be >= 1e-300");
-    if (in.hold_band && !(*in.hold_band >= 0.0 && *in.hold_band < 1.0))
-        throw input_error("hold_band = " + format_double(*in.hold_band) + " is outside its valid range [0, 1)");
-    if (!(in.h_max > 0.0))
-        throw input_error("max_step = " + format_double(in.h_max) + " is outside its valid range (0, inf]");
-}
+void validate(const integrator_options& in) { check_options(in); }
 
 void validate(const protocol_options& o)
 {
-    // The upper bounds are far beyond any use (a billion impacts is days of one run; ten
-    // million points are 400 MB) and refuse the overflowed or mistyped value instead of
-    // running it to a time limit or out of memory.
-    if (o.transient_impacts < 0 || o.transient_impacts > 1'000'000'000)
-        throw input_error("transient must be in [0, 1e9] impacts (got " + std::to_string(o.transient_impacts) + ")");
-    if (o.record_points < 1 || o.record_points > 10'000'000)
-        throw input_error("record must be in [1, 1e7] section points (got " + std::to_string(o.record_points) + ")");
-    if (!(o.quiet_time > 0.0)) throw input_error("quiet_time must be > 0");
+    check_options(o);  // the declared options (analysis/protocol_declaration.hpp)
     if (!(o.sample_dt >= 0.0) || !std::isfinite(o.sample_dt)) throw input_error("sample_dt must be >= 0 and finite");
     if (o.max_samples < 1)
         throw input_error("max_samples must be >= 1 (got " + std::to_string(o.max_samples) + ")");
-    if (!(o.flow.t_max > 0.0)) throw input_error("t_max must be > 0 (got " + format_double(o.flow.t_max) + ")");
-    validate(o.flow.integration);
 }
 
 bool runs_in_lanes(const model& m)

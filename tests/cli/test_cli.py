@@ -117,6 +117,59 @@ def test_each_method_has_its_default_hold_band(vimpact):
         assert d["stats"]["steps"] != run_json(vimpact, *q, "--method", method, "--hold-band", other)["stats"]["steps"]
 
 
+# The protocol's options are the library's declaration (analysis/protocol_declaration.hpp): the
+# library refuses a value out of its range and the message names the option as typed, with the
+# range the library enforced before (rtol (0, 1) and >= 1e-15 as one range).
+@pytest.mark.parametrize("args,message", [
+    (["--rtol", "2"], "--rtol = 2 is outside its valid range [1e-15, 1)"),
+    (["--rtol", "1e-16"], "--rtol = 1e-16 is outside its valid range [1e-15, 1)"),
+    (["--atol", "1"], "--atol = 1 is outside its valid range [1e-300, 1)"),
+    (["--hold-band", "1"], "--hold-band = 1 is outside its valid range [0, 1)"),
+    (["--hold-band=-0.5"], "--hold-band = -0.5 is outside its valid range [0, 1)"),
+    (["--max-step", "0"], "--max-step = 0 is outside its valid range (0, inf]"),
+    (["--transient=-1"], "--transient = -1 is outside its valid range [0, 1e+09]"),
+])
+def test_a_protocol_option_out_of_range_exits_2_naming_it(vimpact, tmp_path, args, message):
+    out = tmp_path / "out"
+    for command in (["period"], ["sweep", "--param", "Ur", "--range", "15:16:2"]):
+        p = run(vimpact, *command, *args, "--out", str(out))
+        assert p.returncode == 2, p.stderr
+        assert p.stderr.strip() == "vimpact: error: " + message
+        assert not out.exists()
+
+
+def test_a_protocol_option_in_a_config_file_names_the_file(vimpact, tmp_path):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("hold_band = 1\n")
+    p = run(vimpact, "period", "--config", str(cfg))
+    assert p.returncode == 2
+    assert p.stderr.strip() == f"vimpact: error: config {cfg}: hold_band = 1 is outside its valid range [0, 1)"
+    # The command line wins over the file, the file over the defaults.
+    cfg.write_text("rtol = 1e-8\nmax_step = 0.5\n")
+
+    def config(*args):
+        out = tmp_path / f"out{len(os.listdir(tmp_path))}"
+        p = run(vimpact, "simulate", "--transient", "20", "--record", "10", *args, "--no-plot", "--out", str(out))
+        assert p.returncode == 0, p.stderr
+        return json.loads((out / "run.json").read_text())["config"]
+
+    assert config("--config", str(cfg))["rtol"] == 1e-8
+    assert config("--config", str(cfg), "--rtol", "1e-9")["rtol"] == 1e-9
+    assert config("--config", str(cfg))["max_step"] == 0.5
+    assert "max_step" not in config()  # none
+
+
+def test_the_help_gives_the_declared_defaults_and_ranges(vimpact):
+    p = run(vimpact, "period", "--help")
+    text = " ".join(p.stdout.split())
+    for needle in ("--transient", "(default 500; [0, 1e+09])", "--record", "(default 200; [1, 1e+07])",
+                   "--hold-band", "(default none; [0, 1))", "--max-step", "(default inf; (0, inf])",
+                   "--method", "(default dop853; one of dop853, dopri5)"):
+        assert needle in text, needle
+    # dimension keeps its own default record.
+    assert "(default 20000; [1, 1e+07])" in " ".join(run(vimpact, "dimension", "--help").stdout.split())
+
+
 def test_results_are_deterministic(vimpact):
     a = run(vimpact, "period", "--json", "--set", "Ur=21.5")
     b = run(vimpact, "period", "--json", "--set", "Ur=21.5")
@@ -182,7 +235,7 @@ BAD_INPUTS = [
     (["period", "--ic", "0,0,0"], "--ic needs 4 numbers (y, ydot, x, xdot), got 3"),
     (["period", "--config", "/nonexistent/file.toml"], "config"),
     (["period", "--rtol", "2"], "rtol"),
-    (["period", "--hold-band", "1"], "hold_band = 1 is outside its valid range [0, 1)"),
+    (["period", "--hold-band", "1"], "--hold-band = 1 is outside its valid range [0, 1)"),
     (["period", "--record", "0"], "record"),
     (["period", "--tol", "0"], "--tol = 0 is outside its valid range > 0"),
     (["dimension", "--tol", "-1"], "--tol = -1 is outside its valid range > 0"),

@@ -196,7 +196,7 @@ def test_a_config_never_loads_a_shared_library(vimpact, tmp_path, name):
     ("rtol = false\n", "key 'rtol' must be a number (got false)"),
     ("sigma = true\n", "key 'sigma' must be a number (got true)"),
     ("[parameters]\nUr = 'abc'\n", "key 'Ur' must be a number (got 'abc')"),
-    ("transient = -5\n", "transient must be in [0, 1e9] impacts (got -5)"),
+    ("transient = -5\n", "transient = -5 is outside its valid range [0, 1e+09]"),
     ("Ur = -1\n", "parameter Ur = -1 is outside its valid range"),
     ("model = 3\n", "key 'model' must be a string (got 3)"),
     ("[period]\ntol = [1, 2]\n", "[period] tol takes one value, not a list (got a list)"),

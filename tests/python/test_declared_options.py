@@ -119,3 +119,64 @@ def test_declared_options_reach_the_run(cli_json):
     assert j["ic_mode"] == "follow" and j["direction"] == "down"
     assert [v for v, _ in j["labels"]] == list(s.value) == [16.0, 15.0]  # downwards
     assert [label for _, label in j["labels"]] == list(s.label)
+
+
+# The protocol's keywords as users had them before the declaration (every function repeated
+# them by hand): the same names and defaults; max_step (none: inf) is new to Python.
+PROTOCOL = {"transient": 500, "record": 200, "method": "dop853", "rtol": 1e-10, "atol": 1e-10, "hold_band": None,
+            "max_step": float("inf"), "quiet_time": 2000.0, "t_max": 1e6}
+WITH_PROTOCOL = ("simulate", "period", "sweep", "map", "basins", "clearance", "floquet", "floquet_sweep",
+                 "continuation")
+
+
+def test_the_protocols_declaration_is_the_keywords_users_had():
+    assert {e["key"]: e["default"] for e in vimpact._vimpact.declared["protocol"]} == PROTOCOL
+
+
+@pytest.mark.parametrize("name", WITH_PROTOCOL + ("lyapunov", "lyapunov_sweep"))
+def test_protocol_keywords_and_defaults_are_the_declarations(name):
+    f = getattr(vimpact, name)
+    sig = inspect.signature(f)
+    assert "declared" not in sig.parameters
+    for e in vimpact._vimpact.declared["protocol"]:
+        p = sig.parameters[e["key"]]
+        assert p.kind == p.KEYWORD_ONLY, (name, e["key"])
+        if name.startswith("lyapunov") and e["key"] == "record":
+            assert p.default == 0  # the Lyapunov analysis records no points unless asked
+            continue
+        assert p.default == e["default"], (name, e)
+        assert f"    {e['key']} : " in f.__doc__, (name, e["key"])
+        if e["range"] and not isinstance(e["default"], str):
+            assert f"In {e['range']}." in f.__doc__, (name, e["key"])
+    assert "    section : str, optional" in f.__doc__, name
+
+
+@pytest.mark.parametrize("key,value,where", [
+    ("transient", -1, "[0, 1e+09]"),
+    ("record", 0, "[1, 1e+07]"),
+    ("rtol", 2, "[1e-15, 1)"),
+    ("atol", 0, "[1e-300, 1)"),
+    ("hold_band", 1, "[0, 1)"),
+    ("max_step", 0, "(0, inf]"),
+    ("quiet_time", 0, "(0, inf]"),
+    ("t_max", -1, "(0, inf]"),
+])
+def test_a_protocol_keyword_out_of_range_is_refused_by_name(key, value, where):
+    for call in (lambda **kw: vimpact.simulate(W, **kw), CALLS["sweep"]):
+        with pytest.raises(vimpact.InputError) as e:
+            call(**{key: value})
+        assert str(e.value) == f"{key} = {value:g} is outside its valid range {where}"
+
+
+def test_hold_band_none_is_the_methods_and_a_value_reaches_the_run():
+    q = dict(transient=20, record=10, method="dopri5")
+    default = vimpact.simulate(W, **q).stats.steps
+    assert vimpact.simulate(W, hold_band=None, **q).stats.steps == default
+    assert vimpact.simulate(W, hold_band=0.1, **q).stats.steps == default  # DOPRI5's own band (docs/performance.md)
+    assert vimpact.simulate(W, hold_band=0.0, **q).stats.steps != default
+
+
+def test_max_step_reaches_the_run():
+    q = dict(transient=20, record=10)
+    s = vimpact.simulate(W, max_step=0.01, **q)
+    assert s.stats.h_max <= 0.01 < vimpact.simulate(W, **q).stats.h_max

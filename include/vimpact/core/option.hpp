@@ -8,12 +8,17 @@
 // and the range is checked here, once, by check_options: the front ends add the options and
 // their help from the declaration and never check a value themselves.
 //
+// A member std::optional<double> is an option that may be unset (none: the library chooses);
+// its range applies when it is set. A limit whose default is none, +inf, declares its range
+// with or_infinite: (a, inf] admits infinity itself.
+//
 // An option out of its range is an option_error, an input_error that keeps the key apart from
 // the message, so that each front end names the option as its user writes it (see key_text).
 #include <array>
 #include <cmath>
 #include <concepts>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -34,7 +39,30 @@ struct option {
         : key(key_), help(help_), range(range_)
     {
     }
+
+    // Whether the range includes +inf itself (or_infinite), so that x = +inf is admitted.
+    [[nodiscard]] constexpr bool admits_infinity() const { return upper_is_infinity(range); }
+    [[nodiscard]] bool admits(double x) const { return (admits_infinity() && x == unbounded) || range.admits(x); }
+    [[nodiscard]] bool bounded() const { return std::isfinite(range.lower) || std::isfinite(range.upper); }
+    // "(0, 1)", "> 0", "(0, inf]": the range as every front end's message writes it.
+    [[nodiscard]] std::string range_text() const
+    {
+        if (!admits_infinity()) return range.text();
+        return std::string(range.lower_inclusive ? "[" : "(") + format_double(range.lower) + ", inf]";
+    }
+
+    // A closed upper end at infinity is how or_infinite marks the range (value_range itself
+    // admits finite numbers only).
+    static constexpr bool upper_is_infinity(const value_range& r) { return r.upper == unbounded && r.upper_inclusive; }
 };
+
+// (a, inf]: above a, infinity included (a limit that may be none).
+constexpr value_range or_infinite(value_range r)
+{
+    r.upper = unbounded;
+    r.upper_inclusive = true;
+    return r;
+}
 
 // A bad value of the option `key`: what() reads "KEY = VALUE is outside its valid range ..."
 // in Python's form; the command line writes --KEY (key_text).
@@ -72,13 +100,28 @@ struct option_checker {
     {
         if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
             const double x = static_cast<double>(v);
-            if (!o.range.admits(x))
-                throw option_error(o.key, " = " + format_double(x) + " is outside its valid range " + o.range.text());
+            // An integer as typed (2000000000, not 2e+09).
+            const std::string shown = std::is_integral_v<T> ? std::to_string(v) : format_double(x);
+            if (!o.admits(x)) throw option_error(o.key, " = " + shown + " is outside its valid range " + o.range_text());
         }
+    }
+    // Unset: the library's choice, nothing to check.
+    template <class T>
+    void operator()(const option& o, const std::optional<T>& v) const
+    {
+        if (v) (*this)(o, *v);
     }
 };
 
 }  // namespace detail
+
+// One option's value in its range, or its option_error (a front end checking a value where it
+// reads it, a config file's, to name the file).
+template <class T>
+void check_option(const option& o, const T& v)
+{
+    detail::option_checker{}(o, v);
+}
 
 // Every declared option of `o` in its range, or the option_error of the first that is not.
 template <class O>
