@@ -601,10 +601,9 @@ def response(model, param, values, ic=None, *, curves=None, variable=None, grazi
 
 
 @_with_defaults
-@_declares("protocol")
+@_declares("clearance", "protocol")
 def clearance(model=None, param=None, values=None, ic=None, *, units=None, speeds=None, gaps=None, fractions=None,
-              gap_param=None, tol=_D["period_tol"], transient_time=_D["grazing_transient_time"], section=None,
-              threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False,
+              gap_param=None, section=None, threads=_D["threads"], journal=None, resume=False, shard=None, progress=None, keep_journal=False,
               declared):
     """Clearance design: the smallest gap to a surface without impact over a range of flow
     speeds (or of any parameter), the gaps where the response is aperiodic, and a design chart.
@@ -635,9 +634,7 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
         Default 0.1, 0.2, ..., 1.3.
     gap_param : str, optional
         The parameter that moves the surface (default the model's first: ``sigma``).
-    tol : float, default $period_tol
-    transient_time : float, default $grazing_transient_time
-        Grazing runs: time discarded before minima count.
+    <declared>
     <section>
     <protocol>
     <jobs>
@@ -674,8 +671,7 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
     o = _protocol(model, section, declared, param=param, values=values, ic=_ic(ic), gap_param=gap_param,
                   gaps=None if gaps is None else np.asarray(gaps, dtype=float),
                   units=None if units is None else units._handle,
-                  fractions=None if fractions is None else np.asarray(fractions, dtype=float), tol=tol,
-                  transient_time=transient_time)
+                  fractions=None if fractions is None else np.asarray(fractions, dtype=float))
     o.update(_jobs(threads, journal, resume, shard, progress, keep_journal))
     d, report = _run_jobs(lambda: _vimpact._clearance(model._handle, o), o)
     if d is None:

@@ -19,6 +19,7 @@ KEYWORDS = {
     "basins": {"tol": 1e-8, "match_tol": 1e-6, "box_fraction": 0.05},
     "grazing": {"transient_time": 1000.0, "tol": 1e-11, "block": 16, "t_max": 1e5},
     "response": {"transient_time": 1000.0, "tol": 1e-11, "block": 16, "t_max": 1e5},
+    "clearance": {"tol": 1e-8, "transient_time": 1000.0},
 }
 
 CALLS = {
@@ -27,6 +28,7 @@ CALLS = {
     "basins": lambda **kw: vimpact.basins(W, ("y", [-0.1, 0.1]), ("ydot", [-0.1, 0.1]), **kw),
     "grazing": lambda **kw: vimpact.grazing(W, **kw),
     "response": lambda **kw: vimpact.response(W, "Ur", GRID, **kw),
+    "clearance": lambda **kw: vimpact.clearance(W, "Ur", GRID, **kw),
 }
 
 # The same run on the command line.
@@ -36,6 +38,7 @@ COMMANDS = {
     "map": ["map", "--x", "Ur:15:16:2", "--y", "sigma:-0.16:-0.15:2"],
     "basins": ["basins", "--x", "y:-0.1:0.1:2", "--y", "ydot:-0.1:0.1:2"],
     "response": ["response", "--param", "Ur", "--range", "15:16:2"],
+    "clearance": ["clearance", "--param", "Ur", "--range", "15:16:2"],
 }
 
 # A value just outside each bounded range, and the range as the message gives it.
@@ -51,6 +54,8 @@ OUT_OF_RANGE = [
     ("response", "tol", 0, "> 0"),
     ("response", "block", 0, ">= 1"),
     ("response", "t_max", 0, "> 0"),
+    ("clearance", "tol", 0, "> 0"),
+    ("clearance", "transient_time", -1, ">= 0"),
 ]
 
 
