@@ -57,7 +57,7 @@ struct option_adder {
             sentence(o.help) + " (default " + (v ? format_double(static_cast<double>(*v)) : "none") + range_note(o) + ")");
     }
 
-    static std::string range_note(const option& o) { return o.bounded() ? "; " + o.range_text() : std::string(); }
+    static std::string range_note(const option& o) { return o.range.bounded() ? "; " + o.range.text() : std::string(); }
 
     template <class E, std::size_t K>
     void operator()(const option& o, E& v, const std::array<E, K>& all) const

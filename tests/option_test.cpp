@@ -29,7 +29,7 @@ struct numeric_keys {
     void operator()(const option& o, const T& v)
     {
         if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
-            EXPECT_TRUE(o.admits(static_cast<double>(v))) << o.key << " default outside its range";
+            EXPECT_TRUE(o.range.admits(static_cast<double>(v))) << o.key << " default outside its range";
             keys.emplace_back(o.key);
         }
     }

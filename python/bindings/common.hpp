@@ -354,7 +354,7 @@ struct declaration_lister {
     {
         out.append(py::dict(py::arg("key") = std::string(o.key), py::arg("help") = std::string(o.help),
                             py::arg("default") = std::move(v),
-                            py::arg("range") = o.bounded() ? o.range_text() : std::string()));
+                            py::arg("range") = o.range.bounded() ? o.range.text() : std::string()));
     }
     template <class E, std::size_t K>
     void operator()(const option& o, const E& v, const std::array<E, K>& all)

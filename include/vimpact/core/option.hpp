@@ -10,7 +10,7 @@
 //
 // A member std::optional<double> is an option that may be unset (none: the library chooses);
 // its range applies when it is set. A limit whose default is none, +inf, declares its range
-// with or_infinite: (a, inf] admits infinity itself.
+// with or_infinite (core/value_range.hpp): (a, inf] admits infinity itself.
 //
 // An option out of its range is an option_error, an input_error that keeps the key apart from
 // the message, so that each front end names the option as its user writes it (see key_text).
@@ -39,30 +39,7 @@ struct option {
         : key(key_), help(help_), range(range_)
     {
     }
-
-    // Whether the range includes +inf itself (or_infinite), so that x = +inf is admitted.
-    [[nodiscard]] constexpr bool admits_infinity() const { return upper_is_infinity(range); }
-    [[nodiscard]] bool admits(double x) const { return (admits_infinity() && x == unbounded) || range.admits(x); }
-    [[nodiscard]] bool bounded() const { return std::isfinite(range.lower) || std::isfinite(range.upper); }
-    // "(0, 1)", "> 0", "(0, inf]": the range as every front end's message writes it.
-    [[nodiscard]] std::string range_text() const
-    {
-        if (!admits_infinity()) return range.text();
-        return std::string(range.lower_inclusive ? "[" : "(") + format_double(range.lower) + ", inf]";
-    }
-
-    // A closed upper end at infinity is how or_infinite marks the range (value_range itself
-    // admits finite numbers only).
-    static constexpr bool upper_is_infinity(const value_range& r) { return r.upper == unbounded && r.upper_inclusive; }
 };
-
-// (a, inf]: above a, infinity included (a limit that may be none).
-constexpr value_range or_infinite(value_range r)
-{
-    r.upper = unbounded;
-    r.upper_inclusive = true;
-    return r;
-}
 
 // A bad value of the option `key`: what() reads "KEY = VALUE is outside its valid range ..."
 // in Python's form; the command line writes --KEY (key_text).
@@ -102,7 +79,8 @@ struct option_checker {
             const double x = static_cast<double>(v);
             // An integer as typed (2000000000, not 2e+09).
             const std::string shown = std::is_integral_v<T> ? std::to_string(v) : format_double(x);
-            if (!o.admits(x)) throw option_error(o.key, " = " + shown + " is outside its valid range " + o.range_text());
+            if (!o.range.admits(x))
+                throw option_error(o.key, " = " + shown + " is outside its valid range " + o.range.text());
         }
     }
     // Unset: the library's choice, nothing to check.
