@@ -37,27 +37,6 @@ std::string joined(const std::vector<std::string>& v)
     return s;
 }
 
-// The declared protocol options as config.toml and run.json record them (protocol_settings).
-struct protocol_writer {
-    nlohmann::json& j;
-    template <class T>
-    void operator()(const option& o, const T& v) const
-    {
-        if constexpr (std::is_floating_point_v<T>)
-            if (!std::isfinite(v)) return;  // none
-        if (command_line_sets(o.key)) j[std::string(o.key)] = v;
-    }
-    void operator()(const option& o, const std::optional<double>& v) const
-    {
-        if (v && command_line_sets(o.key)) j[std::string(o.key)] = *v;
-    }
-    template <class E, std::size_t K>
-    void operator()(const option& o, const E& v, const std::array<E, K>&) const
-    {
-        if (command_line_sets(o.key)) j[std::string(o.key)] = std::string(to_string(v));
-    }
-};
-
 }  // namespace
 
 // The protocol's time limits stay at their defaults on the command line: a run that needs
@@ -83,10 +62,7 @@ nlohmann::json protocol_settings(const protocol_options& p)
     protocol_options shown = p;
     const double band = effective_hold_band(p.flow.integration, p.method);
     if (p.flow.integration.hold_band || band > 0.0) shown.flow.integration.hold_band = band;
-    nlohmann::json j = nlohmann::json::object();
-    const protocol_writer w{j};
-    declare(w, shown);
-    return j;
+    return declared_settings(shown, command_line_sets);
 }
 
 void add_common_options(CLI::App& app, common_args& a)

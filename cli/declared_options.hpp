@@ -5,11 +5,14 @@
 // runs (an option_error, which main() reports under the option's command-line name), so a
 // command adds an analysis' options with one call and checks none of them itself.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 
 #include "vimpact/core/format.hpp"
@@ -57,6 +60,20 @@ struct option_adder {
             sentence(o.help) + " (default " + (v ? format_double(static_cast<double>(*v)) : "none") + range_note(o) + ")");
     }
 
+    // A count users write as 1e8 (pairs): read as a number, then it must be a whole one in range.
+    void operator()(const option& o, std::uint64_t& v) const
+    {
+        app.add_option_function<double>(
+            command_line_key(o.key),
+            [&v, o](double x) {
+                if (x != std::floor(x) || !o.range.admits(x) || x >= 0x1p64)
+                    throw option_error(o.key, " = " + format_double(x) + " is not a whole number in its valid range " +
+                                                  o.range.text());
+                v = static_cast<std::uint64_t>(x);
+            },
+            sentence(o.help) + " (default " + format_double(static_cast<double>(v)) + range_note(o) + ")");
+    }
+
     static std::string range_note(const option& o) { return o.range.bounded() ? "; " + o.range.text() : std::string(); }
 
     template <class E, std::size_t K>
@@ -69,7 +86,40 @@ struct option_adder {
     }
 };
 
+// The declared options' values as run.json and config.toml record them, by key (an
+// enumeration by name; a limit that is none, +inf or unset, left out), those `keep` admits.
+struct settings_writer {
+    nlohmann::json& j;
+    bool (*keep)(std::string_view key);
+    template <class T>
+    void operator()(const option& o, const T& v) const
+    {
+        if constexpr (std::is_floating_point_v<T>)
+            if (!std::isfinite(v)) return;
+        if (keep(o.key)) j[std::string(o.key)] = v;
+    }
+    template <class T>
+    void operator()(const option& o, const std::optional<T>& v) const
+    {
+        if (v) (*this)(o, *v);
+    }
+    template <class E, std::size_t K>
+    void operator()(const option& o, const E& v, const std::array<E, K>&) const
+    {
+        if (keep(o.key)) j[std::string(o.key)] = std::string(to_string(v));
+    }
+};
+
 }  // namespace detail
+
+template <class O>
+nlohmann::json declared_settings(const O& o, bool (*keep)(std::string_view) = [](std::string_view) { return true; })
+{
+    nlohmann::json j = nlohmann::json::object();
+    const detail::settings_writer w{j, keep};
+    declare(w, o);
+    return j;
+}
 
 // One option declared on its own (period_tolerance_option), bound to `v`.
 template <class T>

@@ -34,20 +34,9 @@ struct dimension_args {
     common_args common;
     std::string points_file;
     std::string columns;
-    std::string estimator = "correlation_sum";
-    long theiler = 0;
-    int centres = 15;
+    dimension_options options;  // what it declares; the radii, the fit range and the threads here
     std::string radii = "1e-4:0.06:1e-4";
     std::string fit_range;
-    double slope_tolerance = scaling_options{}.slope_tolerance;
-    double slope_window = scaling_options{}.slope_window;
-    double min_extent = scaling_options{}.min_extent;
-    double min_pairs = static_cast<double>(scaling_options{}.min_pairs);
-    double max_correlation = scaling_options{}.max_correlation;
-    double r_max = std::numeric_limits<double>::infinity();
-    double max_pairs = static_cast<double>(dimension_options{}.max_pairs);
-    int bins_per_octave = correlation_sum_options{}.bins_per_octave;
-    std::string search = "grid";
     int threads = 1;
     double period_tol = default_period_tolerance;
 };
@@ -79,47 +68,14 @@ centre_count_options parse_radii(const std::string& text, centre_count_options o
     return o;
 }
 
-std::uint64_t parse_count(double v, const std::string& what, double lo)
-{
-    if (!(v >= lo) || v > 1e18 || v != std::floor(v))
-        throw input_error(what + " must be an integer >= " + format_double(lo) + " (got " + format_double(v) + ")");
-    return static_cast<std::uint64_t>(v);
-}
-
 // Everything the user asked for, checked before anything runs or is written.
 dimension_options make_options(const dimension_args& a)
 {
-    dimension_options o;
-    o.estimator = parse_name(a.estimator, all_dimension_estimators, "--estimator");
-    if (a.theiler < 0) throw input_error("--theiler must be >= 0 (got " + std::to_string(a.theiler) + ")");
-    o.correlation.theiler_window = a.theiler;
-    o.centre.theiler_window = a.theiler;
-    if (a.centres < 1) throw input_error("--centres must be >= 1 (got " + std::to_string(a.centres) + ")");
-    o.centre.centres = a.centres;
+    dimension_options o = a.options;
     o.centre = parse_radii(a.radii, o.centre);
-    if (!(a.r_max > 0.0)) throw input_error("--r-max must be > 0 (got " + format_double(a.r_max) + ")");
-    o.correlation.r_max = a.r_max;
-    o.max_pairs = parse_count(a.max_pairs, "--max-pairs", 1.0);
-    o.correlation.bins_per_octave = a.bins_per_octave;
-    o.correlation.search = parse_name(a.search, all_pair_searches, "--search");
     o.correlation.threads = resolve_threads(a.threads);
-    o.scaling.slope_tolerance = a.slope_tolerance;
-    o.scaling.slope_window = a.slope_window;
-    o.scaling.min_extent = a.min_extent;
-    o.scaling.min_pairs = parse_count(a.min_pairs, "--min-pairs", 1.0);
-    o.scaling.max_correlation = a.max_correlation;
     if (!a.fit_range.empty()) o.scaling.fit_range = parse_fit_range(a.fit_range);
-    try {
-        validate(o.scaling);
-    } catch (const input_error& e) {
-        throw input_error(std::string("scaling-region options: ") + e.what() +
-                          " (--slope-tolerance > 0, --slope-window > 1, --min-extent > 1, 0 < --max-correlation <= 1)");
-    }
-    try {
-        validate(o);
-    } catch (const input_error& e) {
-        throw input_error(std::string("--bins-per-octave and the other dimension options: ") + e.what());
-    }
+    validate(o);
     check_period_tolerance(a.period_tol);
     return o;
 }
@@ -277,7 +233,7 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
     json summary = curve_summary(r);
     summary["command"] = "dimension";
     summary["source"] = source;
-    summary["theiler_window"] = a.theiler;
+    summary["theiler_window"] = opt.theiler_window;
     summary["out"] = c.out ? json(c.out->string()) : json(nullptr);
     if (c.out) {
         throw_if_interrupted();  // before anything is written
@@ -291,20 +247,9 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
         } else {
             record = record_header("dimension", c);
         }
-        record["options"] = {{"estimator", a.estimator},
-                             {"theiler", a.theiler},
-                             {"centres", a.centres},
-                             {"radii", a.radii},
-                             {"fit_range", a.fit_range},
-                             {"slope_tolerance", a.slope_tolerance},
-                             {"slope_window", a.slope_window},
-                             {"min_extent", a.min_extent},
-                             {"min_pairs", opt.scaling.min_pairs},
-                             {"max_correlation", a.max_correlation},
-                             {"r_max", finite_or_null(a.r_max)},
-                             {"max_pairs", opt.max_pairs},
-                             {"bins_per_octave", a.bins_per_octave},
-                             {"search", a.search}};
+        record["options"] = declared_settings(a.options);
+        record["options"]["radii"] = a.radii;
+        record["options"]["fit_range"] = a.fit_range;
         record["result"] = summary;
         record["files"] = {"points.csv", "correlation.csv"};
         write_point_set(out.file("points.csv"), ps, names);
@@ -336,22 +281,9 @@ cli_command add_dimension_command(CLI::App& app)
     s->add_option("--columns", a->columns,
                   "Coordinates used, comma-separated column names (run: every state variable, a phase PHI as PHI_cos, "
                   "PHI_sin; file: all but 't')");
-    s->add_option("--estimator", a->estimator, "correlation_sum (Grassberger-Procaccia, default) or centres (the paper's)");
-    s->add_option("--theiler", a->theiler,
-                  "Theiler window: pairs of points at most this many rows apart are not counted (default 0)");
-    s->add_option("--centres", a->centres, "centres estimator: number of centres (default 15, the paper's)");
+    add_declared_options(*s, a->options);
     s->add_option("--radii", a->radii, "centres estimator: radii r_min:r_max:step (default 1e-4:0.06:1e-4, the paper's)");
     s->add_option("--fit-range", a->fit_range, "Fit over r_min:r_max instead of the automatic scaling region");
-    s->add_option("--slope-tolerance", a->slope_tolerance,
-                  "Scaling region: local slopes within +- this of each other (default 0.1)");
-    s->add_option("--slope-window", a->slope_window, "Local slope over a factor of this in r (default 4)");
-    s->add_option("--min-extent", a->min_extent, "Scaling region spans at least this factor in r (default 4)");
-    s->add_option("--min-pairs", a->min_pairs, "Floor: radii with fewer pairs closer are not used (default 100)");
-    s->add_option("--max-correlation", a->max_correlation, "Saturation: radii with C above this are not used (default 0.5)");
-    s->add_option("--r-max", a->r_max, "correlation_sum: count pairs closer than this only (default: from --max-pairs)");
-    s->add_option("--max-pairs", a->max_pairs, "correlation_sum: cap r so that about this many pairs are counted (default 1e8)");
-    s->add_option("--bins-per-octave", a->bins_per_octave, "correlation_sum: radii per factor 2 (power of two, default 16)");
-    s->add_option("--search", a->search, "correlation_sum: pair search grid (default), kd_tree or brute_force (same counts)");
     s->add_option("--threads", a->threads, "correlation_sum: threads, 0 = all cores (default 1; same result)");
     add_declared_option(*s, period_tolerance_option, a->period_tol);
     return {s, [a, s] { return run_dimension(*a, *s); }};

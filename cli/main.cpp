@@ -87,6 +87,8 @@ int main(int argc, char** argv)
         std::vector<std::string> args = arguments_with_config(app, argc, argv);
         std::reverse(args.begin(), args.end());  // CLI11 takes them last first
         app.parse(args);
+    } catch (const vimpact::option_error& e) {  // a declared option read as it is parsed
+        return fail(vimpact::command_line_key(e.key()) + e.detail());
     } catch (const vimpact::input_error& e) {
         return fail(e.what());
     } catch (const CLI::CallForHelp& e) {

@@ -313,6 +313,25 @@ TEST(CentreCounts, CentresAreEvenlySpacedAndCountsAreDirect)
     }
 }
 
+// The one Theiler window a user sets reaches both estimators: the whole estimate's totals are
+// the eligible pairs counted by hand (all pairs farther apart than w rows; per centre, all
+// points but those within w rows of it).
+TEST(CorrelationDimension, TheilerWindowReachesBothEstimators)
+{
+    const point_set ps = cube_points(600, 5);
+    const std::uint64_t n = 600, w = 7;
+    vimpact::dimension_options o;
+    o.theiler_window = static_cast<long>(w);
+    o.scaling.min_pairs = 1;
+    EXPECT_EQ(vimpact::correlation_dimension(ps, o).curve.total_pairs, (n - w - 1) * (n - w) / 2);
+    o.estimator = vimpact::dimension_estimator::centres;
+    o.centre.centres = 4;
+    const auto res = vimpact::correlation_dimension(ps, o);
+    std::uint64_t eligible = 0;
+    for (const auto k : res.centres) eligible += n - 1 - std::min<std::uint64_t>(k, w) - std::min<std::uint64_t>(n - 1 - k, w);
+    EXPECT_EQ(res.curve.total_pairs, eligible);
+}
+
 // The paper's estimator on a filled square whose centres (by index) lie in the interior,
 // at least 0.06 (the largest radius) from the edges: each centre's neighbourhood is a whole
 // disc, E N(r) = (N - 1) pi r^2, and the dimension is 2 up to the Poisson noise of the
@@ -389,7 +408,7 @@ TEST(CorrelationDimension, HenonAttractorIsAbout121)
     // Time-ordered data: a Theiler window of 10 steps changes nothing material for a map this
     // chaotic (consecutive points are not close).
     dimension_options o;
-    o.correlation.theiler_window = 10;
+    o.theiler_window = 10;
     EXPECT_NEAR(estimate(henon_points(10000), o).fit.dimension, res.fit.dimension, 0.02);
 }
 

@@ -10,6 +10,7 @@
 #include "vimpact/analysis/basins.hpp"
 #include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/continuation.hpp"
+#include "vimpact/analysis/correlation_dimension.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
@@ -213,6 +214,7 @@ TEST(Options, BasinsRefusesEveryEndOfItsDeclaration) { check_every_end<basins_op
 TEST(Options, GrazingRefusesEveryEndOfItsDeclaration) { check_every_end<grazing_options>(); }
 TEST(Options, ResponseRefusesEveryEndOfItsDeclaration) { check_every_end<response_options>(); }
 TEST(Options, ClearanceRefusesEveryEndOfItsDeclaration) { check_every_end<clearance_options>(); }
+TEST(Options, DimensionRefusesEveryEndOfItsDeclaration) { check_every_end<dimension_options>(); }
 
 // The option_error of `call`, whose key must be `key`: the analysis checked its declaration
 // before computing anything.

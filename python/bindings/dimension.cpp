@@ -19,11 +19,8 @@
 namespace vimpact::python {
 namespace {
 
-py::dict dimension(const input_array& points, const std::string& estimator, long theiler, int centres,
-                   const std::array<double, 3>& radii, const std::optional<std::array<double, 2>>& fit_range,
-                   double slope_tolerance, double slope_window, double min_extent, std::uint64_t min_pairs,
-                   double max_correlation, double r_max, std::uint64_t max_pairs, int bins_per_octave,
-                   const std::string& search, int threads)
+py::dict dimension(const input_array& points, const py::dict& declared, const std::array<double, 3>& radii,
+                   const std::optional<std::array<double, 2>>& fit_range, int threads)
 {
     if (points.ndim() != 2) throw input_error("points must be a 2-D array (one point per row)");
     point_set ps(static_cast<int>(points.shape(1)));
@@ -31,23 +28,13 @@ py::dict dimension(const input_array& points, const std::string& estimator, long
     for (py::ssize_t i = 0; i < points.shape(0); ++i) ps.push_back(points.data(i, 0));
 
     dimension_options o;
-    o.estimator = parse_name(estimator, all_dimension_estimators, "estimator");
-    o.correlation.theiler_window = theiler;
-    o.centre.theiler_window = theiler;
-    o.centre.centres = centres;
+    options kw(declared);
+    read_declared(kw, o);
+    kw.finish();
     o.centre.r_min = radii[0];
     o.centre.r_max = radii[1];
     o.centre.r_step = radii[2];
-    o.correlation.r_max = r_max;
-    o.correlation.bins_per_octave = bins_per_octave;
-    o.max_pairs = max_pairs;
-    o.correlation.search = parse_name(search, all_pair_searches, "search");
     o.correlation.threads = resolve_threads(threads);
-    o.scaling.slope_tolerance = slope_tolerance;
-    o.scaling.slope_window = slope_window;
-    o.scaling.min_extent = min_extent;
-    o.scaling.min_pairs = min_pairs;
-    o.scaling.max_correlation = max_correlation;
     o.scaling.fit_range = fit_range;
 
     // No cancel flag in the dimension code: Ctrl-C is honoured when it returns.
@@ -102,10 +89,8 @@ void bind_dimension(py::module_& m)
         },
         "model"_a, "states"_a, "Internal: see vimpact.dimension.");
 
-    
-    m.def("_dimension", &dimension, "points"_a, "estimator"_a, "theiler"_a, "centres"_a, "radii"_a, "fit_range"_a,
-          "slope_tolerance"_a, "slope_window"_a, "min_extent"_a, "min_pairs"_a, "max_correlation"_a, "r_max"_a,
-          "max_pairs"_a, "bins_per_octave"_a, "search"_a, "threads"_a, "Internal: see vimpact.dimension.");
+    m.def("_dimension", &dimension, "points"_a, "declared"_a, "radii"_a, "fit_range"_a, "threads"_a,
+          "Internal: see vimpact.dimension.");
 }
 
 }  // namespace vimpact::python

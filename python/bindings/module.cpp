@@ -52,16 +52,8 @@ py::dict defaults()
     const floquet_options fo;
     d["tangent_rtol"] = fo.tangent_integration.rtol;
     d["tangent_atol"] = fo.tangent_integration.atol;
-    const dimension_options dop;
-    d["centres"] = dop.centre.centres;
-    d["radii"] = py::make_tuple(dop.centre.r_min, dop.centre.r_max, dop.centre.r_step);
-    d["slope_tolerance"] = dop.scaling.slope_tolerance;
-    d["slope_window"] = dop.scaling.slope_window;
-    d["min_extent"] = dop.scaling.min_extent;
-    d["min_pairs"] = dop.scaling.min_pairs;
-    d["max_correlation"] = dop.scaling.max_correlation;
-    d["max_pairs"] = dop.max_pairs;
-    d["bins_per_octave"] = dop.correlation.bins_per_octave;
+    const centre_count_options centres;
+    d["radii"] = py::make_tuple(centres.r_min, centres.r_max, centres.r_step);
     return d;
 }
 
@@ -87,6 +79,7 @@ PYBIND11_MODULE(_vimpact, m)
     declared["grazing"] = vimpact::python::declarations<grazing_options>();
     declared["response"] = vimpact::python::declarations<response_options>();
     declared["clearance"] = vimpact::python::declarations<clearance_options>();
+    declared["dimension"] = vimpact::python::declarations<dimension_options>();
     declared["protocol"] = vimpact::python::declarations<protocol_options>();
     m.attr("declared") = declared;
     // What each record says of its fields (core/record.hpp): vimpact/results.py documents the

@@ -964,11 +964,8 @@ def _points_of(points, columns):
 
 
 @_with_defaults
-def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, centres=_D["centres"],
-              radii=_D["radii"], fit_range=None, slope_tolerance=_D["slope_tolerance"],
-              slope_window=_D["slope_window"], min_extent=_D["min_extent"], min_pairs=_D["min_pairs"],
-              max_correlation=_D["max_correlation"], r_max=math.inf, max_pairs=_D["max_pairs"],
-              bins_per_octave=_D["bins_per_octave"], search="grid", threads=1):
+@_declares("dimension")
+def dimension(points, *, columns=None, radii=_D["radii"], fit_range=None, threads=1, declared):
     """The correlation dimension of a point set (Grassberger & Procaccia; the paper's Eq. 5).
 
     The correlation curve C(r) is either the Grassberger-Procaccia sum over all pairs,
@@ -988,26 +985,11 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
         With a result: the coordinates to use, among the model's state variables (a phase as
         its NAME_cos, NAME_sin pair); default all of them, as the command line does (a
         coordinate constant on the section, ydot on the maxima, adds nothing to a distance).
-    estimator : {"correlation_sum", "centres"}, default "correlation_sum"
-    theiler : int, default 0
-        Pairs at most this many rows apart are not counted.
-    centres : int, default $centres
-        Centres estimator: number of centres (the paper: 15).
     radii : (float, float, float), default $radii
         Centres estimator: r_min, r_max, step (the paper's).
     fit_range : (float, float), optional
         Fit over [r_min, r_max] instead of the automatic scaling region.
-    slope_tolerance, slope_window, min_extent, min_pairs, max_correlation
-        The scaling-region rule (defaults $slope_tolerance, $slope_window, $min_extent,
-        $min_pairs, $max_correlation).
-    r_max : float, default inf
-        Correlation sum: count pairs closer than this only (inf: set from ``max_pairs``).
-    max_pairs : int, default $max_pairs
-        Correlation sum: cap r so that about this many pairs are counted.
-    bins_per_octave : int, default $bins_per_octave
-        Correlation sum: radii per factor 2 (a power of two).
-    search : {"grid", "kd_tree", "brute_force"}, default "grid"
-        How pairs are found (identical counts).
+    <declared>
     threads : int, default 1
         Correlation sum threads, 0 = all cores (the counts do not depend on it).
 
@@ -1023,13 +1005,8 @@ def dimension(points, *, columns=None, estimator="correlation_sum", theiler=0, c
     """
     pts, cols = _points_of(points, columns)
     fr = None if fit_range is None else (float(fit_range[0]), float(fit_range[1]))
-    d = _vimpact._dimension(pts, estimator, theiler, centres, tuple(float(v) for v in radii), fr, slope_tolerance,
-                            slope_window, min_extent, int(min_pairs), max_correlation, r_max, int(max_pairs),
-                            bins_per_octave, search, threads)
-    opts = dict(estimator=estimator, theiler=theiler, centres=centres, radii=tuple(radii), fit_range=fr,
-                slope_tolerance=slope_tolerance, slope_window=slope_window, min_extent=min_extent,
-                min_pairs=min_pairs, max_correlation=max_correlation, r_max=r_max, max_pairs=max_pairs,
-                bins_per_octave=bins_per_octave, search=search)
+    d = _vimpact._dimension(pts, declared, tuple(float(v) for v in radii), fr, threads)
+    opts = dict(declared, radii=tuple(radii), fit_range=fr)
     keys = ("dimension", "found", "automatic", "fit_range", "r2", "slope_error", "slope_spread", "intercept", "fitted",
             "fit_first", "fit_last", "r", "pairs", "total_pairs", "local_slope", "centres", "r_cap", "all_pairs",
             "estimator", "points", "embedding")

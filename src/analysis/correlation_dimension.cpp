@@ -654,9 +654,12 @@ double pair_distance_quantile(const point_set& ps, double fraction)
     return std::sqrt(d2[q]);
 }
 
-dimension_result correlation_dimension(const point_set& ps, const dimension_options& opt)
+dimension_result correlation_dimension(const point_set& ps, const dimension_options& options)
 {
-    validate(opt.scaling);
+    validate(options);
+    dimension_options opt = options;
+    opt.correlation.theiler_window = opt.theiler_window;
+    opt.centre.theiler_window = opt.theiler_window;
     // Two points make one pair and one distance: no curve to fit a slope to.
     detail::validate_points(ps, 3, "the dimension");
     dimension_result res;
@@ -684,13 +687,9 @@ dimension_result correlation_dimension(const point_set& ps, const dimension_opti
 
 void validate(const dimension_options& o)
 {
+    check_options(o);
     validate(o.scaling);
     (void)detail::mantissa_bits(o.correlation.bins_per_octave);
-    if (o.correlation.theiler_window < 0 || o.centre.theiler_window < 0)
-        throw input_error("Theiler window must be >= 0 (got " +
-                          std::to_string(std::min(o.correlation.theiler_window, o.centre.theiler_window)) + ")");
-    if (!(o.correlation.r_max > 0.0))
-        throw input_error("r_max must be > 0 (got " + format_double(o.correlation.r_max) + ")");
     if (!(o.correlation.range > 1.0) || !std::isfinite(o.correlation.range) || o.correlation.range > 0x1p200)
         throw input_error("bin range must be in (1, 2^200] (got " + format_double(o.correlation.range) + ")");
     if (o.estimator == dimension_estimator::centres) {

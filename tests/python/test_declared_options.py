@@ -1,5 +1,5 @@
 """The grid analyses' options declared once in the library (core/option.hpp): the keyword
-arguments of vimpact.sweep, map, basins, response and grazing, their defaults and their
+arguments of vimpact.sweep, map, basins, response, grazing, clearance and dimension, their defaults and their
 documentation follow the declaration, the library refuses a value out of its range naming the
 keyword, and the command line gives the same refusal naming --key (where it is built)."""
 import inspect
@@ -20,6 +20,9 @@ KEYWORDS = {
     "grazing": {"transient_time": 1000.0, "tol": 1e-11, "block": 16, "t_max": 1e5},
     "response": {"transient_time": 1000.0, "tol": 1e-11, "block": 16, "t_max": 1e5},
     "clearance": {"tol": 1e-8, "transient_time": 1000.0},
+    "dimension": {"estimator": "correlation_sum", "theiler": 0, "centres": 15, "slope_tolerance": 0.1,
+                  "slope_window": 4.0, "min_extent": 4.0, "min_pairs": 100, "max_correlation": 0.5,
+                  "r_max": float("inf"), "max_pairs": 100000000, "bins_per_octave": 16, "search": "grid"},
 }
 
 CALLS = {
@@ -29,6 +32,7 @@ CALLS = {
     "grazing": lambda **kw: vimpact.grazing(W, **kw),
     "response": lambda **kw: vimpact.response(W, "Ur", GRID, **kw),
     "clearance": lambda **kw: vimpact.clearance(W, "Ur", GRID, **kw),
+    "dimension": lambda **kw: vimpact.dimension([[0.1 * i, (0.37 * i) % 1.0] for i in range(50)], **kw),
 }
 
 # The same run on the command line.
@@ -39,6 +43,7 @@ COMMANDS = {
     "basins": ["basins", "--x", "y:-0.1:0.1:2", "--y", "ydot:-0.1:0.1:2"],
     "response": ["response", "--param", "Ur", "--range", "15:16:2"],
     "clearance": ["clearance", "--param", "Ur", "--range", "15:16:2"],
+    "dimension": ["dimension"],  # refused before its run
 }
 
 # A value just outside each bounded range, and the range as the message gives it.
@@ -56,6 +61,14 @@ OUT_OF_RANGE = [
     ("response", "t_max", 0, "> 0"),
     ("clearance", "tol", 0, "> 0"),
     ("clearance", "transient_time", -1, ">= 0"),
+    ("dimension", "theiler", -1, ">= 0"),
+    ("dimension", "centres", 0, ">= 1"),
+    ("dimension", "slope_tolerance", 0, "> 0"),
+    ("dimension", "slope_window", 1, "> 1"),
+    ("dimension", "min_extent", 0.5, "> 1"),
+    ("dimension", "max_correlation", 1.5, "(0, 1]"),
+    ("dimension", "r_max", 0, "(0, inf]"),
+    ("dimension", "bins_per_octave", 256, "[2, 128]"),
 ]
 
 

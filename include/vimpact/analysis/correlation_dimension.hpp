@@ -41,8 +41,9 @@
 #include <string_view>
 #include <vector>
 
-#include "vimpact/core/names.hpp"
 #include "vimpact/analysis/dimension_points.hpp"
+#include "vimpact/core/names.hpp"
+#include "vimpact/core/option.hpp"
 
 namespace vimpact {
 
@@ -141,6 +142,9 @@ struct scaling_fit {
 
 struct dimension_options {
     dimension_estimator estimator = dimension_estimator::correlation_sum;
+    // Both estimators' (their own theiler_window is set from it): pairs at most this many
+    // rows apart are not counted.
+    long theiler_window = 0;
     correlation_sum_options correlation;
     centre_count_options centre;
     scaling_options scaling;
@@ -149,6 +153,33 @@ struct dimension_options {
     // evenly spaced subsample of 2048 points). Caps cost, never changes C below r_max.
     std::uint64_t max_pairs = 100'000'000;
 };
+
+// The options a user sets (core/option.hpp); the centres' radii and a fit range, pairs of
+// numbers, and the threads are the front ends' own.
+template <class V, record_of<dimension_options> O>
+void declare(V& v, O& o)
+{
+    v(option{"estimator", "the estimator of C(r): correlation_sum (Grassberger-Procaccia) or centres (the paper's)"},
+      o.estimator, all_dimension_estimators);
+    v(option{"theiler", "Theiler window: pairs of points at most this many rows apart are not counted", at_least(0)},
+      o.theiler_window);
+    v(option{"centres", "the number of centres of the centres estimator (the paper's 15)", at_least(1)}, o.centre.centres);
+    v(option{"slope_tolerance", "scaling region: local slopes within +- this of each other", above(0)},
+      o.scaling.slope_tolerance);
+    v(option{"slope_window", "a local slope is fitted over a factor of this in r", above(1)}, o.scaling.slope_window);
+    v(option{"min_extent", "the scaling region spans at least this factor in r", above(1)}, o.scaling.min_extent);
+    v(option{"min_pairs", "floor: radii with fewer pairs closer than r are not used", at_least(1)}, o.scaling.min_pairs);
+    v(option{"max_correlation", "saturation: radii with C above this are not used", value_range{0.0, 1.0, false, true}},
+      o.scaling.max_correlation);
+    v(option{"r_max", "the correlation sum counts pairs closer than this only (inf: set from max_pairs)",
+             or_infinite(above(0))},
+      o.correlation.r_max);
+    v(option{"max_pairs", "the correlation sum caps r so that about this many pairs are counted", at_least(1)}, o.max_pairs);
+    v(option{"bins_per_octave", "radii of the correlation sum per factor 2 in r (a power of two)", between(2, 128)},
+      o.correlation.bins_per_octave);
+    v(option{"search", "how the correlation sum finds pairs (grid, kd_tree or brute_force: the same counts)"},
+      o.correlation.search, all_pair_searches);
+}
 
 struct dimension_result {
     dimension_estimator estimator = dimension_estimator::correlation_sum;
@@ -181,7 +212,8 @@ scaling_fit fit_scaling_region(const correlation_curve& curve, const scaling_opt
 double pair_distance_quantile(const point_set& ps, double fraction);
 
 // Throws input_error for options no point set can satisfy (what correlation_dimension checks
-// before it counts), so that a front end can refuse them before it makes the points.
+// before it counts: the declared ranges, then what they cannot say, such as a power of two),
+// so that a front end can refuse them before it makes the points.
 void validate(const dimension_options& o);
 
 dimension_result correlation_dimension(const point_set& ps, const dimension_options& opt);
