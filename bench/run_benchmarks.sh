@@ -9,8 +9,10 @@
 #   BUILD_DIR=DIR (default build): the build directory to configure, build and run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The shared build directory builds the tests too: their packages and the benchmarks'.
+bash scripts/install-deps.sh tests bench
 build=${BUILD_DIR:-build}
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DVIMPACT_BUILD_BENCH=ON > /dev/null
 cmake --build "$build" -j"$(nproc)" --target vimpact_cli protocol_bench baseline_odeint > /dev/null
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -6,8 +6,10 @@
 # Usage: bash bench/run_continuation_bench.sh   (BUILD_DIR=DIR, default build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The shared build directory builds the tests too: their packages and the benchmarks'.
+bash scripts/install-deps.sh tests bench
 build=${BUILD_DIR:-build}
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DVIMPACT_BUILD_BENCH=ON > /dev/null
 cmake --build "$build" -j"$(nproc)" --target continuation_bench > /dev/null
 tmp=$(mktemp)
 trap 'rm -f "$tmp"' EXIT

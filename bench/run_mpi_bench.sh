@@ -15,6 +15,8 @@
 #   COSTS=FILE: skip the 200 x 200 measurement and project from FILE.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The shared build directory builds the tests too: their packages and the benchmarks'.
+bash scripts/install-deps.sh tests bench
 build=${BUILD_DIR:-build}
 out_dir=${OUT_DIR:-bench/output}
 repeats=${REPEATS:-3}
@@ -23,7 +25,7 @@ parts=("$@")
 [ ${#parts[@]} -eq 0 ] && parts=(1 2 3)
 want() { [[ " ${parts[*]} " == *" $1 "* ]]; }
 mkdir -p "$out_dir"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DVIMPACT_BUILD_BENCH=ON > /dev/null
 cmake --build "$build" -j2 --target vimpact_cli job_costs schedule_sim > /dev/null
 vimpact=$(realpath "$build/vimpact")
 mpirun=(mpirun --oversubscribe)

@@ -23,6 +23,8 @@
 #   --lanes-only: part 2 alone (the other parts' outputs are left as they are).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The shared build directory builds the tests too: their packages and the benchmarks'.
+bash scripts/install-deps.sh tests bench
 build=${BUILD_DIR:-build}
 out=${OUT:-bench/output}
 scipy=1
@@ -41,7 +43,7 @@ for a in "$@"; do
 done
 mkdir -p "$out"
 targets="vimpact_cli wp_vimpact baseline_odeint baseline_plain controller_bench job_costs lanes_bench lanes_bench_256 lanes_bench_512_split lanes_bench_avx2 fma_throughput trial_bench"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DVIMPACT_BUILD_BENCH=ON > /dev/null
 cmake --build "$build" -j2 --target $targets > /dev/null
 [ -x "$build/baseline_sundials" ] || cmake --build "$build" -j2 --target baseline_sundials > /dev/null 2>&1 || true
 load() { echo "load average: $(cut -d' ' -f1-3 /proc/loadavg)"; }

@@ -6,7 +6,7 @@
 # build of the unit tests with AddressSanitizer + UBSan, run again (about 20 minutes more).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh tests
 jobs=$(nproc)
 # A capability the installer provided that a test finds missing fails the test instead of
 # skipping it (tests/capabilities.py).
@@ -31,7 +31,7 @@ build() {  # build DIR TARGET...: the log on failure only
 
 echo "== dev build (Release, -Werror)"
 # The benchmarks are not built here: bench/run_*.sh build and run them.
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DVIMPACT_WERROR=ON -DVIMPACT_BUILD_BENCH=OFF "${launcher[@]}" > /dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DVIMPACT_WERROR=ON -DVIMPACT_BUILD_TESTS=ON -DVIMPACT_BUILD_BENCH=OFF "${launcher[@]}" > /dev/null
 build build
 (cd build && ctest --output-on-failure --no-tests=error -j"$jobs")
 
