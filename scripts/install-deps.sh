@@ -30,6 +30,8 @@ tests=(
   # the test command reuses earlier builds' objects where it can (scripts/run-tests.sh)
   ccache
   libgtest-dev libgmock-dev python3-pytest
+  # the notebooks of examples/notebooks, executed by the tests
+  python3-nbclient python3-nbformat python3-ipykernel
   # many-job runs across processes: mpirun -n N vimpact map ... (docs/distributed.md)
   libopenmpi-dev openmpi-bin
   # pip install --no-build-isolation . (docs/python.md) builds with these, not PyPI's
