@@ -2,7 +2,8 @@
 // The stages of the model-file compiler (src/model_file.cpp has the format and the overview):
 //   describe()        a JSON tree -> a checked description (keys, types, names, ranges)
 //   generate_source() the description -> C++ source of a function table (GiNaC: parsing,
-//                     symbolic derivatives, printing)
+//                     symbolic derivatives, printing), in the module libvimpact_symbolic.so
+//                     (src/modules/symbolic.cpp), loaded with the first model file
 //   compile_cached()  the source -> a loaded shared library (compiler run, cache, dlopen)
 // Every stage throws input_error("<where>: ...") for a problem of the file, and `cancelled`
 // once the caller's cancel flag is set (polled between symbolic steps and while the compiler
@@ -182,5 +183,12 @@ std::string function_list();  // "sin, cos, ..." for messages
 
 // A number as an expression's text, the same for 1 and 1.0.
 std::string number_text(double v);
+
+// What the module libvimpact_symbolic.so gives: the functions above that need GiNaC.
+struct symbolic_module {
+    std::string (*generate_source)(const description&, const std::string&, const std::atomic<bool>*);
+    bool (*is_reserved_name)(std::string_view);
+    std::string (*function_list)();
+};
 
 }  // namespace vimpact::model_file_detail

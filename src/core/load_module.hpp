@@ -1,0 +1,14 @@
+#pragma once
+// Parts of the library that need a large library for some runs only are modules of their own,
+// loaded the first time a run needs them: libvimpact_symbolic.so (GiNaC: reading model files)
+// and libvimpact_mpi.so (MPI: a run launched as several ranks). A run of a built-in model in
+// one process loads neither, and neither is loaded at start-up.
+namespace vimpact::detail {
+
+// The address of `symbol` in the module `file`, which lies beside libvimpact.so (the build
+// directory, an install's library directory, a Python package's vimpact/). The module is
+// loaded once and stays loaded. Throws std::runtime_error naming the file when it cannot be
+// loaded: an incomplete installation, not bad input.
+void* module_symbol(const char* file, const char* symbol);
+
+}  // namespace vimpact::detail
