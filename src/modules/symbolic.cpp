@@ -1241,15 +1241,120 @@ private:
 
     // ---- printing
 
-    std::string c(const ex& e, const std::string& key)
+    // An expression of the state as C, its parts that depend on the parameters only read from
+    // their slots (hoisted); `hoist` false for what is computed once already (the derived
+    // quantities).
+    std::string c(const ex& e, const std::string& key, bool hoist = true)
     {
         poll_cancel();
         m_printed += m_reader.sizes().size(e);
         if (m_printed > max_code_terms) code_too_large(m_where, key, "the expression with its derivatives");
         expression_reader::check_translatable(e, key, m_where);
         std::ostringstream s;
-        e.print(c_printer(s, m_powers));
+        (hoist ? hoisted(e) : e).print(c_printer(s, m_powers));
         return s.str();
+    }
+
+    // ---- parts that depend on the parameters only
+    //
+    // A model written as its equations read, (1/(St*Ur))^2*y or CL0/(16*pi^2*St^2*mu)*x, would
+    // divide at every call of the vector field, its derivatives, gaps and sections. Every
+    // largest part of a printed expression that depends on the parameters only (a subtree, or
+    // the factors of a product or the terms of a sum that do, unless that is one parameter or
+    // number) is computed once per parameter set instead, in a slot after the derived
+    // quantities (vimpact_create). A part is named by its canonical text (or its negative's,
+    // whichever is smaller, so that GiNaC's choice of sign does not matter), slots are
+    // numbered in the order of those texts within each expression: the same model gives the
+    // same source in every process, as the cache needs. A part's derivatives by the state are
+    // zero, so the Jacobians and Hessians, taken before, are unchanged in value.
+    // Only parameters, derived quantities and numbers (not the state, nor the symbols of other
+    // inputs of a function, such as the field's values in a section's rate).
+    bool parameter_only(const ex& e) const
+    {
+        if (is_a<GiNaC::symbol>(e))
+            return std::any_of(m_ctx.begin(), m_ctx.end(), [&](const GiNaC::realsymbol& q) { return e.is_equal(q); });
+        if (is_a<GiNaC::numeric>(e) || is_a<GiNaC::constant>(e)) return true;
+        for (std::size_t i = 0; i < e.nops(); ++i)
+            if (!parameter_only(e.op(i))) return false;
+        return true;
+    }
+    static bool leaf(const ex& e)
+    {
+        return is_a<GiNaC::symbol>(e) || is_a<GiNaC::numeric>(e) || is_a<GiNaC::constant>(e);
+    }
+    // Not worth a slot: a leaf, or a number times one. Also what keeps the source the same in
+    // every process: GiNaC may store A*(x + a) as -A*(-x - a), and a rule that hoisted -a or -A
+    // but not a or A would print the two differently.
+    static bool trivial(const ex& e)
+    {
+        if (leaf(e)) return true;
+        return is_a<GiNaC::mul>(e) && e.nops() == 2 &&
+               ((is_a<GiNaC::numeric>(e.op(0)) && leaf(e.op(1))) || (is_a<GiNaC::numeric>(e.op(1)) && leaf(e.op(0))));
+    }
+
+    // e with part(q) in place of each part q to hoist, visited in a fixed order.
+    template <class Part>
+    ex with_parts(const ex& e, Part& part) const
+    {
+        if (leaf(e)) return e;
+        if (parameter_only(e)) return trivial(e) ? e : part(e);
+        const bool sum = is_a<GiNaC::add>(e);
+        if (sum || is_a<GiNaC::mul>(e)) {
+            ex fixed = sum ? ex(0) : ex(1), rest = sum ? ex(0) : ex(1);
+            int count = 0;
+            for (std::size_t i = 0; i < e.nops(); ++i) {
+                const ex& o = e.op(i);
+                if (parameter_only(o)) {
+                    fixed = sum ? fixed + o : fixed * o;
+                    ++count;
+                } else {
+                    const ex h = with_parts(o, part);
+                    rest = sum ? rest + h : rest * h;
+                }
+            }
+            if (count > 0 && !trivial(fixed)) fixed = part(fixed);
+            return sum ? fixed + rest : fixed * rest;
+        }
+        struct mapped : GiNaC::map_function {
+            const generator& g;
+            Part& part;
+            mapped(const generator& g_, Part& p_) : g(g_), part(p_) {}
+            ex operator()(const ex& o) override { return g.with_parts(o, part); }
+        } m(*this, part);
+        return e.map(m);
+    }
+
+    // The text a part is named by and whether that text is the part's negative's.
+    std::pair<std::string, bool> part_name(const ex& q)
+    {
+        std::ostringstream a, b;
+        q.print(c_printer(a, m_powers));
+        (-q).print(c_printer(b, m_powers));
+        return b.str() < a.str() ? std::pair{b.str(), true} : std::pair{a.str(), false};
+    }
+
+    ex hoisted(const ex& e)
+    {
+        std::vector<std::string> fresh;
+        auto collect = [&](const ex& q) {
+            const auto name = part_name(q).first;
+            if (!m_part_slot.count(name)) fresh.push_back(name);
+            return q;
+        };
+        (void)with_parts(e, collect);
+        std::sort(fresh.begin(), fresh.end());
+        fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
+        for (const auto& name : fresh) {
+            m_part_slot.emplace(name, static_cast<int>(m_parts.size()));
+            m_parts.push_back(name);
+            m_part_symbols.emplace_back("p[" + std::to_string(m_p + m_nd + static_cast<int>(m_parts.size()) - 1) + "]");
+        }
+        auto replace = [&](const ex& q) {
+            const auto [name, negated] = part_name(q);
+            const ex slot = m_part_symbols[static_cast<std::size_t>(m_part_slot.at(name))];
+            return negated ? -slot : slot;
+        };
+        return with_parts(e, replace);
     }
 
     // sum over j <= k of h_jk (u_j w_k + u_k w_j), halved on the diagonal: D2f[u, w].
@@ -1401,7 +1506,7 @@ private:
 
     std::string create()
     {
-        const int count = m_p + m_nd;
+        const int count = m_p + m_nd + static_cast<int>(m_parts.size());
         std::string s =
             "static void vimpact_refuse(char* error, size_t size, const char* name, double value)\n{\n"
             "    if (error && size > 0) snprintf(error, size, \"derived quantity %s = %.17g is not finite\", name, value);\n"
@@ -1418,10 +1523,13 @@ private:
         if (m_p > 0) s += "    for (int k = 0; k < " + std::to_string(m_p) + "; ++k) p[k] = parameters[k];\n";
         for (const std::size_t i : m_derived_order) {
             const std::string slot = "p[" + std::to_string(m_p + static_cast<int>(i)) + "]";
-            s += "    " + slot + " = " + c(m_derived[i], m_d.derived[i].expr.key) + ";\n";
+            s += "    " + slot + " = " + c(m_derived[i], m_d.derived[i].expr.key, false) + ";\n";
             s += "    if (!isfinite(" + slot + ")) {\n        vimpact_refuse(error, error_size, " +
                  c_string(m_d.derived[i].name) + ", " + slot + ");\n        free(p);\n        return 0;\n    }\n";
         }
+        // Then the parts of the expressions that depend on the parameters only (hoisted()).
+        for (std::size_t k = 0; k < m_parts.size(); ++k)
+            s += "    p[" + std::to_string(m_p + m_nd + static_cast<int>(k)) + "] = " + m_parts[k] + ";\n";
         s += "    return p;\n}\n\nstatic void vimpact_destroy(void* c) { free(c); }\n\n";
         return s;
     }
@@ -1606,6 +1714,9 @@ private:
     expression_reader m_reader;
     double m_terms = 0.0;    // written-out sizes of what has been differentiated and its derivatives
     double m_printed = 0.0;  // of what has been printed
+    std::map<std::string, int> m_part_slot;       // a hoisted part's text -> its index
+    std::vector<std::string> m_parts;             // the hoisted parts' texts, by index
+    std::vector<GiNaC::realsymbol> m_part_symbols;  // p[m_p + m_nd + index]
     int m_n, m_p, m_nd;
     std::vector<GiNaC::realsymbol> m_x;    // x[j]
     std::vector<GiNaC::realsymbol> m_ctx;  // p[k]: parameters, then derived quantities
