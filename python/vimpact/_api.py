@@ -185,7 +185,7 @@ def _simulation(d, model, options):
                       t_record_start=d["t_record_start"], final_state=d["final_state"], section_t=d["section_t"],
                       section=d["section"], impact_t=d["impact_t"], impact_surface=d["impact_surface"],
                       impact_pre=d["impact_pre"], impact_post=d["impact_post"], series_t=d["series_t"],
-                      series=d["series"], stats=RunStats.from_dict(d["stats"], model.surfaces),
+                      series=d["series"], stats=RunStats.from_dict(d["stats"]),
                       t_record_end=d["t_record_end"], statistics=dict(d["statistics"]),
                       impact_velocity=d["impact_normal_velocity"], impact_rebound=d["impact_rebound_velocity"],
                       impact_energy=d["impact_energy"], **_context(model, options))
@@ -282,11 +282,7 @@ def period(model, ic=None, *, tol=_D["period_tol"], section=None, declared):
     model = _model(model)
     o = _protocol(model, section, declared, tol=tol)
     d = _vimpact._period(model._handle, _ic(ic), o)
-    opts = _options(ic, **o)
-    by = dict(zip(model.surfaces, d["impacts_by_surface"]))
-    return Period(label=d["label"], period=d["period"], impacts=d["impacts"], impacts_by_surface=by,
-                  closure=d["closure"], tol=tol, simulation=_simulation(d["simulation"], model, opts),
-                  settled=d["settled"])
+    return Period(record=d["record"], tol=tol, simulation=_simulation(d["simulation"], model, _options(ic, **o)))
 
 
 def _default_gap_parameter(model):
@@ -348,7 +344,7 @@ def grazing(model, ic=None, *, param=None, variable=None, rtol=_D["grazing_rtol"
                    surface_converged=d["surface_converged"], change=d["change"], t=d["t"], x=d["x"],
                    minima=d["minima"], variable=variable, response_max=d["response_max"],
                    response_min=d["response_min"], response_omega=d["response_omega"], outcome=d["outcome"],
-                   stats=RunStats.from_dict(d["stats"], model.surfaces), **_context(model, _options(ic, **o)))
+                   stats=RunStats.from_dict(d["stats"]), **_context(model, _options(ic, **o)))
 
 
 # ---------------------------------------------------------------- many-job analyses
@@ -769,16 +765,11 @@ def _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, sec
 
 
 def _floquet_result(d, model, opts):
-    stats = {"protocol": RunStats.from_dict(d["protocol_stats"], model.surfaces),
-             "tangent": RunStats.from_dict(d["tangent_stats"], model.surfaces),
-             "map_evaluations": d["map_evaluations"]}
-    keys = ("status", "label", "section_returns", "period", "impacts_per_period", "initial_closure", "closure",
-            "newton_iterations", "orbit_point", "monodromy", "multipliers", "trivial_error", "trivial_residual",
-            "max_nontrivial_modulus", "stable", "det_monodromy", "liouville_det", "divergence_integral",
-            "log_det_jumps", "impact_map", "orbit_t", "orbit", "impact_t", "impact_surface", "impact_pre",
-            "impact_post", "section_t", "section")
-    return Floquet(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
-                   stats=stats, **_context(model, opts))
+    record = d.pop("record")
+    stats = {"protocol": RunStats.from_dict(record.pop("protocol_stats")),
+             "tangent": RunStats.from_dict(record.pop("tangent_stats")),
+             "map_evaluations": record.pop("map_evaluations")}
+    return Floquet(**d, record=record, stats=stats, **_context(model, opts))
 
 
 @_with_defaults
@@ -833,14 +824,10 @@ def _lyapunov_options(declared, record, section):
 
 
 def _lyapunov_result(d, model, opts):
-    stats = {"transient": RunStats.from_dict(d["transient_stats"], model.surfaces),
-             "tangent": RunStats.from_dict(d["stats"], model.surfaces)}
-    keys = ("status", "tdm", "impacting", "exponents", "lle_standard_error", "positive", "settled", "t_start", "time",
-            "impacts",
-            "intervals", "divergence_average", "jump_log_det_rate", "sum_rule", "misses", "history_t",
-            "history_growth", "section_t", "section")
-    return Lyapunov(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
-                    stats=stats, **_context(model, opts))
+    record = d.pop("record")
+    stats = {"transient": RunStats.from_dict(record.pop("transient_stats")),
+             "tangent": RunStats.from_dict(record.pop("stats"))}
+    return Lyapunov(**d, record=record, stats=stats, **_context(model, opts))
 
 
 @_with_defaults

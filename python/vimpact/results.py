@@ -303,6 +303,8 @@ def _documented(record=None, shape="", **renamed):
                                                    break_on_hyphens=False)
 
     def document(cls):
+        cls._aliases = {new: old for old, new in renamed.items() if new} | {
+            new + "_t": old + "_t" for old, new in renamed.items() if new and not shape}
         lines = ["", "Attributes", "----------"]
         for f in fields(cls):
             lines += entry(f.name, f.metadata["what"], f.metadata["doc"]) if "what" in f.metadata else []
@@ -317,42 +319,55 @@ def _documented(record=None, shape="", **renamed):
             if shape and not f["tabular"]:
                 doc += " (not a column: None or absent when loaded)"
             lines += entry(name, _kind(f, shape), doc) if name else []
+            if name and f["span"] == "series" and not shape:
+                lines += entry(name + "_t", "ndarray, float64, shape (points,)", "Their times.")
         cls.__doc__ = inspect.cleandoc(cls.__doc__) + "\n" + "\n".join(lines) + "\n"
         return cls
     return document
 
 
+class _ByName:
+    """The fields of the library's record of a run (``record``) or of each run (``records``)
+    by name, each an attribute of the same name or of the name the class documents it under
+    (``_documented``)."""
+    _store, _aliases = "records", {}
+
+    def __getattr__(self, name):
+        store, key = self.__dict__.get(self._store) or {}, self._aliases.get(name, name)
+        if name.startswith("__") or key not in store:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        return store[key]
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self._aliases) | set(self.__dict__.get(self._store) or ()))
+
+
+def _loaded_record(cls, res, held=(), **mapped):
+    """The record of a single run loaded from run.json's result: its values by name (JSON
+    null, a number the run does not have, as NaN; lists as arrays) but those the class (or
+    ``held``) holds otherwise, with ``mapped`` where the command writes a field in another form."""
+    own = {f.name for f in fields(cls)} | set(held) | {"command", "out", "si"}
+    return dict({k: np.nan if v is None else np.array(v, dtype=float) if isinstance(v, list) else v
+                 for k, v in res.items() if k not in own and not hasattr(cls, k) and not k.endswith("_si")}, **mapped)
+
+
 # ---------------------------------------------------------------- run statistics and job reports
 
 @_documented("run_stats")
-@dataclass(frozen=True)
-class RunStats:
+@dataclass(frozen=True, repr=False)
+class RunStats(_ByName):
     """Counters of one run, whatever its outcome."""
-    steps: int = 0
-    rejected: int = 0
-    rhs_calls: int = 0
-    impacts: int = 0
-    impacts_by_surface: dict = field(default_factory=dict)
-    sections: int = 0
-    sticking_phases: int = 0
-    sticking_time: float = 0.0
-    h_min: float = np.inf
-    h_max: float = 0.0
-    t_final: float = 0.0
+    _store = "record"
+    record: dict = _a("dict", "The counters by name (below).", dict)
 
     @classmethod
-    def from_dict(cls, d, surfaces=()):
+    def from_dict(cls, d):
+        """From the counters by name (the bindings', run.json's; no smallest step, null, is infinite)."""
         d = dict(d or {})
-        by = d.get("impacts_by_surface", {})
-        if not isinstance(by, dict):
-            by = dict(zip(surfaces, (int(v) for v in by)))
-        d["impacts_by_surface"] = by
-        if d.get("h_min") is None:
-            d["h_min"] = np.inf
-        return _made(cls, d)
+        return cls(dict(d, h_min=np.inf if d.get("h_min") is None else d["h_min"]))
 
-    def as_dict(self):
-        return dict(self.__dict__)
+    def __repr__(self):
+        return f"RunStats({', '.join(f'{k}={v!r}' for k, v in self.record.items())})"
 
 
 @_documented()
@@ -497,26 +512,33 @@ class Simulation(_Context):
                                stats=RunStats.from_dict(res.get("stats")), si=_si(res, "impact_statistics_si")))
 
 
+@dataclass(repr=False)
+class _Run(_Context, _ByName):
+    """A single run of an analysis whose record the library describes: the record's fields
+    by name in ``record``, each an attribute (below)."""
+    _store = "record"
+    record: dict = _a("dict", "Every field of the library's record of the run by name (below).", dict)
+
+
 @_documented("period")
 @dataclass(repr=False)
-class Period:
+class Period(_ByName):
     """The period label of the attractor (``vimpact.period``, the command ``period``); the
     run's context (``parameters``, ``state_names``, ``outcome``, ``stats``, ...) is its
     ``simulation``'s."""
-    label: str
-    period: int
-    impacts: int
-    impacts_by_surface: dict
-    closure: float
+    _store = "record"
+    record: dict = _a("dict", "Every field of the library's label by name (below).", dict)
     tol: Optional[float] = _a("float", "The period tolerance used.")
     simulation: Simulation = _a("Simulation", "The run that was classified (its section points, impacts and "
                                 "statistics).")
-    settled: bool = True
 
     def __getattr__(self, name):
-        if name.startswith("__") or name == "simulation":
-            raise AttributeError(name)
-        return getattr(self.simulation, name)
+        try:
+            return super().__getattr__(name)
+        except AttributeError:
+            if name.startswith("__") or name == "simulation":
+                raise
+            return getattr(self.simulation, name)
 
     @property
     def cycle(self):
@@ -533,10 +555,9 @@ class Period:
     @_reader
     def load(cls, directory):
         """The result of ``vimpact period --out DIR``."""
-        res = read_record(directory)["result"]
-        return cls(label=res["label"], period=-1 if res["period"] is None else res["period"], impacts=res["impacts"],
-                   impacts_by_surface=res["impacts_by_surface"], closure=res["closure"], tol=res["tolerance"],
-                   simulation=Simulation.load(directory), settled=res["settled"])
+        res, simulation = read_record(directory)["result"], Simulation.load(directory)
+        label = _loaded_record(cls, res, simulation.__dict__, period=-1 if res["period"] is None else res["period"])
+        return cls(record=label, tol=res["tolerance"], simulation=simulation)
 
 
 _PER_SURFACE = "ndarray, float64, shape (surfaces,)"
@@ -583,7 +604,7 @@ class Grazing(_Context):
 # ---------------------------------------------------------------- many-job analyses
 
 @dataclass(repr=False)
-class _Records(_Context):
+class _Records(_Context, _ByName):
     """A result of many runs: ``records`` holds every field of the library's record of each run
     by name (``read_tables``' form, text as str arrays, a grid's cells shaped), and each field
     is an attribute of the same name unless the class says otherwise."""
@@ -591,15 +612,6 @@ class _Records(_Context):
     jobs: Optional[JobReport] = _a("JobReport")
     records: dict = _a("dict", "Every field of the library's record of each run by name (below), a field added "
                        "to it included.", dict)
-
-    def __getattr__(self, name):
-        records = self.__dict__.get("records") or {}
-        if name.startswith("__") or name not in records:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        return records[name]
-
-    def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self.__dict__.get("records") or ()))
 
     @property
     def steps(self):
@@ -793,31 +805,13 @@ class Response(_Records):
 
 @_documented("floquet", section_points="section", protocol_stats=None, tangent_stats=None, map_evaluations=None)
 @dataclass(repr=False)
-class Floquet(_Context):
+class Floquet(_Run):
     """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
     ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting). Without
     a period (``status`` aperiodic, or a failed run) there are no multipliers and the period
     is NaN."""
-    status: str = "ok"
-    label: str = ""
-    section_returns: int = 0
-    period: float = np.nan
-    impacts_per_period: int = 0
-    impacts_by_surface: dict = field(default_factory=dict)
-    initial_closure: float = np.nan
-    closure: float = np.nan
-    newton_iterations: int = 0
-    orbit_point: np.ndarray = None
     monodromy: np.ndarray = _a("ndarray, float64, shape (dim, dim)")
-    multipliers: np.ndarray = None
-    trivial_error: float = np.nan
-    trivial_residual: float = np.nan
-    max_nontrivial_modulus: float = np.nan
     stable: Optional[bool] = _a("bool or None", "Every nontrivial |mu| < 1 (None without multipliers).")
-    det_monodromy: float = np.nan
-    liouville_det: float = np.nan
-    divergence_integral: float = np.nan
-    log_det_jumps: float = np.nan
     impact_map: str = _a("str", "The mapping of deviations at impacts.", "saltation")
     orbit_t: np.ndarray = _a("ndarray, float64, shape (m,)", "Times of the refined orbit over one period, sampled "
                              "every ``sample_dt`` (empty when 0).")
@@ -826,14 +820,12 @@ class Floquet(_Context):
     impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "Their surfaces (indices into ``surfaces``).")
     impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States before them.")
     impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States after them.")
-    section_t: np.ndarray = _a("ndarray, float64, shape (n,)", "The times of the protocol's section points.")
-    section: np.ndarray = None
     stats: dict = _a("dict", "``protocol`` and ``tangent`` RunStats, ``map_evaluations``.", dict)
     si: dict = _a("dict or None", "Loaded from a run with ``--si``: its run.json's ``si`` (the scales in "
                   "``values``, the SI columns of ``orbit.csv`` in ``columns``) and ``period_si`` [s].")
 
     def __repr__(self):
-        if self.multipliers is None or not len(self.multipliers):
+        if not len(self.multipliers):
             return f"Floquet(label={self.label!r}, status={self.status!r}: no multipliers)"
         mus = ", ".join(f"{m.real:.6g}{m.imag:+.3g}j" if m.imag else f"{m.real:.6g}" for m in self.multipliers)
         return (f"Floquet(label={self.label!r}, status={self.status!r}, T={self.period:.6g}, multipliers [{mus}], "
@@ -845,38 +837,22 @@ class Floquet(_Context):
         ctx, res = _loaded(directory)
         orbit_t, orbit = _timed(directory, "orbit.csv", ctx)
         mus = np.array(res["multipliers"], dtype=float).reshape(-1, 2) @ np.array([1, 1j])
-        return _made(cls, dict(res, **ctx, **_impacts(directory, ctx), status=res["outcome"], multipliers=mus,
-                               orbit_t=orbit_t, orbit=orbit, stats={}, si=_si(res, "period_si")))
+        return _made(cls, dict(res, **ctx, **_impacts(directory, ctx), orbit_t=orbit_t, orbit=orbit, stats={},
+                               si=_si(res, "period_si"),
+                               record=_loaded_record(cls, res, status=res["outcome"], multipliers=mus)))
 
 
 @_documented("lyapunov", section_points="section", transient_stats=None, stats=None)
 @dataclass(repr=False)
-class Lyapunov(_Context):
+class Lyapunov(_Run):
     """The Lyapunov spectrum (``vimpact.lyapunov``, the command ``lyapunov``; the paper's
     Algorithm 2)."""
-    status: str = "ok"
     tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-    impacting: Optional[bool] = None
-    exponents: np.ndarray = None
-    lle_standard_error: float = np.nan
     positive: bool = _a("bool", "The library's verdict: the largest exponent lies more than 3 standard errors "
                         "above 0.", False)
-    settled: bool = True
-    t_start: float = 0.0
-    time: float = np.nan
-    impacts: int = 0
-    impacts_by_surface: dict = field(default_factory=dict)
-    intervals: int = 0
-    divergence_average: float = np.nan
-    jump_log_det_rate: float = np.nan
-    sum_rule: float = np.nan
-    misses: int = 0
     history_t: np.ndarray = _a("ndarray, float64, shape (h,)", "The end of every counted interval.")
     history_growth: np.ndarray = _a("ndarray, float64, shape (h, dim)", "ln(R_ii / r0) of every counted interval "
                                     "(QR order); ``running_exponents`` gives the running averages.")
-    section_t: np.ndarray = _a("ndarray, float64, shape (n,)", "The times of the section points of the "
-                               "averaging window (``record > 0``).")
-    section: np.ndarray = None
     stats: dict = _a("dict", "``transient`` and ``tangent`` RunStats.", dict)
     si: dict = None
 
@@ -905,8 +881,9 @@ class Lyapunov(_Context):
         # Back from running averages to per-interval growth, so running_exponents round-trips.
         total = running * (conv["t"] - res["t_start"])[:, None]
         growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
-        return _made(cls, dict(res, **ctx, status=res["outcome"], positive=res["positive"], history_t=conv["t"],
-                               history_growth=growth, stats={}, si=_si(res, "exponents_si")))
+        return _made(cls, dict(res, **ctx, positive=res["positive"], history_t=conv["t"], history_growth=growth,
+                               stats={}, si=_si(res, "exponents_si"),
+                               record=_loaded_record(cls, res, status=res["outcome"])))
 
 
 @dataclass(repr=False)
@@ -922,15 +899,20 @@ class _ValueSweep(_Records, _PointRuns):
     def of(cls, records, ctx, **run):
         sweep = super().of(records, ctx, **run)
         n, result = len(sweep.value), cls._result
-        cols = {k: v for k, v in sweep.records.items() if isinstance(v, np.ndarray) and len(v) == n}
+        cols = {k: v for k, v in sweep.records.items()
+                if isinstance(v, np.ndarray) and len(v) == n and not k.startswith(cls._series)}
         cols.update(sweep._per_value())
-        names = [f.name for f in fields(result) if f.name in cols and f.name != "impacts_by_surface"]
+        own = {f.name for f in fields(result)}
 
         def cell(v):  # a spectrum without its NaN, a numpy scalar as Python's
             return v[~np.isnan(v)] if np.iscomplexobj(v) else v.item() if isinstance(v, np.generic) else v
-        sweep.results = [result(**{k: cell(cols[k][i]) for k in names}, section=sweep.points[sweep.point_run == i],
-                                impacts_by_surface=dict(zip(ctx["surfaces"], sweep.impacts_by_surface[i].tolist())),
-                                **ctx) for i in range(n)]
+
+        def record(i):
+            by = dict(zip(ctx["surfaces"], sweep.impacts_by_surface[i].tolist()))
+            return dict({k: cell(v[i]) for k, v in cols.items() if k not in own},
+                        section_points=sweep.points[sweep.point_run == i], impacts_by_surface=by)
+        sweep.results = [result(**{k: cell(v[i]) for k, v in cols.items() if k in own}, record=record(i), **ctx)
+                         for i in range(n)]
         return sweep
 
     @staticmethod
