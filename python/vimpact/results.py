@@ -217,14 +217,6 @@ def _states(columns, names, n=None):
     return np.column_stack([columns[k] for k in names])
 
 
-def _timed(directory, name, ctx):
-    """(t, states (n, dim)) of DIR/NAME (sections.csv, timeseries.csv, orbit.csv); empty where
-    the run wrote no such file."""
-    path = os.path.join(directory, name)
-    c = read_csv(path) if os.path.exists(path) else {"t": np.empty(0)}
-    return c["t"], _states(c, ctx["state_names"], len(c["t"]))
-
-
 def _impacts(directory, ctx):
     """DIR/impacts.csv as the bindings give a run's impacts: their times, surfaces (indices),
     states before and after (a variable an impact changes has columns NAME_before and
@@ -455,14 +447,34 @@ class _PointRuns:
         return self.value[self.point_run]
 
 
+class _Loads:
+    """A single run's ``load(DIR)``: run.json's result and the model's context by name, the
+    impacts (impacts.csv), the timed states of each file of ``_timed_files`` (attributes NAME
+    and NAME_t), run.json's ``si`` with its key ``_si_key`` (``--si``), and what ``_read`` adds."""
+    _timed_files, _si_key = {}, None
+
+    @_reader
+    def load(cls, directory):
+        """The result of ``vimpact COMMAND --out DIR``."""
+        ctx, res = _loaded(directory)
+        values = dict(res, **ctx, **_impacts(directory, ctx), si=_si(res, cls._si_key))
+        for name, file in cls._timed_files.items():  # none where the run wrote no such file
+            path = os.path.join(directory, file)
+            c = read_csv(path) if os.path.exists(path) else {"t": np.empty(0)}
+            values[name + "_t"], values[name] = c["t"], _states(c, ctx["state_names"], len(c["t"]))
+        return _made(cls, dict(values, **cls._read(res, directory)))
+
+
 # ---------------------------------------------------------------- single runs
 
 @_documented([dict(name="statistics", type="group", span="one", unit="", tabular=True,
                    meaning="the impact statistics of the recorded window (docs/model.md; NaN where undefined, "
                            "a per-surface one a list)", fields=(_DESCRIBED or {}).get("impact_statistics", []))])
 @dataclass(repr=False)
-class Simulation(_Context):
-    """A run of the protocol (``vimpact.simulate``, the command ``simulate``)."""
+class Simulation(_Context, _Loads):
+    """A run of the protocol (``vimpact.simulate``, the command ``simulate``; ``load`` reads
+    the points of ``period --out DIR`` too)."""
+    _timed_files, _si_key = {"section": "sections.csv", "series": "timeseries.csv"}, "impact_statistics_si"
     outcome: str = _a("str", "``ok`` or how the run ended early (``time_limit``, ``step_limit``, ``non_finite``, "
                       "``chattering``, ...).", "ok")
     impacting: Optional[bool] = _a("bool", "False when no impact happened for ``quiet_time``: the recorded points "
@@ -499,21 +511,15 @@ class Simulation(_Context):
                 f"{len(self.impact_t)} impacts recorded, {len(self.series_t)} samples, "
                 f"{self.stats.impacts} impacts in all, {self.stats.steps} steps)")
 
-    @_reader
-    def load(cls, directory):
-        """The run of ``vimpact simulate --out DIR`` (or the points of ``period --out DIR``)."""
-        ctx, res = _loaded(directory)
-        (section_t, section), (series_t, series) = (_timed(directory, f, ctx) for f in ("sections.csv",
-                                                                                        "timeseries.csv"))
+    @classmethod
+    def _read(cls, res, directory):
         statistics = {k: [_num(x) for x in v.values()] if isinstance(v, dict) else int(v)
                       if k == "impacts_recorded" else _num(v) for k, v in res.get("impact_statistics", {}).items()}
-        return _made(cls, dict(res, **ctx, **_impacts(directory, ctx), section_t=section_t, section=section,
-                               series_t=series_t, series=series, statistics=statistics,
-                               stats=RunStats.from_dict(res.get("stats")), si=_si(res, "impact_statistics_si")))
+        return dict(statistics=statistics, stats=RunStats.from_dict(res.get("stats")))
 
 
 @dataclass(repr=False)
-class _Run(_Context, _ByName):
+class _Run(_Context, _ByName, _Loads):
     """A single run of an analysis whose record the library describes: the record's fields
     by name in ``record``, each an attribute (below)."""
     _store = "record"
@@ -810,6 +816,7 @@ class Floquet(_Run):
     ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting). Without
     a period (``status`` aperiodic, or a failed run) there are no multipliers and the period
     is NaN."""
+    _timed_files, _si_key = {"orbit": "orbit.csv"}, "period_si"
     monodromy: np.ndarray = _a("ndarray, float64, shape (dim, dim)")
     stable: Optional[bool] = _a("bool or None", "Every nontrivial |mu| < 1 (None without multipliers).")
     impact_map: str = _a("str", "The mapping of deviations at impacts.", "saltation")
@@ -831,22 +838,19 @@ class Floquet(_Run):
         return (f"Floquet(label={self.label!r}, status={self.status!r}, T={self.period:.6g}, multipliers [{mus}], "
                 f"{'stable' if self.stable else 'unstable'})")
 
-    @_reader
-    def load(cls, directory):
-        """The result of ``vimpact floquet --out DIR`` (multipliers, orbit and impacts)."""
-        ctx, res = _loaded(directory)
-        orbit_t, orbit = _timed(directory, "orbit.csv", ctx)
+    @classmethod
+    def _read(cls, res, directory):
         mus = np.array(res["multipliers"], dtype=float).reshape(-1, 2) @ np.array([1, 1j])
-        return _made(cls, dict(res, **ctx, **_impacts(directory, ctx), orbit_t=orbit_t, orbit=orbit, stats={},
-                               si=_si(res, "period_si"),
-                               record=_loaded_record(cls, res, status=res["outcome"], multipliers=mus)))
+        return dict(stats={}, record=_loaded_record(cls, res, status=res["outcome"], multipliers=mus))
 
 
 @_documented("lyapunov", section_points="section", transient_stats=None, stats=None)
 @dataclass(repr=False)
 class Lyapunov(_Run):
     """The Lyapunov spectrum (``vimpact.lyapunov``, the command ``lyapunov``; the paper's
-    Algorithm 2)."""
+    Algorithm 2). Loaded from a directory, its interval history is the one its running estimates
+    (convergence.csv) give."""
+    _si_key = "exponents_si"
     tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
     positive: bool = _a("bool", "The library's verdict: the largest exponent lies more than 3 standard errors "
                         "above 0.", False)
@@ -871,19 +875,15 @@ class Lyapunov(_Run):
         return (f"Lyapunov(status={self.status!r}, exponents {np.array2string(self.exponents, precision=6)}, "
                 f"largest +- {self.lle_standard_error:.2g}, {self.impacts} impacts, tdm {self.tdm})")
 
-    @_reader
-    def load(cls, directory):
-        """The result of ``vimpact lyapunov --out DIR`` (its running estimates, not the
-        per-interval growth)."""
-        ctx, res = _loaded(directory)
+    @classmethod
+    def _read(cls, res, directory):
         conv = read_csv(os.path.join(directory, "convergence.csv"))
         running = _states(conv, [f"lambda{i + 1}" for i in range(len(res["exponents"]))], len(conv["t"]))
         # Back from running averages to per-interval growth, so running_exponents round-trips.
         total = running * (conv["t"] - res["t_start"])[:, None]
         growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
-        return _made(cls, dict(res, **ctx, positive=res["positive"], history_t=conv["t"], history_growth=growth,
-                               stats={}, si=_si(res, "exponents_si"),
-                               record=_loaded_record(cls, res, status=res["outcome"])))
+        return dict(positive=res["positive"], history_t=conv["t"], history_growth=growth, stats={},
+                    record=_loaded_record(cls, res, status=res["outcome"]))
 
 
 @dataclass(repr=False)
