@@ -1,6 +1,6 @@
 // Single runs: the protocol (simulate), its period label (period) and the grazing analysis.
-// Each returns a dict of numpy arrays and numbers; vimpact/_api.py turns it into a result
-// object and documents it.
+// Each returns a dict of numpy arrays and numbers, keyed by the attributes of its result object
+// in vimpact/results.py (which documents them).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -31,8 +31,8 @@ py::dict simulation_dict(const model& m, const simulation& r)
     d["stats"] = record_dict(r.stats, m);
     d["t_record_end"] = r.t_record_end;
     d["statistics"] = statistics_dict(r.statistics);
-    d["impact_normal_velocity"] = column<double>(velocities, [](const auto& v) { return v.normal; });
-    d["impact_rebound_velocity"] = column<double>(velocities, [](const auto& v) { return v.rebound; });
+    d["impact_velocity"] = column<double>(velocities, [](const auto& v) { return v.normal; });
+    d["impact_rebound"] = column<double>(velocities, [](const auto& v) { return v.rebound; });
     d["impact_energy"] = column<double>(velocities, [](const auto& v) { return v.energy; });
     return d;
 }

@@ -23,7 +23,7 @@ from ._vimpact import InputError
 from ._units import PhysicalUnits
 from .results_continuation import Continuation
 from .results import (Attractor, Basins, Clearance, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
-                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, model_quantities)
+                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, _str_array, model_quantities)
 
 _D = _vimpact.defaults
 
@@ -175,20 +175,8 @@ def _result_options(ic, o, *arrays):
     return _options(ic, **{k: v for k, v in o.items() if k != "ic" and k not in arrays})
 
 
-def _strings(items, shape=None):
-    a = np.array(list(items), dtype=str) if len(items) else np.array([], dtype="<U1")
-    return a.reshape(shape) if shape is not None else a
-
-
 def _simulation(d, model, options):
-    return Simulation(outcome=d["outcome"], impacting=d["impacting"], transient_impacts=d["transient_impacts"],
-                      t_record_start=d["t_record_start"], final_state=d["final_state"], section_t=d["section_t"],
-                      section=d["section"], impact_t=d["impact_t"], impact_surface=d["impact_surface"],
-                      impact_pre=d["impact_pre"], impact_post=d["impact_post"], series_t=d["series_t"],
-                      series=d["series"], stats=RunStats.from_dict(d["stats"]),
-                      t_record_end=d["t_record_end"], statistics=dict(d["statistics"]),
-                      impact_velocity=d["impact_normal_velocity"], impact_rebound=d["impact_rebound_velocity"],
-                      impact_energy=d["impact_energy"], **_context(model, options))
+    return Simulation(**dict(d, stats=RunStats.from_dict(d["stats"])), **_context(model, options))
 
 
 def _options(ic, **kw):
@@ -692,9 +680,9 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
                      surface=d["surface"], value=d["value"], speed=speed, grazing_value=d["grazing_value"],
                      clearance=d["clearance"], converged=d["converged"],
                      aperiodic=np.column_stack([d["aperiodic_min"], d["aperiodic_max"]]),
-                     gap=chart(point, d["cell_gap"], n), label=chart(point, _strings(d["label"]), n),
+                     gap=chart(point, d["cell_gap"], n), label=chart(point, _str_array(d["label"]), n),
                      period=chart(point, d["period"], n), impacts=chart(point, d["impacts"], n),
-                     outcome=chart(point, _strings(d["outcome"]), n), statistics=stats, **si,
+                     outcome=chart(point, _str_array(d["outcome"]), n), statistics=stats, **si,
                      stats=_job_stats(d, report), jobs=report, **_context(model, opts))
 
 
