@@ -328,11 +328,8 @@ def grazing(model, ic=None, *, param=None, variable=None, rtol=_D["grazing_rtol"
     model = _model(model)
     o = dict(declared, param=param, variable=variable, rtol=rtol, atol=atol, method=method)
     d = _vimpact._grazing(model._handle, _ic(ic), o)
-    return Grazing(param=tuple(d["param"]), value=np.array(d["value"], dtype=float), margin=d["margin"], converged=d["converged"],
-                   surface_converged=d["surface_converged"], change=d["change"], t=d["t"], x=d["x"],
-                   minima=d["minima"], variable=variable, response_max=d["response_max"],
-                   response_min=d["response_min"], response_omega=d["response_omega"], outcome=d["outcome"],
-                   stats=RunStats.from_dict(d["stats"]), **_context(model, _options(ic, **o)))
+    return Grazing(**dict(d, param=tuple(d["param"]), stats=RunStats.from_dict(d["stats"])), variable=variable,
+                   **_context(model, _options(ic, **o)))
 
 
 # ---------------------------------------------------------------- many-job analyses
