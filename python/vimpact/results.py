@@ -465,15 +465,24 @@ class _Loads:
         return _made(cls, dict(values, **cls._read(res, directory)))
 
 
+@dataclass(repr=False)
+class _Impacts:
+    """The impacts of a run (impacts.csv)."""
+    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", "Times of the impacts.")
+    impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "The surface hit (an index into ``surfaces``).")
+    impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just before each impact.")
+    impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just after each impact.")
+
+
 # ---------------------------------------------------------------- single runs
 
 @_documented([dict(name="statistics", type="group", span="one", unit="", tabular=True,
                    meaning="the impact statistics of the recorded window (docs/model.md; NaN where undefined, "
                            "a per-surface one a list)", fields=(_DESCRIBED or {}).get("impact_statistics", []))])
 @dataclass(repr=False)
-class Simulation(_Context, _Loads):
+class Simulation(_Context, _Impacts, _Loads):
     """A run of the protocol (``vimpact.simulate``, the command ``simulate``; ``load`` reads
-    the points of ``period --out DIR`` too)."""
+    the points of ``period --out DIR`` too): its impacts are those of the recorded window."""
     _timed_files, _si_key = {"section": "sections.csv", "series": "timeseries.csv"}, "impact_statistics_si"
     outcome: str = _a("str", "``ok`` or how the run ended early (``time_limit``, ``step_limit``, ``non_finite``, "
                       "``chattering``, ...).", "ok")
@@ -485,10 +494,6 @@ class Simulation(_Context, _Loads):
     section_t: np.ndarray = _a("ndarray, float64, shape (n,)")
     section: np.ndarray = _a("ndarray, float64, shape (n, dim)", "The recorded section points (states, "
                              "columns as ``state_names``).")
-    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", "Times of the impacts of the recorded window.")
-    impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "The surface hit (an index into ``surfaces``).")
-    impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just before each impact.")
-    impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just after each impact.")
     series_t: np.ndarray = _a("ndarray, float64, shape (m,)")
     series: np.ndarray = _a("ndarray, float64, shape (m, dim)", "The recorded window sampled every ``sample_dt`` "
                             "(empty when ``sample_dt = 0``).")
@@ -811,11 +816,11 @@ class Response(_Records):
 
 @_documented("floquet", section_points="section", protocol_stats=None, tangent_stats=None, map_evaluations=None)
 @dataclass(repr=False)
-class Floquet(_Run):
+class Floquet(_Run, _Impacts):
     """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
     ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting). Without
     a period (``status`` aperiodic, or a failed run) there are no multipliers and the period
-    is NaN."""
+    is NaN. Its impacts are those of the refined orbit over one period."""
     _timed_files, _si_key = {"orbit": "orbit.csv"}, "period_si"
     monodromy: np.ndarray = _a("ndarray, float64, shape (dim, dim)")
     stable: Optional[bool] = _a("bool or None", "Every nontrivial |mu| < 1 (None without multipliers).")
@@ -823,10 +828,6 @@ class Floquet(_Run):
     orbit_t: np.ndarray = _a("ndarray, float64, shape (m,)", "Times of the refined orbit over one period, sampled "
                              "every ``sample_dt`` (empty when 0).")
     orbit: np.ndarray = _a("ndarray, float64, shape (m, dim)", "Its states.")
-    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", "Times of its impacts.")
-    impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "Their surfaces (indices into ``surfaces``).")
-    impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States before them.")
-    impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States after them.")
     stats: dict = _a("dict", "``protocol`` and ``tangent`` RunStats, ``map_evaluations``.", dict)
     si: dict = _a("dict or None", "Loaded from a run with ``--si``: its run.json's ``si`` (the scales in "
                   "``values``, the SI columns of ``orbit.csv`` in ``columns``) and ``period_si`` [s].")
