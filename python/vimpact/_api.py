@@ -23,7 +23,7 @@ from ._vimpact import InputError
 from ._units import PhysicalUnits
 from .results_continuation import Continuation
 from .results import (Attractor, Basins, Clearance, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
-                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, _str_array, model_quantities)
+                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, model_quantities)
 
 _D = _vimpact.defaults
 
@@ -657,30 +657,16 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
     d, report = _run_jobs(lambda: _vimpact._clearance(model._handle, o), o)
     if d is None:
         return report
-    n = len(d["value"])
-    point = d["cell_point"]
-    chart = Clearance.chart
-    stats = {k: chart(point, v, n) for k, v in d["statistics"].items()}
-    si = dict(clearance_si=None, aperiodic_si=None, gap_si=None, statistics_si=None, warnings=())
+    warnings = []
     if units is not None:
-        s = d["si"]
-        warnings = []
         for v in d["value"]:
             warnings += [w for w in units.warnings(model.with_(**{param: v})) if w not in warnings]
-        si = dict(clearance_si=s["clearance"], aperiodic_si=np.column_stack([s["aperiodic_min"], s["aperiodic_max"]]),
-                  gap_si=chart(point, s["cell_gap"], n),
-                  statistics_si={k: chart(point, v, n) for k, v in s["statistics"].items()}, warnings=tuple(warnings))
     opts = _result_options(ic, o, "values", "gaps", "fractions", "units")
     if units is not None:
         opts["units"] = units.inputs
-    return Clearance(param=param, x="U" if speed is not None else param, gap_param=d["gap_param"],
-                     surface=d["surface"], value=d["value"], speed=speed, grazing_value=d["grazing_value"],
-                     clearance=d["clearance"], converged=d["converged"],
-                     aperiodic=np.column_stack([d["aperiodic_min"], d["aperiodic_max"]]),
-                     gap=chart(point, d["cell_gap"], n), label=chart(point, _str_array(d["label"]), n),
-                     period=chart(point, d["period"], n), impacts=chart(point, d["impacts"], n),
-                     outcome=chart(point, _str_array(d["outcome"]), n), statistics=stats, **si,
-                     stats=_job_stats(d, report), jobs=report, **_context(model, opts))
+    return Clearance.of(d, d.get("si"), param=param, x="U" if speed is not None else param, gap_param=d["gap_param"],
+                        surface=d["surface"], speed=speed, warnings=tuple(warnings), stats=_job_stats(d, report),
+                        jobs=report, **_context(model, opts))
 
 
 def cylinder_units(D, m=None, fn=None, zeta=None, rho=None, U=None, CM=1.0, St=0.2, *, mstar=None, k=None,

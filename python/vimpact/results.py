@@ -1106,33 +1106,40 @@ class Clearance(_Context, _Labels):
             col[p] += 1
         return out.astype(str) if values.dtype.kind in "US" else out
 
+    @classmethod
+    def of(cls, d, si=None, **run):
+        """From the bindings' columns (``load`` reads the same from the files): per value of
+        the parameter and per chart cell (``cell_point``: its value's index, cells value
+        after value); ``si`` the same in SI units (the attributes ``*_si``) or None."""
+        chart = functools.partial(cls.chart, d["cell_point"], n=len(d["value"]))
+
+        def quantities(c):  # what has an SI form
+            return dict(clearance=c["clearance"], aperiodic=np.column_stack([c["aperiodic_min"], c["aperiodic_max"]]),
+                        gap=chart(c["cell_gap"]), statistics={k: chart(v) for k, v in c["statistics"].items()})
+        return cls(value=d["value"], grazing_value=d["grazing_value"], converged=d["converged"],
+                   label=chart(_str_array(d["label"])), period=chart(d["period"]), impacts=chart(d["impacts"]),
+                   outcome=chart(_str_array(d["outcome"])), **quantities(d),
+                   **({k + "_si": v for k, v in quantities(si).items()} if si is not None else {}), **run)
+
     @_reader
     def load(cls, directory):
         """The result of ``vimpact clearance --out DIR``."""
         ctx, res = _loaded(directory)
-        param, gname, si = res["param"], res["gap_param"], res["units"] == "si"
+        param, gname, names = res["param"], res["gap_param"], res["statistics_columns"]
         cl, ch = (read_table(os.path.join(directory, f)) for f in ("clearance.csv", "chart.csv"))
         column = {k: np.array(v, dtype=float) for k, v in cl.items()}
-        value, n = column[param], len(column[param])
+
+        def cell(key):
+            return np.array(ch[key], dtype=float)
         # Cells are written value after value; their value index from the parameter column.
-        point = np.array([int(np.argmin(np.abs(value - v))) for v in np.array(ch[param], dtype=float)], dtype=np.int64)
-
-        def cells(key, kind=float):
-            values = _str_array(ch[key]) if kind is str else np.array(ch[key], dtype=float).astype(kind)
-            return cls.chart(point, values, n)
-
-        def si_only(f):
-            return f() if si else None
-        names = res["statistics_columns"]
-        return cls(param=param, x=res["x"], gap_param=gname, surface=res["surface"], value=value,
-                   speed=column["U"] if res["x"] == "U" else None, grazing_value=column[gname + "_graze"],
-                   clearance=column["clearance"], clearance_si=si_only(lambda: column["clearance_si"]),
-                   converged=column["converged"] > 0.5,
-                   aperiodic=np.column_stack([column["aperiodic_min"], column["aperiodic_max"]]),
-                   aperiodic_si=si_only(lambda: np.column_stack([column["aperiodic_min_si"],
-                                                                 column["aperiodic_max_si"]])),
-                   gap=cells("gap"), gap_si=si_only(lambda: cells("gap_si")), label=cells("label", str),
-                   period=cells("period", np.int64), impacts=cells("impacts", np.int64),
-                   outcome=cells("outcome", str), statistics={k: cells(k) for k in names},
-                   statistics_si=si_only(lambda: {k: cells(k + "_si") for k in names if k + "_si" in ch}),
-                   warnings=tuple(res["warnings"]), **ctx)
+        point = np.array([int(np.argmin(np.abs(column[param] - v))) for v in cell(param)], dtype=np.int64)
+        d = dict(value=column[param], grazing_value=column[gname + "_graze"], clearance=column["clearance"],
+                 converged=column["converged"] > 0.5, aperiodic_min=column["aperiodic_min"],
+                 aperiodic_max=column["aperiodic_max"], cell_point=point, cell_gap=cell("gap"), label=ch["label"],
+                 period=cell("period").astype(np.int64), impacts=cell("impacts").astype(np.int64),
+                 outcome=ch["outcome"], statistics={k: cell(k) for k in names})
+        si = dict(clearance=column["clearance_si"], aperiodic_min=column["aperiodic_min_si"],
+                  aperiodic_max=column["aperiodic_max_si"], cell_gap=cell("gap_si"),
+                  statistics={k: cell(k + "_si") for k in names if k + "_si" in ch}) if res["units"] == "si" else None
+        return cls.of(d, si, param=param, x=res["x"], gap_param=gname, surface=res["surface"],
+                      speed=column["U"] if res["x"] == "U" else None, warnings=tuple(res["warnings"]), **ctx)
