@@ -33,7 +33,6 @@
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/core/names.hpp"
 #include "vimpact/core/state_series.hpp"
-#include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/jobs/job_options.hpp"
 #include "vimpact/model/model.hpp"
 
@@ -205,23 +204,6 @@ inline void put_impacts(py::dict& d, const std::string& prefix, const impact_ser
     d[py::str(prefix + "_pre")] = rows_array(s.pre.values().data(), static_cast<py::ssize_t>(s.size()), s.pre.dim());
     d[py::str(prefix + "_post")] =
         rows_array(s.post.values().data(), static_cast<py::ssize_t>(s.size()), s.post.dim());
-}
-
-inline py::dict stats_dict(const run_stats& s)
-{
-    py::dict d;
-    d["steps"] = s.steps;
-    d["rejected"] = s.rejected;
-    d["rhs_calls"] = s.rhs_calls;
-    d["impacts"] = s.impacts;
-    d["impacts_by_surface"] = py::cast(s.impacts_by_surface);
-    d["sections"] = s.sections;
-    d["sticking_phases"] = s.sticking_phases;
-    d["sticking_time"] = s.sticking_time;
-    d["h_min"] = s.h_min;
-    d["h_max"] = s.h_max;
-    d["t_final"] = s.t_final;
-    return d;
 }
 
 // The impact statistics of one run by the library's names, excursion_by_surface a list.

@@ -5,7 +5,8 @@
 // record after the other (points, dim) with NAME_run, the record of each point, a spectrum an
 // array (records, dim) of complex128 (NaN where a record has fewer values); a group is a dict
 // of its own fields. vimpact/results.py reads the same columns from an output directory
-// (read_tables), so a result is built the same way from either.
+// (read_tables), so a result is built the same way from either. record_dict gives one record
+// (a single run's) as Python values by the same description.
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -23,6 +24,7 @@
 #include "vimpact/core/outcome.hpp"
 #include "vimpact/core/record.hpp"
 #include "vimpact/core/state_series.hpp"
+#include "vimpact/model/model.hpp"
 
 namespace vimpact::python {
 
@@ -199,6 +201,68 @@ py::dict record_arrays(const std::vector<R>& records, int surfaces, int dim)
             d[py::str(c.name + "_run")] = runs;
         }
     }
+    return d;
+}
+
+namespace detail {
+
+// One record's fields as Python values: a number, bool or str as itself, a per-surface field a
+// dict by surface name (a missing entry 0 or NaN, as in record_arrays), a state vector an
+// array (dim,) NaN-padded, a spectrum its complex values, a series its points (n, dim) and
+// NAME_t their times, a group a dict.
+struct value_collector {
+    py::dict& d;
+    const model& m;
+
+    template <class T>
+    void operator()(const field& f, const T& v)
+    {
+        const py::str name{std::string(f.name)};
+        if constexpr (std::is_same_v<T, outcome>) {
+            d[name] = std::string(to_string(v));
+        } else if constexpr (std::is_same_v<T, std::vector<double>> || std::is_same_v<T, std::vector<long>>) {
+            typename T::value_type missing{};
+            if constexpr (std::is_floating_point_v<typename T::value_type>) missing = std::numeric_limits<double>::quiet_NaN();
+            py::dict by;
+            const auto& surfaces = m.info().surfaces;
+            for (std::size_t s = 0; s < surfaces.size(); ++s) by[py::str(surfaces[s].name)] = s < v.size() ? v[s] : missing;
+            d[name] = by;
+        } else if constexpr (std::is_same_v<T, std::vector<std::complex<double>>>) {
+            d[name] = py::array_t<std::complex<double>>(static_cast<py::ssize_t>(v.size()), v.data());
+        } else if constexpr (std::is_same_v<T, Eigen::VectorXd>) {
+            py::array_t<double> a(m.dim());
+            for (int k = 0; k < m.dim(); ++k) a.mutable_at(k) = k < v.size() ? v[k] : std::numeric_limits<double>::quiet_NaN();
+            d[name] = a;
+        } else if constexpr (std::is_same_v<T, state_series>) {
+            py::array_t<double> points({static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(m.dim())});
+            if (v.size()) std::memcpy(points.mutable_data(), v.values().data(), v.values().size() * sizeof(double));
+            d[name] = points;
+            d[py::str(std::string(f.name) + "_t")] = py::array_t<double>(static_cast<py::ssize_t>(v.size()),
+                                                                          v.times().data());
+        } else {
+            d[name] = v;
+        }
+    }
+
+    template <class R>
+    void group(const field& f, const R& r)
+    {
+        py::dict sub;
+        value_collector c{sub, m};
+        describe(c, r);
+        d[py::str(std::string(f.name))] = sub;
+    }
+};
+
+}  // namespace detail
+
+// One record of a run of model m by its description (detail::value_collector).
+template <class R>
+py::dict record_dict(const R& r, const model& m)
+{
+    py::dict d;
+    detail::value_collector c{d, m};
+    describe(c, r);
     return d;
 }
 

@@ -1,6 +1,6 @@
 // Single runs: the protocol (simulate), its period label (period) and the grazing analysis.
-// Each returns a dict of numpy arrays and numbers; vimpact/_api.py turns it into a result
-// object and documents it.
+// Each returns a dict of numpy arrays and numbers, keyed by the attributes of its result object
+// in vimpact/results.py (which documents them).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -9,6 +9,7 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
+#include "records.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/period.hpp"
 
@@ -27,24 +28,12 @@ py::dict simulation_dict(const model& m, const simulation& r)
     put_series(d, "section", r.points);
     put_impacts(d, "impact", r.impacts);
     put_series(d, "series", r.series);
-    d["stats"] = stats_dict(r.stats);
+    d["stats"] = record_dict(r.stats, m);
     d["t_record_end"] = r.t_record_end;
     d["statistics"] = statistics_dict(r.statistics);
-    d["impact_normal_velocity"] = column<double>(velocities, [](const auto& v) { return v.normal; });
-    d["impact_rebound_velocity"] = column<double>(velocities, [](const auto& v) { return v.rebound; });
+    d["impact_velocity"] = column<double>(velocities, [](const auto& v) { return v.normal; });
+    d["impact_rebound"] = column<double>(velocities, [](const auto& v) { return v.rebound; });
     d["impact_energy"] = column<double>(velocities, [](const auto& v) { return v.energy; });
-    return d;
-}
-
-py::dict label_dict(const period_label& l)
-{
-    py::dict d;
-    d["label"] = l.label;
-    d["period"] = l.period;
-    d["impacts"] = l.impacts_per_period;
-    d["impacts_by_surface"] = py::cast(l.impacts_by_surface);
-    d["closure"] = l.closure;
-    d["settled"] = l.settled;
     return d;
 }
 
@@ -74,7 +63,8 @@ py::dict period(const model& m, const py::object& ic, const py::dict& kw)
         c.flow.cancel = &cancel;
         return run_and_classify(m, x0, c, tol);
     });
-    py::dict d = label_dict(r.label);
+    py::dict d;
+    d["record"] = record_dict(r.label, m);
     d["simulation"] = simulation_dict(m, r.run);
     return d;
 }
@@ -124,7 +114,7 @@ py::dict grazing_run(const model& m, const py::object& ic, const py::dict& kw)
     d["response_max"] = g.response_max;
     d["response_min"] = g.response_min;
     d["response_omega"] = g.response_omega;
-    d["stats"] = stats_dict(g.stats);
+    d["stats"] = record_dict(g.stats, m);
     return d;
 }
 

@@ -65,71 +65,39 @@ lyapunov_options lyapunov_of(const model& m, options& o)
     return lo;
 }
 
-py::dict floquet_dict(const model& m, const floquet_result& r)
+// The result's record by its description (record_dict), NaN where a run without multipliers
+// (or without a period) has no value, and what the record leaves out: the monodromy, the
+// verdict, the impacts and the orbit over one period.
+py::dict floquet_dict(const model& m, floquet_result r)
 {
     const bool have = r.has_multipliers();
+    if (!have) {
+        r.period = r.trivial_error = r.trivial_residual = r.max_nontrivial_modulus = nan;
+        r.det_monodromy = r.liouville_det = r.divergence_integral = r.log_det_jumps = nan;
+        r.impacts_per_period = 0;
+        r.orbit_point.resize(0);
+    }
+    if (r.section_returns <= 0) r.initial_closure = r.closure = nan;
     py::dict d;
-    d["status"] = std::string(to_string(r.status));
-    d["label"] = r.label;
-    d["section_returns"] = r.section_returns;
-    d["period"] = have ? r.period : nan;
-    d["impacts_per_period"] = have ? r.impacts_per_period : 0L;
-    d["impacts_by_surface"] = py::cast(r.impacts_by_surface);
-    d["initial_closure"] = r.section_returns > 0 ? r.initial_closure : nan;
-    d["closure"] = r.section_returns > 0 ? r.closure : nan;
-    d["newton_iterations"] = r.newton_iterations;
-    d["orbit_point"] = have && r.orbit_point.size() ? vector_array(r.orbit_point)
-                                                    : vector_array(Eigen::VectorXd::Constant(m.dim(), nan));
+    d["record"] = record_dict(r, m);
     d["monodromy"] = have && r.monodromy.size() ? matrix_array(r.monodromy)
                                                 : matrix_array(Eigen::MatrixXd::Constant(m.dim(), m.dim(), nan));
-    py::array_t<std::complex<double>> mults(static_cast<py::ssize_t>(r.multipliers.size()));
-    {
-        auto mv = mults.mutable_unchecked<1>();
-        for (std::size_t i = 0; i < r.multipliers.size(); ++i) mv(static_cast<py::ssize_t>(i)) = r.multipliers[i];
-    }
-    d["multipliers"] = mults;
-    d["trivial_error"] = have ? r.trivial_error : nan;
-    d["trivial_residual"] = have ? r.trivial_residual : nan;
-    d["max_nontrivial_modulus"] = have ? r.max_nontrivial_modulus : nan;
     d["stable"] = have ? py::object(py::bool_(r.stable())) : py::object(py::none());
-    d["det_monodromy"] = have ? r.det_monodromy : nan;
-    d["liouville_det"] = have ? r.liouville_det : nan;
-    d["divergence_integral"] = have ? r.divergence_integral : nan;
-    d["log_det_jumps"] = have ? r.log_det_jumps : nan;
     d["impact_map"] = std::string(to_string(r.jump));
     put_impacts(d, "impact", r.impacts);
     put_series(d, "orbit", r.orbit);
-    put_series(d, "section", r.section_points);
-    d["protocol_stats"] = stats_dict(r.protocol_stats);
-    d["tangent_stats"] = stats_dict(r.tangent_stats);
-    d["map_evaluations"] = r.map_evaluations;
     return d;
 }
 
+// The record (record_dict), the library's verdict on the exponents and the interval history.
 py::dict lyapunov_dict(const model& m, const lyapunov_result& r)
 {
     py::dict d;
-    d["status"] = std::string(to_string(r.status));
+    d["record"] = record_dict(r, m);
     d["tdm"] = std::string(to_string(r.tdm));
-    d["impacting"] = r.impacting;
-    d["exponents"] = r.exponents.size() ? vector_array(r.exponents) : vector_array(Eigen::VectorXd::Constant(m.dim(), nan));
-    d["lle_standard_error"] = r.lle_standard_error;
     d["positive"] = r.positive_largest_exponent();
-    d["settled"] = r.settled;
-    d["t_start"] = r.t_start;
-    d["time"] = r.time;
-    d["impacts"] = r.impacts;
-    d["impacts_by_surface"] = py::cast(r.impacts_by_surface);
-    d["intervals"] = r.intervals;
-    d["divergence_average"] = r.divergence_average;
-    d["jump_log_det_rate"] = r.jump_log_det_rate;
-    d["sum_rule"] = r.sum_rule;
-    d["misses"] = r.misses;
     d["history_t"] = vector_array(r.history_t);
     d["history_growth"] = rows_array(r.history, m.dim());
-    put_series(d, "section", r.section_points);
-    d["transient_stats"] = stats_dict(r.transient_stats);
-    d["stats"] = stats_dict(r.stats);
     return d;
 }
 

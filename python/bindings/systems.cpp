@@ -15,6 +15,7 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
+#include "records.hpp"
 #include "vimpact/system/hybrid_system.hpp"
 #include "vimpact/system/section_system.hpp"
 #include "vimpact/system/tangent_system.hpp"
@@ -103,7 +104,7 @@ void bind_common(py::class_<Held>& cls)
     cls.def_property_readonly("state", [](const Held& h) { return vector_array(h.sys->state()); })
         .def_property_readonly("time", [](const Held& h) { return h.sys->time(); })
         .def_property_readonly("status", [](const Held& h) { return status_of(h.sys->status()); })
-        .def_property_readonly("stats", [](const Held& h) { return stats_dict(h.sys->stats()); })
+        .def_property_readonly("stats", [](const Held& h) { return record_dict(h.sys->stats(), h.sys->system_model()); })
         .def_property_readonly("parameters", [](const Held& h) { return h.sys->parameters(); })
         .def("set_parameter", [](Held& h, int i, double v) { h.sys->set_parameter(i, v); });
 }

@@ -175,20 +175,8 @@ def _result_options(ic, o, *arrays):
     return _options(ic, **{k: v for k, v in o.items() if k != "ic" and k not in arrays})
 
 
-def _strings(items, shape=None):
-    a = np.array(list(items), dtype=str) if len(items) else np.array([], dtype="<U1")
-    return a.reshape(shape) if shape is not None else a
-
-
 def _simulation(d, model, options):
-    return Simulation(outcome=d["outcome"], impacting=d["impacting"], transient_impacts=d["transient_impacts"],
-                      t_record_start=d["t_record_start"], final_state=d["final_state"], section_t=d["section_t"],
-                      section=d["section"], impact_t=d["impact_t"], impact_surface=d["impact_surface"],
-                      impact_pre=d["impact_pre"], impact_post=d["impact_post"], series_t=d["series_t"],
-                      series=d["series"], stats=RunStats.from_dict(d["stats"], model.surfaces),
-                      t_record_end=d["t_record_end"], statistics=dict(d["statistics"]),
-                      impact_velocity=d["impact_normal_velocity"], impact_rebound=d["impact_rebound_velocity"],
-                      impact_energy=d["impact_energy"], **_context(model, options))
+    return Simulation(**dict(d, stats=RunStats.from_dict(d["stats"])), **_context(model, options))
 
 
 def _options(ic, **kw):
@@ -282,11 +270,7 @@ def period(model, ic=None, *, tol=_D["period_tol"], section=None, declared):
     model = _model(model)
     o = _protocol(model, section, declared, tol=tol)
     d = _vimpact._period(model._handle, _ic(ic), o)
-    opts = _options(ic, **o)
-    by = dict(zip(model.surfaces, d["impacts_by_surface"]))
-    return Period(label=d["label"], period=d["period"], impacts=d["impacts"], impacts_by_surface=by,
-                  closure=d["closure"], tol=tol, simulation=_simulation(d["simulation"], model, opts),
-                  settled=d["settled"])
+    return Period(record=d["record"], tol=tol, simulation=_simulation(d["simulation"], model, _options(ic, **o)))
 
 
 def _default_gap_parameter(model):
@@ -344,11 +328,8 @@ def grazing(model, ic=None, *, param=None, variable=None, rtol=_D["grazing_rtol"
     model = _model(model)
     o = dict(declared, param=param, variable=variable, rtol=rtol, atol=atol, method=method)
     d = _vimpact._grazing(model._handle, _ic(ic), o)
-    return Grazing(param=tuple(d["param"]), value=np.array(d["value"], dtype=float), margin=d["margin"], converged=d["converged"],
-                   surface_converged=d["surface_converged"], change=d["change"], t=d["t"], x=d["x"],
-                   minima=d["minima"], variable=variable, response_max=d["response_max"],
-                   response_min=d["response_min"], response_omega=d["response_omega"], outcome=d["outcome"],
-                   stats=RunStats.from_dict(d["stats"], model.surfaces), **_context(model, _options(ic, **o)))
+    return Grazing(**dict(d, param=tuple(d["param"]), stats=RunStats.from_dict(d["stats"])), variable=variable,
+                   **_context(model, _options(ic, **o)))
 
 
 # ---------------------------------------------------------------- many-job analyses
@@ -676,30 +657,16 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
     d, report = _run_jobs(lambda: _vimpact._clearance(model._handle, o), o)
     if d is None:
         return report
-    n = len(d["value"])
-    point = d["cell_point"]
-    chart = Clearance.chart
-    stats = {k: chart(point, v, n) for k, v in d["statistics"].items()}
-    si = dict(clearance_si=None, aperiodic_si=None, gap_si=None, statistics_si=None, warnings=())
+    warnings = []
     if units is not None:
-        s = d["si"]
-        warnings = []
         for v in d["value"]:
             warnings += [w for w in units.warnings(model.with_(**{param: v})) if w not in warnings]
-        si = dict(clearance_si=s["clearance"], aperiodic_si=np.column_stack([s["aperiodic_min"], s["aperiodic_max"]]),
-                  gap_si=chart(point, s["cell_gap"], n),
-                  statistics_si={k: chart(point, v, n) for k, v in s["statistics"].items()}, warnings=tuple(warnings))
     opts = _result_options(ic, o, "values", "gaps", "fractions", "units")
     if units is not None:
         opts["units"] = units.inputs
-    return Clearance(param=param, x="U" if speed is not None else param, gap_param=d["gap_param"],
-                     surface=d["surface"], value=d["value"], speed=speed, grazing_value=d["grazing_value"],
-                     clearance=d["clearance"], converged=d["converged"],
-                     aperiodic=np.column_stack([d["aperiodic_min"], d["aperiodic_max"]]),
-                     gap=chart(point, d["cell_gap"], n), label=chart(point, _strings(d["label"]), n),
-                     period=chart(point, d["period"], n), impacts=chart(point, d["impacts"], n),
-                     outcome=chart(point, _strings(d["outcome"]), n), statistics=stats, **si,
-                     stats=_job_stats(d, report), jobs=report, **_context(model, opts))
+    return Clearance.of(d, d.get("si"), param=param, x="U" if speed is not None else param, gap_param=d["gap_param"],
+                        surface=d["surface"], speed=speed, warnings=tuple(warnings), stats=_job_stats(d, report),
+                        jobs=report, **_context(model, opts))
 
 
 def cylinder_units(D, m=None, fn=None, zeta=None, rho=None, U=None, CM=1.0, St=0.2, *, mstar=None, k=None,
@@ -769,16 +736,11 @@ def _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, sec
 
 
 def _floquet_result(d, model, opts):
-    stats = {"protocol": RunStats.from_dict(d["protocol_stats"], model.surfaces),
-             "tangent": RunStats.from_dict(d["tangent_stats"], model.surfaces),
-             "map_evaluations": d["map_evaluations"]}
-    keys = ("status", "label", "section_returns", "period", "impacts_per_period", "initial_closure", "closure",
-            "newton_iterations", "orbit_point", "monodromy", "multipliers", "trivial_error", "trivial_residual",
-            "max_nontrivial_modulus", "stable", "det_monodromy", "liouville_det", "divergence_integral",
-            "log_det_jumps", "impact_map", "orbit_t", "orbit", "impact_t", "impact_surface", "impact_pre",
-            "impact_post", "section_t", "section")
-    return Floquet(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
-                   stats=stats, **_context(model, opts))
+    record = d.pop("record")
+    stats = {"protocol": RunStats.from_dict(record.pop("protocol_stats")),
+             "tangent": RunStats.from_dict(record.pop("tangent_stats")),
+             "map_evaluations": record.pop("map_evaluations")}
+    return Floquet(**d, record=record, stats=stats, **_context(model, opts))
 
 
 @_with_defaults
@@ -833,14 +795,10 @@ def _lyapunov_options(declared, record, section):
 
 
 def _lyapunov_result(d, model, opts):
-    stats = {"transient": RunStats.from_dict(d["transient_stats"], model.surfaces),
-             "tangent": RunStats.from_dict(d["stats"], model.surfaces)}
-    keys = ("status", "tdm", "impacting", "exponents", "lle_standard_error", "positive", "settled", "t_start", "time",
-            "impacts",
-            "intervals", "divergence_average", "jump_log_det_rate", "sum_rule", "misses", "history_t",
-            "history_growth", "section_t", "section")
-    return Lyapunov(**{k: d[k] for k in keys}, impacts_by_surface=dict(zip(model.surfaces, d["impacts_by_surface"])),
-                    stats=stats, **_context(model, opts))
+    record = d.pop("record")
+    stats = {"transient": RunStats.from_dict(record.pop("transient_stats")),
+             "tangent": RunStats.from_dict(record.pop("stats"))}
+    return Lyapunov(**d, record=record, stats=stats, **_context(model, opts))
 
 
 @_with_defaults

@@ -56,7 +56,7 @@ class _System:
     @property
     def stats(self):
         """The run's counters since the last (re)start (``vimpact.RunStats``)."""
-        return RunStats.from_dict(self._sys.stats, self._model.surfaces)
+        return RunStats.from_dict(self._sys.stats)
 
     @property
     def parameters(self):

@@ -217,14 +217,6 @@ def _states(columns, names, n=None):
     return np.column_stack([columns[k] for k in names])
 
 
-def _timed(directory, name, ctx):
-    """(t, states (n, dim)) of DIR/NAME (sections.csv, timeseries.csv, orbit.csv); empty where
-    the run wrote no such file."""
-    path = os.path.join(directory, name)
-    c = read_csv(path) if os.path.exists(path) else {"t": np.empty(0)}
-    return c["t"], _states(c, ctx["state_names"], len(c["t"]))
-
-
 def _impacts(directory, ctx):
     """DIR/impacts.csv as the bindings give a run's impacts: their times, surfaces (indices),
     states before and after (a variable an impact changes has columns NAME_before and
@@ -303,6 +295,8 @@ def _documented(record=None, shape="", **renamed):
                                                    break_on_hyphens=False)
 
     def document(cls):
+        cls._aliases = {new: old for old, new in renamed.items() if new} | {
+            new + "_t": old + "_t" for old, new in renamed.items() if new and not shape}
         lines = ["", "Attributes", "----------"]
         for f in fields(cls):
             lines += entry(f.name, f.metadata["what"], f.metadata["doc"]) if "what" in f.metadata else []
@@ -317,42 +311,55 @@ def _documented(record=None, shape="", **renamed):
             if shape and not f["tabular"]:
                 doc += " (not a column: None or absent when loaded)"
             lines += entry(name, _kind(f, shape), doc) if name else []
+            if name and f["span"] == "series" and not shape:
+                lines += entry(name + "_t", "ndarray, float64, shape (points,)", "Their times.")
         cls.__doc__ = inspect.cleandoc(cls.__doc__) + "\n" + "\n".join(lines) + "\n"
         return cls
     return document
 
 
+class _ByName:
+    """The fields of the library's record of a run (``record``) or of each run (``records``)
+    by name, each an attribute of the same name or of the name the class documents it under
+    (``_documented``)."""
+    _store, _aliases = "records", {}
+
+    def __getattr__(self, name):
+        store, key = self.__dict__.get(self._store) or {}, self._aliases.get(name, name)
+        if name.startswith("__") or key not in store:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        return store[key]
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self._aliases) | set(self.__dict__.get(self._store) or ()))
+
+
+def _loaded_record(cls, res, held=(), **mapped):
+    """The record of a single run loaded from run.json's result: its values by name (JSON
+    null, a number the run does not have, as NaN; lists as arrays) but those the class (or
+    ``held``) holds otherwise, with ``mapped`` where the command writes a field in another form."""
+    own = {f.name for f in fields(cls)} | set(held) | {"command", "out", "si"}
+    return dict({k: np.nan if v is None else np.array(v, dtype=float) if isinstance(v, list) else v
+                 for k, v in res.items() if k not in own and not hasattr(cls, k) and not k.endswith("_si")}, **mapped)
+
+
 # ---------------------------------------------------------------- run statistics and job reports
 
 @_documented("run_stats")
-@dataclass(frozen=True)
-class RunStats:
+@dataclass(frozen=True, repr=False)
+class RunStats(_ByName):
     """Counters of one run, whatever its outcome."""
-    steps: int = 0
-    rejected: int = 0
-    rhs_calls: int = 0
-    impacts: int = 0
-    impacts_by_surface: dict = field(default_factory=dict)
-    sections: int = 0
-    sticking_phases: int = 0
-    sticking_time: float = 0.0
-    h_min: float = np.inf
-    h_max: float = 0.0
-    t_final: float = 0.0
+    _store = "record"
+    record: dict = _a("dict", "The counters by name (below).", dict)
 
     @classmethod
-    def from_dict(cls, d, surfaces=()):
+    def from_dict(cls, d):
+        """From the counters by name (the bindings', run.json's; no smallest step, null, is infinite)."""
         d = dict(d or {})
-        by = d.get("impacts_by_surface", {})
-        if not isinstance(by, dict):
-            by = dict(zip(surfaces, (int(v) for v in by)))
-        d["impacts_by_surface"] = by
-        if d.get("h_min") is None:
-            d["h_min"] = np.inf
-        return _made(cls, d)
+        return cls(dict(d, h_min=np.inf if d.get("h_min") is None else d["h_min"]))
 
-    def as_dict(self):
-        return dict(self.__dict__)
+    def __repr__(self):
+        return f"RunStats({', '.join(f'{k}={v!r}' for k, v in self.record.items())})"
 
 
 @_documented()
@@ -440,14 +447,43 @@ class _PointRuns:
         return self.value[self.point_run]
 
 
+class _Loads:
+    """A single run's ``load(DIR)``: run.json's result and the model's context by name, the
+    impacts (impacts.csv), the timed states of each file of ``_timed_files`` (attributes NAME
+    and NAME_t), run.json's ``si`` with its key ``_si_key`` (``--si``), and what ``_read`` adds."""
+    _timed_files, _si_key = {}, None
+
+    @_reader
+    def load(cls, directory):
+        """The result of ``vimpact COMMAND --out DIR``."""
+        ctx, res = _loaded(directory)
+        values = dict(res, **ctx, **_impacts(directory, ctx), si=_si(res, cls._si_key))
+        for name, file in cls._timed_files.items():  # none where the run wrote no such file
+            path = os.path.join(directory, file)
+            c = read_csv(path) if os.path.exists(path) else {"t": np.empty(0)}
+            values[name + "_t"], values[name] = c["t"], _states(c, ctx["state_names"], len(c["t"]))
+        return _made(cls, dict(values, **cls._read(res, directory)))
+
+
+@dataclass(repr=False)
+class _Impacts:
+    """The impacts of a run (impacts.csv)."""
+    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", "Times of the impacts.")
+    impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "The surface hit (an index into ``surfaces``).")
+    impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just before each impact.")
+    impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just after each impact.")
+
+
 # ---------------------------------------------------------------- single runs
 
 @_documented([dict(name="statistics", type="group", span="one", unit="", tabular=True,
                    meaning="the impact statistics of the recorded window (docs/model.md; NaN where undefined, "
                            "a per-surface one a list)", fields=(_DESCRIBED or {}).get("impact_statistics", []))])
 @dataclass(repr=False)
-class Simulation(_Context):
-    """A run of the protocol (``vimpact.simulate``, the command ``simulate``)."""
+class Simulation(_Context, _Impacts, _Loads):
+    """A run of the protocol (``vimpact.simulate``, the command ``simulate``; ``load`` reads
+    the points of ``period --out DIR`` too): its impacts are those of the recorded window."""
+    _timed_files, _si_key = {"section": "sections.csv", "series": "timeseries.csv"}, "impact_statistics_si"
     outcome: str = _a("str", "``ok`` or how the run ended early (``time_limit``, ``step_limit``, ``non_finite``, "
                       "``chattering``, ...).", "ok")
     impacting: Optional[bool] = _a("bool", "False when no impact happened for ``quiet_time``: the recorded points "
@@ -458,10 +494,6 @@ class Simulation(_Context):
     section_t: np.ndarray = _a("ndarray, float64, shape (n,)")
     section: np.ndarray = _a("ndarray, float64, shape (n, dim)", "The recorded section points (states, "
                              "columns as ``state_names``).")
-    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", "Times of the impacts of the recorded window.")
-    impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "The surface hit (an index into ``surfaces``).")
-    impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just before each impact.")
-    impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States just after each impact.")
     series_t: np.ndarray = _a("ndarray, float64, shape (m,)")
     series: np.ndarray = _a("ndarray, float64, shape (m, dim)", "The recorded window sampled every ``sample_dt`` "
                             "(empty when ``sample_dt = 0``).")
@@ -484,39 +516,40 @@ class Simulation(_Context):
                 f"{len(self.impact_t)} impacts recorded, {len(self.series_t)} samples, "
                 f"{self.stats.impacts} impacts in all, {self.stats.steps} steps)")
 
-    @_reader
-    def load(cls, directory):
-        """The run of ``vimpact simulate --out DIR`` (or the points of ``period --out DIR``)."""
-        ctx, res = _loaded(directory)
-        (section_t, section), (series_t, series) = (_timed(directory, f, ctx) for f in ("sections.csv",
-                                                                                        "timeseries.csv"))
+    @classmethod
+    def _read(cls, res, directory):
         statistics = {k: [_num(x) for x in v.values()] if isinstance(v, dict) else int(v)
                       if k == "impacts_recorded" else _num(v) for k, v in res.get("impact_statistics", {}).items()}
-        return _made(cls, dict(res, **ctx, **_impacts(directory, ctx), section_t=section_t, section=section,
-                               series_t=series_t, series=series, statistics=statistics,
-                               stats=RunStats.from_dict(res.get("stats")), si=_si(res, "impact_statistics_si")))
+        return dict(statistics=statistics, stats=RunStats.from_dict(res.get("stats")))
+
+
+@dataclass(repr=False)
+class _Run(_Context, _ByName, _Loads):
+    """A single run of an analysis whose record the library describes: the record's fields
+    by name in ``record``, each an attribute (below)."""
+    _store = "record"
+    record: dict = _a("dict", "Every field of the library's record of the run by name (below).", dict)
 
 
 @_documented("period")
 @dataclass(repr=False)
-class Period:
+class Period(_ByName):
     """The period label of the attractor (``vimpact.period``, the command ``period``); the
     run's context (``parameters``, ``state_names``, ``outcome``, ``stats``, ...) is its
     ``simulation``'s."""
-    label: str
-    period: int
-    impacts: int
-    impacts_by_surface: dict
-    closure: float
+    _store = "record"
+    record: dict = _a("dict", "Every field of the library's label by name (below).", dict)
     tol: Optional[float] = _a("float", "The period tolerance used.")
     simulation: Simulation = _a("Simulation", "The run that was classified (its section points, impacts and "
                                 "statistics).")
-    settled: bool = True
 
     def __getattr__(self, name):
-        if name.startswith("__") or name == "simulation":
-            raise AttributeError(name)
-        return getattr(self.simulation, name)
+        try:
+            return super().__getattr__(name)
+        except AttributeError:
+            if name.startswith("__") or name == "simulation":
+                raise
+            return getattr(self.simulation, name)
 
     @property
     def cycle(self):
@@ -533,10 +566,9 @@ class Period:
     @_reader
     def load(cls, directory):
         """The result of ``vimpact period --out DIR``."""
-        res = read_record(directory)["result"]
-        return cls(label=res["label"], period=-1 if res["period"] is None else res["period"], impacts=res["impacts"],
-                   impacts_by_surface=res["impacts_by_surface"], closure=res["closure"], tol=res["tolerance"],
-                   simulation=Simulation.load(directory), settled=res["settled"])
+        res, simulation = read_record(directory)["result"], Simulation.load(directory)
+        label = _loaded_record(cls, res, simulation.__dict__, period=-1 if res["period"] is None else res["period"])
+        return cls(record=label, tol=res["tolerance"], simulation=simulation)
 
 
 _PER_SURFACE = "ndarray, float64, shape (surfaces,)"
@@ -583,7 +615,7 @@ class Grazing(_Context):
 # ---------------------------------------------------------------- many-job analyses
 
 @dataclass(repr=False)
-class _Records(_Context):
+class _Records(_Context, _ByName):
     """A result of many runs: ``records`` holds every field of the library's record of each run
     by name (``read_tables``' form, text as str arrays, a grid's cells shaped), and each field
     is an attribute of the same name unless the class says otherwise."""
@@ -591,15 +623,6 @@ class _Records(_Context):
     jobs: Optional[JobReport] = _a("JobReport")
     records: dict = _a("dict", "Every field of the library's record of each run by name (below), a field added "
                        "to it included.", dict)
-
-    def __getattr__(self, name):
-        records = self.__dict__.get("records") or {}
-        if name.startswith("__") or name not in records:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        return records[name]
-
-    def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self.__dict__.get("records") or ()))
 
     @property
     def steps(self):
@@ -793,90 +816,51 @@ class Response(_Records):
 
 @_documented("floquet", section_points="section", protocol_stats=None, tangent_stats=None, map_evaluations=None)
 @dataclass(repr=False)
-class Floquet(_Context):
+class Floquet(_Run, _Impacts):
     """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
     ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting). Without
     a period (``status`` aperiodic, or a failed run) there are no multipliers and the period
-    is NaN."""
-    status: str = "ok"
-    label: str = ""
-    section_returns: int = 0
-    period: float = np.nan
-    impacts_per_period: int = 0
-    impacts_by_surface: dict = field(default_factory=dict)
-    initial_closure: float = np.nan
-    closure: float = np.nan
-    newton_iterations: int = 0
-    orbit_point: np.ndarray = None
+    is NaN. Its impacts are those of the refined orbit over one period."""
+    _timed_files, _si_key = {"orbit": "orbit.csv"}, "period_si"
     monodromy: np.ndarray = _a("ndarray, float64, shape (dim, dim)")
-    multipliers: np.ndarray = None
-    trivial_error: float = np.nan
-    trivial_residual: float = np.nan
-    max_nontrivial_modulus: float = np.nan
     stable: Optional[bool] = _a("bool or None", "Every nontrivial |mu| < 1 (None without multipliers).")
-    det_monodromy: float = np.nan
-    liouville_det: float = np.nan
-    divergence_integral: float = np.nan
-    log_det_jumps: float = np.nan
     impact_map: str = _a("str", "The mapping of deviations at impacts.", "saltation")
     orbit_t: np.ndarray = _a("ndarray, float64, shape (m,)", "Times of the refined orbit over one period, sampled "
                              "every ``sample_dt`` (empty when 0).")
     orbit: np.ndarray = _a("ndarray, float64, shape (m, dim)", "Its states.")
-    impact_t: np.ndarray = _a("ndarray, float64, shape (k,)", "Times of its impacts.")
-    impact_surface: np.ndarray = _a("ndarray, int64, shape (k,)", "Their surfaces (indices into ``surfaces``).")
-    impact_pre: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States before them.")
-    impact_post: np.ndarray = _a("ndarray, float64, shape (k, dim)", "States after them.")
-    section_t: np.ndarray = _a("ndarray, float64, shape (n,)", "The times of the protocol's section points.")
-    section: np.ndarray = None
     stats: dict = _a("dict", "``protocol`` and ``tangent`` RunStats, ``map_evaluations``.", dict)
     si: dict = _a("dict or None", "Loaded from a run with ``--si``: its run.json's ``si`` (the scales in "
                   "``values``, the SI columns of ``orbit.csv`` in ``columns``) and ``period_si`` [s].")
 
     def __repr__(self):
-        if self.multipliers is None or not len(self.multipliers):
+        if not len(self.multipliers):
             return f"Floquet(label={self.label!r}, status={self.status!r}: no multipliers)"
         mus = ", ".join(f"{m.real:.6g}{m.imag:+.3g}j" if m.imag else f"{m.real:.6g}" for m in self.multipliers)
         return (f"Floquet(label={self.label!r}, status={self.status!r}, T={self.period:.6g}, multipliers [{mus}], "
                 f"{'stable' if self.stable else 'unstable'})")
 
-    @_reader
-    def load(cls, directory):
-        """The result of ``vimpact floquet --out DIR`` (multipliers, orbit and impacts)."""
-        ctx, res = _loaded(directory)
-        orbit_t, orbit = _timed(directory, "orbit.csv", ctx)
+    @classmethod
+    def _read(cls, res, directory):
         mus = np.array(res["multipliers"], dtype=float).reshape(-1, 2) @ np.array([1, 1j])
-        return _made(cls, dict(res, **ctx, **_impacts(directory, ctx), status=res["outcome"], multipliers=mus,
-                               orbit_t=orbit_t, orbit=orbit, stats={}, si=_si(res, "period_si")))
+        # run.json has no divergence_integral and log_det_jumps.
+        return dict(stats={}, record=_loaded_record(cls, res, status=res["outcome"], multipliers=mus,
+                                                    impacts_by_surface=res["impacts_by_surface"] or {},
+                                                    divergence_integral=np.nan, log_det_jumps=np.nan))
 
 
 @_documented("lyapunov", section_points="section", transient_stats=None, stats=None)
 @dataclass(repr=False)
-class Lyapunov(_Context):
+class Lyapunov(_Run):
     """The Lyapunov spectrum (``vimpact.lyapunov``, the command ``lyapunov``; the paper's
-    Algorithm 2)."""
-    status: str = "ok"
+    Algorithm 2). Loaded from a directory, its interval history is the one its running estimates
+    (convergence.csv) give."""
+    _si_key = "exponents_si"
     tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-    impacting: Optional[bool] = None
-    exponents: np.ndarray = None
-    lle_standard_error: float = np.nan
     positive: bool = _a("bool", "The library's verdict: the largest exponent lies more than 3 standard errors "
                         "above 0.", False)
-    settled: bool = True
-    t_start: float = 0.0
-    time: float = np.nan
-    impacts: int = 0
-    impacts_by_surface: dict = field(default_factory=dict)
-    intervals: int = 0
-    divergence_average: float = np.nan
-    jump_log_det_rate: float = np.nan
-    sum_rule: float = np.nan
-    misses: int = 0
     history_t: np.ndarray = _a("ndarray, float64, shape (h,)", "The end of every counted interval.")
     history_growth: np.ndarray = _a("ndarray, float64, shape (h, dim)", "ln(R_ii / r0) of every counted interval "
                                     "(QR order); ``running_exponents`` gives the running averages.")
-    section_t: np.ndarray = _a("ndarray, float64, shape (n,)", "The times of the section points of the "
-                               "averaging window (``record > 0``).")
-    section: np.ndarray = None
     stats: dict = _a("dict", "``transient`` and ``tangent`` RunStats.", dict)
     si: dict = None
 
@@ -895,18 +879,15 @@ class Lyapunov(_Context):
         return (f"Lyapunov(status={self.status!r}, exponents {np.array2string(self.exponents, precision=6)}, "
                 f"largest +- {self.lle_standard_error:.2g}, {self.impacts} impacts, tdm {self.tdm})")
 
-    @_reader
-    def load(cls, directory):
-        """The result of ``vimpact lyapunov --out DIR`` (its running estimates, not the
-        per-interval growth)."""
-        ctx, res = _loaded(directory)
+    @classmethod
+    def _read(cls, res, directory):
         conv = read_csv(os.path.join(directory, "convergence.csv"))
         running = _states(conv, [f"lambda{i + 1}" for i in range(len(res["exponents"]))], len(conv["t"]))
         # Back from running averages to per-interval growth, so running_exponents round-trips.
         total = running * (conv["t"] - res["t_start"])[:, None]
         growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
-        return _made(cls, dict(res, **ctx, status=res["outcome"], positive=res["positive"], history_t=conv["t"],
-                               history_growth=growth, stats={}, si=_si(res, "exponents_si")))
+        return dict(positive=res["positive"], history_t=conv["t"], history_growth=growth, stats={},
+                    record=_loaded_record(cls, res, status=res["outcome"], jump_log_det_rate=np.nan))  # not in run.json
 
 
 @dataclass(repr=False)
@@ -922,15 +903,20 @@ class _ValueSweep(_Records, _PointRuns):
     def of(cls, records, ctx, **run):
         sweep = super().of(records, ctx, **run)
         n, result = len(sweep.value), cls._result
-        cols = {k: v for k, v in sweep.records.items() if isinstance(v, np.ndarray) and len(v) == n}
+        cols = {k: v for k, v in sweep.records.items()
+                if isinstance(v, np.ndarray) and len(v) == n and not k.startswith(cls._series)}
         cols.update(sweep._per_value())
-        names = [f.name for f in fields(result) if f.name in cols and f.name != "impacts_by_surface"]
+        own = {f.name for f in fields(result)}
 
         def cell(v):  # a spectrum without its NaN, a numpy scalar as Python's
             return v[~np.isnan(v)] if np.iscomplexobj(v) else v.item() if isinstance(v, np.generic) else v
-        sweep.results = [result(**{k: cell(cols[k][i]) for k in names}, section=sweep.points[sweep.point_run == i],
-                                impacts_by_surface=dict(zip(ctx["surfaces"], sweep.impacts_by_surface[i].tolist())),
-                                **ctx) for i in range(n)]
+
+        def record(i):
+            by = dict(zip(ctx["surfaces"], sweep.impacts_by_surface[i].tolist()))
+            return dict({k: cell(v[i]) for k, v in cols.items() if k not in own},
+                        section_points=sweep.points[sweep.point_run == i], impacts_by_surface=by)
+        sweep.results = [result(**{k: cell(v[i]) for k, v in cols.items() if k in own}, record=record(i), **ctx)
+                         for i in range(n)]
         return sweep
 
     @staticmethod
@@ -1120,33 +1106,40 @@ class Clearance(_Context, _Labels):
             col[p] += 1
         return out.astype(str) if values.dtype.kind in "US" else out
 
+    @classmethod
+    def of(cls, d, si=None, **run):
+        """From the bindings' columns (``load`` reads the same from the files): per value of
+        the parameter and per chart cell (``cell_point``: its value's index, cells value
+        after value); ``si`` the same in SI units (the attributes ``*_si``) or None."""
+        chart = functools.partial(cls.chart, d["cell_point"], n=len(d["value"]))
+
+        def quantities(c):  # what has an SI form
+            return dict(clearance=c["clearance"], aperiodic=np.column_stack([c["aperiodic_min"], c["aperiodic_max"]]),
+                        gap=chart(c["cell_gap"]), statistics={k: chart(v) for k, v in c["statistics"].items()})
+        return cls(value=d["value"], grazing_value=d["grazing_value"], converged=d["converged"],
+                   label=chart(_str_array(d["label"])), period=chart(d["period"]), impacts=chart(d["impacts"]),
+                   outcome=chart(_str_array(d["outcome"])), **quantities(d),
+                   **({k + "_si": v for k, v in quantities(si).items()} if si is not None else {}), **run)
+
     @_reader
     def load(cls, directory):
         """The result of ``vimpact clearance --out DIR``."""
         ctx, res = _loaded(directory)
-        param, gname, si = res["param"], res["gap_param"], res["units"] == "si"
+        param, gname, names = res["param"], res["gap_param"], res["statistics_columns"]
         cl, ch = (read_table(os.path.join(directory, f)) for f in ("clearance.csv", "chart.csv"))
         column = {k: np.array(v, dtype=float) for k, v in cl.items()}
-        value, n = column[param], len(column[param])
+
+        def cell(key):
+            return np.array(ch[key], dtype=float)
         # Cells are written value after value; their value index from the parameter column.
-        point = np.array([int(np.argmin(np.abs(value - v))) for v in np.array(ch[param], dtype=float)], dtype=np.int64)
-
-        def cells(key, kind=float):
-            values = _str_array(ch[key]) if kind is str else np.array(ch[key], dtype=float).astype(kind)
-            return cls.chart(point, values, n)
-
-        def si_only(f):
-            return f() if si else None
-        names = res["statistics_columns"]
-        return cls(param=param, x=res["x"], gap_param=gname, surface=res["surface"], value=value,
-                   speed=column["U"] if res["x"] == "U" else None, grazing_value=column[gname + "_graze"],
-                   clearance=column["clearance"], clearance_si=si_only(lambda: column["clearance_si"]),
-                   converged=column["converged"] > 0.5,
-                   aperiodic=np.column_stack([column["aperiodic_min"], column["aperiodic_max"]]),
-                   aperiodic_si=si_only(lambda: np.column_stack([column["aperiodic_min_si"],
-                                                                 column["aperiodic_max_si"]])),
-                   gap=cells("gap"), gap_si=si_only(lambda: cells("gap_si")), label=cells("label", str),
-                   period=cells("period", np.int64), impacts=cells("impacts", np.int64),
-                   outcome=cells("outcome", str), statistics={k: cells(k) for k in names},
-                   statistics_si=si_only(lambda: {k: cells(k + "_si") for k in names if k + "_si" in ch}),
-                   warnings=tuple(res["warnings"]), **ctx)
+        point = np.array([int(np.argmin(np.abs(column[param] - v))) for v in cell(param)], dtype=np.int64)
+        d = dict(value=column[param], grazing_value=column[gname + "_graze"], clearance=column["clearance"],
+                 converged=column["converged"] > 0.5, aperiodic_min=column["aperiodic_min"],
+                 aperiodic_max=column["aperiodic_max"], cell_point=point, cell_gap=cell("gap"), label=ch["label"],
+                 period=cell("period").astype(np.int64), impacts=cell("impacts").astype(np.int64),
+                 outcome=ch["outcome"], statistics={k: cell(k) for k in names})
+        si = dict(clearance=column["clearance_si"], aperiodic_min=column["aperiodic_min_si"],
+                  aperiodic_max=column["aperiodic_max_si"], cell_gap=cell("gap_si"),
+                  statistics={k: cell(k + "_si") for k in names if k + "_si" in ch}) if res["units"] == "si" else None
+        return cls.of(d, si, param=param, x=res["x"], gap_param=gname, surface=res["surface"],
+                      speed=column["U"] if res["x"] == "U" else None, warnings=tuple(res["warnings"]), **ctx)

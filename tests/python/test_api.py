@@ -164,6 +164,30 @@ def test_stability_and_dimension_shapes():
         vimpact.dimension(np.zeros(5))
 
 
+@pytest.mark.parametrize("record,run,in_stats", [
+    ("floquet", lambda: vimpact.floquet(vimpact.WakeImpact(Ur=16), **Q),
+     {"protocol_stats", "tangent_stats", "map_evaluations"}),
+    ("lyapunov", lambda: vimpact.lyapunov(vimpact.WakeImpact(Ur=16), impacts=30, transient=60, record=5),
+     {"transient_stats", "stats"}),
+    ("period", lambda: vimpact.period(vimpact.WakeImpact(Ur=19), **Q), set()),
+    ("run_stats", lambda: vimpact.simulate(vimpact.WakeImpact(Ur=19), **Q).stats, set())])
+def test_a_single_runs_record_is_the_librarys_description(record, run, in_stats):
+    # Every field the library describes (but the counters, which are the result's stats) is
+    # in the result's record, an attribute (section points as ``section``, with their times)
+    # and documented; a per-surface one is a dict by surface name.
+    r = run()
+    fields = [f for f in vimpact._vimpact.described[record] if f["name"] not in in_stats]
+    series = {f["name"] + "_t" for f in fields if f["span"] == "series"}
+    assert set(r.record) == {f["name"] for f in fields} | series
+    for f in fields:
+        name = "section" if f["name"] == "section_points" else f["name"]
+        assert getattr(r, name) is r.record[f["name"]] and f"\n{name} : " in type(r).__doc__, name
+        if f["span"] == "per_surface":
+            assert set(getattr(r, name)) == {"barrier"}, name
+    if series:
+        assert len(r.section_t) == len(r.section) > 0 and np.all(np.diff(r.section_t) > 0)
+
+
 def test_results_do_not_depend_on_the_thread_count():
     values = vimpact.grid(20, 25, 7)
     runs = [vimpact.sweep(W, "Ur", values, threads=t, grazing=True, **Q) for t in (1, 2)]
