@@ -32,6 +32,8 @@ tests=(
   libgtest-dev libgmock-dev python3-pytest
   # the notebooks of examples/notebooks, executed by the tests
   python3-nbclient python3-nbformat python3-ipykernel
+  # Python results as data frames and labelled grids (to_pandas, to_xarray)
+  python3-pandas python3-xarray
   # many-job runs across processes: mpirun -n N vimpact map ... (docs/distributed.md)
   libopenmpi-dev openmpi-bin
   # pip install --no-build-isolation . (docs/python.md) builds with these, not PyPI's

@@ -25,6 +25,8 @@ from typing import Optional
 
 import numpy as np
 
+from .frames import ImpactFrames, RunFrames
+
 try:  # the records' descriptions, for the documentation only
     from ._vimpact import described as _DESCRIBED
 except ImportError:
@@ -480,7 +482,7 @@ class _Impacts:
                    meaning="the impact statistics of the recorded window (docs/model.md; NaN where undefined, "
                            "a per-surface one a list)", fields=(_DESCRIBED or {}).get("impact_statistics", []))])
 @dataclass(repr=False)
-class Simulation(_Context, _Impacts, _Loads):
+class Simulation(_Context, _Impacts, _Loads, ImpactFrames):
     """A run of the protocol (``vimpact.simulate``, the command ``simulate``; ``load`` reads
     the points of ``period --out DIR`` too): its impacts are those of the recorded window."""
     _timed_files, _si_key = {"section": "sections.csv", "series": "timeseries.csv"}, "impact_statistics_si"
@@ -615,7 +617,7 @@ class Grazing(_Context):
 # ---------------------------------------------------------------- many-job analyses
 
 @dataclass(repr=False)
-class _Records(_Context, _ByName):
+class _Records(_Context, _ByName, RunFrames):
     """A result of many runs: ``records`` holds every field of the library's record of each run
     by name (``read_tables``' form, text as str arrays, a grid's cells shaped), and each field
     is an attribute of the same name unless the class says otherwise."""

@@ -13,6 +13,7 @@ from typing import Optional
 
 import numpy as np
 
+from .frames import BranchFrames
 from .results import _Context, _loaded
 
 
@@ -144,7 +145,7 @@ class Curve:
 
 
 @dataclass(repr=False)
-class Continuation(_Context):
+class Continuation(_Context, BranchFrames):
     """Branches of periodic orbits in ``param`` (stable and unstable), their ``bifurcations``
     and, with a second parameter ``param2``, the ``curves`` of the bifurcation points.
 
