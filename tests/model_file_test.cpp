@@ -267,6 +267,15 @@ std::vector<double> random_parameters(const model_info& info, std::mt19937& gen)
     return p;
 }
 
+// The source the cache holds for the model named `name` (empty when there is none).
+std::string generated_source(const std::string& name)
+{
+    for (const auto& e : fs::directory_iterator(cache_environment::dir))
+        if (e.path().filename().string().starts_with(name + "-") && e.path().extension() == ".cpp")
+            return read_text(e.path());
+    return {};
+}
+
 }  // namespace
 
 // ---- (a) the example files restate the built-ins
@@ -304,23 +313,17 @@ TEST(ModelFile, NaturallyWrittenWakeModelEqualsTheBuiltIn)
     }
     // No division is left in the vector field or its Jacobian: (1/(St*Ur))^2, 2*xi/(St*Ur),
     // gamma/mu and CL0/(16*pi^2*St^2*mu) are computed in vimpact_create.
-    bool found = false;
-    for (const auto& e : fs::directory_iterator(cache_environment::dir)) {
-        const std::string name = e.path().filename().string();
-        if (!name.starts_with("wake_impact_natural-") || e.path().extension() != ".cpp") continue;
-        found = true;
-        const std::string code = read_text(e.path());
-        const auto body = [&](const std::string& function) {
-            const auto at = code.find(function + "(const ");  // its definition
-            return at == std::string::npos ? std::string() : code.substr(at, code.find("\n}\n", at) - at);
-        };
-        for (const char* f : {"vimpact_rhs", "vimpact_jacobian"}) {
-            ASSERT_FALSE(body(f).empty()) << f;
-            EXPECT_EQ(body(f).find('/'), std::string::npos) << body(f);
-        }
-        EXPECT_NE(body("vimpact_create").find('/'), std::string::npos);
+    const std::string code = generated_source("wake_impact_natural");
+    ASSERT_FALSE(code.empty());
+    const auto body = [&](const std::string& function) {
+        const auto at = code.find(function + "(const ");  // its definition
+        return at == std::string::npos ? std::string() : code.substr(at, code.find("\n}\n", at) - at);
+    };
+    for (const char* f : {"vimpact_rhs", "vimpact_jacobian"}) {
+        ASSERT_FALSE(body(f).empty()) << f;
+        EXPECT_EQ(body(f).find('/'), std::string::npos) << body(f);
     }
-    EXPECT_TRUE(found);
+    EXPECT_NE(body("vimpact_create").find('/'), std::string::npos);
 }
 
 TEST(ModelFile, TwoSidedOscillatorFileEqualsTheBuiltIn)
@@ -467,16 +470,10 @@ z = "pi/3"
     EXPECT_TRUE(close(f[2], 1e-7 + 2.5e3 * 0.7 + 0.30000000000000004 * 0.4 + 1.0 / 3.0, 1e-15));
 
     // The generated source calls pow() for none of these powers.
-    bool found = false;
-    for (const auto& e : fs::directory_iterator(cache_environment::dir)) {
-        const std::string name = e.path().filename().string();
-        if (!name.starts_with("exact_constants-") || e.path().extension() != ".cpp") continue;
-        found = true;
-        const std::string code = read_text(e.path());
-        EXPECT_EQ(code.find("pow("), std::string::npos) << code;
-        EXPECT_NE(code.find("x[0]*x[0]"), std::string::npos);
-    }
-    EXPECT_TRUE(found);
+    const std::string code = generated_source("exact_constants");
+    ASSERT_FALSE(code.empty());
+    EXPECT_EQ(code.find("pow("), std::string::npos) << code;
+    EXPECT_NE(code.find("x[0]*x[0]"), std::string::npos);
 }
 
 // GiNaC's parser, which reads the expressions, takes a sign right after an operator to apply
