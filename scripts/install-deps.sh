@@ -27,8 +27,9 @@ main=(
   python3 python3-dev pybind11-dev python3-numpy python3-matplotlib
 )
 tests=(
-  # the test command reuses earlier builds' objects where it can (scripts/run-tests.sh)
-  ccache
+  # the test command reuses earlier builds' objects where it can, and builds a new build
+  # directory with Ninja (scripts/run-tests.sh)
+  ccache ninja-build
   libgtest-dev libgmock-dev python3-pytest
   # the notebooks of examples/notebooks, executed by the tests
   python3-nbclient python3-nbformat python3-ipykernel

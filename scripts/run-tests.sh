@@ -29,9 +29,18 @@ build() {  # build DIR TARGET...: the log on failure only
     fi
 }
 
+# Ninja where it is installed, for a new build directory (an existing one keeps the generator
+# it was made with): Make compiles a target's objects only after the targets it links are
+# linked, so the program, the module and the tests waited for the library's last object with a
+# core idle; Ninja compiles them alongside it.
+new_dir_generator() {  # new_dir_generator DIR
+    if [ ! -f "$1/CMakeCache.txt" ] && command -v ninja > /dev/null; then echo -GNinja; fi
+}
+
 echo "== dev build (Release, -Werror)"
 # The benchmarks are not built here: bench/run_*.sh build and run them.
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DVIMPACT_WERROR=ON -DVIMPACT_BUILD_TESTS=ON -DVIMPACT_BUILD_BENCH=OFF "${launcher[@]}" > /dev/null
+cmake -S . -B build $(new_dir_generator build) -DCMAKE_BUILD_TYPE=Release -DVIMPACT_WERROR=ON -DVIMPACT_BUILD_TESTS=ON \
+      -DVIMPACT_BUILD_BENCH=OFF "${launcher[@]}" > /dev/null
 build build
 (cd build && ctest --output-on-failure --no-tests=error -j"$jobs")
 
@@ -49,7 +58,7 @@ echo "== sanitizer build (ASan + UBSan) of the unit tests"
 # 12's AVX-512 headers raise false uninitialised-value warnings (CMakeLists.txt).
 simd=""
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then simd="-mavx2 -mfma"; fi
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1" -DCMAKE_CXX_FLAGS="$simd" -DVIMPACT_SANITIZE=ON \
+cmake -S . -B build-asan $(new_dir_generator build-asan) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1" -DCMAKE_CXX_FLAGS="$simd" -DVIMPACT_SANITIZE=ON \
       -DVIMPACT_WERROR=ON -DVIMPACT_BUILD_BENCH=OFF -DVIMPACT_BUILD_PYTHON=OFF -DVIMPACT_BUILD_CLI=OFF \
       -DVIMPACT_MODEL_DIMS="3;4" "${launcher[@]}" > /dev/null
 build build-asan --target vimpact_tests

@@ -1,7 +1,8 @@
 #pragma once
 // The example model files (examples/models/*.toml) loaded once per test program, compiled
-// into a cache directory of the program's own (a fresh temporary directory, removed at exit),
-// so that a test never depends on, or fills, the user's cache.
+// into a cache that is never the user's: the one the test run shares (VIMPACT_TEST_CACHE_DIR,
+// set by CTest, which runs every test in a process of its own: each model is then compiled
+// once per build, not once per test), else a fresh temporary directory removed at exit.
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -21,13 +22,18 @@ class example_cache {
 public:
     example_cache()
     {
+        if (const char* shared = std::getenv("VIMPACT_TEST_CACHE_DIR"); shared && *shared) {
+            m_dir = shared;
+            m_shared = true;
+            return;
+        }
         std::string pattern = (std::filesystem::temp_directory_path() / "vimpact-engine-tests-XXXXXX").string();
         if (::mkdtemp(pattern.data())) m_dir = pattern;
     }
     ~example_cache()
     {
         std::error_code ec;
-        if (!m_dir.empty()) std::filesystem::remove_all(m_dir, ec);
+        if (!m_dir.empty() && !m_shared) std::filesystem::remove_all(m_dir, ec);
     }
     example_cache(const example_cache&) = delete;
     example_cache& operator=(const example_cache&) = delete;
@@ -56,6 +62,7 @@ public:
 
 private:
     std::filesystem::path m_dir;
+    bool m_shared = false;
     std::map<std::string, model> m_models;
 };
 

@@ -71,6 +71,24 @@ def period(vimpact, cache, model):
     return p.stdout
 
 
+@pytest.fixture(scope="session")
+def compiled(vimpact, tmp_path_factory):
+    """Two models compiled once into a cache of their own, and their results: each test that
+    damages an entry starts from a copy of it, a private cache whose entries vimpact wrote
+    (compiling the same models again in every test cost a minute)."""
+    tmp = tmp_path_factory.mktemp("compiled")
+    cache = private_cache(tmp)
+    models = {name: shifted_model(tmp, name, shift) for name, shift in (("copied_a", 0.0), ("copied_b", 0.5))}
+    return cache, models, {name: period(vimpact, cache, model) for name, model in models.items()}
+
+
+def copy_of(compiled, tmp_path):
+    cache = tmp_path / "cache"
+    shutil.copytree(compiled[0], cache)
+    assert os.stat(cache).st_mode & 0o777 == 0o700
+    return cache
+
+
 def one_line_error(p):
     assert p.returncode == 2, (p.returncode, p.stderr)
     lines = p.stderr.strip().splitlines()
@@ -80,48 +98,40 @@ def one_line_error(p):
 
 # ---- entries checked before they are loaded
 
-def test_a_planted_library_never_runs(vimpact, tmp_path):
-    cache = private_cache(tmp_path)
-    model = shifted_model(tmp_path, "planted", 0.5)
-    assert vimpact_run(vimpact, cache, "models", model).returncode == 0
+def test_a_planted_library_never_runs(vimpact, tmp_path, compiled):
+    cache = copy_of(compiled, tmp_path)
+    model = compiled[1]["copied_b"]
     marker = tmp_path / "marker"
     src = tmp_path / "planted.cpp"
     src.write_text('#include <cstdio>\n__attribute__((constructor)) static void planted() {\n'
                    f'    if (FILE* f = std::fopen("{marker}", "w")) {{ std::fputs("ran", f); std::fclose(f); }}\n}}\n')
     lib = tmp_path / "planted.so"
     subprocess.run(["c++", "-shared", "-fPIC", "-o", str(lib), str(src)], check=True)
-    replace_file(entry(cache, "planted"), lib)
+    replace_file(entry(cache, "copied_b"), lib)
     p = vimpact_run(vimpact, cache, "models", model, "--json")
     assert p.returncode == 0, p.stderr
-    assert json.loads(p.stdout)["models"][0]["name"] == "planted"
+    assert json.loads(p.stdout)["models"][0]["name"] == "copied_b"
     assert not marker.exists()
 
 
-def test_a_truncated_entry_is_compiled_again(vimpact, tmp_path):
-    cache = private_cache(tmp_path)
-    model = shifted_model(tmp_path, "truncated", 0.5)
-    expected = period(vimpact, cache, model)
-    so = entry(cache, "truncated")
+def test_a_truncated_entry_is_compiled_again(vimpact, tmp_path, compiled):
+    cache = copy_of(compiled, tmp_path)
+    so = entry(cache, "copied_b")
     size = so.stat().st_size
     os.truncate(so, size // 2)  # crashed every run with SIGBUS
-    assert period(vimpact, cache, model) == expected
-    assert entry(cache, "truncated").stat().st_size == size
+    assert period(vimpact, cache, compiled[1]["copied_b"]) == compiled[2]["copied_b"]
+    assert entry(cache, "copied_b").stat().st_size == size
 
 
 @pytest.mark.parametrize("with_record", [False, True])
-def test_an_entry_copied_over_another_models_is_not_run_in_its_place(vimpact, tmp_path, with_record):
-    cache = private_cache(tmp_path)
-    a = shifted_model(tmp_path, "copied_a", 0.0)
-    b = shifted_model(tmp_path, "copied_b", 0.5)
-    period(vimpact, cache, a)
-    period(vimpact, cache, b)
+def test_an_entry_copied_over_another_models_is_not_run_in_its_place(vimpact, tmp_path, compiled, with_record):
+    cache = copy_of(compiled, tmp_path)
+    _, models, expected = compiled
+    assert expected["copied_a"] != expected["copied_b"]  # the two models differ
     replace_file(entry(cache, "copied_b"), entry(cache, "copied_a"))
     if with_record:
         replace_file(entry(cache, "copied_b", "sha256"), entry(cache, "copied_a", "sha256"))
-    fresh = private_cache(tmp_path, "fresh")
-    expected = period(vimpact, fresh, b)
-    assert period(vimpact, cache, b) == expected
-    assert period(vimpact, fresh, a) != expected  # the two models differ
+    assert period(vimpact, cache, models["copied_b"]) == expected["copied_b"]
 
 
 @pytest.mark.parametrize("mode", [0o777, 0o770])
