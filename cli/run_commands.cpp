@@ -66,18 +66,14 @@ int run_simulate(const simulate_args& a)
                     {"stats", stats},
                     {"out", out_path(c)}};
     const std::string si_text = add_si_results(summary, c, c.model, r.statistics);
-    if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("simulate", c);
-        record["result"] = summary;
-        record["files"] = {"timeseries.csv", "impacts.csv", "sections.csv"};
-        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
-        write_states(out.file("timeseries.csv"), r.series, info, si ? &*si : nullptr);
-        write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
-        write_states(out.file("sections.csv"), r.points, info, si ? &*si : nullptr);
-        finish_output(out, "simulate", c, record);
-    }
+    if (c.out)
+        write_run(c, "simulate", summary, [&](staged_output& out) {
+            const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+            write_states(out.file("timeseries.csv"), r.series, info, si ? &*si : nullptr);
+            write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
+            write_states(out.file("sections.csv"), r.points, info, si ? &*si : nullptr);
+            return json{"timeseries.csv", "impacts.csv", "sections.csv"};
+        });
     const std::string text = "outcome " + std::string(to_string(r.status)) + ", " + std::to_string(r.stats.impacts) +
                              " impacts, " + std::to_string(r.points.size()) + " section points recorded from t = " +
                              format_double(r.t_record_start) + " to t = " + format_double(r.stats.t_final) + "\n" +
@@ -116,17 +112,13 @@ int run_period(const period_args& a)
                     {"stats", record_json(r.run.stats, info)},
                     {"out", out_path(c)}});
     const std::string si_text = add_si_results(summary, c, c.model, r.run.statistics);
-    if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("period", c);
-        record["result"] = summary;
-        record["files"] = {"sections.csv", "impacts.csv"};
-        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
-        write_states(out.file("sections.csv"), r.run.points, info, si ? &*si : nullptr);
-        write_impacts(out.file("impacts.csv"), r.run.impacts, c.model, si ? &*si : nullptr);
-        finish_output(out, "period", c, record);
-    }
+    if (c.out)
+        write_run(c, "period", summary, [&](staged_output& out) {
+            const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+            write_states(out.file("sections.csv"), r.run.points, info, si ? &*si : nullptr);
+            write_impacts(out.file("impacts.csv"), r.run.impacts, c.model, si ? &*si : nullptr);
+            return json{"sections.csv", "impacts.csv"};
+        });
     std::string text = lab.label;
     if (lab.period > 0)
         text += " (" + std::to_string(lab.impacts_per_period) + " impact(s) per period, closure " +

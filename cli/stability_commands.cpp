@@ -222,21 +222,19 @@ int run_floquet(const floquet_args& a)
     const double period_si = c.si && have ? r.period * scales_at(*c.si, c.model).time : std::nan("");
     if (c.si) summary["period_si"] = finite_or_null(period_si);
     if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("floquet", c);
-        record["result"] = summary;
-        record["result"]["monodromy"] = have ? matrix_json(r.monodromy) : json(nullptr);
-        record["files"] = {"multipliers.csv", "orbit.csv", "impacts.csv"};
-        csv_writer w(out.file("multipliers.csv"), {"index", "re", "im", "modulus", "trivial"});
-        for (std::size_t i = 0; i < r.multipliers.size(); ++i)
-            w.row({static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(), std::abs(r.multipliers[i]),
-                   i == 0 ? 1.0 : 0.0});
-        w.close();
-        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
-        write_states(out.file("orbit.csv"), r.orbit, info, si ? &*si : nullptr);
-        write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
-        finish_output(out, "floquet", c, record);
+        json result = summary;
+        result["monodromy"] = have ? matrix_json(r.monodromy) : json(nullptr);
+        write_run(c, "floquet", result, [&](staged_output& out) {
+            csv_writer w(out.file("multipliers.csv"), {"index", "re", "im", "modulus", "trivial"});
+            for (std::size_t i = 0; i < r.multipliers.size(); ++i)
+                w.row({static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
+                       std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
+            w.close();
+            const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+            write_states(out.file("orbit.csv"), r.orbit, info, si ? &*si : nullptr);
+            write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
+            return json{"multipliers.csv", "orbit.csv", "impacts.csv"};
+        });
     }
 
     const std::string status(to_string(r.status));
@@ -393,39 +391,36 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         summary["impact_rate_si"] = rate / second;
         summary["time_si"] = r.time * second;
     }
-    if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("lyapunov", c);
-        record["result"] = summary;
-        record["files"] = {"convergence.csv"};
-        // Running estimates per QR column (the columns converge to the descending order).
-        std::vector<std::string> h{"t"};
-        for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i));
-        if (c.si) {
-            h.emplace_back("t_si");
-            for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i) + "_si");
-        }
-        csv_writer w(out.file("convergence.csv"), h);
-        Eigen::VectorXd sum = Eigen::VectorXd::Zero(c.model.dim());
-        std::vector<double> row(h.size());
-        for (std::size_t k = 0; k < r.history.size(); ++k) {
-            const double elapsed = r.history_t[k] - r.t_start;
-            row[0] = r.history_t[k];
-            for (int i = 0; i < c.model.dim(); ++i) {
-                sum[i] += r.history[k][i];
-                row[static_cast<std::size_t>(i) + 1] = sum[i] / elapsed;
-            }
+    if (c.out)
+        write_run(c, "lyapunov", summary, [&](staged_output& out) {
+            // Running estimates per QR column (the columns converge to the descending order).
+            std::vector<std::string> h{"t"};
+            for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i));
             if (c.si) {
-                const std::size_t n = static_cast<std::size_t>(c.model.dim()) + 1;
-                row[n] = row[0] * second;
-                for (std::size_t i = 1; i < n; ++i) row[n + i] = row[i] / second;
+                h.emplace_back("t_si");
+                for (int i = 1; i <= c.model.dim(); ++i)
+                    h.push_back("lambda" + std::to_string(i) + "_si");
             }
-            w.row(row);
-        }
-        w.close();
-        finish_output(out, "lyapunov", c, record);
-    }
+            csv_writer w(out.file("convergence.csv"), h);
+            Eigen::VectorXd sum = Eigen::VectorXd::Zero(c.model.dim());
+            std::vector<double> row(h.size());
+            for (std::size_t k = 0; k < r.history.size(); ++k) {
+                const double elapsed = r.history_t[k] - r.t_start;
+                row[0] = r.history_t[k];
+                for (int i = 0; i < c.model.dim(); ++i) {
+                    sum[i] += r.history[k][i];
+                    row[static_cast<std::size_t>(i) + 1] = sum[i] / elapsed;
+                }
+                if (c.si) {
+                    const std::size_t n = static_cast<std::size_t>(c.model.dim()) + 1;
+                    row[n] = row[0] * second;
+                    for (std::size_t i = 1; i < n; ++i) row[n + i] = row[i] / second;
+                }
+                w.row(row);
+            }
+            w.close();
+            return json{"convergence.csv"};
+        });
 
     std::string text = "outcome " + std::string(to_string(r.status)) + ", mapping at impacts: " +
                        std::string(to_string(r.tdm)) + "\n";
