@@ -38,8 +38,6 @@ void append(std::vector<std::string>& to, const std::vector<std::string>& more)
     to.insert(to.end(), more.begin(), more.end());
 }
 
-json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
 json vector_json(const Eigen::VectorXd& v)
 {
     json j = json::array();
@@ -134,7 +132,7 @@ std::string add_si_results(json& summary, const run_config& c, const vimpact::mo
     if (!c.si) return {};
     add_si_summary(summary, c, m);
     const impact_statistics k = in_si(s, scales_at(*c.si, m));
-    summary["impact_statistics_si"] = record_json(k, m.info());
+    summary["impact_statistics_si"] = summary_json(k, m.info());
     return "in SI: " + statistics_text(k, true, c.si->cylinder.has_value());
 }
 

@@ -2,14 +2,11 @@
 // What every command shares when it reports: JSON pieces, the run record (run.json), CSV
 // files of states and impacts named by the model, the PNG made by `python3 -m vimpact.plot`,
 // and stdout.
-#include <complex>
 #include <filesystem>
 #include <initializer_list>
 #include <map>
 #include <optional>
 #include <string>
-#include <string_view>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -19,42 +16,22 @@
 #include "common_options.hpp"
 #include "interrupts.hpp"
 #include "vimpact/analysis/impact_statistics.hpp"
-#include "vimpact/core/outcome.hpp"
-#include "vimpact/core/record.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/record_table.hpp"
 #include "vimpact/io/staged_output.hpp"
+#include "vimpact/io/summary_json.hpp"
 
 namespace vimpact::cli {
 
 using json = nlohmann::json;
 
-// A JSON number, or null when it is not finite (JSON has no NaN or infinity).
-json finite_or_null(double v);
 json vector_json(const Eigen::VectorXd& v);
 json matrix_json(const Eigen::MatrixXd& m);
 
-// How a summary names a described record's fields where it differs from the description:
-// `key` another key, a key of a nested object ("stats/protocol"), or "" to leave it out.
-struct summary_key {
-    std::string_view field;
-    std::string_view key;
-};
-struct summary_form {
-    std::vector<summary_key> keys;
-    bool tabular = false;  // only the fields a table has: a sweep's rows without --out
-};
-
-// A described record (core/record.hpp) as a summary's JSON (--json and run.json's result),
-// keyed by its fields' names: a number (null when not finite), flag or text as itself, an
-// outcome by its name, a per-surface field {surface: value} (a missing entry 0, or null for
-// reals), a state vector an array, a spectrum [[re, im], ...], a group a nested object. A
-// series is left out: its points are a table of their own.
-template <class R>
-json record_json(const R& r, const model_info& info, const summary_form& form = {});
-// Sets `keys` of a summary to null: values a result does not have (a period without a
+// A result's summary is summary_json of its record (vimpact/io/summary_json.hpp) and what the
+// command adds. Sets `keys` of a summary to null: values a result does not have (a period without a
 // periodic orbit).
 void null_keys(json& summary, std::initializer_list<const char*> keys);
 // A summary's "out": --out DIR, or null without it.
@@ -290,70 +267,5 @@ void print(const run_config& c, const json& summary, const std::string& text);
 
 std::string join(const std::vector<std::string>& items, const std::string& sep = ", ");
 void append(std::vector<std::string>& to, const std::vector<std::string>& more);
-
-namespace detail {
-
-template <class T>
-json summary_value(const T& v, const model_info& info)
-{
-    if constexpr (std::is_floating_point_v<T>) {
-        return finite_or_null(v);
-    } else if constexpr (std::is_same_v<T, outcome>) {
-        return std::string(to_string(v));
-    } else if constexpr (std::is_same_v<T, std::vector<long>> || std::is_same_v<T, std::vector<double>>) {
-        const json missing = std::is_same_v<T, std::vector<long>> ? json(0L) : json(nullptr);
-        json by = json::object();
-        for (std::size_t s = 0; s < info.surfaces.size(); ++s)
-            by[info.surfaces[s].name] = s < v.size() ? summary_value(v[s], info) : missing;
-        return by;
-    } else if constexpr (std::is_same_v<T, Eigen::VectorXd>) {
-        return vector_json(v);
-    } else if constexpr (std::is_same_v<T, std::vector<std::complex<double>>>) {
-        json a = json::array();
-        for (const auto& z : v) a.push_back({finite_or_null(z.real()), finite_or_null(z.imag())});
-        return a;
-    } else {
-        static_assert(std::is_integral_v<T> || std::is_same_v<T, std::string>, "a field type without a summary form");
-        return v;
-    }
-}
-
-struct summary_writer {
-    json& out;
-    const model_info& info;
-    const summary_form& form;
-
-    void put(const field& f, json value)
-    {
-        std::string_view key = f.name;
-        for (const auto& k : form.keys)
-            if (k.field == f.name) key = k.key;
-        if (key.empty() || (form.tabular && !f.tabular)) return;
-        const auto slash = key.find('/');
-        if (slash == std::string_view::npos) out[std::string(key)] = std::move(value);
-        else out[std::string(key.substr(0, slash))][std::string(key.substr(slash + 1))] = std::move(value);
-    }
-    template <class T>
-    void operator()(const field& f, const T& v)
-    {
-        if constexpr (!std::is_same_v<T, state_series>) put(f, summary_value(v, info));
-    }
-    template <class G>
-    void group(const field& f, const G& g)
-    {
-        put(f, record_json(g, info));
-    }
-};
-
-}  // namespace detail
-
-template <class R>
-json record_json(const R& r, const model_info& info, const summary_form& form)
-{
-    json out = json::object();
-    detail::summary_writer w{out, info, form};
-    describe(w, r);
-    return out;
-}
 
 }  // namespace vimpact::cli

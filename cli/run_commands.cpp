@@ -50,7 +50,7 @@ int run_simulate(const simulate_args& a)
     const simulation r = simulate(c.model, c.ic, po);
 
     const auto& info = c.info();
-    const json stats = record_json(r.stats, info);
+    const json stats = summary_json(r.stats, info);
     json summary = {{"command", "simulate"},
                     {"outcome", std::string(to_string(r.status))},
                     {"impacts", r.stats.impacts},
@@ -61,7 +61,7 @@ int run_simulate(const simulate_args& a)
                     {"t_record_start", r.t_record_start},
                     {"t_record_end", r.t_record_end},
                     {"t_final", r.stats.t_final},
-                    {"impact_statistics", record_json(r.statistics, info)},
+                    {"impact_statistics", summary_json(r.statistics, info)},
                     {"final_state", vector_json(r.final_state)},
                     {"stats", stats},
                     {"out", out_path(c)}};
@@ -100,7 +100,7 @@ int run_period(const period_args& a)
         first.push_back(r.run.points.x(static_cast<std::size_t>(i), 0));
         cycle.push_back(vector_json(r.run.points.x(static_cast<std::size_t>(i))));
     }
-    json summary = record_json(lab, info);
+    json summary = summary_json(lab, info);
     if (lab.period < 0) null_keys(summary, {"period"});
     summary.update({{"command", "period"},
                     {"tolerance", a.tol},
@@ -108,8 +108,8 @@ int run_period(const period_args& a)
                     {"section_" + info.state.front().name, first},
                     {"cycle", cycle},
                     {"points", r.run.points.size()},
-                    {"impact_statistics", record_json(r.run.statistics, info)},
-                    {"stats", record_json(r.run.stats, info)},
+                    {"impact_statistics", summary_json(r.run.statistics, info)},
+                    {"stats", summary_json(r.run.stats, info)},
                     {"out", out_path(c)}});
     const std::string si_text = add_si_results(summary, c, c.model, r.run.statistics);
     if (c.out)
@@ -176,7 +176,7 @@ int run_grazing(const grazing_args& a)
                     {"surfaces", surfaces},
                     {"converged", g.converged},
                     {"outcome", std::string(to_string(g.status))},
-                    {"stats", record_json(g.stats, info)},
+                    {"stats", summary_json(g.stats, info)},
                     {"out", out_path(c)}};
     if (c.si) summary["si"] = si_json(*c.si, m);
     if (g.surfaces.front().parameter >= 0)

@@ -143,7 +143,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
         if (sv.si()) si.push_back(sv.si_value(c, p.value));
         if (c.si) si.push_back(period_si);
         if (!c.out) {
-            json row = record_json(p, info, sweep_row_form);
+            json row = summary_json(p, info, sweep_row_form);
             if (!have) null_keys(row, {"impacts_per_period", "impacts_by_surface"});
             if (sv.si()) row[sv.si_name] = si.front();
             if (c.si) row["period_si"] = finite_or_null(period_si);
@@ -205,7 +205,7 @@ int run_floquet(const floquet_args& a)
     const bool have = r.has_multipliers();
     json moduli = json::array();
     for (const auto& mu : r.multipliers) moduli.push_back(std::abs(mu));
-    json summary = record_json(r, info, floquet_form);
+    json summary = summary_json(r, info, floquet_form);
     if (!have)
         null_keys(summary, {"period", "impacts_per_period", "impacts_by_surface", "trivial_error", "trivial_residual",
                             "max_nontrivial_modulus", "orbit_point", "det_monodromy", "liouville_det",
@@ -301,7 +301,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         if (c.si)
             for (int i = 0; i < dim; ++i) si.push_back(exponent(i) * per_second);
         if (!c.out) {
-            json row = record_json(p, info, sweep_row_form);
+            json row = summary_json(p, info, sweep_row_form);
             row["lle"] = finite_or_null(exponent(0));
             if (!have) row["exponents"] = json::array();
             if (sv.si()) row[sv.si_name] = si.front();
@@ -363,7 +363,7 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
 
     const bool have = r.has_exponents();
     const double rate = r.time > 0.0 ? static_cast<double>(r.impacts) / r.time : 0.0;
-    json summary = record_json(r, info, lyapunov_form);
+    json summary = summary_json(r, info, lyapunov_form);
     if (!have) {
         summary["exponents"] = json::array();
         null_keys(summary, {"lle_standard_error", "sum_rule", "divergence_average", "jump_log_det_rate"});
