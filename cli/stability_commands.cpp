@@ -107,8 +107,10 @@ void write_sweep_points(streamed_table& w, double value, const state_series& pts
 
 // The summaries' names of the results' fields where they differ from the description: every
 // command's "outcome", the run counters under "stats".
-const summary_form floquet_form{{{"status", "outcome"}, {"protocol_stats", "stats/protocol"}, {"tangent_stats", "stats/tangent"}}};
-const summary_form lyapunov_form{{{"status", "outcome"}, {"transient_stats", "stats/transient"}, {"stats", "stats/tangent"}}};
+const summary_form floquet_form{
+    {{"status", "outcome"}, {"protocol_stats", "stats/protocol"}, {"tangent_stats", "stats/tangent"}}};
+const summary_form lyapunov_form{
+    {{"status", "outcome"}, {"transient_stats", "stats/transient"}, {"stats", "stats/tangent"}}};
 // A sweep's value without --out: its row of the table.
 const summary_form sweep_row_form{{{"status", "outcome"}}, true};
 

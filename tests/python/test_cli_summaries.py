@@ -37,9 +37,10 @@ def same_field(f, mine, summary):
             np.testing.assert_array_equal(real(summary[s]), real(mine[s]))
     elif span == "spectrum":
         np.testing.assert_array_equal(np.array([complex(re, im) for re, im in summary]), np.asarray(mine))
-    elif span == "per_state" or kind == "float":
-        np.testing.assert_array_equal(np.array([np.nan if x is None else x for x in np.atleast_1d(summary)]
-                                               if span == "per_state" else real(summary)), np.asarray(mine, dtype=float))
+    elif span == "per_state":
+        np.testing.assert_array_equal(np.array([real(x) for x in summary]), np.asarray(mine, dtype=float))
+    elif kind == "float":
+        np.testing.assert_array_equal(real(summary), np.asarray(mine, dtype=float))
     else:
         assert summary == mine, f["name"]
 

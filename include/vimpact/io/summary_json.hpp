@@ -23,7 +23,11 @@
 
 namespace vimpact {
 
-inline nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+// A number, or null when it is not finite.
+inline nlohmann::json finite_or_null(double v)
+{
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 // How a summary names a field where it differs from the description: `key` another key, a
 // key of a nested object ("stats/protocol"), or "" to leave the field out.
