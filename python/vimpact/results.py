@@ -297,6 +297,7 @@ def _documented(record=None, shape="", **renamed):
                                                    break_on_hyphens=False)
 
     def document(cls):
+        cls._record = record
         cls._aliases = {new: old for old, new in renamed.items() if new} | {
             new + "_t": old + "_t" for old, new in renamed.items() if new and not shape}
         lines = ["", "Attributes", "----------"]
@@ -324,7 +325,7 @@ class _ByName:
     """The fields of the library's record of a run (``record``) or of each run (``records``)
     by name, each an attribute of the same name or of the name the class documents it under
     (``_documented``)."""
-    _store, _aliases = "records", {}
+    _store, _aliases, _record = "records", {}, None
 
     def __getattr__(self, name):
         store, key = self.__dict__.get(self._store) or {}, self._aliases.get(name, name)
@@ -635,6 +636,13 @@ class _Records(_Context, _ByName, RunFrames):
         """The shape of the runs where they form a grid, else None."""
         return None
 
+    def _spans(self):
+        """The span of each field by name ((group, name) for a group's), from the library's
+        description, else from the run.json schema the result was loaded by."""
+        fields = (_DESCRIBED or {}).get(self._record, ())
+        return {k: v for f in fields for k, v in [(f["name"], f["span"])] + [
+            ((f["name"], g["name"]), g["span"]) for g in f.get("fields", ())]} or self.__dict__.get("_schema", {})
+
     @classmethod
     def of(cls, records, ctx, **run):
         """The result from the columns of its records (``read_tables``', or the bindings'), the
@@ -650,7 +658,11 @@ class _Records(_Context, _ByName, RunFrames):
         records = {}
         for columns in read_tables(directory).values():
             records.update(columns)
-        return cls.of(records, ctx, **cls._run(res, records, directory))
+        result = cls.of(records, ctx, **cls._run(res, records, directory))
+        result._schema = {(c["group"], c["field"]) if "group" in c else c["field"]: "per_surface" if "surface" in c
+                          else "per_state" if "state" in c else "one" for t in read_record(directory)["tables"].values()
+                          for c in t["columns"] if "field" in c}
+        return result
 
 
 @_documented("sweep", "runs", stats=None)
