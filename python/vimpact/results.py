@@ -93,8 +93,7 @@ def _older(what):
 
 
 def _reader(load):
-    """A result's ``load(directory)``, saying so when the directory lacks a key or column that
-    this vimpact writes."""
+    """A result's ``load(directory)``, saying so when the directory lacks a key or column."""
     @functools.wraps(load)
     def read(cls, directory):
         try:
@@ -104,20 +103,15 @@ def _reader(load):
     return classmethod(read)
 
 
-def _described(entries):
-    """name -> {meaning, unit} from the model's description of its state variables or
-    parameters: a list of dicts with a name (``Model.info``, run.json's ``state_info``) or a
-    dict by name (run.json's ``parameter_info``)."""
-    if isinstance(entries, dict):
-        entries = [dict(e, name=n) for n, e in entries.items()]
-    return {e["name"]: {"meaning": e.get("meaning") or "", "unit": e.get("unit") or ""} for e in entries or ()}
-
-
 def model_quantities(state, parameters):
     """(state_info, parameter_info) of a result from a model's description of its state
-    variables and parameters (see ``_described``): ``state_info`` a tuple of dicts name,
-    meaning, unit in the model's order, ``parameter_info`` a dict name -> {meaning, unit}."""
-    return tuple(dict(name=n, **e) for n, e in _described(state).items()), _described(parameters)
+    variables and parameters, each a list of dicts with a name (``Model.info``, run.json's
+    ``state_info``) or a dict by name (run.json's ``parameter_info``): ``state_info`` a tuple
+    of dicts name, meaning, unit in the model's order, ``parameter_info`` name -> {meaning, unit}."""
+    def described(entries):
+        entries = [dict(e, name=n) for n, e in entries.items()] if isinstance(entries, dict) else entries or ()
+        return {e["name"]: {"meaning": e.get("meaning") or "", "unit": e.get("unit") or ""} for e in entries}
+    return tuple(dict(name=n, **e) for n, e in described(state).items()), described(parameters)
 
 
 def _context(record):
@@ -239,16 +233,12 @@ def _impacts(directory, ctx):
                 impact_rebound=column("rebound_velocity"), impact_energy=column("energy"))
 
 
-def _made(cls, values):
-    """An instance of dataclass ``cls`` from those of ``values`` that are its fields: run.json's
-    result by name (null NaN where the field is a number, lists as arrays), loaded files."""
-    out = {}
-    for f in fields(cls):
-        if f.name in values:
-            v = values[f.name]
-            out[f.name] = np.nan if v is None and isinstance(f.default, float) else \
-                np.array(v, dtype=float) if isinstance(v, list) else v
-    return cls(**out)
+def _picked(cls, values):
+    """Those of ``values`` that are fields of dataclass ``cls``, by name: run.json's result
+    (null NaN where the field is a number, lists as arrays), loaded files."""
+    return {f.name: np.nan if values[f.name] is None and isinstance(f.default, float) else np.array(
+        values[f.name], dtype=float) if isinstance(values[f.name], list) else values[f.name]
+        for f in fields(cls) if f.name in values}
 
 
 def _si(res, extra):
@@ -265,23 +255,18 @@ def _a(what, doc="", default=None):
     return field(**made, metadata={"what": what, "doc": doc})
 
 
-_DTYPES = {"int": "int64", "float": "float64", "bool": "bool", "text": "str", "complex": "complex128"}
-_SCALARS = {"int": "int", "float": "float", "bool": "bool", "text": "str"}
-
-
 def _kind(f, shape):
     """What the attribute of a record's field ``f`` is: for one run (``shape`` "") a value,
     for many runs an array whose first axes are ``shape`` ("runs", "ny, nx")."""
-    if f["type"] == "group":
-        return "dict"
-    if f["span"] == "series":
-        return "ndarray, float64, shape (points, dim)"
+    scalar = {"text": "str"}.get(f["type"], f["type"])
+    if f["type"] == "group" or f["span"] == "series":
+        return "dict" if f["type"] == "group" else "ndarray, float64, shape (points, dim)"
     if not shape and f["span"] == "per_surface":
-        return f"dict, surface name -> {_SCALARS[f['type']]}"
+        return f"dict, surface name -> {scalar}"
     dims = ", ".join(d for d in (shape, {"per_surface": "surfaces", "per_state": "dim",
                                          "spectrum": "dim"}.get(f["span"])) if d)
-    return f"ndarray, {_DTYPES[f['type']]}, shape ({dims}{'' if ',' in dims else ','})" if dims else \
-        _SCALARS[f["type"]]
+    dtype = {"int": "int64", "float": "float64", "complex": "complex128"}.get(f["type"], scalar)
+    return f"ndarray, {dtype}, shape ({dims}{'' if ',' in dims else ','})" if dims else scalar
 
 
 def _meaning(f):
@@ -297,7 +282,7 @@ def _documented(record=None, shape="", **renamed):
                                                    break_on_hyphens=False)
 
     def document(cls):
-        cls._record = record
+        cls._record = record if isinstance(record, str) else None
         cls._aliases = {new: old for old, new in renamed.items() if new} | {
             new + "_t": old + "_t" for old, new in renamed.items() if new and not shape}
         lines = ["", "Attributes", "----------"]
@@ -312,7 +297,7 @@ def _documented(record=None, shape="", **renamed):
             if f["type"] == "group":
                 doc += ": " + "; ".join(f"{g['name']} ({_meaning(g)})" for g in f["fields"])
             if shape and not f["tabular"]:
-                doc += " (not a column: None or absent when loaded)"
+                doc += " (not a column: None when loaded)"
             lines += entry(name, _kind(f, shape), doc) if name else []
             if name and f["span"] == "series" and not shape:
                 lines += entry(name + "_t", "ndarray, float64, shape (points,)", "Their times.")
@@ -329,12 +314,16 @@ class _ByName:
 
     def __getattr__(self, name):
         store, key = self.__dict__.get(self._store) or {}, self._aliases.get(name, name)
-        if name.startswith("__") or key not in store:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        return store[key]
+        if key in store and not name.startswith("__"):
+            return store[key]
+        if self._store == "records" and any(f["name"] == key for f in (_DESCRIBED or {}).get(self._record, ())):
+            return None  # a field that is not a column, of a loaded result
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self._aliases) | set(self.__dict__.get(self._store) or ()))
+        described = {f["name"] for f in (_DESCRIBED or {}).get(self._record, ())} if self._store == "records" else ()
+        return sorted(set(super().__dir__()) | set(self._aliases) | set(self.__dict__.get(self._store) or ()) |
+                      set(described))
 
 
 def _loaded_record(cls, res, held=(), **mapped):
@@ -385,7 +374,7 @@ class JobReport:
 
     @classmethod
     def from_dict(cls, d, journal=None):
-        return _made(cls, dict(d, journal=journal))
+        return cls(**_picked(cls, dict(d, journal=journal)))
 
     def __repr__(self):
         return (f"JobReport({self.done} of {self.jobs} jobs done: {self.computed} computed now, {self.resumed} "
@@ -435,11 +424,6 @@ class _PointRuns:
     _series = "points"  # the record's field of section points
 
     @property
-    def points(self):
-        """ndarray, float64, shape (points, dim): every run's section points, run after run."""
-        return self.records[self._series]
-
-    @property
     def point_run(self):
         """ndarray, int64, shape (points,): the run of each section point."""
         return self.records[self._series + "_run"]
@@ -465,7 +449,7 @@ class _Loads:
             path = os.path.join(directory, file)
             c = read_csv(path) if os.path.exists(path) else {"t": np.empty(0)}
             values[name + "_t"], values[name] = c["t"], _states(c, ctx["state_names"], len(c["t"]))
-        return _made(cls, dict(values, **cls._read(res, directory)))
+        return cls(**_picked(cls, dict(values, **cls._read(res, directory))))
 
 
 @dataclass(repr=False)
@@ -651,14 +635,18 @@ class _Records(_Context, _ByName, RunFrames):
         result.records = _shaped(records, result._grid())
         return result
 
+    @staticmethod
+    def _run(res, records, directory):
+        """What the run says of itself beyond run.json's result by the attributes' names."""
+        return {}
+
     @_reader
     def load(cls, directory):
         """The result of ``vimpact COMMAND --out DIR``."""
         ctx, res = _loaded(directory)
-        records = {}
-        for columns in read_tables(directory).values():
-            records.update(columns)
-        result = cls.of(records, ctx, **cls._run(res, records, directory))
+        records = {k: v for columns in read_tables(directory).values() for k, v in columns.items()}
+        run = cls._run(res, records, directory)
+        result = cls.of(records, ctx, **_picked(cls, {k: v for k, v in res.items() if k not in run}), **run)
         result._schema = {(c["group"], c["field"]) if "group" in c else c["field"]: "per_surface" if "surface" in c
                           else "per_state" if "state" in c else "one" for t in read_record(directory)["tables"].values()
                           for c in t["columns"] if "field" in c}
@@ -685,18 +673,13 @@ class Sweep(_Records, _Labels, _PointRuns):
         """ndarray, int64, shape (points,): the branch of each section point."""
         return self.branch[self.point_run]
 
-    @property
-    def final_state(self):
-        return self.records.get("final_state")
-
     def __repr__(self):
         return (f"Sweep(param={self.param!r}, {len(self.values)} values, {self.ic_mode} starts, "
                 f"direction {self.direction}: {self._counts_text()}; {len(self.points)} section points)")
 
     @staticmethod
     def _run(res, records, directory):
-        return dict(param=res["param"], values=np.unique(records["value"]), ic_mode=res["ic_mode"],
-                    direction=res["direction"], grazing_param=res.get("grazing_param"))
+        return dict(values=np.unique(records["value"]))
 
 
 @dataclass(repr=False)
@@ -710,10 +693,6 @@ class _Grid(_Records):
     def _grid(self):
         return len(self.y_values), len(self.x_values)
 
-    @staticmethod
-    def _axes(res):
-        return dict(x=res["x"], y=res["y"], x_values=np.array(res["x_values"], dtype=float),
-                    y_values=np.array(res["y_values"], dtype=float))
 
 
 @_documented("map", "ny, nx")
@@ -733,8 +712,7 @@ class Map(_Grid, _Labels):
 
     @staticmethod
     def _run(res, records, directory):
-        run = dict(Map._axes(res), grazing_param=res.get("grazing_param"))
-        path = os.path.join(directory, "grazing.csv")
+        run, path = {}, os.path.join(directory, "grazing.csv")
         if os.path.exists(path):  # the other axis, then the grazing value per surface
             run["grazing_other"], *cols = read_csv(path).values()
             run["grazing"] = np.column_stack(cols) if len(run["grazing_other"]) else np.empty((0, len(cols)))
@@ -779,7 +757,7 @@ class Basins(_Grid):
     def _run(res, records, directory):
         table = res["attractors"]["table"]
         boxes = [np.array(t["box"], dtype=float) for t in table]
-        return dict(Basins._axes(res), attractors=[
+        return dict(attractors=[
             Attractor(id=t["id"], label=t["label"], cells=t["cells"], box=box,
                       cycle=np.array(t["section_points"], dtype=float).reshape(-1, box.shape[1]))
             for t, box in zip(table, boxes)])
@@ -822,8 +800,7 @@ class Response(_Records):
     @staticmethod
     def _run(res, records, directory):
         curves = [{k: float(v) for k, v in c["parameters"].items()} for c in res["curves"]]
-        return dict(param=res["param"], values=records["value"][:len(records["value"]) // len(curves)],
-                    curves=curves, variable=res["variable"], grazing_param=res["grazing_param"])
+        return dict(values=records["value"][:len(records["value"]) // len(curves)], curves=curves)
 
 
 # ---------------------------------------------------------------- stability
@@ -933,10 +910,6 @@ class _ValueSweep(_Records, _PointRuns):
                          for i in range(n)]
         return sweep
 
-    @staticmethod
-    def _run(res, records, directory):
-        return {k: res[k] for k in ("param", "tdm") if k in res}
-
 
 @_documented("floquet_sweep", "n", section_points="points")
 @dataclass(repr=False)
@@ -977,10 +950,6 @@ class LyapunovSweep(_ValueSweep):
     window (``record > 0``)."""
     _result = Lyapunov
     tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-
-    @property
-    def positive_exponent(self):
-        return self.records["positive"]
 
     @property
     def lle(self):
@@ -1109,16 +1078,13 @@ class Clearance(_Context, _Labels):
     @staticmethod
     def chart(point, values, n):
         """Per-cell values (cell order: value after value) as an (n, k) array, padded."""
-        point = np.asarray(point, dtype=np.int64)
-        k = int(np.bincount(point, minlength=n).max()) if len(point) else 0
-        values = np.asarray(values)
-        pad = "" if values.dtype.kind in "US" else (-1 if values.dtype.kind in "iu" else np.nan)
-        out = np.full((n, k), pad, dtype=values.dtype if values.dtype.kind not in "US" else object)
-        col = np.zeros(n, dtype=np.int64)
-        for p, v in zip(point, values):
-            out[p, col[p]] = v
-            col[p] += 1
-        return out.astype(str) if values.dtype.kind in "US" else out
+        point, values = np.asarray(point, dtype=np.int64), np.asarray(values)
+        col = np.arange(len(point)) - np.searchsorted(point, point)  # its place among its value's cells
+        text = values.dtype.kind in "US"
+        out = np.full((n, col.max() + 1 if len(col) else 0), "" if text else -1 if values.dtype.kind in "iu" else
+                      np.nan, dtype=object if text else values.dtype)
+        out[point, col] = values
+        return out.astype(str) if text else out
 
     @classmethod
     def of(cls, d, si=None, **run):
