@@ -10,7 +10,6 @@ import collections.abc
 import functools
 import inspect
 import json
-import math
 import os
 import string
 import time

@@ -39,9 +39,7 @@ def read_csv(path):
     """A vimpact CSV of numbers (a header line, then rows) as a dict of float64 column arrays."""
     with open(path) as f:
         header = [h.strip() for h in f.readline().strip().split(",")]
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    if data.size == 0:
-        data = np.empty((0, len(header)))
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2).reshape(-1, len(header))
     return {name: data[:, i] for i, name in enumerate(header)}
 
 
@@ -309,8 +307,8 @@ def _documented(record=None, shape="", **renamed):
 class _ByName:
     """The fields of the library's record of a run (``record``) or of each run (``records``)
     by name, each an attribute of the same name or of the name the class documents it under
-    (``_documented``)."""
-    _store, _aliases, _record = "records", {}, None
+    (``_documented``), else of the result ``_then`` names."""
+    _store, _aliases, _record, _then = "records", {}, None, None
 
     def __getattr__(self, name):
         store, key = self.__dict__.get(self._store) or {}, self._aliases.get(name, name)
@@ -318,6 +316,8 @@ class _ByName:
             return store[key]
         if self._store == "records" and any(f["name"] == key for f in (_DESCRIBED or {}).get(self._record, ())):
             return None  # a field that is not a column, of a loaded result
+        if self._then and not name.startswith("__") and name != self._then:
+            return getattr(getattr(self, self._then), name)
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __dir__(self):
@@ -524,19 +524,11 @@ class Period(_ByName):
     """The period label of the attractor (``vimpact.period``, the command ``period``); the
     run's context (``parameters``, ``state_names``, ``outcome``, ``stats``, ...) is its
     ``simulation``'s."""
-    _store = "record"
+    _store, _then = "record", "simulation"
     record: dict = _a("dict", "Every field of the library's label by name (below).", dict)
     tol: Optional[float] = _a("float", "The period tolerance used.")
     simulation: Simulation = _a("Simulation", "The run that was classified (its section points, impacts and "
                                 "statistics).")
-
-    def __getattr__(self, name):
-        try:
-            return super().__getattr__(name)
-        except AttributeError:
-            if name.startswith("__") or name == "simulation":
-                raise
-            return getattr(self.simulation, name)
 
     @property
     def cycle(self):
@@ -803,172 +795,6 @@ class Response(_Records):
         return dict(values=records["value"][:len(records["value"]) // len(curves)], curves=curves)
 
 
-# ---------------------------------------------------------------- stability
-
-@_documented("floquet", section_points="section", protocol_stats=None, tangent_stats=None, map_evaluations=None)
-@dataclass(repr=False)
-class Floquet(_Run, _Impacts):
-    """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
-    ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting). Without
-    a period (``status`` aperiodic, or a failed run) there are no multipliers and the period
-    is NaN. Its impacts are those of the refined orbit over one period."""
-    _timed_files, _si_key = {"orbit": "orbit.csv"}, "period_si"
-    monodromy: np.ndarray = _a("ndarray, float64, shape (dim, dim)")
-    stable: Optional[bool] = _a("bool or None", "Every nontrivial |mu| < 1 (None without multipliers).")
-    impact_map: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-    orbit_t: np.ndarray = _a("ndarray, float64, shape (m,)", "Times of the refined orbit over one period, sampled "
-                             "every ``sample_dt`` (empty when 0).")
-    orbit: np.ndarray = _a("ndarray, float64, shape (m, dim)", "Its states.")
-    stats: dict = _a("dict", "``protocol`` and ``tangent`` RunStats, ``map_evaluations``.", dict)
-    si: dict = _a("dict or None", "Loaded from a run with ``--si``: its run.json's ``si`` (the scales in "
-                  "``values``, the SI columns of ``orbit.csv`` in ``columns``) and ``period_si`` [s].")
-
-    def __repr__(self):
-        if not len(self.multipliers):
-            return f"Floquet(label={self.label!r}, status={self.status!r}: no multipliers)"
-        mus = ", ".join(f"{m.real:.6g}{m.imag:+.3g}j" if m.imag else f"{m.real:.6g}" for m in self.multipliers)
-        return (f"Floquet(label={self.label!r}, status={self.status!r}, T={self.period:.6g}, multipliers [{mus}], "
-                f"{'stable' if self.stable else 'unstable'})")
-
-    @classmethod
-    def _read(cls, res, directory):
-        mus = np.array(res["multipliers"], dtype=float).reshape(-1, 2) @ np.array([1, 1j])
-        # run.json has no divergence_integral and log_det_jumps.
-        return dict(stats={}, record=_loaded_record(cls, res, status=res["outcome"], multipliers=mus,
-                                                    impacts_by_surface=res["impacts_by_surface"] or {},
-                                                    divergence_integral=np.nan, log_det_jumps=np.nan))
-
-
-@_documented("lyapunov", section_points="section", transient_stats=None, stats=None)
-@dataclass(repr=False)
-class Lyapunov(_Run):
-    """The Lyapunov spectrum (``vimpact.lyapunov``, the command ``lyapunov``; the paper's
-    Algorithm 2). Loaded from a directory, its interval history is the one its running estimates
-    (convergence.csv) give."""
-    _si_key = "exponents_si"
-    tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-    positive: bool = _a("bool", "The library's verdict: the largest exponent lies more than 3 standard errors "
-                        "above 0.", False)
-    history_t: np.ndarray = _a("ndarray, float64, shape (h,)", "The end of every counted interval.")
-    history_growth: np.ndarray = _a("ndarray, float64, shape (h, dim)", "ln(R_ii / r0) of every counted interval "
-                                    "(QR order); ``running_exponents`` gives the running averages.")
-    stats: dict = _a("dict", "``transient`` and ``tangent`` RunStats.", dict)
-    si: dict = None
-
-    @property
-    def lle(self):
-        """The largest exponent."""
-        return float(self.exponents[0])
-
-    @property
-    def running_exponents(self):
-        """ndarray, float64, shape (h, dim): the estimates after each counted interval."""
-        elapsed = (self.history_t - self.t_start)[:, None]
-        return np.cumsum(self.history_growth, axis=0) / elapsed
-
-    def __repr__(self):
-        return (f"Lyapunov(status={self.status!r}, exponents {np.array2string(self.exponents, precision=6)}, "
-                f"largest +- {self.lle_standard_error:.2g}, {self.impacts} impacts, tdm {self.tdm})")
-
-    @classmethod
-    def _read(cls, res, directory):
-        conv = read_csv(os.path.join(directory, "convergence.csv"))
-        running = _states(conv, [f"lambda{i + 1}" for i in range(len(res["exponents"]))], len(conv["t"]))
-        # Back from running averages to per-interval growth, so running_exponents round-trips.
-        total = running * (conv["t"] - res["t_start"])[:, None]
-        growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
-        return dict(positive=res["positive"], history_t=conv["t"], history_growth=growth, stats={},
-                    record=_loaded_record(cls, res, status=res["outcome"], jump_log_det_rate=np.nan))  # not in run.json
-
-
-@dataclass(repr=False)
-class _ValueSweep(_Records, _PointRuns):
-    """A stability sweep: its record's fields, ``results`` (the result of each value with the
-    fields of its record) and the section points of every value (the bifurcation diagram
-    underneath)."""
-    _series = "section_points"
-    param: str = _a("str", "The swept parameter.", "")
-    results: list = _a("list", "The result of each value, with the fields of its record.", list)
-
-    @classmethod
-    def of(cls, records, ctx, **run):
-        sweep = super().of(records, ctx, **run)
-        n, result = len(sweep.value), cls._result
-        cols = {k: v for k, v in sweep.records.items()
-                if isinstance(v, np.ndarray) and len(v) == n and not k.startswith(cls._series)}
-        cols.update(sweep._per_value())
-        own = {f.name for f in fields(result)}
-
-        def cell(v):  # a spectrum without its NaN, a numpy scalar as Python's
-            return v[~np.isnan(v)] if np.iscomplexobj(v) else v.item() if isinstance(v, np.generic) else v
-
-        def record(i):
-            by = dict(zip(ctx["surfaces"], sweep.impacts_by_surface[i].tolist()))
-            return dict({k: cell(v[i]) for k, v in cols.items() if k not in own},
-                        section_points=sweep.points[sweep.point_run == i], impacts_by_surface=by)
-        sweep.results = [result(**{k: cell(v[i]) for k, v in cols.items() if k in own}, record=record(i), **ctx)
-                         for i in range(n)]
-        return sweep
-
-
-@_documented("floquet_sweep", "n", section_points="points")
-@dataclass(repr=False)
-class FloquetSweep(_ValueSweep, _Labels):
-    """Floquet multipliers over a range of one parameter (``vimpact.floquet_sweep``, the
-    command ``floquet --param P --range a:b:n``; the paper's Figures 14 and 15). Each value's
-    result is a Floquet without monodromy, impacts or orbit."""
-    _result = Floquet
-
-    @property
-    def trivial(self):
-        """ndarray, bool, shape (n, dim): the trivial multiplier (column 0 where there are multipliers)."""
-        t = np.zeros(self.multipliers.shape, dtype=bool)
-        t[:, :1] = ~np.isnan(self.multipliers[:, :1])
-        return t
-
-    @property
-    def stable(self):
-        """ndarray, object, shape (n,): True, False or None (no multipliers)."""
-        return np.array([bool(s == "ok" and m < 1) if h else None for s, m, h in
-                         zip(self.status, self.max_nontrivial_modulus, self.trivial.any(axis=1))], dtype=object)
-
-    def _per_value(self):
-        return {"stable": self.stable}
-
-    def __repr__(self):
-        unstable = sum(1 for s in self.stable if s is False)
-        return (f"FloquetSweep(param={self.param!r}, {len(self.value)} values: {self._counts_text()}; "
-                f"{unstable} unstable)")
-
-
-@_documented("lyapunov_sweep", "n", section_points="points", positive="positive_exponent", stats=None)
-@dataclass(repr=False)
-class LyapunovSweep(_ValueSweep):
-    """Lyapunov exponents over a range of one parameter (``vimpact.lyapunov_sweep``, the
-    command ``lyapunov --param P --range a:b:n``; the paper's Figures 16 and 17). Each value's
-    result is a Lyapunov without interval history; the points are those of each averaging
-    window (``record > 0``)."""
-    _result = Lyapunov
-    tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-
-    @property
-    def lle(self):
-        """ndarray, float64, shape (n,): the largest exponent of each value."""
-        return self.exponents[:, 0] if len(self.exponents) else np.empty(0)
-
-    @property
-    def positive(self):
-        """How many values have a positive largest exponent (``positive_exponent``)."""
-        return int(np.sum(self.positive_exponent))
-
-    def _per_value(self):
-        return {"tdm": np.full(len(self.value), self.tdm, dtype=object)}
-
-    def __repr__(self):
-        return (f"LyapunovSweep(param={self.param!r}, {len(self.value)} values, tdm {self.tdm}: {self.positive} "
-                f"with a positive largest exponent)")
-
-
 # ---------------------------------------------------------------- correlation dimension
 
 @_documented()
@@ -1015,111 +841,7 @@ class Dimension:
                 f"{'' if self.found else ', tolerance NOT met'})")
 
 
-# ---------------------------------------------------------------- clearance design
-
-_CHART = "ndarray, float64, shape (n, k)"
-
-
-@_documented()
-@dataclass(repr=False)
-class Clearance(_Context, _Labels):
-    """Clearance design over a flow parameter (``vimpact.clearance``, the command ``clearance``):
-    the smallest gap to the surface without impact at each value (the grazing line), the gaps
-    where the response is aperiodic, and the design chart (a period label and the impact
-    statistics at each gap).
-
-    Gaps are distances from the rest state to the surface (``-sigma`` for the wake model). The
-    arrays ``*_si`` are in SI (metres, m/s, Hz, J/m, W/m for a cylinder) when the run had
-    physical units, else None. The chart's arrays (n, k) are NaN-, -1- or ""-padded where a
-    value has fewer gaps than k."""
-    param: str = _a("str", "The flow parameter (``Ur``).", "")
-    x: str = _a("str", "The chart's horizontal quantity: ``U`` with speeds, else ``param``.", "")
-    gap_param: str = _a("str", "The parameter that moves the surface (``sigma``).", "")
-    surface: str = _a("str", "The surface.", "")
-    value: np.ndarray = _a("ndarray, float64, shape (n,)", "The flow parameter's values.")
-    speed: Optional[np.ndarray] = _a("ndarray, float64, shape (n,), or None", "The flow speeds [m/s].")
-    grazing_value: np.ndarray = _a("ndarray, float64, shape (n,)", "``gap_param`` at grazing.")
-    clearance: np.ndarray = _a("ndarray, float64, shape (n,)", "The smallest gap without impact.")
-    clearance_si: Optional[np.ndarray] = _a("ndarray, float64, shape (n,)", "The same in metres.")
-    converged: np.ndarray = _a("ndarray, bool, shape (n,)", "The grazing run converged.")
-    aperiodic: np.ndarray = _a("ndarray, float64, shape (n, 2)", "The smallest and largest chart gap with an "
-                               "aperiodic response (NaN where none).")
-    aperiodic_si: Optional[np.ndarray] = _a("ndarray, float64, shape (n, 2)", "The same in metres.")
-    gap: np.ndarray = _a(_CHART, "The chart's gaps at each value.")
-    gap_si: Optional[np.ndarray] = _a(_CHART, "The same in metres.")
-    label: np.ndarray = _a("ndarray, str, shape (n, k)", "The regime at each chart gap: ``P0`` (no impact), "
-                           "``PN``, ``aperiodic``, or a failed run's outcome.")
-    period: np.ndarray = _a("ndarray, int64, shape (n, k)")
-    impacts: np.ndarray = _a("ndarray, int64, shape (n, k)")
-    outcome: np.ndarray = _a("ndarray, str, shape (n, k)")
-    statistics: dict = _a("dict", "The impact statistics at each chart gap, name -> ndarray float64 (n, k).",
-                          dict)
-    statistics_si: Optional[dict] = _a("dict", "The same in SI.")
-    warnings: tuple = ()
-    stats: dict = field(default_factory=dict)
-    jobs: Optional[JobReport] = _a("JobReport")
-
-    @property
-    def x_values(self):
-        """The chart's horizontal values: the speeds, else the parameter's values."""
-        return self.speed if self.speed is not None else self.value
-
-    @property
-    def label_counts(self):
-        """How many chart cells carry each label (padding left out)."""
-        return label_counts([lab for lab in np.asarray(self.label).ravel() if lab])
-
-    def __repr__(self):
-        unit = " m" if self.clearance_si is not None else ""
-        c = self.clearance_si if self.clearance_si is not None else self.clearance
-        pairs = ", ".join(f"{x:g}: {g:.4g}{unit}" for x, g in zip(self.x_values, c))
-        return f"Clearance({self.x} -> gap without impact: {pairs}; chart {self._counts_text()})"
-
-    @staticmethod
-    def chart(point, values, n):
-        """Per-cell values (cell order: value after value) as an (n, k) array, padded."""
-        point, values = np.asarray(point, dtype=np.int64), np.asarray(values)
-        col = np.arange(len(point)) - np.searchsorted(point, point)  # its place among its value's cells
-        text = values.dtype.kind in "US"
-        out = np.full((n, col.max() + 1 if len(col) else 0), "" if text else -1 if values.dtype.kind in "iu" else
-                      np.nan, dtype=object if text else values.dtype)
-        out[point, col] = values
-        return out.astype(str) if text else out
-
-    @classmethod
-    def of(cls, d, si=None, **run):
-        """From the bindings' columns (``load`` reads the same from the files): per value of
-        the parameter and per chart cell (``cell_point``: its value's index, cells value
-        after value); ``si`` the same in SI units (the attributes ``*_si``) or None."""
-        chart = functools.partial(cls.chart, d["cell_point"], n=len(d["value"]))
-
-        def quantities(c):  # what has an SI form
-            return dict(clearance=c["clearance"], aperiodic=np.column_stack([c["aperiodic_min"], c["aperiodic_max"]]),
-                        gap=chart(c["cell_gap"]), statistics={k: chart(v) for k, v in c["statistics"].items()})
-        return cls(value=d["value"], grazing_value=d["grazing_value"], converged=d["converged"],
-                   label=chart(_str_array(d["label"])), period=chart(d["period"]), impacts=chart(d["impacts"]),
-                   outcome=chart(_str_array(d["outcome"])), **quantities(d),
-                   **({k + "_si": v for k, v in quantities(si).items()} if si is not None else {}), **run)
-
-    @_reader
-    def load(cls, directory):
-        """The result of ``vimpact clearance --out DIR``."""
-        ctx, res = _loaded(directory)
-        param, gname, names = res["param"], res["gap_param"], res["statistics_columns"]
-        cl, ch = (read_table(os.path.join(directory, f)) for f in ("clearance.csv", "chart.csv"))
-        column = {k: np.array(v, dtype=float) for k, v in cl.items()}
-
-        def cell(key):
-            return np.array(ch[key], dtype=float)
-        # Cells are written value after value; their value index from the parameter column.
-        point = np.array([int(np.argmin(np.abs(column[param] - v))) for v in cell(param)], dtype=np.int64)
-        d = dict(value=column[param], grazing_value=column[gname + "_graze"], clearance=column["clearance"],
-                 converged=column["converged"] > 0.5, aperiodic_min=column["aperiodic_min"],
-                 aperiodic_max=column["aperiodic_max"], cell_point=point, cell_gap=cell("gap"), label=ch["label"],
-                 period=cell("period").astype(np.int64), impacts=cell("impacts").astype(np.int64),
-                 outcome=ch["outcome"], statistics={k: cell(k) for k in names})
-        si = dict(clearance=column["clearance_si"], aperiodic_min=column["aperiodic_min_si"],
-                  aperiodic_max=column["aperiodic_max_si"], cell_gap=cell("gap_si"),
-                  statistics={k: cell(k + "_si") for k in names if k + "_si" in ch}) if res["units"] == "si" else None
-        return cls.of(d, si, param=param, x=res["x"], gap_param=gname, surface=res["surface"],
-                      speed=column["U"] if res["x"] == "U" else None, warnings=tuple(res["warnings"]), **ctx)
+# The stability and clearance results live in results_stability.py and results_clearance.py
+# (they build on the classes above); vimpact.results still names every result.
+from .results_clearance import Clearance  # noqa: E402,F401
+from .results_stability import Floquet, FloquetSweep, Lyapunov, LyapunovSweep  # noqa: E402,F401
