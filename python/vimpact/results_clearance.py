@@ -8,7 +8,8 @@ from typing import Optional
 
 import numpy as np
 
-from .results import _a, _Context, _documented, _Labels, _loaded, _reader, _str_array, JobReport, label_counts, read_table
+from .results import (_a, _Context, _documented, _Labels, _loaded, _reader, _str_array, JobReport, label_counts,
+                      read_table)
 
 
 _CHART = "ndarray, float64, shape (n, k)"
