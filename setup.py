@@ -77,6 +77,7 @@ class CMakeBuild(build_ext):
 setup(
     version=project_version(),
     packages=["vimpact"],
+    package_data={"vimpact": ["*.html"]},  # the explorer's page
     package_dir={"": "python"},
     ext_modules=[Extension("vimpact._vimpact", sources=[])],
     cmdclass={"build_ext": CMakeBuild},

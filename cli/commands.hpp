@@ -18,5 +18,6 @@ cli_command add_dimension_command(CLI::App& app);  // dimension_command.cpp
 cli_command add_models_command(CLI::App& app);     // models_command.cpp
 cli_command add_units_command(CLI::App& app);      // units_command.cpp
 cli_command add_clearance_command(CLI::App& app);  // clearance_command.cpp
+cli_command add_explore_command(CLI::App& app);    // explore_command.cpp
 
 }  // namespace vimpact::cli

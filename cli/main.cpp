@@ -80,7 +80,7 @@ int main(int argc, char** argv)
         add_response_command(app), add_floquet_command(app),  add_lyapunov_command(app),
         add_continue_command(app),
         add_dimension_command(app), add_models_command(app), add_units_command(app),
-        add_clearance_command(app),
+        add_clearance_command(app), add_explore_command(app),
     };
 
     try {

@@ -20,7 +20,7 @@ function(vimpact_add_pytest_files prefix dir label timeout)
     add_test(NAME ${prefix}_${_name}
              COMMAND ${Python3_EXECUTABLE} -m pytest -q -p no:cacheprovider ${_file} ${_p_ARGS})
     set_tests_properties(${prefix}_${_name} PROPERTIES LABELS ${label} TIMEOUT ${timeout}
-                         ENVIRONMENT "VIMPACT_TEST_CACHE_DIR=${CMAKE_BINARY_DIR}/test-model-cache;${_p_ENVIRONMENT}")
+                         ENVIRONMENT "VIMPACT_TEST_CACHE_DIR=${CMAKE_BINARY_DIR}/test-model-cache;VIMPACT_TEST_ARTIFACTS=${CMAKE_BINARY_DIR}/test-artifacts;${_p_ENVIRONMENT}")
     list(FIND VIMPACT_PYTEST_COSTS ${prefix}_${_name} _at)
     if(_at GREATER_EQUAL 0)
       math(EXPR _at "${_at} + 1")

@@ -25,6 +25,8 @@ main=(
   libxsimd-dev
   # the Python module and the pictures
   python3 python3-dev pybind11-dev python3-numpy python3-matplotlib
+  # plotly.js for the page of `vimpact explore`, served from the machine
+  python3-plotly
 )
 tests=(
   # the test command reuses earlier builds' objects where it can, and builds a new build
@@ -33,6 +35,8 @@ tests=(
   libgtest-dev libgmock-dev python3-pytest
   # the notebooks of examples/notebooks, executed by the tests
   python3-nbclient python3-nbformat python3-ipykernel
+  # the explorer's page driven in a real, headless browser (tests/python/test_explore.py)
+  chromium chromium-driver python3-selenium
   # Python results as data frames and labelled grids (to_pandas, to_xarray)
   python3-pandas python3-xarray
   # many-job runs across processes: mpirun -n N vimpact map ... (docs/distributed.md)

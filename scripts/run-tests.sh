@@ -10,7 +10,7 @@ bash scripts/install-deps.sh tests
 jobs=$(nproc)
 # A capability the installer provided that a test finds missing fails the test instead of
 # skipping it (tests/capabilities.py).
-export VIMPACT_REQUIRE=plots,mpi,cli,notebooks,frames
+export VIMPACT_REQUIRE=plots,mpi,cli,notebooks,frames,browser
 # Objects of an earlier build of the same sources come from ccache (installed above), in any
 # clone: paths are hashed relative to the clone.
 launcher=()
