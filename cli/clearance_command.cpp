@@ -121,7 +121,7 @@ int run_clearance(const clearance_args& a)
                     {"label_counts", counts},
                     {"statistics_columns", statistics_columns()},
                     {"warnings", warnings},
-                    {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+                    {"out", out_path(c)}};
     if (si) summary["si"] = si_json(*c.si, m);
     if (c.out) {
         write_run(c, "clearance", summary, [&](staged_output& out) {

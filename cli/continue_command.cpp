@@ -250,7 +250,7 @@ int run_continue(const continue_args& a)
     }
     json summary = two ? continuation_json(m, o, r, co, curves) : continuation_json(m, o, r);
     summary["command"] = "continue";
-    summary["out"] = c.out ? json(c.out->string()) : json(nullptr);
+    summary["out"] = out_path(c);
     if (c.si) {
         // The SI value of an SI parameter beside its model value: param_si at every point,
         // bifurcation and curve point (param2_si for --param2).

@@ -234,7 +234,7 @@ int run_dimension(const dimension_args& a, const CLI::App& app)
     summary["command"] = "dimension";
     summary["source"] = source;
     summary["theiler_window"] = opt.theiler_window;
-    summary["out"] = c.out ? json(c.out->string()) : json(nullptr);
+    summary["out"] = out_path(c);
     if (c.out) {
         throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);

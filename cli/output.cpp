@@ -38,8 +38,6 @@ void append(std::vector<std::string>& to, const std::vector<std::string>& more)
     to.insert(to.end(), more.begin(), more.end());
 }
 
-json finite_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
 json vector_json(const Eigen::VectorXd& v)
 {
     json j = json::array();
@@ -58,27 +56,12 @@ json matrix_json(const Eigen::MatrixXd& m)
     return rows;
 }
 
-json by_surface(const std::vector<long>& counts, const model_info& info)
+void null_keys(json& summary, std::initializer_list<const char*> keys)
 {
-    json j = json::object();
-    for (std::size_t i = 0; i < info.surfaces.size(); ++i) j[info.surfaces[i].name] = i < counts.size() ? counts[i] : 0L;
-    return j;
+    for (const char* k : keys) summary[k] = nullptr;
 }
 
-json stats_json(const run_stats& s, const model_info& info)
-{
-    return {{"steps", s.steps},
-            {"rejected", s.rejected},
-            {"rhs_calls", s.rhs_calls},
-            {"impacts", s.impacts},
-            {"impacts_by_surface", by_surface(s.impacts_by_surface, info)},
-            {"sections", s.sections},
-            {"sticking_phases", s.sticking_phases},
-            {"sticking_time", s.sticking_time},
-            {"h_min", finite_or_null(s.h_min)},
-            {"h_max", s.h_max},
-            {"t_final", s.t_final}};
-}
+json out_path(const run_config& c) { return c.out ? json(c.out->string()) : json(nullptr); }
 
 json model_json(const vimpact::model& m)
 {
@@ -97,20 +80,6 @@ json model_json(const vimpact::model& m)
             {"parameter_info", parameters},
             {"surfaces", surfaces},
             {"sections", sections}};
-}
-
-json statistics_json(const impact_statistics& s, const model_info& info)
-{
-    json j = json::object();
-    const auto values = impact_statistics_values(s);
-    const auto& names = impact_statistics_names();
-    for (std::size_t i = 0; i < names.size(); ++i) j[names[i]] = finite_or_null(values[i]);
-    j["impacts_recorded"] = s.impacts;
-    json by = json::object();
-    for (std::size_t i = 0; i < info.surfaces.size(); ++i)
-        by[info.surfaces[i].name] = finite_or_null(i < s.excursion_by_surface.size() ? s.excursion_by_surface[i] : std::nan(""));
-    j["excursion_by_surface"] = by;
-    return j;
 }
 
 std::vector<std::string> statistics_columns()
@@ -163,7 +132,7 @@ std::string add_si_results(json& summary, const run_config& c, const vimpact::mo
     if (!c.si) return {};
     add_si_summary(summary, c, m);
     const impact_statistics k = in_si(s, scales_at(*c.si, m));
-    summary["impact_statistics_si"] = statistics_json(k, m.info());
+    summary["impact_statistics_si"] = summary_json(k, m.info());
     return "in SI: " + statistics_text(k, true, c.si->cylinder.has_value());
 }
 

@@ -3,6 +3,7 @@
 // files of states and impacts named by the model, the PNG made by `python3 -m vimpact.plot`,
 // and stdout.
 #include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <optional>
 #include <string>
@@ -20,26 +21,26 @@
 #include "vimpact/io/csv_writer.hpp"
 #include "vimpact/io/record_table.hpp"
 #include "vimpact/io/staged_output.hpp"
+#include "vimpact/io/summary_json.hpp"
 
 namespace vimpact::cli {
 
 using json = nlohmann::json;
 
-// A JSON number, or null when it is not finite (JSON has no NaN or infinity).
-json finite_or_null(double v);
 json vector_json(const Eigen::VectorXd& v);
 json matrix_json(const Eigen::MatrixXd& m);
-// {surface name: count}; counts absent for a surface are 0.
-json by_surface(const std::vector<long>& counts, const model_info& info);
-json stats_json(const run_stats& s, const model_info& info);
+
+// A result's summary is summary_json of its record (vimpact/io/summary_json.hpp) and what the
+// command adds. Sets `keys` of a summary to null: values a result does not have (a period without a
+// periodic orbit).
+void null_keys(json& summary, std::initializer_list<const char*> keys);
+// A summary's "out": --out DIR, or null without it.
+json out_path(const run_config& c);
 // The model as run: name, source, identity, parameter values by name, state, surface and
 // section names, and the meaning and unit of every state variable and parameter (the
 // pictures' axis labels).
 json model_json(const vimpact::model& m);
 
-// A run's impact statistics by the library's names (impact_statistics_names), null where not
-// finite, and the excursion of each surface (excursion_by_surface).
-json statistics_json(const impact_statistics& s, const model_info& info);
 // The statistics as CSV columns (the same names) and one run's cells.
 std::vector<std::string> statistics_columns();
 void append_statistics(std::vector<std::string>& cells, const impact_statistics& s);

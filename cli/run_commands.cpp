@@ -50,33 +50,30 @@ int run_simulate(const simulate_args& a)
     const simulation r = simulate(c.model, c.ic, po);
 
     const auto& info = c.info();
+    const json stats = summary_json(r.stats, info);
     json summary = {{"command", "simulate"},
-                          {"outcome", std::string(to_string(r.status))},
-                          {"impacts", r.stats.impacts},
-                          {"impacts_by_surface", by_surface(r.stats.impacts_by_surface, info)},
-                          {"impacts_recorded", r.impacts.size()},
-                          {"impacting", r.impacting},
-                          {"section_points", r.points.size()},
-                          {"t_record_start", r.t_record_start},
-                          {"t_record_end", r.t_record_end},
-                          {"t_final", r.stats.t_final},
-                          {"impact_statistics", statistics_json(r.statistics, info)},
-                          {"final_state", vector_json(r.final_state)},
-                          {"stats", stats_json(r.stats, info)},
-                          {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+                    {"outcome", std::string(to_string(r.status))},
+                    {"impacts", r.stats.impacts},
+                    {"impacts_by_surface", stats["impacts_by_surface"]},
+                    {"impacts_recorded", r.impacts.size()},
+                    {"impacting", r.impacting},
+                    {"section_points", r.points.size()},
+                    {"t_record_start", r.t_record_start},
+                    {"t_record_end", r.t_record_end},
+                    {"t_final", r.stats.t_final},
+                    {"impact_statistics", summary_json(r.statistics, info)},
+                    {"final_state", vector_json(r.final_state)},
+                    {"stats", stats},
+                    {"out", out_path(c)}};
     const std::string si_text = add_si_results(summary, c, c.model, r.statistics);
-    if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("simulate", c);
-        record["result"] = summary;
-        record["files"] = {"timeseries.csv", "impacts.csv", "sections.csv"};
-        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
-        write_states(out.file("timeseries.csv"), r.series, info, si ? &*si : nullptr);
-        write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
-        write_states(out.file("sections.csv"), r.points, info, si ? &*si : nullptr);
-        finish_output(out, "simulate", c, record);
-    }
+    if (c.out)
+        write_run(c, "simulate", summary, [&](staged_output& out) {
+            const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+            write_states(out.file("timeseries.csv"), r.series, info, si ? &*si : nullptr);
+            write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
+            write_states(out.file("sections.csv"), r.points, info, si ? &*si : nullptr);
+            return json{"timeseries.csv", "impacts.csv", "sections.csv"};
+        });
     const std::string text = "outcome " + std::string(to_string(r.status)) + ", " + std::to_string(r.stats.impacts) +
                              " impacts, " + std::to_string(r.points.size()) + " section points recorded from t = " +
                              format_double(r.t_record_start) + " to t = " + format_double(r.stats.t_final) + "\n" +
@@ -103,33 +100,25 @@ int run_period(const period_args& a)
         first.push_back(r.run.points.x(static_cast<std::size_t>(i), 0));
         cycle.push_back(vector_json(r.run.points.x(static_cast<std::size_t>(i))));
     }
-    json summary = {{"command", "period"},
-                          {"label", lab.label},
-                          {"period", lab.period >= 0 ? json(lab.period) : json(nullptr)},
-                          {"impacts", lab.impacts_per_period},
-                          {"impacts_by_surface", by_surface(lab.impacts_by_surface, info)},
-                          {"closure", lab.closure},
-                          {"settled", lab.settled},
-                          {"tolerance", a.tol},
-                          {"outcome", std::string(to_string(r.run.status))},
-                          {"section_" + info.state.front().name, first},
-                          {"cycle", cycle},
-                          {"points", r.run.points.size()},
-                          {"impact_statistics", statistics_json(r.run.statistics, info)},
-                          {"stats", stats_json(r.run.stats, info)},
-                          {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    json summary = summary_json(lab, info);
+    if (lab.period < 0) null_keys(summary, {"period"});
+    summary.update({{"command", "period"},
+                    {"tolerance", a.tol},
+                    {"outcome", std::string(to_string(r.run.status))},
+                    {"section_" + info.state.front().name, first},
+                    {"cycle", cycle},
+                    {"points", r.run.points.size()},
+                    {"impact_statistics", summary_json(r.run.statistics, info)},
+                    {"stats", summary_json(r.run.stats, info)},
+                    {"out", out_path(c)}});
     const std::string si_text = add_si_results(summary, c, c.model, r.run.statistics);
-    if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("period", c);
-        record["result"] = summary;
-        record["files"] = {"sections.csv", "impacts.csv"};
-        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
-        write_states(out.file("sections.csv"), r.run.points, info, si ? &*si : nullptr);
-        write_impacts(out.file("impacts.csv"), r.run.impacts, c.model, si ? &*si : nullptr);
-        finish_output(out, "period", c, record);
-    }
+    if (c.out)
+        write_run(c, "period", summary, [&](staged_output& out) {
+            const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+            write_states(out.file("sections.csv"), r.run.points, info, si ? &*si : nullptr);
+            write_impacts(out.file("impacts.csv"), r.run.impacts, c.model, si ? &*si : nullptr);
+            return json{"sections.csv", "impacts.csv"};
+        });
     std::string text = lab.label;
     if (lab.period > 0)
         text += " (" + std::to_string(lab.impacts_per_period) + " impact(s) per period, closure " +
@@ -187,8 +176,8 @@ int run_grazing(const grazing_args& a)
                     {"surfaces", surfaces},
                     {"converged", g.converged},
                     {"outcome", std::string(to_string(g.status))},
-                    {"stats", stats_json(g.stats, info)},
-                    {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+                    {"stats", summary_json(g.stats, info)},
+                    {"out", out_path(c)}};
     if (c.si) summary["si"] = si_json(*c.si, m);
     if (g.surfaces.front().parameter >= 0)
         summary[info.parameters[static_cast<std::size_t>(g.surfaces.front().parameter)].name + "_graze"] =

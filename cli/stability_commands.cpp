@@ -105,12 +105,14 @@ void write_sweep_points(streamed_table& w, double value, const state_series& pts
     }
 }
 
-json multipliers_json(const floquet_result& r)
-{
-    json mults = json::array();
-    for (const auto& mu : r.multipliers) mults.push_back({mu.real(), mu.imag()});
-    return mults;
-}
+// The summaries' names of the results' fields where they differ from the description: every
+// command's "outcome", the run counters under "stats".
+const summary_form floquet_form{
+    {{"status", "outcome"}, {"protocol_stats", "stats/protocol"}, {"tangent_stats", "stats/tangent"}}};
+const summary_form lyapunov_form{
+    {{"status", "outcome"}, {"transient_stats", "stats/transient"}, {"stats", "stats/tangent"}}};
+// A sweep's value without --out: its row of the table.
+const summary_form sweep_row_form{{{"status", "outcome"}}, true};
 
 // ---------------------------------------------------------------- floquet
 
@@ -143,16 +145,11 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
         if (sv.si()) si.push_back(sv.si_value(c, p.value));
         if (c.si) si.push_back(period_si);
         if (!c.out) {
-            per_value.push_back({{"value", p.value},
-                                 {"label", r.label},
-                                 {"outcome", std::string(to_string(r.status))},
-                                 {"period", finite_or_null(r.period)},
-                                 {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
-                                 {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
-                                 {"multipliers", multipliers_json(r)},
-                                 {"trivial_error", finite_or_null(r.trivial_error)}});
-            if (sv.si()) per_value.back()[sv.si_name] = si.front();
-            if (c.si) per_value.back()["period_si"] = finite_or_null(period_si);
+            json row = summary_json(p, info, sweep_row_form);
+            if (!have) null_keys(row, {"impacts_per_period", "impacts_by_surface"});
+            if (sv.si()) row[sv.si_name] = si.front();
+            if (c.si) row["period_si"] = finite_or_null(period_si);
+            per_value.push_back(std::move(row));
             return;
         }
         lab.row({}, p, si);
@@ -172,7 +169,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
                     {"label_counts", counts},
                     {"unstable", unstable},
                     {"files", {"labels.csv", "multipliers.csv", "points.csv"}},
-                    {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+                    {"out", out_path(c)}};
     if (!c.out) summary["points"] = per_value;
     add_si_sweep(summary, c, sv);
     std::string text = "floquet sweep of " + sv.name + " over " + std::to_string(sv.values.size()) +
@@ -210,50 +207,36 @@ int run_floquet(const floquet_args& a)
     const bool have = r.has_multipliers();
     json moduli = json::array();
     for (const auto& mu : r.multipliers) moduli.push_back(std::abs(mu));
-    json summary = {
-        {"command", "floquet"},
-        {"label", r.label},
-        {"outcome", std::string(to_string(r.status))},
-        {"period", have ? json(r.period) : json(nullptr)},
-        {"section_returns", r.section_returns > 0 ? json(r.section_returns) : json(nullptr)},
-        {"impacts_per_period", have ? json(r.impacts_per_period) : json(nullptr)},
-        {"impacts_by_surface", have ? by_surface(r.impacts_by_surface, info) : json(nullptr)},
-        {"multipliers", multipliers_json(r)},
-        {"moduli", moduli},
-        {"trivial_index", have ? json(0) : json(nullptr)},
-        {"trivial_error", have ? finite_or_null(r.trivial_error) : json(nullptr)},
-        {"trivial_residual", have ? finite_or_null(r.trivial_residual) : json(nullptr)},
-        {"max_nontrivial_modulus", have ? finite_or_null(r.max_nontrivial_modulus) : json(nullptr)},
-        {"stable", have ? json(r.stable()) : json(nullptr)},
-        {"closure", r.section_returns > 0 ? finite_or_null(r.closure) : json(nullptr)},
-        {"initial_closure", r.section_returns > 0 ? finite_or_null(r.initial_closure) : json(nullptr)},
-        {"newton_iterations", r.newton_iterations},
-        {"orbit_point", have ? vector_json(r.orbit_point) : json(nullptr)},
-        {"det_monodromy", have ? finite_or_null(r.det_monodromy) : json(nullptr)},
-        {"liouville_det", have ? finite_or_null(r.liouville_det) : json(nullptr)},
-        {"impact_map", std::string(to_string(r.jump))},
-        {"tangent_rtol", fo.tangent_integration.rtol},
-        {"stats", {{"protocol", stats_json(r.protocol_stats, info)}, {"tangent", stats_json(r.tangent_stats, info)}}},
-        {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    json summary = summary_json(r, info, floquet_form);
+    if (!have)
+        null_keys(summary, {"period", "impacts_per_period", "impacts_by_surface", "trivial_error", "trivial_residual",
+                            "max_nontrivial_modulus", "orbit_point", "det_monodromy", "liouville_det",
+                            "divergence_integral", "log_det_jumps"});
+    if (r.section_returns <= 0) null_keys(summary, {"section_returns", "closure", "initial_closure"});
+    summary.update({{"command", "floquet"},
+                    {"moduli", moduli},
+                    {"trivial_index", have ? json(0) : json(nullptr)},
+                    {"stable", have ? json(r.stable()) : json(nullptr)},
+                    {"impact_map", std::string(to_string(r.jump))},
+                    {"tangent_rtol", fo.tangent_integration.rtol},
+                    {"out", out_path(c)}});
     add_si_summary(summary, c, c.model);
     const double period_si = c.si && have ? r.period * scales_at(*c.si, c.model).time : std::nan("");
     if (c.si) summary["period_si"] = finite_or_null(period_si);
     if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("floquet", c);
-        record["result"] = summary;
-        record["result"]["monodromy"] = have ? matrix_json(r.monodromy) : json(nullptr);
-        record["files"] = {"multipliers.csv", "orbit.csv", "impacts.csv"};
-        csv_writer w(out.file("multipliers.csv"), {"index", "re", "im", "modulus", "trivial"});
-        for (std::size_t i = 0; i < r.multipliers.size(); ++i)
-            w.row({static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(), std::abs(r.multipliers[i]),
-                   i == 0 ? 1.0 : 0.0});
-        w.close();
-        const auto si = si_tables_of(c, c.model);  // the SI columns with --si
-        write_states(out.file("orbit.csv"), r.orbit, info, si ? &*si : nullptr);
-        write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
-        finish_output(out, "floquet", c, record);
+        json result = summary;
+        result["monodromy"] = have ? matrix_json(r.monodromy) : json(nullptr);
+        write_run(c, "floquet", result, [&](staged_output& out) {
+            csv_writer w(out.file("multipliers.csv"), {"index", "re", "im", "modulus", "trivial"});
+            for (std::size_t i = 0; i < r.multipliers.size(); ++i)
+                w.row({static_cast<double>(i), r.multipliers[i].real(), r.multipliers[i].imag(),
+                       std::abs(r.multipliers[i]), i == 0 ? 1.0 : 0.0});
+            w.close();
+            const auto si = si_tables_of(c, c.model);  // the SI columns with --si
+            write_states(out.file("orbit.csv"), r.orbit, info, si ? &*si : nullptr);
+            write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
+            return json{"multipliers.csv", "orbit.csv", "impacts.csv"};
+        });
     }
 
     const std::string status(to_string(r.status));
@@ -283,14 +266,6 @@ int run_floquet(const floquet_args& a)
 }
 
 // ---------------------------------------------------------------- lyapunov
-
-json exponents_json(const lyapunov_result& r)
-{
-    json e = json::array();
-    if (r.has_exponents())
-        for (Eigen::Index i = 0; i < r.exponents.size(); ++i) e.push_back(finite_or_null(r.exponents[i]));
-    return e;
-}
 
 int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_options lo)
 {
@@ -328,17 +303,12 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         if (c.si)
             for (int i = 0; i < dim; ++i) si.push_back(exponent(i) * per_second);
         if (!c.out) {
-            per_value.push_back({{"value", p.value},
-                                 {"outcome", std::string(to_string(r.status))},
-                                 {"lle", finite_or_null(exponent(0))},
-                                 {"lle_standard_error", finite_or_null(r.lle_standard_error)},
-                                 {"positive", p.positive},
-                                 {"settled", r.settled},
-                                 {"exponents", exponents_json(r)},
-                                 {"impacts", r.impacts},
-                                 {"impacts_by_surface", by_surface(r.impacts_by_surface, info)}});
-            if (sv.si()) per_value.back()[sv.si_name] = si.front();
-            if (c.si) per_value.back()["lle_si"] = finite_or_null(exponent(0) * per_second);
+            json row = summary_json(p, info, sweep_row_form);
+            row["lle"] = finite_or_null(exponent(0));
+            if (!have) row["exponents"] = json::array();
+            if (sv.si()) row[sv.si_name] = si.front();
+            if (c.si) row["lle_si"] = finite_or_null(exponent(0) * per_second);
+            per_value.push_back(std::move(row));
             return;
         }
         w.row({}, p, si);
@@ -355,7 +325,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
                     {"positive", positive},
                     {"unsettled", unsettled},
                     {"files", {"exponents.csv", "points.csv"}},
-                    {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+                    {"out", out_path(c)}};
     if (!c.out) summary["points"] = per_value;
     add_si_sweep(summary, c, sv);
     std::string text = "lyapunov sweep of " + sv.name + " over " + std::to_string(sv.values.size()) + " values (" +
@@ -395,31 +365,21 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
 
     const bool have = r.has_exponents();
     const double rate = r.time > 0.0 ? static_cast<double>(r.impacts) / r.time : 0.0;
-    json summary = {
-        {"command", "lyapunov"},
-        {"outcome", std::string(to_string(r.status))},
-        {"tdm", std::string(to_string(r.tdm))},
-        {"exponents", exponents_json(r)},
-        {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
-        {"lle_standard_error", have ? finite_or_null(r.lle_standard_error) : json(nullptr)},
-        {"positive", r.positive_largest_exponent()},
-        {"settled", r.settled},
-        {"sum", have ? finite_or_null(r.exponents.sum()) : json(nullptr)},
-        {"sum_rule", have ? finite_or_null(r.sum_rule) : json(nullptr)},
-        {"divergence_average", have ? finite_or_null(r.divergence_average) : json(nullptr)},
-        {"impact_rate", rate},
-        {"impacts", r.impacts},
-        {"impacts_by_surface", by_surface(r.impacts_by_surface, info)},
-        {"time", r.time},
-        {"t_start", r.t_start},
-        {"intervals", r.intervals},
-        {"misses", r.misses},
-        {"impacting", r.impacting},
-        {"r0", lo.r0},
-        {"t0", lo.t0},
-        {"warmup", lo.warmup_intervals},
-        {"stats", {{"transient", stats_json(r.transient_stats, info)}, {"tangent", stats_json(r.stats, info)}}},
-        {"out", c.out ? json(c.out->string()) : json(nullptr)}};
+    json summary = summary_json(r, info, lyapunov_form);
+    if (!have) {
+        summary["exponents"] = json::array();
+        null_keys(summary, {"lle_standard_error", "sum_rule", "divergence_average", "jump_log_det_rate"});
+    }
+    summary.update({{"command", "lyapunov"},
+                    {"tdm", std::string(to_string(r.tdm))},
+                    {"lle", have ? finite_or_null(r.exponents[0]) : json(nullptr)},
+                    {"positive", r.positive_largest_exponent()},
+                    {"sum", have ? finite_or_null(r.exponents.sum()) : json(nullptr)},
+                    {"impact_rate", rate},
+                    {"r0", lo.r0},
+                    {"t0", lo.t0},
+                    {"warmup", lo.warmup_intervals},
+                    {"out", out_path(c)}});
     // With --si: exponents and the impact rate per second, times in seconds.
     const double second = c.si ? scales_at(*c.si, c.model).time : std::nan("");
     add_si_summary(summary, c, c.model);
@@ -433,39 +393,36 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         summary["impact_rate_si"] = rate / second;
         summary["time_si"] = r.time * second;
     }
-    if (c.out) {
-        throw_if_interrupted();  // before anything is written
-        staged_output out(*c.out);
-        json record = record_header("lyapunov", c);
-        record["result"] = summary;
-        record["files"] = {"convergence.csv"};
-        // Running estimates per QR column (the columns converge to the descending order).
-        std::vector<std::string> h{"t"};
-        for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i));
-        if (c.si) {
-            h.emplace_back("t_si");
-            for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i) + "_si");
-        }
-        csv_writer w(out.file("convergence.csv"), h);
-        Eigen::VectorXd sum = Eigen::VectorXd::Zero(c.model.dim());
-        std::vector<double> row(h.size());
-        for (std::size_t k = 0; k < r.history.size(); ++k) {
-            const double elapsed = r.history_t[k] - r.t_start;
-            row[0] = r.history_t[k];
-            for (int i = 0; i < c.model.dim(); ++i) {
-                sum[i] += r.history[k][i];
-                row[static_cast<std::size_t>(i) + 1] = sum[i] / elapsed;
-            }
+    if (c.out)
+        write_run(c, "lyapunov", summary, [&](staged_output& out) {
+            // Running estimates per QR column (the columns converge to the descending order).
+            std::vector<std::string> h{"t"};
+            for (int i = 1; i <= c.model.dim(); ++i) h.push_back("lambda" + std::to_string(i));
             if (c.si) {
-                const std::size_t n = static_cast<std::size_t>(c.model.dim()) + 1;
-                row[n] = row[0] * second;
-                for (std::size_t i = 1; i < n; ++i) row[n + i] = row[i] / second;
+                h.emplace_back("t_si");
+                for (int i = 1; i <= c.model.dim(); ++i)
+                    h.push_back("lambda" + std::to_string(i) + "_si");
             }
-            w.row(row);
-        }
-        w.close();
-        finish_output(out, "lyapunov", c, record);
-    }
+            csv_writer w(out.file("convergence.csv"), h);
+            Eigen::VectorXd sum = Eigen::VectorXd::Zero(c.model.dim());
+            std::vector<double> row(h.size());
+            for (std::size_t k = 0; k < r.history.size(); ++k) {
+                const double elapsed = r.history_t[k] - r.t_start;
+                row[0] = r.history_t[k];
+                for (int i = 0; i < c.model.dim(); ++i) {
+                    sum[i] += r.history[k][i];
+                    row[static_cast<std::size_t>(i) + 1] = sum[i] / elapsed;
+                }
+                if (c.si) {
+                    const std::size_t n = static_cast<std::size_t>(c.model.dim()) + 1;
+                    row[n] = row[0] * second;
+                    for (std::size_t i = 1; i < n; ++i) row[n + i] = row[i] / second;
+                }
+                w.row(row);
+            }
+            w.close();
+            return json{"convergence.csv"};
+        });
 
     std::string text = "outcome " + std::string(to_string(r.status)) + ", mapping at impacts: " +
                        std::string(to_string(r.tdm)) + "\n";

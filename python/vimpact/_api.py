@@ -10,7 +10,6 @@ import collections.abc
 import functools
 import inspect
 import json
-import math
 import os
 import string
 import time
@@ -23,7 +22,7 @@ from ._vimpact import InputError
 from ._units import PhysicalUnits
 from .results_continuation import Continuation
 from .results import (Attractor, Basins, Clearance, Dimension, Floquet, FloquetSweep, Grazing, JobReport, Lyapunov,
-                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, model_quantities)
+                      LyapunovSweep, Map, Period, Response, RunStats, Simulation, Sweep, _picked, model_quantities)
 
 _D = _vimpact.defaults
 
@@ -735,14 +734,6 @@ def _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, sec
                      tangent_atol=tangent_atol)
 
 
-def _floquet_result(d, model, opts):
-    record = d.pop("record")
-    stats = {"protocol": RunStats.from_dict(record.pop("protocol_stats")),
-             "tangent": RunStats.from_dict(record.pop("tangent_stats")),
-             "map_evaluations": record.pop("map_evaluations")}
-    return Floquet(**d, record=record, stats=stats, **_context(model, opts))
-
-
 @_with_defaults
 @_declares("floquet", "protocol")
 def floquet(model, ic=None, *, sample_dt=0.0, tangent_rtol=_D["tangent_rtol"], tangent_atol=_D["tangent_atol"],
@@ -787,18 +778,14 @@ def floquet(model, ic=None, *, sample_dt=0.0, tangent_rtol=_D["tangent_rtol"], t
     model = _model(model)
     o = _floquet_options(model, declared, sample_dt, tangent_rtol, tangent_atol, section)
     d = _vimpact._floquet(model._handle, _ic(ic), o)
-    return _floquet_result(d, model, _options(ic, **o))
+    record = d.pop("record")
+    stats = dict(protocol=RunStats.from_dict(record.pop("protocol_stats")),
+                 tangent=RunStats.from_dict(record.pop("tangent_stats")), map_evaluations=record.pop("map_evaluations"))
+    return Floquet(**d, record=record, stats=stats, **_context(model, _options(ic, **o)))
 
 
 def _lyapunov_options(declared, record, section):
     return dict(declared, record=record, section=section)
-
-
-def _lyapunov_result(d, model, opts):
-    record = d.pop("record")
-    stats = {"transient": RunStats.from_dict(record.pop("transient_stats")),
-             "tangent": RunStats.from_dict(record.pop("stats"))}
-    return Lyapunov(**d, record=record, stats=stats, **_context(model, opts))
 
 
 @_with_defaults
@@ -833,7 +820,10 @@ def lyapunov(model, ic=None, *, record=0, section=None, declared):
     model = _model(model)
     o = _lyapunov_options(declared, record, section)
     d = _vimpact._lyapunov(model._handle, _ic(ic), o)
-    return _lyapunov_result(d, model, _options(ic, **o))
+    record = d.pop("record")
+    stats = dict(transient=RunStats.from_dict(record.pop("transient_stats")),
+                 tangent=RunStats.from_dict(record.pop("stats")))
+    return Lyapunov(**d, record=record, stats=stats, **_context(model, _options(ic, **o)))
 
 
 def _per_value(call, cls, model, param, values, ic, o, jobs, **run):
@@ -965,10 +955,7 @@ def dimension(points, *, columns=None, radii=_D["radii"], fit_range=None, thread
     fr = None if fit_range is None else (float(fit_range[0]), float(fit_range[1]))
     d = _vimpact._dimension(pts, declared, tuple(float(v) for v in radii), fr, threads)
     opts = dict(declared, radii=tuple(radii), fit_range=fr)
-    keys = ("dimension", "found", "automatic", "fit_range", "r2", "slope_error", "slope_spread", "intercept", "fitted",
-            "fit_first", "fit_last", "r", "pairs", "total_pairs", "local_slope", "centres", "r_cap", "all_pairs",
-            "estimator", "points", "embedding")
-    return Dimension(**{k: d[k] for k in keys}, columns=cols, options=opts)
+    return Dimension(**_picked(Dimension, d), columns=cols, options=opts)
 
 
 @_with_defaults

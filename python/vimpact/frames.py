@@ -17,15 +17,16 @@ def _module(name):
 
 
 def _columns(name, values, rows, labels):
-    """The columns of one field over `rows` rows: itself, or one per surface, state variable or
-    index (NAME_LABEL) for a field with a value per row and something else."""
+    """The columns of one field over `rows` rows: itself, or one per label (NAME_LABEL: the
+    surface, state variable or index its described span gives) for a field with a value per
+    row and something else."""
     a = np.asarray(values)
     if a.ndim == 0 or a.shape[0] != rows:
         return {}
     if a.ndim == 1:
         return {name: a}
     a = a.reshape(rows, -1)
-    names = next((ls for ls in labels if len(ls) == a.shape[1]), [str(k) for k in range(a.shape[1])])
+    names = labels if len(labels) == a.shape[1] else [str(k) for k in range(a.shape[1])]
     return {f"{name}_{n}": a[:, k] for k, n in enumerate(names)}
 
 
@@ -38,11 +39,16 @@ def _state_frame(states, names, lead):
 
 
 class RunFrames:
-    """For a result of many runs (``records``): one row per run or cell, and its section points."""
+    """For a result of many runs (``records``): one row per run or cell, and its section points.
+    ``_spans()`` gives the described span of each field (name, or (group, name) for a group's)."""
 
     def _run_count(self):
         shape = self._grid()
         return int(np.prod(shape)) if shape else len(np.asarray(self.records.get("label", self.records.get("value"))))
+
+    def _labels(self, span):
+        """The names of the columns of a field of this span: its surfaces or state variables."""
+        return list({"per_surface": self.surfaces, "per_state": self.state_names}.get(span, ()))
 
     def to_pandas(self, table="runs"):
         """A pandas DataFrame: ``"runs"`` (default), one row per run or grid cell in job order,
@@ -65,7 +71,7 @@ class RunFrames:
             ny, nx = shape
             columns[self.x] = np.tile(np.asarray(self.x_values, dtype=float), ny)
             columns[self.y] = np.repeat(np.asarray(self.y_values, dtype=float), nx)
-        labels = [list(self.surfaces), list(self.state_names)]
+        spans = self._spans()
 
         def flat(values):  # a grid's cells in job order
             a = np.asarray(values)
@@ -74,6 +80,7 @@ class RunFrames:
         for name, values in self.records.items():
             fields = values.items() if isinstance(values, dict) else [(None, values)]  # a group: GROUP_FIELD
             for key, v in fields:
+                labels = self._labels(spans.get((name, key) if key else name))
                 columns.update(_columns(name if key is None else f"{name}_{key}", flat(v), rows, labels))
         return pd.DataFrame(columns)
 
@@ -86,7 +93,7 @@ class RunFrames:
             raise TypeError(f"{type(self).__name__} is not a grid: use to_pandas()")
         xr = _module("xarray")
         dims = (self.y, self.x)
-        data = {}
+        data, spans = {}, self._spans()
         for name, values in self.records.items():
             a = np.asarray(values)
             if isinstance(values, dict) or a.shape[:2] != tuple(shape):
@@ -94,8 +101,7 @@ class RunFrames:
             if a.ndim == 2:
                 data[name] = (dims, a)
             elif a.ndim == 3:
-                extra = "surface" if a.shape[2] == len(self.surfaces) else "state" if a.shape[2] == len(
-                    self.state_names) else f"{name}_index"
+                extra = {"per_surface": "surface", "per_state": "state"}.get(spans.get(name), f"{name}_index")
                 data[name] = (dims + (extra,), a)
         coords = {self.y: np.asarray(self.y_values, dtype=float), self.x: np.asarray(self.x_values, dtype=float)}
         if any(d[0][-1] == "surface" for d in data.values()):

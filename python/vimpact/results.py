@@ -39,9 +39,7 @@ def read_csv(path):
     """A vimpact CSV of numbers (a header line, then rows) as a dict of float64 column arrays."""
     with open(path) as f:
         header = [h.strip() for h in f.readline().strip().split(",")]
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    if data.size == 0:
-        data = np.empty((0, len(header)))
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2).reshape(-1, len(header))
     return {name: data[:, i] for i, name in enumerate(header)}
 
 
@@ -93,8 +91,7 @@ def _older(what):
 
 
 def _reader(load):
-    """A result's ``load(directory)``, saying so when the directory lacks a key or column that
-    this vimpact writes."""
+    """A result's ``load(directory)``, saying so when the directory lacks a key or column."""
     @functools.wraps(load)
     def read(cls, directory):
         try:
@@ -104,20 +101,15 @@ def _reader(load):
     return classmethod(read)
 
 
-def _described(entries):
-    """name -> {meaning, unit} from the model's description of its state variables or
-    parameters: a list of dicts with a name (``Model.info``, run.json's ``state_info``) or a
-    dict by name (run.json's ``parameter_info``)."""
-    if isinstance(entries, dict):
-        entries = [dict(e, name=n) for n, e in entries.items()]
-    return {e["name"]: {"meaning": e.get("meaning") or "", "unit": e.get("unit") or ""} for e in entries or ()}
-
-
 def model_quantities(state, parameters):
     """(state_info, parameter_info) of a result from a model's description of its state
-    variables and parameters (see ``_described``): ``state_info`` a tuple of dicts name,
-    meaning, unit in the model's order, ``parameter_info`` a dict name -> {meaning, unit}."""
-    return tuple(dict(name=n, **e) for n, e in _described(state).items()), _described(parameters)
+    variables and parameters, each a list of dicts with a name (``Model.info``, run.json's
+    ``state_info``) or a dict by name (run.json's ``parameter_info``): ``state_info`` a tuple
+    of dicts name, meaning, unit in the model's order, ``parameter_info`` name -> {meaning, unit}."""
+    def described(entries):
+        entries = [dict(e, name=n) for n, e in entries.items()] if isinstance(entries, dict) else entries or ()
+        return {e["name"]: {"meaning": e.get("meaning") or "", "unit": e.get("unit") or ""} for e in entries}
+    return tuple(dict(name=n, **e) for n, e in described(state).items()), described(parameters)
 
 
 def _context(record):
@@ -239,16 +231,12 @@ def _impacts(directory, ctx):
                 impact_rebound=column("rebound_velocity"), impact_energy=column("energy"))
 
 
-def _made(cls, values):
-    """An instance of dataclass ``cls`` from those of ``values`` that are its fields: run.json's
-    result by name (null NaN where the field is a number, lists as arrays), loaded files."""
-    out = {}
-    for f in fields(cls):
-        if f.name in values:
-            v = values[f.name]
-            out[f.name] = np.nan if v is None and isinstance(f.default, float) else \
-                np.array(v, dtype=float) if isinstance(v, list) else v
-    return cls(**out)
+def _picked(cls, values):
+    """Those of ``values`` that are fields of dataclass ``cls``, by name: run.json's result
+    (null NaN where the field is a number, lists as arrays), loaded files."""
+    return {f.name: np.nan if values[f.name] is None and isinstance(f.default, float) else np.array(
+        values[f.name], dtype=float) if isinstance(values[f.name], list) else values[f.name]
+        for f in fields(cls) if f.name in values}
 
 
 def _si(res, extra):
@@ -265,23 +253,18 @@ def _a(what, doc="", default=None):
     return field(**made, metadata={"what": what, "doc": doc})
 
 
-_DTYPES = {"int": "int64", "float": "float64", "bool": "bool", "text": "str", "complex": "complex128"}
-_SCALARS = {"int": "int", "float": "float", "bool": "bool", "text": "str"}
-
-
 def _kind(f, shape):
     """What the attribute of a record's field ``f`` is: for one run (``shape`` "") a value,
     for many runs an array whose first axes are ``shape`` ("runs", "ny, nx")."""
-    if f["type"] == "group":
-        return "dict"
-    if f["span"] == "series":
-        return "ndarray, float64, shape (points, dim)"
+    scalar = {"text": "str"}.get(f["type"], f["type"])
+    if f["type"] == "group" or f["span"] == "series":
+        return "dict" if f["type"] == "group" else "ndarray, float64, shape (points, dim)"
     if not shape and f["span"] == "per_surface":
-        return f"dict, surface name -> {_SCALARS[f['type']]}"
+        return f"dict, surface name -> {scalar}"
     dims = ", ".join(d for d in (shape, {"per_surface": "surfaces", "per_state": "dim",
                                          "spectrum": "dim"}.get(f["span"])) if d)
-    return f"ndarray, {_DTYPES[f['type']]}, shape ({dims}{'' if ',' in dims else ','})" if dims else \
-        _SCALARS[f["type"]]
+    dtype = {"int": "int64", "float": "float64", "complex": "complex128"}.get(f["type"], scalar)
+    return f"ndarray, {dtype}, shape ({dims}{'' if ',' in dims else ','})" if dims else scalar
 
 
 def _meaning(f):
@@ -297,6 +280,7 @@ def _documented(record=None, shape="", **renamed):
                                                    break_on_hyphens=False)
 
     def document(cls):
+        cls._record = record if isinstance(record, str) else None
         cls._aliases = {new: old for old, new in renamed.items() if new} | {
             new + "_t": old + "_t" for old, new in renamed.items() if new and not shape}
         lines = ["", "Attributes", "----------"]
@@ -311,7 +295,7 @@ def _documented(record=None, shape="", **renamed):
             if f["type"] == "group":
                 doc += ": " + "; ".join(f"{g['name']} ({_meaning(g)})" for g in f["fields"])
             if shape and not f["tabular"]:
-                doc += " (not a column: None or absent when loaded)"
+                doc += " (not a column: None when loaded)"
             lines += entry(name, _kind(f, shape), doc) if name else []
             if name and f["span"] == "series" and not shape:
                 lines += entry(name + "_t", "ndarray, float64, shape (points,)", "Their times.")
@@ -323,17 +307,23 @@ def _documented(record=None, shape="", **renamed):
 class _ByName:
     """The fields of the library's record of a run (``record``) or of each run (``records``)
     by name, each an attribute of the same name or of the name the class documents it under
-    (``_documented``)."""
-    _store, _aliases = "records", {}
+    (``_documented``), else of the result ``_then`` names."""
+    _store, _aliases, _record, _then = "records", {}, None, None
 
     def __getattr__(self, name):
         store, key = self.__dict__.get(self._store) or {}, self._aliases.get(name, name)
-        if name.startswith("__") or key not in store:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        return store[key]
+        if key in store and not name.startswith("__"):
+            return store[key]
+        if self._store == "records" and any(f["name"] == key for f in (_DESCRIBED or {}).get(self._record, ())):
+            return None  # a field that is not a column, of a loaded result
+        if self._then and not name.startswith("__") and name != self._then:
+            return getattr(getattr(self, self._then), name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self._aliases) | set(self.__dict__.get(self._store) or ()))
+        described = {f["name"] for f in (_DESCRIBED or {}).get(self._record, ())} if self._store == "records" else ()
+        return sorted(set(super().__dir__()) | set(self._aliases) | set(self.__dict__.get(self._store) or ()) |
+                      set(described))
 
 
 def _loaded_record(cls, res, held=(), **mapped):
@@ -384,7 +374,7 @@ class JobReport:
 
     @classmethod
     def from_dict(cls, d, journal=None):
-        return _made(cls, dict(d, journal=journal))
+        return cls(**_picked(cls, dict(d, journal=journal)))
 
     def __repr__(self):
         return (f"JobReport({self.done} of {self.jobs} jobs done: {self.computed} computed now, {self.resumed} "
@@ -434,11 +424,6 @@ class _PointRuns:
     _series = "points"  # the record's field of section points
 
     @property
-    def points(self):
-        """ndarray, float64, shape (points, dim): every run's section points, run after run."""
-        return self.records[self._series]
-
-    @property
     def point_run(self):
         """ndarray, int64, shape (points,): the run of each section point."""
         return self.records[self._series + "_run"]
@@ -464,7 +449,7 @@ class _Loads:
             path = os.path.join(directory, file)
             c = read_csv(path) if os.path.exists(path) else {"t": np.empty(0)}
             values[name + "_t"], values[name] = c["t"], _states(c, ctx["state_names"], len(c["t"]))
-        return _made(cls, dict(values, **cls._read(res, directory)))
+        return cls(**_picked(cls, dict(values, **cls._read(res, directory))))
 
 
 @dataclass(repr=False)
@@ -539,19 +524,11 @@ class Period(_ByName):
     """The period label of the attractor (``vimpact.period``, the command ``period``); the
     run's context (``parameters``, ``state_names``, ``outcome``, ``stats``, ...) is its
     ``simulation``'s."""
-    _store = "record"
+    _store, _then = "record", "simulation"
     record: dict = _a("dict", "Every field of the library's label by name (below).", dict)
     tol: Optional[float] = _a("float", "The period tolerance used.")
     simulation: Simulation = _a("Simulation", "The run that was classified (its section points, impacts and "
                                 "statistics).")
-
-    def __getattr__(self, name):
-        try:
-            return super().__getattr__(name)
-        except AttributeError:
-            if name.startswith("__") or name == "simulation":
-                raise
-            return getattr(self.simulation, name)
 
     @property
     def cycle(self):
@@ -635,6 +612,13 @@ class _Records(_Context, _ByName, RunFrames):
         """The shape of the runs where they form a grid, else None."""
         return None
 
+    def _spans(self):
+        """The span of each field by name ((group, name) for a group's), from the library's
+        description, else from the run.json schema the result was loaded by."""
+        fields = (_DESCRIBED or {}).get(self._record, ())
+        return {k: v for f in fields for k, v in [(f["name"], f["span"])] + [
+            ((f["name"], g["name"]), g["span"]) for g in f.get("fields", ())]} or self.__dict__.get("_schema", {})
+
     @classmethod
     def of(cls, records, ctx, **run):
         """The result from the columns of its records (``read_tables``', or the bindings'), the
@@ -643,14 +627,22 @@ class _Records(_Context, _ByName, RunFrames):
         result.records = _shaped(records, result._grid())
         return result
 
+    @staticmethod
+    def _run(res, records, directory):
+        """What the run says of itself beyond run.json's result by the attributes' names."""
+        return {}
+
     @_reader
     def load(cls, directory):
         """The result of ``vimpact COMMAND --out DIR``."""
         ctx, res = _loaded(directory)
-        records = {}
-        for columns in read_tables(directory).values():
-            records.update(columns)
-        return cls.of(records, ctx, **cls._run(res, records, directory))
+        records = {k: v for columns in read_tables(directory).values() for k, v in columns.items()}
+        run = cls._run(res, records, directory)
+        result = cls.of(records, ctx, **_picked(cls, {k: v for k, v in res.items() if k not in run}), **run)
+        result._schema = {(c["group"], c["field"]) if "group" in c else c["field"]: "per_surface" if "surface" in c
+                          else "per_state" if "state" in c else "one" for t in read_record(directory)["tables"].values()
+                          for c in t["columns"] if "field" in c}
+        return result
 
 
 @_documented("sweep", "runs", stats=None)
@@ -673,18 +665,13 @@ class Sweep(_Records, _Labels, _PointRuns):
         """ndarray, int64, shape (points,): the branch of each section point."""
         return self.branch[self.point_run]
 
-    @property
-    def final_state(self):
-        return self.records.get("final_state")
-
     def __repr__(self):
         return (f"Sweep(param={self.param!r}, {len(self.values)} values, {self.ic_mode} starts, "
                 f"direction {self.direction}: {self._counts_text()}; {len(self.points)} section points)")
 
     @staticmethod
     def _run(res, records, directory):
-        return dict(param=res["param"], values=np.unique(records["value"]), ic_mode=res["ic_mode"],
-                    direction=res["direction"], grazing_param=res.get("grazing_param"))
+        return dict(values=np.unique(records["value"]))
 
 
 @dataclass(repr=False)
@@ -698,10 +685,6 @@ class _Grid(_Records):
     def _grid(self):
         return len(self.y_values), len(self.x_values)
 
-    @staticmethod
-    def _axes(res):
-        return dict(x=res["x"], y=res["y"], x_values=np.array(res["x_values"], dtype=float),
-                    y_values=np.array(res["y_values"], dtype=float))
 
 
 @_documented("map", "ny, nx")
@@ -721,8 +704,7 @@ class Map(_Grid, _Labels):
 
     @staticmethod
     def _run(res, records, directory):
-        run = dict(Map._axes(res), grazing_param=res.get("grazing_param"))
-        path = os.path.join(directory, "grazing.csv")
+        run, path = {}, os.path.join(directory, "grazing.csv")
         if os.path.exists(path):  # the other axis, then the grazing value per surface
             run["grazing_other"], *cols = read_csv(path).values()
             run["grazing"] = np.column_stack(cols) if len(run["grazing_other"]) else np.empty((0, len(cols)))
@@ -767,7 +749,7 @@ class Basins(_Grid):
     def _run(res, records, directory):
         table = res["attractors"]["table"]
         boxes = [np.array(t["box"], dtype=float) for t in table]
-        return dict(Basins._axes(res), attractors=[
+        return dict(attractors=[
             Attractor(id=t["id"], label=t["label"], cells=t["cells"], box=box,
                       cycle=np.array(t["section_points"], dtype=float).reshape(-1, box.shape[1]))
             for t, box in zip(table, boxes)])
@@ -810,182 +792,7 @@ class Response(_Records):
     @staticmethod
     def _run(res, records, directory):
         curves = [{k: float(v) for k, v in c["parameters"].items()} for c in res["curves"]]
-        return dict(param=res["param"], values=records["value"][:len(records["value"]) // len(curves)],
-                    curves=curves, variable=res["variable"], grazing_param=res["grazing_param"])
-
-
-# ---------------------------------------------------------------- stability
-
-@_documented("floquet", section_points="section", protocol_stats=None, tangent_stats=None, map_evaluations=None)
-@dataclass(repr=False)
-class Floquet(_Run, _Impacts):
-    """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
-    ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting). Without
-    a period (``status`` aperiodic, or a failed run) there are no multipliers and the period
-    is NaN. Its impacts are those of the refined orbit over one period."""
-    _timed_files, _si_key = {"orbit": "orbit.csv"}, "period_si"
-    monodromy: np.ndarray = _a("ndarray, float64, shape (dim, dim)")
-    stable: Optional[bool] = _a("bool or None", "Every nontrivial |mu| < 1 (None without multipliers).")
-    impact_map: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-    orbit_t: np.ndarray = _a("ndarray, float64, shape (m,)", "Times of the refined orbit over one period, sampled "
-                             "every ``sample_dt`` (empty when 0).")
-    orbit: np.ndarray = _a("ndarray, float64, shape (m, dim)", "Its states.")
-    stats: dict = _a("dict", "``protocol`` and ``tangent`` RunStats, ``map_evaluations``.", dict)
-    si: dict = _a("dict or None", "Loaded from a run with ``--si``: its run.json's ``si`` (the scales in "
-                  "``values``, the SI columns of ``orbit.csv`` in ``columns``) and ``period_si`` [s].")
-
-    def __repr__(self):
-        if not len(self.multipliers):
-            return f"Floquet(label={self.label!r}, status={self.status!r}: no multipliers)"
-        mus = ", ".join(f"{m.real:.6g}{m.imag:+.3g}j" if m.imag else f"{m.real:.6g}" for m in self.multipliers)
-        return (f"Floquet(label={self.label!r}, status={self.status!r}, T={self.period:.6g}, multipliers [{mus}], "
-                f"{'stable' if self.stable else 'unstable'})")
-
-    @classmethod
-    def _read(cls, res, directory):
-        mus = np.array(res["multipliers"], dtype=float).reshape(-1, 2) @ np.array([1, 1j])
-        # run.json has no divergence_integral and log_det_jumps.
-        return dict(stats={}, record=_loaded_record(cls, res, status=res["outcome"], multipliers=mus,
-                                                    impacts_by_surface=res["impacts_by_surface"] or {},
-                                                    divergence_integral=np.nan, log_det_jumps=np.nan))
-
-
-@_documented("lyapunov", section_points="section", transient_stats=None, stats=None)
-@dataclass(repr=False)
-class Lyapunov(_Run):
-    """The Lyapunov spectrum (``vimpact.lyapunov``, the command ``lyapunov``; the paper's
-    Algorithm 2). Loaded from a directory, its interval history is the one its running estimates
-    (convergence.csv) give."""
-    _si_key = "exponents_si"
-    tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-    positive: bool = _a("bool", "The library's verdict: the largest exponent lies more than 3 standard errors "
-                        "above 0.", False)
-    history_t: np.ndarray = _a("ndarray, float64, shape (h,)", "The end of every counted interval.")
-    history_growth: np.ndarray = _a("ndarray, float64, shape (h, dim)", "ln(R_ii / r0) of every counted interval "
-                                    "(QR order); ``running_exponents`` gives the running averages.")
-    stats: dict = _a("dict", "``transient`` and ``tangent`` RunStats.", dict)
-    si: dict = None
-
-    @property
-    def lle(self):
-        """The largest exponent."""
-        return float(self.exponents[0])
-
-    @property
-    def running_exponents(self):
-        """ndarray, float64, shape (h, dim): the estimates after each counted interval."""
-        elapsed = (self.history_t - self.t_start)[:, None]
-        return np.cumsum(self.history_growth, axis=0) / elapsed
-
-    def __repr__(self):
-        return (f"Lyapunov(status={self.status!r}, exponents {np.array2string(self.exponents, precision=6)}, "
-                f"largest +- {self.lle_standard_error:.2g}, {self.impacts} impacts, tdm {self.tdm})")
-
-    @classmethod
-    def _read(cls, res, directory):
-        conv = read_csv(os.path.join(directory, "convergence.csv"))
-        running = _states(conv, [f"lambda{i + 1}" for i in range(len(res["exponents"]))], len(conv["t"]))
-        # Back from running averages to per-interval growth, so running_exponents round-trips.
-        total = running * (conv["t"] - res["t_start"])[:, None]
-        growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
-        return dict(positive=res["positive"], history_t=conv["t"], history_growth=growth, stats={},
-                    record=_loaded_record(cls, res, status=res["outcome"], jump_log_det_rate=np.nan))  # not in run.json
-
-
-@dataclass(repr=False)
-class _ValueSweep(_Records, _PointRuns):
-    """A stability sweep: its record's fields, ``results`` (the result of each value with the
-    fields of its record) and the section points of every value (the bifurcation diagram
-    underneath)."""
-    _series = "section_points"
-    param: str = _a("str", "The swept parameter.", "")
-    results: list = _a("list", "The result of each value, with the fields of its record.", list)
-
-    @classmethod
-    def of(cls, records, ctx, **run):
-        sweep = super().of(records, ctx, **run)
-        n, result = len(sweep.value), cls._result
-        cols = {k: v for k, v in sweep.records.items()
-                if isinstance(v, np.ndarray) and len(v) == n and not k.startswith(cls._series)}
-        cols.update(sweep._per_value())
-        own = {f.name for f in fields(result)}
-
-        def cell(v):  # a spectrum without its NaN, a numpy scalar as Python's
-            return v[~np.isnan(v)] if np.iscomplexobj(v) else v.item() if isinstance(v, np.generic) else v
-
-        def record(i):
-            by = dict(zip(ctx["surfaces"], sweep.impacts_by_surface[i].tolist()))
-            return dict({k: cell(v[i]) for k, v in cols.items() if k not in own},
-                        section_points=sweep.points[sweep.point_run == i], impacts_by_surface=by)
-        sweep.results = [result(**{k: cell(v[i]) for k, v in cols.items() if k in own}, record=record(i), **ctx)
-                         for i in range(n)]
-        return sweep
-
-    @staticmethod
-    def _run(res, records, directory):
-        return {k: res[k] for k in ("param", "tdm") if k in res}
-
-
-@_documented("floquet_sweep", "n", section_points="points")
-@dataclass(repr=False)
-class FloquetSweep(_ValueSweep, _Labels):
-    """Floquet multipliers over a range of one parameter (``vimpact.floquet_sweep``, the
-    command ``floquet --param P --range a:b:n``; the paper's Figures 14 and 15). Each value's
-    result is a Floquet without monodromy, impacts or orbit."""
-    _result = Floquet
-
-    @property
-    def trivial(self):
-        """ndarray, bool, shape (n, dim): the trivial multiplier (column 0 where there are multipliers)."""
-        t = np.zeros(self.multipliers.shape, dtype=bool)
-        t[:, :1] = ~np.isnan(self.multipliers[:, :1])
-        return t
-
-    @property
-    def stable(self):
-        """ndarray, object, shape (n,): True, False or None (no multipliers)."""
-        return np.array([bool(s == "ok" and m < 1) if h else None for s, m, h in
-                         zip(self.status, self.max_nontrivial_modulus, self.trivial.any(axis=1))], dtype=object)
-
-    def _per_value(self):
-        return {"stable": self.stable}
-
-    def __repr__(self):
-        unstable = sum(1 for s in self.stable if s is False)
-        return (f"FloquetSweep(param={self.param!r}, {len(self.value)} values: {self._counts_text()}; "
-                f"{unstable} unstable)")
-
-
-@_documented("lyapunov_sweep", "n", section_points="points", positive="positive_exponent", stats=None)
-@dataclass(repr=False)
-class LyapunovSweep(_ValueSweep):
-    """Lyapunov exponents over a range of one parameter (``vimpact.lyapunov_sweep``, the
-    command ``lyapunov --param P --range a:b:n``; the paper's Figures 16 and 17). Each value's
-    result is a Lyapunov without interval history; the points are those of each averaging
-    window (``record > 0``)."""
-    _result = Lyapunov
-    tdm: str = _a("str", "The mapping of deviations at impacts.", "saltation")
-
-    @property
-    def positive_exponent(self):
-        return self.records["positive"]
-
-    @property
-    def lle(self):
-        """ndarray, float64, shape (n,): the largest exponent of each value."""
-        return self.exponents[:, 0] if len(self.exponents) else np.empty(0)
-
-    @property
-    def positive(self):
-        """How many values have a positive largest exponent (``positive_exponent``)."""
-        return int(np.sum(self.positive_exponent))
-
-    def _per_value(self):
-        return {"tdm": np.full(len(self.value), self.tdm, dtype=object)}
-
-    def __repr__(self):
-        return (f"LyapunovSweep(param={self.param!r}, {len(self.value)} values, tdm {self.tdm}: {self.positive} "
-                f"with a positive largest exponent)")
+        return dict(values=records["value"][:len(records["value"]) // len(curves)], curves=curves)
 
 
 # ---------------------------------------------------------------- correlation dimension
@@ -1034,114 +841,7 @@ class Dimension:
                 f"{'' if self.found else ', tolerance NOT met'})")
 
 
-# ---------------------------------------------------------------- clearance design
-
-_CHART = "ndarray, float64, shape (n, k)"
-
-
-@_documented()
-@dataclass(repr=False)
-class Clearance(_Context, _Labels):
-    """Clearance design over a flow parameter (``vimpact.clearance``, the command ``clearance``):
-    the smallest gap to the surface without impact at each value (the grazing line), the gaps
-    where the response is aperiodic, and the design chart (a period label and the impact
-    statistics at each gap).
-
-    Gaps are distances from the rest state to the surface (``-sigma`` for the wake model). The
-    arrays ``*_si`` are in SI (metres, m/s, Hz, J/m, W/m for a cylinder) when the run had
-    physical units, else None. The chart's arrays (n, k) are NaN-, -1- or ""-padded where a
-    value has fewer gaps than k."""
-    param: str = _a("str", "The flow parameter (``Ur``).", "")
-    x: str = _a("str", "The chart's horizontal quantity: ``U`` with speeds, else ``param``.", "")
-    gap_param: str = _a("str", "The parameter that moves the surface (``sigma``).", "")
-    surface: str = _a("str", "The surface.", "")
-    value: np.ndarray = _a("ndarray, float64, shape (n,)", "The flow parameter's values.")
-    speed: Optional[np.ndarray] = _a("ndarray, float64, shape (n,), or None", "The flow speeds [m/s].")
-    grazing_value: np.ndarray = _a("ndarray, float64, shape (n,)", "``gap_param`` at grazing.")
-    clearance: np.ndarray = _a("ndarray, float64, shape (n,)", "The smallest gap without impact.")
-    clearance_si: Optional[np.ndarray] = _a("ndarray, float64, shape (n,)", "The same in metres.")
-    converged: np.ndarray = _a("ndarray, bool, shape (n,)", "The grazing run converged.")
-    aperiodic: np.ndarray = _a("ndarray, float64, shape (n, 2)", "The smallest and largest chart gap with an "
-                               "aperiodic response (NaN where none).")
-    aperiodic_si: Optional[np.ndarray] = _a("ndarray, float64, shape (n, 2)", "The same in metres.")
-    gap: np.ndarray = _a(_CHART, "The chart's gaps at each value.")
-    gap_si: Optional[np.ndarray] = _a(_CHART, "The same in metres.")
-    label: np.ndarray = _a("ndarray, str, shape (n, k)", "The regime at each chart gap: ``P0`` (no impact), "
-                           "``PN``, ``aperiodic``, or a failed run's outcome.")
-    period: np.ndarray = _a("ndarray, int64, shape (n, k)")
-    impacts: np.ndarray = _a("ndarray, int64, shape (n, k)")
-    outcome: np.ndarray = _a("ndarray, str, shape (n, k)")
-    statistics: dict = _a("dict", "The impact statistics at each chart gap, name -> ndarray float64 (n, k).",
-                          dict)
-    statistics_si: Optional[dict] = _a("dict", "The same in SI.")
-    warnings: tuple = ()
-    stats: dict = field(default_factory=dict)
-    jobs: Optional[JobReport] = _a("JobReport")
-
-    @property
-    def x_values(self):
-        """The chart's horizontal values: the speeds, else the parameter's values."""
-        return self.speed if self.speed is not None else self.value
-
-    @property
-    def label_counts(self):
-        """How many chart cells carry each label (padding left out)."""
-        return label_counts([lab for lab in np.asarray(self.label).ravel() if lab])
-
-    def __repr__(self):
-        unit = " m" if self.clearance_si is not None else ""
-        c = self.clearance_si if self.clearance_si is not None else self.clearance
-        pairs = ", ".join(f"{x:g}: {g:.4g}{unit}" for x, g in zip(self.x_values, c))
-        return f"Clearance({self.x} -> gap without impact: {pairs}; chart {self._counts_text()})"
-
-    @staticmethod
-    def chart(point, values, n):
-        """Per-cell values (cell order: value after value) as an (n, k) array, padded."""
-        point = np.asarray(point, dtype=np.int64)
-        k = int(np.bincount(point, minlength=n).max()) if len(point) else 0
-        values = np.asarray(values)
-        pad = "" if values.dtype.kind in "US" else (-1 if values.dtype.kind in "iu" else np.nan)
-        out = np.full((n, k), pad, dtype=values.dtype if values.dtype.kind not in "US" else object)
-        col = np.zeros(n, dtype=np.int64)
-        for p, v in zip(point, values):
-            out[p, col[p]] = v
-            col[p] += 1
-        return out.astype(str) if values.dtype.kind in "US" else out
-
-    @classmethod
-    def of(cls, d, si=None, **run):
-        """From the bindings' columns (``load`` reads the same from the files): per value of
-        the parameter and per chart cell (``cell_point``: its value's index, cells value
-        after value); ``si`` the same in SI units (the attributes ``*_si``) or None."""
-        chart = functools.partial(cls.chart, d["cell_point"], n=len(d["value"]))
-
-        def quantities(c):  # what has an SI form
-            return dict(clearance=c["clearance"], aperiodic=np.column_stack([c["aperiodic_min"], c["aperiodic_max"]]),
-                        gap=chart(c["cell_gap"]), statistics={k: chart(v) for k, v in c["statistics"].items()})
-        return cls(value=d["value"], grazing_value=d["grazing_value"], converged=d["converged"],
-                   label=chart(_str_array(d["label"])), period=chart(d["period"]), impacts=chart(d["impacts"]),
-                   outcome=chart(_str_array(d["outcome"])), **quantities(d),
-                   **({k + "_si": v for k, v in quantities(si).items()} if si is not None else {}), **run)
-
-    @_reader
-    def load(cls, directory):
-        """The result of ``vimpact clearance --out DIR``."""
-        ctx, res = _loaded(directory)
-        param, gname, names = res["param"], res["gap_param"], res["statistics_columns"]
-        cl, ch = (read_table(os.path.join(directory, f)) for f in ("clearance.csv", "chart.csv"))
-        column = {k: np.array(v, dtype=float) for k, v in cl.items()}
-
-        def cell(key):
-            return np.array(ch[key], dtype=float)
-        # Cells are written value after value; their value index from the parameter column.
-        point = np.array([int(np.argmin(np.abs(column[param] - v))) for v in cell(param)], dtype=np.int64)
-        d = dict(value=column[param], grazing_value=column[gname + "_graze"], clearance=column["clearance"],
-                 converged=column["converged"] > 0.5, aperiodic_min=column["aperiodic_min"],
-                 aperiodic_max=column["aperiodic_max"], cell_point=point, cell_gap=cell("gap"), label=ch["label"],
-                 period=cell("period").astype(np.int64), impacts=cell("impacts").astype(np.int64),
-                 outcome=ch["outcome"], statistics={k: cell(k) for k in names})
-        si = dict(clearance=column["clearance_si"], aperiodic_min=column["aperiodic_min_si"],
-                  aperiodic_max=column["aperiodic_max_si"], cell_gap=cell("gap_si"),
-                  statistics={k: cell(k + "_si") for k in names if k + "_si" in ch}) if res["units"] == "si" else None
-        return cls.of(d, si, param=param, x=res["x"], gap_param=gname, surface=res["surface"],
-                      speed=column["U"] if res["x"] == "U" else None, warnings=tuple(res["warnings"]), **ctx)
+# The stability and clearance results live in results_stability.py and results_clearance.py
+# (they build on the classes above); vimpact.results still names every result.
+from .results_clearance import Clearance  # noqa: E402,F401
+from .results_stability import Floquet, FloquetSweep, Lyapunov, LyapunovSweep  # noqa: E402,F401

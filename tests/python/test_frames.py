@@ -102,3 +102,42 @@ def test_a_continuations_branches_and_bifurcations():
     assert len(bifurcations) == len(c.bifurcations) > 0 and len(c.branches) == 2
     assert list(bifurcations["type"]) == [b.type for b in c.bifurcations]
     assert list(bifurcations["Ur"]) == [b.param for b in c.bifurcations]
+
+
+# Two state variables and two surfaces: a van der Pol oscillator between two stops.
+TWO_BY_TWO = """
+name = "two_by_two"
+state = [{ name = "x" }, { name = "v" }]
+initial_state = [0.5, 0.0]
+[parameters]
+mu = { default = 1.0 }
+d = { default = 1.5, above = 0 }
+[derivatives]
+x = "v"
+v = "mu*(1 - x^2)*v - x"
+[[surfaces]]
+name = "right"
+gap = "d - x"
+reset = { v = "-0.8*v" }
+[[surfaces]]
+name = "left"
+gap = "x + d"
+reset = { v = "-0.8*v" }
+[[sections]]
+name = "maxima"
+when = "v"
+direction = "down"
+"""
+
+
+def test_columns_follow_the_span_when_surfaces_and_states_are_as_many():
+    m = vimpact.Model.from_toml(TWO_BY_TWO)
+    assert len(m.surfaces) == len(m.state_names) == 2
+    s = vimpact.sweep(m, "mu", [0.8, 1.0], ic=[0.5, 0.0], transient=20, record=10)
+    df = s.to_pandas()
+    assert list(df["final_state_x"]) == list(s.final_state[:, 0])
+    assert list(df["final_state_v"]) == list(s.final_state[:, 1])
+    assert list(df["impacts_by_surface_left"]) == list(s.impacts_by_surface[:, 1])
+    g = vimpact.map(m, ("mu", [0.8, 1.0]), ("d", [1.5, 1.8]), ic=[0.5, 0.0], transient=20, record=10)
+    ds = g.to_xarray()
+    assert ds.impacts_by_surface.dims == ("d", "mu", "surface") and list(ds.surface.values) == ["right", "left"]
