@@ -206,9 +206,8 @@ TEST(AnyDimension, LyapunovSpectrumIsTheCopiesTogether)
     for (int i = 1; i < 3 * K; ++i) EXPECT_NEAR(all.exponents[i], want[static_cast<std::size_t>(i)], 1e-6) << i;
 }
 
-// 22 copies: 66 states (a tangent state of 66 + 66^2 numbers). Only copy 0 has its stops: the
-// model-file compiler writes out every second derivative of every reset, 66^3 / 2 numbers per
-// surface, and 44 surfaces would exceed its code budget (src/modules/symbolic.cpp).
+// 22 copies: 66 states (a tangent state of 66 + 66^2 numbers). Only copy 0 has its stops: with
+// all 44 surfaces the model's own compilation takes minutes (the generated derivatives).
 TEST(AnyDimension, SixtySixStatesAreTwentyTwoCopies)
 {
     constexpr int K = 22;
