@@ -2,7 +2,9 @@
 // From a runtime model to the compiled engine: the one place where the library chooses, for
 // each call, which instantiation of an analysis template runs. Built-in models run on their
 // native definitions (everything inlined); model files and plugins on table_model<N> for
-// their dimension N (one indirect call per model function).
+// their dimension N when VIMPACT_MODEL_DIMS lists it (fixed-size states), on
+// table_model<Eigen::Dynamic> otherwise (states sized at run time; one indirect call per model
+// function either way).
 //
 // The analyses' templates are instantiated once per engine model, each model in source
 // files of its own (src/instances/: a built-in model's SIMD lanes in a second one,
@@ -19,14 +21,16 @@ namespace vimpact::detail {
 
 using model_dimensions = std::integer_sequence<int, VIMPACT_MODEL_DIMS>;
 
-template <class F, int First, int... Rest>
-auto with_table_dimension(std::integer_sequence<int, First, Rest...>, int dim, F&& f)
+template <class F, int... Dims>
+auto with_table_dimension(std::integer_sequence<int, Dims...>, int dim, F&& f)
 {
-    using R = decltype(f.template operator()<First>());
+    using R = decltype(f.template operator()<Eigen::Dynamic>());
     std::optional<R> r;
-    ((dim == First ? (r.emplace(f.template operator()<First>()), true) : false) ||
-     ... || (dim == Rest ? (r.emplace(f.template operator()<Rest>()), true) : false));
-    if (!r) check_engine_dimension(dim, "model " + std::to_string(dim));
+    ((dim == Dims ? (r.emplace(f.template operator()<Dims>()), true) : false) || ...);
+    if (!r) {
+        check_engine_dimension(dim, "model " + std::to_string(dim));
+        r.emplace(f.template operator()<Eigen::Dynamic>());
+    }
     return std::move(*r);
 }
 

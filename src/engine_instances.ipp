@@ -21,16 +21,11 @@ auto with_method(integration_method m, F&& f)
     return f.template operator()<dop853>();
 }
 
-template <int N>
-vec<N> fixed(const Eigen::VectorXd& x)
-{
-    return x.head<N>();
-}
 
 template <class EM>
 simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_options& o)
 {
-    return with_method(o.method, [&]<template <int> class M>() { return engine::run_protocol<M>(em, fixed<EM::dim>(x0), o); });
+    return with_method(o.method, [&]<template <int> class M>() { return engine::run_protocol<M>(em, head_as<EM::dim>(x0, state_dim(em)), o); });
 }
 
 template <class EM>
@@ -52,7 +47,7 @@ lanes_counts run_simulate_lanes(const protocol_options& o, int width, const prot
             },
             [&](long k) {
                 const protocol_job& j = running.at(k);
-                return std::make_unique<engine::protocol_run<M, EM>>(EM(j.m.parameters()), fixed<EM::dim>(j.x0), o);
+                return std::make_unique<engine::protocol_run<M, EM>>(EM(j.m.parameters()), head_as<EM::dim>(j.x0, EM::dim), o);
             },
             [&](long k) { return std::span<const double>(running.at(k).m.parameters()); },
             [&](long k, simulation&& s) {
@@ -67,7 +62,7 @@ lanes_counts run_simulate_lanes(const protocol_options& o, int width, const prot
 template <class EM>
 grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazing_options& o)
 {
-    return with_method(o.method, [&]<template <int> class M>() { return engine::run_grazing<M>(em, fixed<EM::dim>(x0), o); });
+    return with_method(o.method, [&]<template <int> class M>() { return engine::run_grazing<M>(em, head_as<EM::dim>(x0, state_dim(em)), o); });
 }
 
 // The tangent flows always integrate with DOP853: at the tolerances they need (1e-12) a
@@ -77,8 +72,9 @@ grazing_result run_grazing(const EM& em, const Eigen::VectorXd& x0, const grazin
 template <class EM>
 floquet_result run_floquet(const EM& em, const Eigen::VectorXd& x0, const floquet_options& o, const model_info& info)
 {
-    if constexpr (EM::dim < 2) return floquet_result{};
+    if constexpr (EM::dim != Eigen::Dynamic && EM::dim < 2) return floquet_result{};
     else {
+        if (state_dim(em) < 2) return floquet_result{};
         // The protocol with the caller's method, then the tangent runs.
         const simulation pr = run_simulate(em, x0, o.protocol);
         return engine::floquet_after_protocol<dop853>(em, pr, o, info);
@@ -88,8 +84,11 @@ floquet_result run_floquet(const EM& em, const Eigen::VectorXd& x0, const floque
 template <class EM>
 floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, int returns, const floquet_options& o)
 {
-    if constexpr (EM::dim < 2) return floquet_result{};
-    else return engine::floquet_from_point<dop853>(em, fixed<EM::dim>(x), returns, o);
+    if constexpr (EM::dim != Eigen::Dynamic && EM::dim < 2) return floquet_result{};
+    else {
+        if (state_dim(em) < 2) return floquet_result{};
+        return engine::floquet_from_point<dop853>(em, head_as<EM::dim>(x, state_dim(em)), returns, o);
+    }
 }
 
 // DOP853, as every tangent run (see run_floquet); the runs without the tangent use it too, so
@@ -97,8 +96,11 @@ floquet_result run_floquet_from_point(const EM& em, const Eigen::VectorXd& x, in
 template <class EM>
 orbit_map_value run_orbit_map(const EM& em, const orbit_map_request& r)
 {
-    if constexpr (EM::dim < 2) return orbit_map_value{};
-    else return engine::orbit_map<dop853>(em, r);
+    if constexpr (EM::dim != Eigen::Dynamic && EM::dim < 2) return orbit_map_value{};
+    else {
+        if (state_dim(em) < 2) return orbit_map_value{};
+        return engine::orbit_map<dop853>(em, r);
+    }
 }
 
 template <class EM>

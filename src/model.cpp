@@ -286,13 +286,9 @@ const std::vector<int>& engine_dimensions()
 
 void check_engine_dimension(int dim, std::string_view what)
 {
-    const auto& dims = engine_dimensions();
-    if (std::find(dims.begin(), dims.end(), dim) != dims.end()) return;
-    std::string list;
-    for (const int d : dims) list += (list.empty() ? "" : ", ") + std::to_string(d);
-    throw input_error(std::string(what) + " has " + std::to_string(dim) +
-                      " state variables; this build of vimpact runs models with " + list +
-                      " (configure with -DVIMPACT_MODEL_DIMS=... to add others)");
+    if (dim >= 1 && dim <= max_model_dimension) return;
+    throw input_error(std::string(what) + " has " + std::to_string(dim) + " state variables; vimpact runs models with 1 to " +
+                      std::to_string(max_model_dimension) + " (a tangent run carries N + N^2 numbers per state)");
 }
 
 int violated_surface(const model& m, const Eigen::VectorXd& x)

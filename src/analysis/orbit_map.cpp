@@ -41,9 +41,9 @@ int default_chart_coordinate(const model& m, int section, const Eigen::VectorXd&
     return detail::with_engine(m, [&](const auto& em) {
         using EM = std::decay_t<decltype(em)>;
         constexpr int N = EM::dim;
-        const vec<N> g = em.section_gradient(section, vec<N>(x.head<N>()));
+        const vec<N> g = em.section_gradient(section, head_as<N>(x, x.size()));
         int c = 0;
-        for (int j = 1; j < N; ++j)
+        for (int j = 1; j < g.size(); ++j)
             if (std::abs(g[j]) > std::abs(g[c])) c = j;
         return c;
     });

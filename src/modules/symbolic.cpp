@@ -1144,6 +1144,10 @@ private:
     ex derivative(const ex& e, int j, const std::string& key)
     {
         poll_cancel();
+        // Nothing here depends on x_j: zero, which the code never writes out (bilinear skips
+        // it), so it takes nothing of the budget. A reset that leaves most of a large state as
+        // it is has N^2 such second derivatives per component it leaves.
+        if (!e.has(sym(j))) return 0;
         expression_sizes& sizes = m_reader.sizes();
         if (m_terms + sizes.derivative_size(e, sym(j)) > max_code_terms)
             code_too_large(m_where, key, "the derivative by " + m_d.state[static_cast<std::size_t>(j)].name);

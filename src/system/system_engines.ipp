@@ -47,7 +47,7 @@ public:
         : m_run(em, system_flow(em, s.flow, s.section), t, s.section >= 0 ? past_section(em, s.section, x) : x)
     {
         m_run.record().impact_points = s.impact_points;
-        m_impacts = impact_series(N);
+        m_impacts = impact_series(state_dim(em));
         m_t = t;
         m_x = to_dynamic(x);
     }
@@ -103,7 +103,7 @@ template <class EM>
 std::unique_ptr<flow_system> make_flow_system(const EM& em, const flow_system_spec& s, double t,
                                               const Eigen::VectorXd& x)
 {
-    const vec<EM::dim> xs = x.head<EM::dim>();
+    const vec<EM::dim> xs = head_as<EM::dim>(x, state_dim(em));
     if (s.method == integration_method::dopri5) return std::make_unique<flow_system_on<EM, dopri5>>(em, s, t, xs);
     return std::make_unique<flow_system_on<EM, dop853>>(em, s, t, xs);
 }
@@ -151,7 +151,7 @@ public:
         const vec<N> xc = VM::point(p.x);
         const vec<N> F = m_vm.base().rhs(xc);
         const vec<N> g = m_vm.base().section_gradient(m_section, xc);
-        m_w = (mat<N>::Identity() - F * g.transpose() / g.dot(F)) * m_w;
+        m_w = (mat<N>::Identity(xc.size(), xc.size()) - F * g.transpose() / g.dot(F)) * m_w;
         return outcome::ok;
     }
     outcome advance_to(double t) override
@@ -179,9 +179,9 @@ private:
     {
         // Element by element: Eigen's block copies between fixed and dynamic sizes trip false
         // -Warray-bounds errors in GCC 12 for N = 1.
-        mat<N> Y = mat<N>::Zero();
+        mat<N> Y = mat<N>::Zero(x.size(), x.size());
         for (Eigen::Index j = 0; j < w.cols(); ++j)
-            for (int i = 0; i < N; ++i) Y(i, j) = w(i, j);
+            for (Eigen::Index i = 0; i < x.size(); ++i) Y(i, j) = w(i, j);
         const vec<N> xs = m_section >= 0 ? past_section(m_vm.base(), m_section, x) : x;
         m_run.emplace(m_vm, m_flow, t, VM::pack(xs, Y, 0.0));
         m_t = t;
@@ -195,7 +195,7 @@ private:
         m_x = to_dynamic(VM::point(X));
         const mat<N> Y = VM::matrix(X);
         for (Eigen::Index j = 0; j < m_w.cols(); ++j)
-            for (int i = 0; i < N; ++i) m_w(i, j) = Y(i, j);
+            for (Eigen::Index i = 0; i < Y.rows(); ++i) m_w(i, j) = Y(i, j);
     }
     // The tangent map of a contact phase is not implemented (variational.hpp).
     [[nodiscard]] outcome checked(outcome o) const
@@ -215,7 +215,7 @@ template <class EM>
 std::unique_ptr<tangent_engine> make_tangent_engine(const EM& em, const tangent_system_options& o, double t,
                                                     const Eigen::VectorXd& x, const Eigen::MatrixXd& w)
 {
-    return std::make_unique<tangent_engine_on<EM>>(em, o, t, vec<EM::dim>(x.head<EM::dim>()), w);
+    return std::make_unique<tangent_engine_on<EM>>(em, o, t, head_as<EM::dim>(x, state_dim(em)), w);
 }
 
 }  // namespace vimpact::detail

@@ -22,8 +22,9 @@ void fill_multipliers(floquet_result& res, const mat<N>& monodromy, const vec<N>
 {
     using extended = Eigen::Matrix<long double, N, N>;
     Eigen::EigenSolver<extended> es(monodromy.template cast<long double>(), false);
-    std::vector<std::complex<double>> vals(static_cast<std::size_t>(N));
-    for (int i = 0; i < N; ++i)
+    const int n = static_cast<int>(monodromy.rows());
+    std::vector<std::complex<double>> vals(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i)
         vals[static_cast<std::size_t>(i)] = {static_cast<double>(es.eigenvalues()[i].real()),
                                              static_cast<double>(es.eigenvalues()[i].imag())};
     const vec<N> MF = monodromy * flow_direction;
@@ -32,7 +33,7 @@ void fill_multipliers(floquet_result& res, const mat<N>& monodromy, const vec<N>
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < vals.size(); ++i) {
         double sq = 0.0;
-        for (int k = 0; k < N; ++k) sq += std::norm(MF[k] - vals[i] * flow_direction[k]);
+        for (int k = 0; k < n; ++k) sq += std::norm(MF[k] - vals[i] * flow_direction[k]);
         const double residual = std::sqrt(sq) / fnorm;
         if (residual < best) {
             best = residual;

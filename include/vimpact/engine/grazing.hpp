@@ -17,7 +17,7 @@ struct grazing_observer : flow_observer {
     struct block_state {
         double min = std::numeric_limits<double>::infinity();
         double t = 0.0;
-        vec<N> x = vec<N>::Zero();
+        vec<N> x;  // zero until a minimum is seen (run_grazing)
         double previous = std::numeric_limits<double>::quiet_NaN();
         int count = 0;
     };
@@ -105,6 +105,7 @@ grazing_result run_grazing(const Model& model, const vec<Model::dim>& x0, const 
     hybrid_flow<Model, Method> flow(model, fo);
     flow.start(0.0, x0);
     grazing_observer<N> obs(opt, res, S);
+    for (auto& b : obs.blocks) b.x = vec<N>::Zero(x0.size());
     obs.gap_value = [&model](int i, const vec<N>& x) { return model.gap(i, x); };
     res.status = flow.run(obs);
     res.stats = flow.stats();

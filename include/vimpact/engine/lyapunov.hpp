@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <type_traits>
+#include <vector>
 
 #include <Eigen/QR>
 
@@ -23,8 +25,8 @@ vec<N> reorthonormalise(mat<N>& D, double scale)
     Eigen::HouseholderQR<extended> qr(D.template cast<long double>());
     extended Q = qr.householderQ();
     const extended& QR = qr.matrixQR();
-    vec<N> growth;
-    for (int i = 0; i < N; ++i) {
+    vec<N> growth = sized<vec<N>>(D.rows());
+    for (int i = 0; i < D.rows(); ++i) {
         if (QR(i, i) < 0.0L) Q.col(i) = -Q.col(i);
         growth[i] = static_cast<double>(std::log(std::abs(QR(i, i)))) - std::log(scale);
     }
@@ -67,7 +69,7 @@ struct tangent_tally {
             if (vm.jump() == impact_tangent::second_order) {
                 const auto d = prepare_impact(vm.base(), i.surface, x);
                 const mat<N> Y = VModel::matrix(i.pre);
-                for (int j = 0; j < N; ++j)
+                for (int j = 0; j < Y.cols(); ++j)
                     if (second_order_map(vm.base(), d, vec<N>(vm.deviation_scale() * Y.col(j))).misses) ++misses;
             }
         }
@@ -111,7 +113,7 @@ template <int N>
 void finish_exponents(lyapunov_result& res, const vec<N>& sum)
 {
     vec<N> e = sum / res.time;
-    std::sort(e.data(), e.data() + N, [](double a, double b) { return a > b; });
+    std::sort(e.data(), e.data() + e.size(), [](double a, double b) { return a > b; });
     res.exponents = to_dynamic(e);
     // Standard error of the largest exponent from 8 consecutive blocks of intervals.
     constexpr int blocks = 8;
@@ -145,7 +147,7 @@ void finish_exponents(lyapunov_result& res, const vec<N>& sum)
             const double d = means[static_cast<std::size_t>(b)] - (b < half ? first : second);
             pooled += d * d / (blocks - 2);
         }
-        const double spread = e[0] - e[N - 1];
+        const double spread = e[0] - e[e.size() - 1];
         res.settled = std::abs(first - second) <= std::max(4.0 * std::sqrt(pooled / 2.0), 1e-3 * spread);
     }
 }
@@ -196,7 +198,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
     // Unit tangent columns standing for deviations of size r0 (see variational_model).
     const VM vm(model, opt.tdm == lyapunov_tdm::second_order ? impact_tangent::second_order : impact_tangent::saltation,
                 opt.r0);
-    typename VM::state X = VM::pack(x_start, mat<N>::Identity(), 0.0);
+    typename VM::state X = VM::pack(x_start, mat<N>::Identity(x_start.size(), x_start.size()), 0.0);
     double q_start = 0.0, log_det_sum = 0.0;
     double t = t_begin;
     // Each interval lands on its end (the steppable tangent's way, system/tangent_system.hpp),
@@ -248,22 +250,32 @@ void trajectory_intervals(const Model& model, const lyapunov_options& opt, const
     constexpr int N = Model::dim;
     const averaging_window window{opt, res.impacting};
     flow_options fo = interval_flow(opt, opt.record_points > 0 ? model.section_direction(opt.section) : crossing::down);
+    const int n = state_dim(model);
     vec<N> xr = x_start;
-    mat<N> D = opt.r0 * mat<N>::Identity();
+    mat<N> D = opt.r0 * mat<N>::Identity(n, n);
     double t = t_begin;
+    // The n + 1 orbits' starts, ends and impact counts: on the stack where n is known at
+    // compile time.
+    using states = std::conditional_t<N == Eigen::Dynamic, std::vector<vec<N>>, std::array<vec<N>, std::max(N, 0) + 1>>;
+    using counts = std::conditional_t<N == Eigen::Dynamic, std::vector<long>, std::array<long, std::max(N, 0) + 1>>;
+    states starts{}, ends{};
+    counts impacts{};
+    if constexpr (N == Eigen::Dynamic) {
+        starts.resize(static_cast<std::size_t>(n) + 1);
+        ends.resize(static_cast<std::size_t>(n) + 1);
+        impacts.resize(static_cast<std::size_t>(n) + 1);
+    }
     for (long k = 0;; ++k) {
         fo.t_max = t_begin + static_cast<double>(k + 1) * opt.t0;
-        std::array<vec<N>, N + 1> starts;
         starts[0] = xr;
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < n; ++j) {
             // The sign of a deviation vector is free: take the one that starts admissible.
             vec<N> xp = xr + D.col(j);
             if (!admissible(model, xp)) xp = xr - D.col(j);
             starts[static_cast<std::size_t>(j) + 1] = xp;
         }
-        std::array<vec<N>, N + 1> ends;
-        std::array<long, N + 1> impacts{};
-        for (int j = 0; j <= N; ++j) {
+        std::fill(impacts.begin(), impacts.end(), 0L);
+        for (int j = 0; j <= n; ++j) {
             hybrid_flow<Model, Method> flow(model, fo);
             flow.start(t, starts[static_cast<std::size_t>(j)]);
             impact_counter obs;
@@ -275,14 +287,14 @@ void trajectory_intervals(const Model& model, const lyapunov_options& opt, const
         }
         t = fo.t_max;
         xr = ends[0];
-        for (int j = 0; j < N; ++j) D.col(j) = model.state_difference(ends[static_cast<std::size_t>(j) + 1], xr);
+        for (int j = 0; j < n; ++j) D.col(j) = model.state_difference(ends[static_cast<std::size_t>(j) + 1], xr);
         const vec<N> growth = reorthonormalise<N>(D, opt.r0);
         if (k < opt.warmup_intervals) continue;
         sum += growth;
         res.history_t.push_back(t);
         res.history.push_back(to_dynamic(growth));
         res.impacts += impacts[0];
-        for (int j = 1; j <= N; ++j)
+        for (int j = 1; j <= n; ++j)
             if (impacts[static_cast<std::size_t>(j)] != impacts[0]) ++res.misses;
         res.intervals = k + 1 - opt.warmup_intervals;
         res.time = t - res.t_start;
@@ -300,8 +312,9 @@ lyapunov_result lyapunov_after_transient(const Model& model, const simulation& p
     constexpr int N = Model::dim;
     lyapunov_result res;
     res.tdm = opt.tdm;
-    res.exponents = Eigen::VectorXd::Constant(N, std::numeric_limits<double>::quiet_NaN());
-    res.section_points = state_series(N);
+    const int n = state_dim(model);
+    res.exponents = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+    res.section_points = state_series(n);
     res.transient_stats = pr.stats;
     res.impacting = pr.impacting;
     res.impacts_by_surface.assign(static_cast<std::size_t>(model.surface_count()), 0);
@@ -311,7 +324,7 @@ lyapunov_result lyapunov_after_transient(const Model& model, const simulation& p
     }
     const vec<N> x_start = pr.points.x(pr.points.size() - 1);
     const double t_begin = pr.points.t(pr.points.size() - 1);
-    vec<N> sum = vec<N>::Zero();
+    vec<N> sum = vec<N>::Zero(n);
     res.t_start = t_begin + static_cast<double>(opt.warmup_intervals) * opt.t0;
     res.stats.h_min = std::numeric_limits<double>::infinity();
     if (opt.tdm != lyapunov_tdm::trajectory) {

@@ -19,7 +19,8 @@ template <engine_model Model>
 class plain_return_observer : public flow_observer {
 public:
     static constexpr int N = Model::dim;
-    plain_return_observer(const Model& m, int returns, orbit_map_value& out) : m_model(m), m_returns(returns), m_out(out)
+    plain_return_observer(const Model& m, int returns, orbit_map_value& out)
+        : m_model(m), m_returns(returns), m_out(out), m_end(vec<N>::Zero(state_dim(m)))
     {
     }
     [[nodiscard]] bool reached() const { return m_seen >= m_returns; }
@@ -67,16 +68,16 @@ private:
     orbit_map_value& m_out;
     int m_seen = 0;
     long m_sticking = 0;
-    vec<N> m_end = vec<N>::Zero();
+    vec<N> m_end;
 };
 
 template <int K>
 std::vector<std::complex<double>> eigenvalues_by_modulus(const mat<K>& m)
 {
     std::vector<std::complex<double>> v;
-    if constexpr (K > 0) {
+    if constexpr (K != 0) {
         Eigen::EigenSolver<Eigen::Matrix<long double, K, K>> es(m.template cast<long double>(), false);
-        for (int i = 0; i < K; ++i)
+        for (int i = 0; i < m.rows(); ++i)
             v.emplace_back(static_cast<double>(es.eigenvalues()[i].real()), static_cast<double>(es.eigenvalues()[i].imag()));
     }
     std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) {
@@ -140,7 +141,8 @@ void forced_orbit_map(const Model& model, const orbit_map_request& rq, const sec
                       const vec<Model::dim>& x, const flow_options& fo_in, orbit_map_value& out)
 {
     constexpr int N = Model::dim;
-    constexpr int K = N - 1;
+    constexpr int K = dim_less_one(N);
+    const int n = state_dim(model);
     using VM = variational_model<Model>;
     const VM vm(model, impact_tangent::saltation);
     flow_options fo = fo_in;
@@ -154,7 +156,7 @@ void forced_orbit_map(const Model& model, const orbit_map_request& rq, const sec
     flow_options f1 = fo;
     f1.t_max = rq.forced_time;
     hybrid_flow<VM, Method> one(vm, f1);
-    one.start(0.0, VM::pack(detail::past_section(model, rq.section, x), mat<N>::Identity(), 0.0));
+    one.start(0.0, VM::pack(detail::past_section(model, rq.section, x), mat<N>::Identity(n, n), 0.0));
     const outcome o1 = rq.forced_time > 0.0 ? one.run(obs) : outcome::time_limit;
     out.stats = one.stats();
     if (o1 != outcome::time_limit || obs.reached() || obs.sticking_phases() > 0) {
@@ -173,7 +175,7 @@ void forced_orbit_map(const Model& model, const orbit_map_request& rq, const sec
     out.impacts.back().sensitivity = 0.0;  // at a given time: no event to locate
     // On to the k-th return.
     hybrid_flow<VM, Method> two(vm, fo);
-    two.start(rq.forced_time, VM::pack(post, mat<N>::Identity(), 0.0));
+    two.start(rq.forced_time, VM::pack(post, mat<N>::Identity(n, n), 0.0));
     out.status = two.run(obs);
     out.stats.add(two.stats());
     if (out.status == outcome::ok && !obs.reached()) out.status = outcome::time_limit;
@@ -183,12 +185,12 @@ void forced_orbit_map(const Model& model, const orbit_map_request& rq, const sec
     const mat<N> Y2 = VM::matrix(obs.end_state());
     const vec<N> F = model.rhs(x_end);
     const vec<N> g = model.section_gradient(rq.section, x_end);
-    const mat<N> proj = mat<N>::Identity() - F * g.transpose() / g.dot(F);
+    const mat<N> proj = mat<N>::Identity(n, n) - F * g.transpose() / g.dot(F);
     const mat<N> monodromy = Y2 * R * Y1;
     const mat<K> DP = chart.projection() * proj * monodromy * chart.embedding(x);
     out.x_end = to_dynamic(x_end);
     out.residual = to_dynamic(vec<K>(chart.to_chart(model.state_difference(x_end, x))));
-    out.residual_jacobian = to_dynamic(mat<K>(DP - mat<K>::Identity()));
+    out.residual_jacobian = to_dynamic(mat<K>(DP - mat<K>::Identity(n - 1, n - 1)));
     out.monodromy = to_dynamic(monodromy);
     // Moving the impact by dt moves the state after it by (R' F(pre) - F(post)) dt.
     const vec<N> shift = R * model.rhs(pre) - model.rhs(post);
@@ -207,19 +209,20 @@ template <template <int> class Method, engine_model Model>
 orbit_map_value orbit_map_once(const Model& model, const orbit_map_request& rq)
 {
     constexpr int N = Model::dim;
-    constexpr int K = N - 1;
-    static_assert(N >= 2, "a section map needs at least two state variables");
+    constexpr int K = dim_less_one(N);
+    static_assert(N >= 2 || N == Eigen::Dynamic, "a section map needs at least two state variables");
+    const int n = state_dim(model);
     orbit_map_value out;
     // Phases reduced to one period (state_difference from 0): a forcing phase carried over from
     // a long run (200 periods: 1257) holds 100 times fewer digits, and near grazing the map
     // amplifies that rounding into its residual (5e-10 at v = 0.002 on the forced oscillator).
-    const vec<N> zero = vec<N>::Zero();
-    const vec<N> guess = model.state_difference(vec<N>(rq.guess.head<N>()), zero);
+    const vec<N> zero = vec<N>::Zero(n);
+    const vec<N> guess = model.state_difference(head_as<N>(rq.guess, n), zero);
     const section_chart<Model> chart =
         rq.chart_coordinate >= 0 ? section_chart<Model>(model, rq.section, rq.chart_coordinate)
                                  : section_chart<Model>(model, rq.section, guess);
     out.chart_coordinate = chart.dropped();
-    const vec<K> z = rq.z.head<K>();
+    const vec<K> z = head_as<K>(rq.z, n - 1);
     const vec<N> x = model.state_difference(chart.from_chart(z, guess), zero);
     out.x = to_dynamic(x);
     if (!x.allFinite()) {
@@ -268,7 +271,7 @@ orbit_map_value orbit_map_once(const Model& model, const orbit_map_request& rq)
         x_end = r.x_end;
         out.period = r.time;
         const mat<K> DP = chart.projection() * r.return_derivative * chart.embedding(x);
-        out.residual_jacobian = to_dynamic(mat<K>(DP - mat<K>::Identity()));
+        out.residual_jacobian = to_dynamic(mat<K>(DP - mat<K>::Identity(n - 1, n - 1)));
         out.monodromy = to_dynamic(r.monodromy);
         floquet_result fr;
         fill_multipliers<N>(fr, r.monodromy, vec<N>(model.rhs(x)));

@@ -217,9 +217,10 @@ private:
     static simulation empty_result(const Model& model)
     {
         simulation r;
-        r.points = state_series(N);
-        r.impacts = impact_series(N);
-        r.series = state_series(N);
+        const int n = state_dim(model);
+        r.points = state_series(n);
+        r.impacts = impact_series(n);
+        r.series = state_series(n);
         r.max_gap.assign(static_cast<std::size_t>(model.surface_count()), std::numeric_limits<double>::quiet_NaN());
         return r;
     }

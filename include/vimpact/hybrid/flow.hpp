@@ -98,7 +98,8 @@ public:
     using integrator_type = adaptive_integrator<N, Method, typename flow_stepper<Model, Method>::type>;
     using dense_type = typename integrator_type::dense_type;
 
-    hybrid_flow(const Model& model, const flow_options& opt) : m_model(model), m_opt(opt), m_integ(opt.integration)
+    hybrid_flow(const Model& model, const flow_options& opt)
+        : m_model(model), m_opt(opt), m_integ(opt.integration), m_x(state::Zero(state_dim(model)))
     {
         m_stats.impacts_by_surface.assign(static_cast<std::size_t>(m_model.surface_count()), 0);
         for (auto* e : {&m_start, &m_end}) {
@@ -318,7 +319,7 @@ private:
     static void polish(Value&& value_at, const state& gradient, state& p)
     {
         int j = -1;
-        for (int k = 0; k < N; ++k) {
+        for (int k = 0; k < gradient.size(); ++k) {
             if (gradient[k] == 0.0) continue;
             if (j >= 0 || std::abs(gradient[k]) != 1.0) return;
             j = k;
@@ -584,7 +585,7 @@ private:
     {
         event_resolution::deviation<double> worst{0.0, 1.0};
         for (int point = 0; point < 2; ++point) {
-            state xc;
+            state xc = sized<state>(m_integ.x().size());
             event_resolution::hermite_state<N>(point, m_integ.x_prev(), m_integ.f_prev(), m_integ.x(), m_integ.f(), h, xc);
             const auto consider = [&](const end_sample& a, const end_sample& b, double vc) {
                 const scalar_sample s0 = a.at(h), s1 = b.at(h);
@@ -815,7 +816,7 @@ private:
     flow_mode m_mode = flow_mode::free;
     int m_contact = -1;
     double m_t = 0.0;
-    state m_x = state::Zero();
+    state m_x;
     bool m_stop = false;
     double m_stop_theta = 2.0;  // where in the current step the observer stopped the run
     double m_free_step_max = 0.0;  // the longest free-flight step so far

@@ -231,14 +231,15 @@ private:
     double initial_step(F&& rhs)
     {
         const vec<N> sc = error_scale<N>(m_x, m_x, m_opt.rtol, m_opt.atol);
-        const double d0 = std::sqrt(m_x.cwiseQuotient(sc).squaredNorm() / N);
-        const double d1 = std::sqrt(m_f.cwiseQuotient(sc).squaredNorm() / N);
+        const double n = double(m_x.size());
+        const double d0 = std::sqrt(m_x.cwiseQuotient(sc).squaredNorm() / n);
+        const double d1 = std::sqrt(m_f.cwiseQuotient(sc).squaredNorm() / n);
         double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
         h0 = std::min(h0, m_opt.h_max);
         const vec<N> x1 = m_x + h0 * m_f;
         const vec<N> f1 = rhs(x1);
         ++m_count.rhs_calls;
-        const double d2 = std::sqrt((f1 - m_f).cwiseQuotient(sc).squaredNorm() / N) / h0;
+        const double d2 = std::sqrt((f1 - m_f).cwiseQuotient(sc).squaredNorm() / n) / h0;
         const double dmax = std::max(d1, d2);
         const double h1 = dmax <= 1e-15 ? std::max(1e-6, h0 * 1e-3)
                                         : std::pow(0.01 / dmax, 1.0 / method_type::order);

@@ -34,7 +34,7 @@ struct dense_segment {
     void value_and_slope(double theta, vec<N>& value, vec<N>& slope) const
     {
         vec<N> s = c[K - 1];
-        vec<N> ds = vec<N>::Zero();
+        vec<N> ds = vec<N>::Zero(s.size());
         for (int j = K - 1; j >= 1; --j) {
             const bool even = (j % 2 == 0);
             const double p = even ? theta : 1.0 - theta;

@@ -40,9 +40,9 @@ template <int N, class V, class S>
 void hermite_state(int point, const V& x0, const V& f0, const V& x1, const V& f1, const S& h, V& out)
 {
     if (point == 0)
-        for (int i = 0; i < N; ++i) out[i] = (h00 * x0[i] + h01 * x1[i]) + h * (h10 * f0[i] + h11 * f1[i]);
+        for (Eigen::Index i = 0; i < x0.size(); ++i) out[i] = (h00 * x0[i] + h01 * x1[i]) + h * (h10 * f0[i] + h11 * f1[i]);
     else
-        for (int i = 0; i < N; ++i) out[i] = (h01 * x0[i] + h00 * x1[i]) - h * (h11 * f0[i] + h10 * f1[i]);
+        for (Eigen::Index i = 0; i < x0.size(); ++i) out[i] = (h01 * x0[i] + h00 * x1[i]) - h * (h11 * f0[i] + h10 * f1[i]);
 }
 
 // How far g there (vc) lies from the cubic through the end samples (v, s per unit of theta),

@@ -38,8 +38,8 @@ inline vec_t<T, N> error_scale(const vec_t<T, N>& x0, const vec_t<T, N>& x1, dou
         return (atol + rtol * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array()).matrix();
     } else {
         using std::abs;
-        vec_t<T, N> sc;
-        for (int i = 0; i < N; ++i) sc[i] = atol + rtol * lane_max(T(abs(x0[i])), T(abs(x1[i])));
+        vec_t<T, N> sc = sized<vec_t<T, N>>(x0.size());
+        for (Eigen::Index i = 0; i < x0.size(); ++i) sc[i] = atol + rtol * lane_max(T(abs(x0[i])), T(abs(x1[i])));
         return sc;
     }
 }
@@ -57,8 +57,8 @@ inline vec_t<T, N> error_weights(const vec_t<T, N>& x0, const vec_t<T, N>& x1, c
     if constexpr (std::is_same_v<T, double>) {
         return (h * sc.array().inverse()).matrix();
     } else {
-        vec_t<T, N> w;
-        for (int i = 0; i < N; ++i) w[i] = h * (T(1.0) / sc[i]);
+        vec_t<T, N> w = sized<vec_t<T, N>>(x0.size());
+        for (Eigen::Index i = 0; i < x0.size(); ++i) w[i] = h * (T(1.0) / sc[i]);
         return w;
     }
 }
@@ -74,9 +74,10 @@ inline T weighted_square_sum(const vec_t<T, N>& e, const vec_t<T, N>& w)
     if constexpr (N == 1) {
         return T(q[0] * q[0]);
     } else {
+        if (N == Eigen::Dynamic && q.size() == 1) return T(q[0] * q[0]);
         T even = q[0] * q[0], odd = q[1] * q[1];
-        for (int i = 2; i < N; i += 2) even = fma(q[i], q[i], even);
-        for (int i = 3; i < N; i += 2) odd = fma(q[i], q[i], odd);
+        for (Eigen::Index i = 2; i < q.size(); i += 2) even = fma(q[i], q[i], even);
+        for (Eigen::Index i = 3; i < q.size(); i += 2) odd = fma(q[i], q[i], odd);
         return T(even + odd);
     }
 }
@@ -97,7 +98,8 @@ inline State combine(const std::array<State, S>& k)
 {
     using T = typename State::Scalar;
     return [&]<int... J>(std::integer_sequence<int, J...>) {
-        State acc[2] = {State::Constant(T(0.0)), State::Constant(T(0.0))};
+        const Eigen::Index n = k[0].size();
+        State acc[2] = {State::Constant(n, T(0.0)), State::Constant(n, T(0.0))};
         (add_term<Coef[J]>(acc[J % 2], k[J]), ...);
         return State(acc[0] + acc[1]);
     }(std::make_integer_sequence<int, Count>{});
@@ -130,23 +132,24 @@ inline T stage_term(const T& acc, const T& c, const T& k)
 // component in scalar registers, so that each component of the next input waits only for the
 // same component of the newest stage (and the vector field's components, computed one by one,
 // are not packed into a vector register and unpacked again between the stages); the empty asm
-// keeps GCC's vectoriser from packing them back. Larger states and SIMD lanes take the same
-// operations in the same loop. Each component accumulates in a local value, not in the result
+// keeps GCC's vectoriser from packing them back. Larger states, states sized at run time and
+// SIMD lanes take the same operations in the same loop. Each component accumulates in a local value, not in the result
 // vector: for lanes, a sum kept in the vector went through memory at every term, and the
 // lanes' engine (bench/lanes_bench.cpp) took 1.4x as long.
 template <int Count, const auto& Coef, class State, std::size_t S, class H>
 inline State stage_input_ordered(const std::array<State, S>& k, const State& x, H h)
 {
     using T = typename State::Scalar;
-    static_assert(State::RowsAtCompileTime > 0, "stage sums are written for fixed-size states");
     return [&]<int... J>(std::integer_sequence<int, J...>) {
         const H hc[] = {H(h * Coef[J])...};
-        State out;
-        for (int i = 0; i < State::RowsAtCompileTime; ++i) {
+        State out = sized<State>(x.size());
+        for (Eigen::Index i = 0; i < x.size(); ++i) {
             T acc = x[i];
             ((Coef[J] != 0.0 ? (void)(acc = stage_term<T>(acc, hc[J], k[J][i])) : (void)0), ...);
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
-            if constexpr (std::is_same_v<T, double> && State::RowsAtCompileTime <= 4) asm("" : "+v"(acc));
+            if constexpr (std::is_same_v<T, double> && State::RowsAtCompileTime != Eigen::Dynamic &&
+                          State::RowsAtCompileTime <= 4)
+                asm("" : "+v"(acc));
 #endif
             out[i] = acc;
         }
@@ -228,7 +231,7 @@ public:
         const state fn = rhs(xn);
         m_k[Tab::stages] = fn;
         const state w = error_weights<N, T>(x, xn, h, rtol, atol);
-        const T err2 = T(weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E>(m_k), w) * (1.0 / N));
+        const T err2 = T(weighted_square_sum<N>(rk_detail::combine<Tab::stages + 1, Tab::E>(m_k), w) * (1.0 / double(x.size())));
         x_new = xn;
         f_new = fn;
         return err2;
@@ -300,7 +303,7 @@ public:
         x_new = xn;
         f_new = fn;
         // n5 = n3 = 0 (a field that vanishes): error 0, not 0/0.
-        return select(n5 == T(0.0) && n3 == T(0.0), T(0.0), T(n5 * n5 / ((n5 + 0.01 * n3) * double(N))));
+        return select(n5 == T(0.0) && n3 == T(0.0), T(0.0), T(n5 * n5 / ((n5 + 0.01 * n3) * double(x.size()))));
     }
 
     // Needs three extra stages, so it is built only for steps where an event or a sample

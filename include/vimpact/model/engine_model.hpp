@@ -40,6 +40,15 @@ concept engine_model = requires(const M& m, const vec<M::dim>& x, int i) {
     { m.state_difference(x, x) } -> std::convertible_to<vec<M::dim>>;
 };
 
+// The state dimension of an engine model: its compile-time dim, or, for a model whose states
+// are sized at run time (dim == Eigen::Dynamic: table_model<Eigen::Dynamic>), its own count.
+template <class M>
+int state_dim(const M& m)
+{
+    if constexpr (M::dim != Eigen::Dynamic) return M::dim;
+    else return m.runtime_dim();
+}
+
 // Directional derivatives dg_i/dx v and ds_k/dx v: what event location needs of a gap or a
 // section (its rate along the flow, its slope along an interpolant). A model may provide them
 // itself when they cost less than a gradient (automatic differentiation along one direction

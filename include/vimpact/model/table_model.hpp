@@ -1,14 +1,17 @@
 #pragma once
 // table_model<N>: an engine model (model/engine_model.hpp) that calls a compiled model's
 // function table (model/abi.h) with a context made from its parameter values. The
-// library instantiates every analysis for it once per supported dimension N, so a model
-// file or plugin runs with no interpreter in the loop: each call is one indirect call into
-// native code.
+// library instantiates every analysis for it once per dimension N of VIMPACT_MODEL_DIMS
+// (fixed-size states, the fast path) and once for N = Eigen::Dynamic (states sized at run time
+// from the table's dim: a model of any other dimension), so a model file or plugin runs with
+// no interpreter in the loop: each call is one indirect call into native code.
 #include <cassert>
 #include <cmath>
 
+#include <algorithm>
 #include <array>
 #include <type_traits>
+#include <vector>
 
 #include "vimpact/core/state.hpp"
 #include "vimpact/hybrid/stepper.hpp"
@@ -27,8 +30,11 @@ public:
 
     table_model(const vimpact_model_table& table, const void* context) : m_t(&table), m_c(context)
     {
-        assert(table.dim == N);
+        assert(N == Eigen::Dynamic || table.dim == N);
     }
+
+    // The state dimension (state_dim in model/engine_model.hpp reads it where N is dynamic).
+    [[nodiscard]] int runtime_dim() const { return m_t->dim; }
 
     [[nodiscard]] const vimpact_model_table& table() const { return *m_t; }
     [[nodiscard]] const void* context() const { return m_c; }
@@ -41,19 +47,19 @@ public:
 
     [[nodiscard]] state rhs(const state& x) const
     {
-        state f;
+        state f = new_state();
         m_t->rhs(m_c, x.data(), f.data());
         return f;
     }
     [[nodiscard]] matrix jacobian(const state& x) const
     {
-        matrix J;
+        matrix J = new_matrix();
         m_t->jacobian(m_c, x.data(), J.data());
         return J;
     }
     [[nodiscard]] state second_derivative(const state& x, const state& u, const state& w) const
     {
-        state out;
+        state out = new_state();
         m_t->second_derivative(m_c, x.data(), u.data(), w.data(), out.data());
         return out;
     }
@@ -62,31 +68,31 @@ public:
     [[nodiscard]] double gap(int i, const state& x) const { return m_t->gap(m_c, i, x.data()); }
     [[nodiscard]] state gap_gradient(int i, const state& x) const
     {
-        state out;
+        state out = new_state();
         m_t->gap_gradient(m_c, i, x.data(), out.data());
         return out;
     }
     [[nodiscard]] matrix gap_hessian(int i, const state& x) const
     {
-        matrix out;
+        matrix out = new_matrix();
         m_t->gap_hessian(m_c, i, x.data(), out.data());
         return out;
     }
     [[nodiscard]] state reset(int i, const state& x) const
     {
-        state out;
+        state out = new_state();
         m_t->reset(m_c, i, x.data(), out.data());
         return out;
     }
     [[nodiscard]] matrix reset_jacobian(int i, const state& x) const
     {
-        matrix out;
+        matrix out = new_matrix();
         m_t->reset_jacobian(m_c, i, x.data(), out.data());
         return out;
     }
     [[nodiscard]] state reset_second_derivative(int i, const state& x, const state& u, const state& w) const
     {
-        state out;
+        state out = new_state();
         m_t->reset_second_derivative(m_c, i, x.data(), u.data(), w.data(), out.data());
         return out;
     }
@@ -94,27 +100,27 @@ public:
     [[nodiscard]] double section(int k, const state& x) const { return m_t->section(m_c, k, x.data()); }
     [[nodiscard]] state section_gradient(int k, const state& x) const
     {
-        state out;
+        state out = new_state();
         m_t->section_gradient(m_c, k, x.data(), out.data());
         return out;
     }
 
     [[nodiscard]] state sticking_rhs(int i, const state& x) const
     {
-        state out;
+        state out = new_state();
         m_t->sticking_rhs(m_c, i, x.data(), out.data());
         return out;
     }
     [[nodiscard]] double release(int i, const state& x) const { return m_t->release(m_c, i, x.data()); }
     [[nodiscard]] state release_gradient(int i, const state& x) const
     {
-        state out;
+        state out = new_state();
         m_t->release_gradient(m_c, i, x.data(), out.data());
         return out;
     }
     [[nodiscard]] state rest(int i, const state& x) const
     {
-        state out;
+        state out = new_state();
         m_t->rest(m_c, i, x.data(), out.data());
         return out;
     }
@@ -132,7 +138,7 @@ public:
     [[nodiscard]] state state_difference(const state& b, const state& a) const
     {
         state d = b - a;
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < d.size(); ++j) {
             const double p = m_t->state_periods[j];
             if (p > 0.0) d[j] -= p * std::round(d[j] / p);
         }
@@ -140,6 +146,14 @@ public:
     }
 
 private:
+    // Outputs the table writes into: sized at run time where N is dynamic.
+    [[nodiscard]] state new_state() const { return sized<state>(m_t->dim); }
+    [[nodiscard]] matrix new_matrix() const
+    {
+        if constexpr (N == Eigen::Dynamic) return matrix(m_t->dim, m_t->dim);
+        else return matrix();
+    }
+
     const vimpact_model_table* m_t;
     const void* m_c;
 };
@@ -158,6 +172,11 @@ public:
             const auto& t = rhs.model->table();
             if (t.step) {
                 m_fused = true;
+                if constexpr (N == Eigen::Dynamic) {
+                    x_new.resize(x.size());
+                    f_new.resize(x.size());
+                    m_stages.resize(static_cast<std::size_t>(dop853<N>::stage_count * x.size()));
+                }
                 return t.step(rhs.model->context(), method_id(), x.data(), f.data(), h, rtol, atol, x_new.data(),
                               f_new.data(), m_stages.data());
             }
@@ -175,8 +194,18 @@ public:
                 out.t0 = t0;
                 out.h = h;
                 out.x0 = x0;
-                rhs.model->table().dense(rhs.model->context(), method_id(), t0, h, x0.data(), x1.data(),
-                                         m_stages.data(), out.c[0].data());
+                if constexpr (N == Eigen::Dynamic) {
+                    // The coefficients are separate vectors here: written to one buffer, then copied.
+                    const Eigen::Index n = x0.size();
+                    m_coefficients.resize(out.c.size() * static_cast<std::size_t>(n));
+                    rhs.model->table().dense(rhs.model->context(), method_id(), t0, h, x0.data(), x1.data(),
+                                             m_stages.data(), m_coefficients.data());
+                    for (std::size_t j = 0; j < out.c.size(); ++j)
+                        out.c[j] = Eigen::Map<const vec<N>>(m_coefficients.data() + j * static_cast<std::size_t>(n), n);
+                } else {
+                    rhs.model->table().dense(rhs.model->context(), method_id(), t0, h, x0.data(), x1.data(),
+                                             m_stages.data(), out.c[0].data());
+                }
                 return;
             }
         }
@@ -188,8 +217,13 @@ private:
     {
         return static_cast<int>(std::is_same_v<Method<N>, dopri5<N>> ? fused_method::dopri5 : fused_method::dop853);
     }
-    static_assert(sizeof(vec<N>) == N * sizeof(double), "interpolant coefficients must be contiguous doubles");
-    std::array<double, fused_stage_doubles<N>> m_stages{};
+    static_assert(N == Eigen::Dynamic || sizeof(vec<N>) == N * sizeof(double),
+                  "interpolant coefficients must be contiguous doubles");
+    // The stages between a fused step and its interpolant (and, for a dynamic N, the
+    // interpolant's coefficients on their way to the segment's vectors).
+    using stage_buffer = std::conditional_t<N == Eigen::Dynamic, std::vector<double>, std::array<double, fused_stage_doubles<std::max(N, 1)>>>;
+    stage_buffer m_stages{};
+    std::vector<double> m_coefficients;
     bool m_fused = false;
 };
 

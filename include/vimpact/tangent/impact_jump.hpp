@@ -64,7 +64,7 @@ mat<Model::dim> impact_jump_matrix(const Model& m, int i, const vec<Model::dim>&
 {
     switch (mode) {
         case impact_tangent::reset_jacobian: return m.reset_jacobian(i, x);
-        case impact_tangent::identity: return mat<Model::dim>::Identity();
+        case impact_tangent::identity: return mat<Model::dim>::Identity(x.size(), x.size());
         default: return saltation_matrix(m, i, x);
     }
 }

@@ -31,35 +31,37 @@
 namespace vimpact {
 
 template <int N>
-using chart_point = vec<N - 1>;
+using chart_point = vec<dim_less_one(N)>;
 
 // The chart of a section near a point: which coordinate is solved for.
 template <engine_model Model>
 class section_chart {
 public:
     static constexpr int N = Model::dim;
+    static constexpr int K = dim_less_one(N);
 
-    section_chart(const Model& m, int section, const vec<N>& near) : m_model(&m), m_section(section)
+    section_chart(const Model& m, int section, const vec<N>& near) : m_model(&m), m_section(section), m_n(state_dim(m))
     {
         const vec<N> g = m.section_gradient(section, near);
         m_dropped = 0;
-        for (int j = 1; j < N; ++j)
+        for (int j = 1; j < m_n; ++j)
             if (std::abs(g[j]) > std::abs(g[m_dropped])) m_dropped = j;
     }
 
     // A chart that solves for coordinate `dropped` (a continuation keeps one chart along its
     // branch, chosen at its start).
-    section_chart(const Model& m, int section, int dropped) : m_model(&m), m_section(section), m_dropped(dropped)
+    section_chart(const Model& m, int section, int dropped)
+        : m_model(&m), m_section(section), m_n(state_dim(m)), m_dropped(dropped)
     {
-        if (dropped < 0 || dropped >= N) throw input_error("section chart coordinate out of range");
+        if (dropped < 0 || dropped >= m_n) throw input_error("section chart coordinate out of range");
     }
 
     [[nodiscard]] int dropped() const { return m_dropped; }
 
     [[nodiscard]] chart_point<N> to_chart(const vec<N>& x) const
     {
-        chart_point<N> z;
-        for (int i = 0, k = 0; i < N; ++i)
+        chart_point<N> z = sized<chart_point<N>>(m_n - 1);
+        for (int i = 0, k = 0; i < m_n; ++i)
             if (i != m_dropped) z[k++] = x[i];
         return z;
     }
@@ -68,8 +70,8 @@ public:
     // `guess` (NaN if it does not converge: the chart does not reach the section there).
     [[nodiscard]] vec<N> from_chart(const chart_point<N>& z, const vec<N>& guess) const
     {
-        vec<N> x;
-        for (int i = 0, k = 0; i < N; ++i) x[i] = (i == m_dropped) ? guess[i] : z[k++];
+        vec<N> x = sized<vec<N>>(m_n);
+        for (int i = 0, k = 0; i < m_n; ++i) x[i] = (i == m_dropped) ? guess[i] : z[k++];
         for (int it = 0; it < 30; ++it) {
             const double s = m_model->section(m_section, x);
             if (s == 0.0) return x;
@@ -80,15 +82,15 @@ public:
             if (std::abs(step) <= 4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(x[m_dropped])))
                 return x;
         }
-        return vec<N>::Constant(std::numeric_limits<double>::quiet_NaN());
+        return vec<N>::Constant(m_n, std::numeric_limits<double>::quiet_NaN());
     }
 
     // dx/dz at x: the N x (N-1) matrix E of the header.
-    [[nodiscard]] Eigen::Matrix<double, N, N - 1> embedding(const vec<N>& x) const
+    [[nodiscard]] Eigen::Matrix<double, N, K> embedding(const vec<N>& x) const
     {
         const vec<N> g = m_model->section_gradient(m_section, x);
-        Eigen::Matrix<double, N, N - 1> E = Eigen::Matrix<double, N, N - 1>::Zero();
-        for (int j = 0, k = 0; j < N; ++j) {
+        Eigen::Matrix<double, N, K> E = Eigen::Matrix<double, N, K>::Zero(m_n, m_n - 1);
+        for (int j = 0, k = 0; j < m_n; ++j) {
             if (j == m_dropped) continue;
             E(j, k) = 1.0;
             E(m_dropped, k) = -g[j] / g[m_dropped];
@@ -97,10 +99,10 @@ public:
         return E;
     }
 
-    [[nodiscard]] Eigen::Matrix<double, N - 1, N> projection() const
+    [[nodiscard]] Eigen::Matrix<double, K, N> projection() const
     {
-        Eigen::Matrix<double, N - 1, N> P = Eigen::Matrix<double, N - 1, N>::Zero();
-        for (int i = 0, k = 0; i < N; ++i)
+        Eigen::Matrix<double, K, N> P = Eigen::Matrix<double, K, N>::Zero(m_n - 1, m_n);
+        for (int i = 0, k = 0; i < m_n; ++i)
             if (i != m_dropped) P(k++, i) = 1.0;
         return P;
     }
@@ -108,6 +110,7 @@ public:
 private:
     const Model* m_model;
     int m_section;
+    int m_n;  // the state dimension
     int m_dropped = 0;
 };
 
@@ -131,6 +134,9 @@ struct gap_minimum {
 
 template <int N>
 struct section_return {
+    // n: the state dimension (a dynamic N has none at compile time).
+    explicit section_return(int n = N == Eigen::Dynamic ? 0 : N) : impact_list(n), crossings(n), samples(n) {}
+
     outcome status = outcome::ok;       // ok: the requested returns were reached
     long sticking_phases = 0;           // > 0: the tangent is not valid (see variational.hpp)
     vec<N> x0;
@@ -141,10 +147,10 @@ struct section_return {
     mat<N> return_derivative;           // dx_end/dx0 along the section (the projected monodromy)
     double divergence_integral = 0.0;   // integral of div F over [0, time]
     double log_det_jumps = 0.0;         // sum of ln|det(jump)| over the impacts
-    impact_series impact_list{N};       // reference states at the impacts
+    impact_series impact_list;          // reference states at the impacts
     std::vector<gap_minimum> gap_minima;  // before the last return (section_map_options::gap_minima)
-    state_series crossings{N};          // the state at each return (the last is x_end)
-    state_series samples{N};            // the orbit every sample_dt (if asked)
+    state_series crossings;             // the state at each return (the last is x_end)
+    state_series samples;               // the orbit every sample_dt (if asked)
     run_stats stats;
 
     [[nodiscard]] bool valid() const { return status == outcome::ok && sticking_phases == 0; }
@@ -242,7 +248,7 @@ vec<Model::dim> past_section(const Model& m, int k, const vec<Model::dim>& x)
     if (!before(x)) return x;
     const vec<N> g = m.section_gradient(k, x);
     int c = 0;
-    for (int j = 1; j < N; ++j)
+    for (int j = 1; j < g.size(); ++j)
         if (std::abs(g[j]) > std::abs(g[c])) c = j;
     if (!(g[c] != 0.0)) return x;
     // The way s must go: up for an upward section, down for a downward one, through 0 otherwise.
@@ -277,9 +283,10 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     if (opt.gap_minima)
         for (int i = 0; i < model.surface_count(); ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
     hybrid_flow<VM, Method> flow(vm, fo);
-    section_return<N> out;
+    const int n = state_dim(model);
+    section_return<N> out(n);
     out.x0 = detail::past_section(model, opt.section, x0);
-    flow.start(0.0, VM::pack(out.x0, mat<N>::Identity(), 0.0));
+    flow.start(0.0, VM::pack(out.x0, mat<N>::Identity(n, n), 0.0));
     if (opt.sample_dt > 0.0) out.samples.push_back(0.0, out.x0);
     detail::section_return_observer<VM> obs(vm, returns, opt.sample_dt, out);
     out.status = flow.run(obs);
@@ -297,7 +304,7 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     out.divergence_integral = VM::divergence_integral(X);
     const vec<N> F = model.rhs(out.x_end);
     const vec<N> g = model.section_gradient(opt.section, out.x_end);
-    const mat<N> proj = mat<N>::Identity() - F * g.transpose() / g.dot(F);
+    const mat<N> proj = mat<N>::Identity(n, n) - F * g.transpose() / g.dot(F);
     out.return_derivative = proj * out.monodromy;
     return out;
 }
@@ -330,8 +337,10 @@ periodic_orbit<Model::dim> find_periodic_orbit(const Model& model, const vec<Mod
                                                const shooting_options& opt = {})
 {
     constexpr int N = Model::dim;
-    constexpr int K = N - 1;
-    static_assert(N >= 2, "a section map needs at least two state variables");
+    constexpr int K = dim_less_one(N);
+    static_assert(N >= 2 || N == Eigen::Dynamic, "a section map needs at least two state variables");
+    const int k = state_dim(model) - 1;
+    if (k < 1) throw input_error("a section map needs at least two state variables");
     if (!(opt.tolerance > 0.0)) throw input_error("Newton tolerance must be > 0");
     if (opt.max_iterations < 0) throw input_error("Newton iterations must be >= 0");
     section_map_options mo = opt.map;
@@ -360,7 +369,7 @@ periodic_orbit<Model::dim> find_periodic_orbit(const Model& model, const vec<Mod
     double norm = res.cwiseAbs().maxCoeff();
     orb.initial_closure = norm;
     for (int it = 0; it < opt.max_iterations && norm > opt.tolerance; ++it) {
-        const mat<K> A = chart.projection() * r.return_derivative * chart.embedding(x) - mat<K>::Identity();
+        const mat<K> A = chart.projection() * r.return_derivative * chart.embedding(x) - mat<K>::Identity(k, k);
         const vec<K> step = A.fullPivLu().solve(-res);
         if (!step.allFinite()) break;
         bool improved = false;

@@ -22,6 +22,7 @@
 // numbers.
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -47,15 +48,19 @@ constexpr int padded_size(int n)
 }
 
 // `Divergence`: also integrate q = integral of div F (the Liouville and sum-rule checks).
+// A base model whose states are sized at run time (dim == Eigen::Dynamic) gives a tangent
+// state sized at run time too, unpadded: n + n^2 (+ 1) components for a base of n.
 template <engine_model Model, bool Divergence = true>
 class variational_model {
 public:
     using base_model = Model;
     static constexpr int base_dim = Model::dim;
     static constexpr bool has_divergence_integral = Divergence;
-    static constexpr int divergence_index = base_dim + base_dim * base_dim;
-    static constexpr int raw_dim = divergence_index + (Divergence ? 1 : 0);
-    static constexpr int dim = padded_size(raw_dim);
+    static constexpr bool sized_at_run_time = base_dim == Eigen::Dynamic;
+    // The unpadded size for a base of n, and the index of q in it.
+    static constexpr int raw_size(int n) { return n + n * n + (Divergence ? 1 : 0); }
+    static constexpr int divergence_index_of(int n) { return n + n * n; }
+    static constexpr int dim = sized_at_run_time ? Eigen::Dynamic : padded_size(raw_size(base_dim));
     using state = vec<dim>;
     using base_state = vec<base_dim>;
     using tangent = mat<base_dim>;
@@ -70,31 +75,48 @@ public:
     }
 
     [[nodiscard]] const Model& base() const { return m_model; }
+    [[nodiscard]] int runtime_dim() const { return raw_size(state_dim(m_model)); }
+    // The base dimension n of a tangent state X.
+    static int base_size(const state& X)
+    {
+        if constexpr (!sized_at_run_time) return base_dim;
+        else {
+            const double m = static_cast<double>(X.size() - (Divergence ? 1 : 0));
+            return static_cast<int>(std::lround((std::sqrt(4.0 * m + 1.0) - 1.0) / 2.0));
+        }
+    }
     [[nodiscard]] impact_tangent jump() const { return m_jump; }
     [[nodiscard]] double deviation_scale() const { return m_scale; }
 
     static state pack(const base_state& x, const tangent& Y, double q = 0.0)
     {
-        state X = state::Zero();
-        X.template head<base_dim>() = x;
-        Eigen::Map<tangent>(X.data() + base_dim) = Y;
-        if constexpr (Divergence) X[divergence_index] = q;
+        const int n = static_cast<int>(x.size());
+        state X = zero_state(n);
+        head(X, n) = x;
+        tangent_of(X.data() + n, n) = Y;
+        if constexpr (Divergence) X[divergence_index_of(n)] = q;
         return X;
     }
     // The tolerances that make the padded RMS error norm equal the unpadded one.
     static integrator_options integration_options(integrator_options o)
     {
-        const double s = std::sqrt(static_cast<double>(raw_dim) / static_cast<double>(dim));
-        o.rtol *= s;
-        o.atol *= s;
+        if constexpr (!sized_at_run_time) {
+            const double s = std::sqrt(static_cast<double>(raw_size(base_dim)) / static_cast<double>(dim));
+            o.rtol *= s;
+            o.atol *= s;
+        }
         return o;
     }
 
-    static base_state point(const state& X) { return X.template head<base_dim>(); }
-    static tangent matrix(const state& X) { return Eigen::Map<const tangent>(X.data() + base_dim); }
+    static base_state point(const state& X) { return head(X, base_size(X)); }
+    static tangent matrix(const state& X)
+    {
+        const int n = base_size(X);
+        return tangent_of(X.data() + n, n);
+    }
     static double divergence_integral(const state& X)
     {
-        if constexpr (Divergence) return X[divergence_index];
+        if constexpr (Divergence) return X[divergence_index_of(base_size(X))];
         else return std::numeric_limits<double>::quiet_NaN();
     }
 
@@ -105,12 +127,13 @@ public:
 
     [[nodiscard]] state rhs(const state& X) const
     {
+        const int n = base_size(X);
         const base_state x = point(X);
         const tangent J = m_model.jacobian(x);
-        state f = state::Zero();
-        f.template head<base_dim>() = m_model.rhs(x);
-        Eigen::Map<tangent>(f.data() + base_dim).noalias() = J * Eigen::Map<const tangent>(X.data() + base_dim);
-        if constexpr (Divergence) f[divergence_index] = m_model.divergence(x);
+        state f = zero_state(n);
+        head(f, n) = m_model.rhs(x);
+        tangent_of(f.data() + n, n).noalias() = J * tangent_of(X.data() + n, n);
+        if constexpr (Divergence) f[divergence_index_of(n)] = m_model.divergence(x);
         return f;
     }
 
@@ -131,10 +154,10 @@ public:
     }
     [[nodiscard]] state state_rate_gradient(int j, const state& X) const
     {
-        return j < base_dim ? embed(vimpact::state_rate_gradient(m_model, j, point(X))) : state::Zero();
+        return j < base_size(X) ? embed(vimpact::state_rate_gradient(m_model, j, point(X))) : zero_like(X);
     }
     [[nodiscard]] mat<dim> jacobian(const state& X) const;  // not defined: see above
-    [[nodiscard]] state second_derivative(const state&, const state&, const state&) const { return state::Zero(); }
+    [[nodiscard]] state second_derivative(const state& X, const state&, const state&) const { return zero_like(X); }
     [[nodiscard]] double divergence(const state& X) const { return m_model.divergence(point(X)); }
 
     [[nodiscard]] double gap(int i, const state& X) const { return m_model.gap(i, point(X)); }
@@ -145,26 +168,27 @@ public:
 
     [[nodiscard]] state reset(int i, const state& X) const
     {
+        const int n = base_size(X);
         const base_state x = point(X);
-        state out = state::Zero();
-        out.template head<base_dim>() = m_model.reset(i, x);
+        state out = zero_state(n);
+        head(out, n) = m_model.reset(i, x);
         const tangent Y = matrix(X);
-        tangent Yp;
+        tangent Yp(Y.rows(), Y.cols());
         if (m_jump == impact_tangent::second_order) {
             const auto d = prepare_impact(m_model, i, x);
-            for (int j = 0; j < base_dim; ++j)
+            for (int j = 0; j < n; ++j)
                 Yp.col(j) = second_order_map(m_model, d, base_state(m_scale * Y.col(j))).y_plus / m_scale;
         } else {
             Yp = impact_jump_matrix(m_model, i, x, m_jump) * Y;
         }
-        Eigen::Map<tangent>(out.data() + base_dim) = Yp;
-        if constexpr (Divergence) out[divergence_index] = X[divergence_index];
+        tangent_of(out.data() + n, n) = Yp;
+        if constexpr (Divergence) out[divergence_index_of(n)] = X[divergence_index_of(n)];
         return out;
     }
     [[nodiscard]] mat<dim> reset_jacobian(int, const state&) const;  // not defined: see above
-    [[nodiscard]] state reset_second_derivative(int, const state&, const state&, const state&) const
+    [[nodiscard]] state reset_second_derivative(int, const state& X, const state&, const state&) const
     {
-        return state::Zero();
+        return zero_like(X);
     }
 
     [[nodiscard]] double section(int k, const state& X) const { return m_model.section(k, point(X)); }
@@ -175,8 +199,8 @@ public:
 
     [[nodiscard]] state sticking_rhs(int i, const state& X) const
     {
-        state f = state::Zero();
-        f.template head<base_dim>() = m_model.sticking_rhs(i, point(X));
+        state f = zero_like(X);
+        head(f, base_size(X)) = m_model.sticking_rhs(i, point(X));
         return f;
     }
     [[nodiscard]] double release(int i, const state& X) const { return m_model.release(i, point(X)); }
@@ -187,22 +211,44 @@ public:
     [[nodiscard]] state rest(int i, const state& X) const
     {
         state out = X;
-        out.template head<base_dim>() = m_model.rest(i, point(X));
+        head(out, base_size(X)) = m_model.rest(i, point(X));
         return out;
     }
     [[nodiscard]] state state_difference(const state& b, const state& a) const
     {
         state d = b - a;
-        d.template head<base_dim>() = m_model.state_difference(point(b), point(a));
+        head(d, base_size(b)) = m_model.state_difference(point(b), point(a));
         return d;
     }
 
 private:
     static state embed(const base_state& g)
     {
-        state e = state::Zero();
-        e.template head<base_dim>() = g;
+        const int n = static_cast<int>(g.size());
+        state e = zero_state(n);
+        head(e, n) = g;
         return e;
+    }
+    // A zero tangent state for a base of n, of X's size; x, the first n components of X; the
+    // tangent's n x n matrix at p. Fixed sizes at compile time where the base has them.
+    static state zero_state(int n)
+    {
+        if constexpr (sized_at_run_time) return state::Zero(raw_size(n));
+        else return state::Zero();
+    }
+    static state zero_like(const state& X) { return state::Zero(X.size()); }
+    template <class V>
+    static auto head(V& X, [[maybe_unused]] int n)
+    {
+        if constexpr (sized_at_run_time) return X.head(n);
+        else return X.template head<base_dim>();
+    }
+    template <class T>
+    static auto tangent_of(T* p, [[maybe_unused]] int n)
+    {
+        using M = std::conditional_t<std::is_const_v<T>, const tangent, tangent>;
+        if constexpr (sized_at_run_time) return Eigen::Map<M>(p, n, n);
+        else return Eigen::Map<M>(p);
     }
 
     Model m_model;
