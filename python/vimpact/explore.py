@@ -222,12 +222,18 @@ class Explorer:
             words += ["--ic", ",".join(repr(float(v)) for v in ic)]
         with self._lock:
             p = self._v.period(m, ic)
-            f = self._v.floquet(m, ic)
             s = self._v.simulate(m, ic, sample_dt=0.02)
-        mult = [[float(z.real), float(z.imag)] for z in f.multipliers] if f.status in ("ok", "not_converged") else []
+            try:
+                f = self._v.floquet(m, ic)
+            except self._v.InputError as e:  # a model without a section crossing has no multipliers
+                f = None
+                why = str(e)
+        have = f is not None and f.status in ("ok", "not_converged")
+        mult = [[float(z.real), float(z.imag)] for z in f.multipliers] if have else []
         keep = s.series_t <= s.series_t[0] + 200.0 if len(s.series_t) else slice(None)
-        return dict(label=p.label, outcome=str(s.outcome), period=_finite(f.period), floquet_status=str(f.status),
-                    multipliers=mult, stable=bool(f.stable), state_names=list(self.model.state_names),
+        return dict(label=p.label, outcome=str(s.outcome), period=_finite(f.period) if have else None,
+                    floquet_status=str(f.status) if f is not None else why, multipliers=mult,
+                    stable=bool(f.stable) if f is not None else False, state_names=list(self.model.state_names),
                     t=s.series_t[keep].tolist(), series=s.series[keep].T.tolist(),
                     impact_t=s.impact_t.tolist(), impact_state=s.impact_pre.T.tolist(),
                     section=s.section.T.tolist(), command=self.command(words, m))

@@ -40,10 +40,8 @@ class Floquet(_Run, _Impacts):
     @classmethod
     def _read(cls, res, directory):
         mus = np.array(res["multipliers"], dtype=float).reshape(-1, 2) @ np.array([1, 1j])
-        # run.json has no divergence_integral and log_det_jumps.
         return dict(stats={}, record=_loaded_record(cls, res, status=res["outcome"], multipliers=mus,
-                                                    impacts_by_surface=res["impacts_by_surface"] or {},
-                                                    divergence_integral=np.nan, log_det_jumps=np.nan))
+                                                    impacts_by_surface=res["impacts_by_surface"] or {}))
 
 
 @_documented("lyapunov", section_points="section", transient_stats=None, stats=None)
@@ -85,7 +83,7 @@ class Lyapunov(_Run):
         total = running * (conv["t"] - res["t_start"])[:, None]
         growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
         return dict(positive=res["positive"], history_t=conv["t"], history_growth=growth, stats={},
-                    record=_loaded_record(cls, res, status=res["outcome"], jump_log_det_rate=np.nan))  # not in run.json
+                    record=_loaded_record(cls, res, status=res["outcome"]))
 
 
 @dataclass(repr=False)

@@ -56,3 +56,38 @@ def test_the_pairs_multipliers_include_the_single_cylinders(Ur):
     for mu in s.multipliers:
         if abs(mu) > 1e-9:  # below, both are round-off of the monodromy
             assert np.min(np.abs(p.multipliers - mu)) < 1e-6 * max(1.0, abs(mu)), (mu, p.multipliers)
+
+
+def row_of_pairs(pairs):
+    """`pairs` mirror pairs at gap L, each 5 D from the next (they never touch), each started
+    with its own wake amplitude, so that their impacts never coincide."""
+    n = 2 * pairs
+    gaps = [L if k % 2 == 0 else 5.0 for k in range(n - 1)]
+    start = []
+    for k in range(n):
+        wake = 0.1 * (1 + 0.25 * (k // 2))
+        start += [0.0, 0.0, 0.0, wake if k % 2 == 0 else -wake]
+    return vimpact.Model.from_toml(row_model(n, gaps, start), source=f"cylinder_row_{n}")
+
+
+@pytest.mark.parametrize("pairs", [2, 5])  # 16 and 40 state variables
+def test_a_row_of_mirror_pairs_is_single_cylinders(pairs):
+    row = row_of_pairs(pairs)
+    assert row.dim == 8 * pairs
+    for Ur in (16.0, 19.0):
+        p, s = vimpact.period(row.with_(Ur=Ur)), vimpact.period(single().with_(Ur=Ur))
+        assert p.label == s.label
+        a = p.simulation.section
+        # The section is the first cylinder's maxima: its pair runs the single cylinder's orbit
+        # (the integration's step sizes follow all 8 * pairs states: agreement to the tolerance).
+        assert np.abs(a[:, :4] - s.simulation.section).max() < 1e-7
+        for j in range(pairs):
+            first, second = a[:, 8 * j:8 * j + 4], a[:, 8 * j + 4:8 * j + 8]
+            assert np.abs(first + second).max() < 1e-7  # every pair stays mirror-symmetric
+    f, g = vimpact.floquet(row.with_(Ur=16.0)), vimpact.floquet(single().with_(Ur=16.0))
+    # Each pair's phase is free (a multiplier 1 per pair): Newton's shooting may stop short
+    # of its tolerance on the whole row, the multipliers are still those of its monodromy.
+    assert f.status in ("ok", "not_converged") and len(f.multipliers) == 8 * pairs
+    for mu in g.multipliers:
+        if abs(mu) > 1e-9:
+            assert np.min(np.abs(f.multipliers - mu)) < 1e-6 * max(1.0, abs(mu)), (mu, f.multipliers)
