@@ -10,7 +10,7 @@
 # then starts the tests in the order they were declared, so that a long file started last ran
 # alone on one core after every other test had ended. With these, `ctest -j` starts them first.
 set(VIMPACT_PYTEST_COSTS cli_examples 64 cli_model_cache 36 python_examples 30 cli_distributed 26 python_frames 20 cli_sweeps 17 python_cylinder_row 15
-    cli_hardening 14 python_examples 13 python_plot 10 python_api 7 python_model_cache 6 cli_dimension 5)
+    cli_hardening 14 python_plot 10 python_api 7 python_model_cache 6 cli_dimension 5)
 function(vimpact_add_pytest_files prefix dir label timeout)
   cmake_parse_arguments(PARSE_ARGV 4 _p "" "" "ENVIRONMENT;ARGS")
   file(GLOB _files CONFIGURE_DEPENDS ${dir}/test_*.py)
