@@ -262,7 +262,25 @@ class _Handler(BaseHTTPRequestHandler):
     def _json(self, code, obj):
         self._send(code, json.dumps(obj, allow_nan=False).encode(), "application/json")
 
+    def _foreign(self):
+        """Whether another site's page made the browser send this request: a Host other than
+        this server's address (DNS rebinding) or an Origin other than the page's own (a
+        cross-site POST). Only the page this server serves may use it."""
+        port = self.server.server_address[1]
+        ours = {f"127.0.0.1:{port}", f"localhost:{port}"}
+        origin = self.headers.get("Origin")
+        return self.headers.get("Host") not in ours or (origin is not None and origin not in
+                                                         {f"http://{h}" for h in ours})
+
+    def _refused(self):
+        if self._foreign():
+            self._json(403, dict(error="requests from another site or host name are refused"))
+            return True
+        return False
+
     def do_GET(self):
+        if self._refused():
+            return
         if self.path == "/":
             with open(_PAGE, "rb") as f:
                 self._send(200, f.read(), "text/html; charset=utf-8")
@@ -275,6 +293,8 @@ class _Handler(BaseHTTPRequestHandler):
             self._json(404, dict(error=f"no such page: {self.path[:80]}"))
 
     def do_POST(self):
+        if self._refused():
+            return
         ex = self.explorer
         routes = {"/api/view": lambda r: dict(view=ex.start_view()), "/api/diagram": ex.diagram,
                   "/api/map": lambda r: ex.grid(r, "map"), "/api/basins": lambda r: ex.grid(r, "basins"),

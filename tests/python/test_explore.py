@@ -38,11 +38,11 @@ def server():
     srv.server_close()
 
 
-def request(srv, path, body=None):
+def request(srv, path, body=None, headers=None):
     url = f"http://127.0.0.1:{srv.server_address[1]}{path}"
     data = None if body is None else json.dumps(body).encode()
     try:
-        with urllib.request.urlopen(urllib.request.Request(url, data=data), timeout=120) as r:
+        with urllib.request.urlopen(urllib.request.Request(url, data=data, headers=headers or {}), timeout=120) as r:
             return r.status, json.load(r) if path.startswith("/api/") else r.read()
     except urllib.error.HTTPError as e:
         return e.code, json.load(e)
@@ -129,6 +129,20 @@ def test_a_request_out_of_range_is_refused_by_name(server, path, body, words):
 def test_the_page_reads_no_file(server, path):
     code, r = request(server, path)
     assert code == 404
+
+
+def test_requests_of_another_site_or_host_name_are_refused(server):
+    port = server.server_address[1]
+    # DNS rebinding: a name that resolves to this machine, but not the server's own address.
+    assert request(server, "/api/model", headers={"Host": f"attacker.example:{port}"})[0] == 403
+    # A page of another site posting to the server (the browser names the page's origin).
+    body = dict(parameters={"Ur": 19.0})
+    assert request(server, "/api/point", body, headers={"Origin": "http://attacker.example"})[0] == 403
+    assert request(server, "/api/point", body, headers={"Origin": f"http://127.0.0.1:{port + 1}"})[0] == 403
+    # The page itself, by either name of this machine.
+    for host in (f"127.0.0.1:{port}", f"localhost:{port}"):
+        code, r = request(server, "/api/point", body, headers={"Host": host, "Origin": f"http://{host}"})
+        assert code == 200 and r["label"] == "P3"
 
 
 def test_a_newer_view_stops_an_older_one(server):
