@@ -92,12 +92,10 @@ class Explorer:
 
     def info(self):
         i = self.model.info
-        return dict(name=self.model.name, description=i["description"], spec=self.spec,
+        return dict(name=self.model.name, description=i["description"],
                     parameters=[dict(name=p["name"], meaning=p["meaning"], unit=p.get("unit", ""),
                                      value=v) for p, v in zip(i["parameters"], self.model.parameters.values())],
-                    state=[dict(name=s["name"], meaning=s["meaning"]) for s in i["state"]],
-                    surfaces=list(self.model.surfaces), initial_state=list(self.model.default_ic),
-                    limits=dict(values=MAX_VALUES, cells=MAX_CELLS, stride=STRIDE))
+                    state=[dict(name=s["name"], meaning=s["meaning"]) for s in i["state"]])
 
     def _model_at(self, parameters):
         if not isinstance(parameters, dict):
@@ -120,13 +118,13 @@ class Explorer:
                                f"{', '.join(self.model.state_names)}")
         return self.model.state_names.index(name)
 
-    def _axis(self, req, key, names):
+    def _axis(self, req, key, names, most):
         a = req.get(key)
         if not isinstance(a, dict):
             raise RequestError(f"{key} must be an object {{name, lo, hi, n}}")
         name = names(a.get("name"), key)
         lo, hi = _number(a.get("lo"), f"{key}.lo"), _number(a.get("hi"), f"{key}.hi")
-        n = _count(a.get("n"), f"{key}.n", 2, MAX_CELLS if key in ("x", "y") else MAX_VALUES)
+        n = _count(a.get("n"), f"{key}.n", 2, most)
         return name, lo, hi, n
 
     def command(self, words, model):
@@ -157,7 +155,7 @@ class Explorer:
         (the last, the odd j). Each value runs from the same initial state, so a level's points
         are those of the whole sweep (the command line's)."""
         m = self._model_at(req.get("parameters", {}))
-        param, lo, hi, n = self._axis(req, "axis", self._parameter)
+        param, lo, hi, n = self._axis(req, "axis", self._parameter, MAX_VALUES)
         level = _count(req.get("level"), "level", 0, 3)
         var = self._state(req.get("variable", self.model.state_names[0]), "variable")
         j = np.arange(n)
@@ -183,7 +181,7 @@ class Explorer:
         else:
             def names(name, what):
                 return self.model.state_names[self._state(name, what)]
-        (xn, x0, x1, nx), (yn, y0, y1, ny) = self._axis(req, "x", names), self._axis(req, "y", names)
+        (xn, x0, x1, nx), (yn, y0, y1, ny) = (self._axis(req, k, names, MAX_CELLS) for k in ("x", "y"))
         level = _count(req.get("level"), "level", 0, 2)
         stride = 4 >> level
         xs, ys = self._v.grid(x0, x1, nx)[::stride], self._v.grid(y0, y1, ny)[::stride]
@@ -209,7 +207,9 @@ class Explorer:
     def point(self, req):
         """A clicked point: the model at the view's parameters (and the clicked ones), from the
         model's initial state, or from a clicked initial state (basins). Its period label and
-        Floquet multipliers, and the recorded window of its run: orbit, time series, impacts."""
+        Floquet multipliers (one protocol run: Floquet's label is the protocol's, as `period`
+        gives it; `period` alone where the model has no crossing section), and the recorded
+        window of its run: orbit, time series, impacts."""
         m = self._model_at(req.get("parameters", {}))
         ic = np.array(self.model.default_ic)
         words = ["period"]
@@ -221,17 +221,17 @@ class Explorer:
         if start:
             words += ["--ic", ",".join(repr(float(v)) for v in ic)]
         with self._lock:
-            p = self._v.period(m, ic)
             s = self._v.simulate(m, ic, sample_dt=0.02)
             try:
                 f = self._v.floquet(m, ic)
-            except self._v.InputError as e:  # a model without a section crossing has no multipliers
-                f = None
-                why = str(e)
+                label, why = f.label, None
+            except self._v.InputError as e:  # floquet needs a section crossing
+                f, why = None, str(e)
+                label = self._v.period(m, ic).label
         have = f is not None and f.status in ("ok", "not_converged")
         mult = [[float(z.real), float(z.imag)] for z in f.multipliers] if have else []
         keep = s.series_t <= s.series_t[0] + 200.0 if len(s.series_t) else slice(None)
-        return dict(label=p.label, outcome=str(s.outcome), period=_finite(f.period) if have else None,
+        return dict(label=label, outcome=str(s.outcome), period=_finite(f.period) if have else None,
                     floquet_status=str(f.status) if f is not None else why, multipliers=mult,
                     stable=bool(f.stable) if f is not None else False, state_names=list(self.model.state_names),
                     t=s.series_t[keep].tolist(), series=s.series[keep].T.tolist(),

@@ -14,6 +14,7 @@
 #include "orbit_system.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
+#include "vimpact/model/model_phrases.hpp"
 #include "jobs/job_loop.hpp"
 
 namespace vimpact {
@@ -86,8 +87,8 @@ void validate(const model& m, const continuation_options& o)
     validate(o.protocol);
     validate(m, o.protocol.section);
     if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("continuation needs a section crossing (one of " + m.info().section_names() +
-                          "), not the impacts");
+        throw input_error("continuation needs a section crossing, not the impacts (" +
+                          sections_it_has(m.info()) + ")");
     if (!o.from_attractor && o.returns < 1)
         throw input_error("a continuation from a given point needs its section returns per period (>= 1)");
     validate(o.arclength);

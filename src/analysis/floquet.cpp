@@ -4,6 +4,7 @@
 
 #include "dispatch.hpp"
 #include "vimpact/core/format.hpp"
+#include "vimpact/model/model_phrases.hpp"
 
 namespace vimpact {
 
@@ -13,8 +14,8 @@ void validate(const model& m, const floquet_options& o)
     validate(m, o.protocol.section);
     validate(o.tangent_integration);
     if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("Floquet analysis needs a section crossing (one of " + m.info().section_names() +
-                          "), not the impacts");
+        throw input_error("Floquet analysis needs a section crossing, not the impacts (" +
+                          sections_it_has(m.info()) + ")");
     if (o.protocol.record_points < 2)
         throw input_error("Floquet analysis needs at least 2 recorded section points (got " +
                           std::to_string(o.protocol.record_points) + ")");
