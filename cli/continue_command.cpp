@@ -122,9 +122,6 @@ int run_continue(const continue_args& a)
     o.start = axis.values.front();
     o.end = axis.values.back();
     o.protocol = c.protocol;
-    if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": continuation needs a section crossing (" +
-                          sections_it_has(info) + ")");
     check_options(o);  // before anything runs
     o.from_attractor = o.returns == 0;
     o.arclength.integration = tangent_integration(c.protocol.flow.integration);
