@@ -82,7 +82,7 @@ int run_clearance(const clearance_args& a)
     const clearance_result shown = si ? in_si(res, *c.si, m, o.parameter) : res;
 
     json clearance_pairs = json::array(), aperiodic = json::array(), dimensionless = json::array();
-    std::vector<std::string> labels;
+    label_tally labels;
     std::string text = "clearance over " + xname + (si ? "" : " (model units)") + ": the smallest gap to " +
                        info.surfaces[static_cast<std::size_t>(res.surface)].name + " without impact\n";
     for (std::size_t k = 0; k < res.points.size(); ++k) {
@@ -98,7 +98,7 @@ int run_clearance(const clearance_args& a)
         row["clearance"] = finite_or_null(p.clearance);  // model units
         row["converged"] = p.converged;
         dimensionless.push_back(std::move(row));
-        for (const auto& cell : p.cells) labels.push_back(cell.label.label);
+        for (const auto& cell : p.cells) labels.add(cell.label.label);
         text += "  " + xname + " = " + format_double(x_of(k)) + ": gap " + format_double(q.clearance) +
                 (si ? " m" : "") + (p.converged ? "" : " (grazing NOT converged)");
         if (std::isfinite(q.aperiodic_min))
@@ -106,7 +106,7 @@ int run_clearance(const clearance_args& a)
                     (si ? " m" : "");
         text += "\n";
     }
-    const json counts = label_counts(labels);
+    const json counts = labels.counts();
     text += "chart: " + counts_text(counts) + "\n";
     json summary = {{"command", "clearance"},
                     {"param", pname},
@@ -118,7 +118,7 @@ int run_clearance(const clearance_args& a)
                     {"aperiodic", aperiodic},
                     {"dimensionless", dimensionless},
                     {"label_counts", counts},
-                    {"statistics_columns", statistics_columns()},
+                    {"statistics_columns", impact_statistics_names()},
                     {"warnings", warnings},
                     {"out", out_path(c)}};
     if (si) summary["si"] = si_json(*c.si, m);

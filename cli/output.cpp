@@ -82,17 +82,6 @@ json model_json(const vimpact::model& m)
             {"sections", sections}};
 }
 
-std::vector<std::string> statistics_columns()
-{
-    const auto& names = impact_statistics_names();
-    return {names.begin(), names.end()};
-}
-
-void append_statistics(std::vector<std::string>& cells, const impact_statistics& s)
-{
-    for (const double v : impact_statistics_values(s)) cells.push_back(format_double(v));
-}
-
 json si_json(const si_input& in, const vimpact::model& m)
 {
     json inputs = json::object(), parameters = json::object(), values = json::object();
@@ -141,15 +130,6 @@ std::vector<std::string> si_statistics_columns()
     std::vector<std::string> out;
     for (const char* name : impact_statistics_names()) out.push_back(std::string(name) + "_si");
     return out;
-}
-
-json label_counts(const std::vector<std::string>& labels)
-{
-    std::map<std::string, long> counts;
-    for (const auto& l : labels) ++counts[l];
-    json j = json::object();
-    for (const auto& [k, v] : counts) j[k] = v;
-    return j;
 }
 
 std::string counts_text(const json& counts)
