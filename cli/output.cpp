@@ -369,13 +369,6 @@ std::string unsettled_text(long unsettled)
            "--transient)\n";
 }
 
-std::vector<std::string> impact_count_columns(const model_info& info)
-{
-    std::vector<std::string> out;
-    for (const auto& s : info.surfaces) out.push_back("impacts_" + s.name);
-    return out;
-}
-
 void finish_output(staged_output& out, const std::string& kind, const run_config& c, json& record)
 {
     if (!record.contains("files")) record["files"] = json::array();

@@ -254,9 +254,6 @@ private:
 // empty when all settled.
 std::string unsettled_text(long unsettled);
 
-// impacts_SURFACE for each surface: the columns of impacts per period on each.
-std::vector<std::string> impact_count_columns(const model_info& info);
-
 // --json: the summary on one line; otherwise the text.
 void print(const run_config& c, const json& summary, const std::string& text);
 
