@@ -422,22 +422,10 @@ int run_response(const response_args& a)
             if (std::find(curve_params.begin(), curve_params.end(), p) == curve_params.end()) curve_params.push_back(p);
     std::sort(curve_params.begin(), curve_params.end());
     const std::size_t ncurves = std::max<std::size_t>(1, o.curves.size());
-    auto curve_value = [&](std::size_t k, int p) {
-        if (k < o.curves.size())
-            for (const auto& [q, v] : o.curves[k])
-                if (q == p) return v;
-        return m.parameter(p);
-    };
-    // The model at a point of a curve: the curve's parameters and the swept one.
-    auto model_at = [&](std::size_t k, double value) {
-        model at = m;
-        if (k < o.curves.size())
-            for (const auto& [q, v] : o.curves[k]) at = at.with_parameter(q, v);
-        return at.with_parameter(o.parameter, value);
-    };
     std::vector<vimpact::model> ends;
-    for (std::size_t k = 0; k < std::max<std::size_t>(1, o.curves.size()); ++k)
-        for (const double v : {o.values.front(), o.values.back()}) ends.push_back(model_at(k, v));
+    for (std::size_t k = 0; k < ncurves; ++k)
+        for (const double v : {o.values.front(), o.values.back()})
+            ends.push_back(response_model(m, o, static_cast<int>(k), v));
     warn_validity(c, ends);
     // With --si: the amplitude in metres (the measured variable a displacement), the frequency
     // in hertz and the grazing values as the smallest gap without impact, per surface, in metres.
@@ -478,9 +466,8 @@ int run_response(const response_args& a)
         double amplitude = std::nan(""), maximum = std::nan(""), minimum = std::nan(""), frequency = std::nan("");
         std::vector<double> clearance;
     };
-    auto in_si = [&](const response_point& r) {
+    auto in_si = [&](const response_point& r, const model& at) {
         si_point q;
-        const model at = model_at(static_cast<std::size_t>(r.curve), r.value);
         const physical_scales k = scales_at(*c.si, at);
         if (vdim != physical_dimension::none) {
             q.amplitude = r.amplitude * k.of(vdim);
@@ -503,7 +490,8 @@ int run_response(const response_args& a)
         auto& t = tallies[static_cast<std::size_t>(r.curve)];
         t.unconverged += r.converged ? 0 : 1;
         if (std::isfinite(r.amplitude)) t.peak = std::max(t.peak, r.amplitude);
-        const si_point q = c.si ? in_si(r) : si_point{};
+        const model at = response_model(m, o, r.curve, r.value);
+        const si_point q = c.si ? in_si(r, at) : si_point{};
         if (std::isfinite(q.amplitude)) t.peak_si = std::max(t.peak_si, q.amplitude);
         if (!c.out) {
             const auto& graze = o.grazing.parameter >= 0 ? r.grazing : r.margin;
@@ -519,7 +507,7 @@ int run_response(const response_args& a)
             return;
         }
         std::vector<double> lead_cells, si_cells;
-        for (const int p : curve_params) lead_cells.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
+        for (const int p : curve_params) lead_cells.push_back(at.parameter(p));
         if (axis.si()) si_cells.push_back(axis.si_value(c, r.value));
         if (c.si) {
             if (vdim != physical_dimension::none) si_cells.insert(si_cells.end(), {q.amplitude, q.maximum, q.minimum});
