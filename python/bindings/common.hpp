@@ -218,17 +218,6 @@ inline py::dict statistics_dict(const impact_statistics& s)
     return d;
 }
 
-// The impact statistics of many runs: a dict name -> column (float64, one row per item).
-template <class Range, class Get>
-py::dict statistics_columns(const Range& items, Get&& get)
-{
-    const auto& names = impact_statistics_names();
-    py::dict d;
-    for (std::size_t i = 0; i < names.size(); ++i)
-        d[names[i]] = column<double>(items, [&](const auto& x) { return impact_statistics_values(get(x))[i]; });
-    return d;
-}
-
 // ---------------------------------------------------------------- options
 
 // The keyword dict of one call, read key by key. Every key must be read: a key left over is

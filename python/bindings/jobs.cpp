@@ -26,27 +26,6 @@
 namespace vimpact::python {
 namespace {
 
-// Per-job labels as columns.
-template <class Range, class Label>
-void put_labels(py::dict& d, const Range& items, Label&& label_of, int surfaces)
-{
-    d["label"] = string_list(items, [&](const auto& x) { return label_of(x).label; });
-    d["period"] = column<std::int64_t>(items, [&](const auto& x) { return label_of(x).period; });
-    d["impacts"] = column<std::int64_t>(items, [&](const auto& x) { return label_of(x).impacts_per_period; });
-    d["closure"] = column<double>(items, [&](const auto& x) { return label_of(x).closure; });
-    d["settled"] = column<bool>(items, [&](const auto& x) { return label_of(x).settled; });
-    py::array_t<std::int64_t> by({static_cast<py::ssize_t>(items.size()), static_cast<py::ssize_t>(surfaces)});
-    auto bv = by.mutable_unchecked<2>();
-    py::ssize_t r = 0;
-    for (const auto& x : items) {
-        const auto& v = label_of(x).impacts_by_surface;
-        for (int s = 0; s < surfaces; ++s)
-            bv(r, s) = static_cast<std::size_t>(s) < v.size() ? static_cast<std::int64_t>(v[static_cast<std::size_t>(s)]) : 0;
-        ++r;
-    }
-    d["impacts_by_surface"] = by;
-}
-
 py::array_t<double> per_surface(const std::vector<std::vector<double>>& v, int surfaces)
 {
     py::array_t<double> a({static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(surfaces)});
