@@ -35,6 +35,7 @@
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/jobs/job_options.hpp"
 #include "vimpact/model/model.hpp"
+#include "vimpact/model/model_phrases.hpp"
 
 namespace vimpact::python {
 
@@ -342,25 +343,6 @@ py::list declarations()
     const O o{};
     declare(l, o);
     return l.out;
-}
-
-// Name lookups: the library addresses everything by index (model_info), the front end by name.
-inline int parameter_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().parameter_index(name);
-    if (i < 0)
-        throw input_error(what + ": model " + m.name() + " has no parameter '" + name + "' (parameters: " +
-                          m.info().parameter_names() + ")");
-    return i;
-}
-
-inline int state_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().state_index(name);
-    if (i < 0)
-        throw input_error(what + ": model " + m.name() + " has no state variable '" + name + "' (state: " +
-                          m.info().state_names() + ")");
-    return i;
 }
 
 // "maxima" (a section of the model), "impacts" (every surface) or "impacts:SURFACE".
