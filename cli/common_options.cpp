@@ -318,23 +318,6 @@ model load_config_model(const std::string& spec, const std::string& file)
     return load_model(spec, base);
 }
 
-int parameter_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().parameter_index(name);
-    if (i < 0)
-        throw input_error("unknown parameter '" + name + "' for " + what + " (" + parameters_it_has(m.info()) + ")");
-    return i;
-}
-
-int state_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().state_index(name);
-    if (i < 0)
-        throw input_error(what + ": '" + name + "' is not one of " + m.info().state_names() + " (the state of model " +
-                          m.name() + ")");
-    return i;
-}
-
 nlohmann::json parameters_json(const model& m)
 {
     nlohmann::json j = nlohmann::json::object();

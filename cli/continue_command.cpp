@@ -122,9 +122,6 @@ int run_continue(const continue_args& a)
     o.start = axis.values.front();
     o.end = axis.values.back();
     o.protocol = c.protocol;
-    if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": continuation needs a section crossing (" +
-                          sections_it_has(info) + ")");
     check_options(o);  // before anything runs
     o.from_attractor = o.returns == 0;
     o.arclength.integration = tangent_integration(c.protocol.flow.integration);
@@ -304,7 +301,8 @@ int run_continue(const continue_args& a)
         write_run(c, "continue", "continuation", summary, [&](staged_output& out) {
             json files = json::array({"branches.csv", "sections.csv", "bifurcations.csv"});
             std::vector<std::string> bh{"branch", "point", pname, "stable", "period", "impacts"};
-            for (const auto& n : impact_count_columns(info)) bh.push_back(n);
+            for (const auto& col : record_columns<period_label>(table_context_for(info, "", -1)))
+                if (col.surface >= 0) bh.push_back(col.name);  // impacts_SURFACE, as the label names them
             bh.push_back("closure");
             bh.push_back("arclength");
             for (const auto& n : state_columns(info)) bh.push_back(n);

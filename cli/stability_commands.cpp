@@ -186,12 +186,6 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
 int run_floquet(const floquet_args& a)
 {
     run_config c = resolve(a.common);
-    if (c.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": floquet needs a section crossing (" +
-                          sections_it_has(c.info()) + ")");
-    if (c.protocol.record_points < 2)
-        throw input_error("--record must be >= 2 section points for floquet (got " +
-                          std::to_string(c.protocol.record_points) + ")");
     floquet_options fo = a.options;
     fo.protocol = c.protocol;
     fo.tangent_integration = tangent_integration(c.protocol.flow.integration);
