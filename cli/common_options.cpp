@@ -129,7 +129,7 @@ axis_values resolve_axis(const run_config& c, const std::string& name, const val
     return a;
 }
 
-double axis_values::si_value(const run_config& c, double v) const
+double axis_values::si_at(const run_config& c, double v) const
 {
     // A range of U or gap maps to monotone parameter values: found by bisection, not by a
     // scan of the axis for every row of a long sweep.

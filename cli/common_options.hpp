@@ -103,7 +103,7 @@ struct axis_values {
     [[nodiscard]] bool si() const { return !si_name.empty(); }
     // The SI value where the parameter is v: the one given for one of `values`, else converted
     // back (a continuation's points lie between them).
-    [[nodiscard]] double si_value(const run_config& c, double v) const;
+    [[nodiscard]] double si_at(const run_config& c, double v) const;
 };
 axis_values resolve_axis(const run_config& c, const std::string& name, const value_grid& given,
                          const std::string& what);

@@ -142,7 +142,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
         if (have && r.max_nontrivial_modulus >= 1.0) ++unstable;
         const double period_si = c.si ? r.period * time_scale_at(c, sv, p.value) : std::nan("");
         std::vector<double> si;
-        if (sv.si()) si.push_back(sv.si_value(c, p.value));
+        if (sv.si()) si.push_back(sv.si_at(c, p.value));
         if (c.si) si.push_back(period_si);
         if (!c.out) {
             json row = summary_json(p, info, sweep_row_form);
@@ -293,7 +293,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         const double per_second = c.si ? 1.0 / time_scale_at(c, sv, p.value) : std::nan("");
         const auto exponent = [&](int i) { return i < r.exponents.size() ? r.exponents[i] : std::nan(""); };
         std::vector<double> si;
-        if (sv.si()) si.push_back(sv.si_value(c, p.value));
+        if (sv.si()) si.push_back(sv.si_at(c, p.value));
         if (c.si)
             for (int i = 0; i < dim; ++i) si.push_back(exponent(i) * per_second);
         if (!c.out) {

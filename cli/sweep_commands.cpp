@@ -127,12 +127,12 @@ int run_sweep(const sweep_args& a)
         for (std::size_t i = 0; i < p.points.size(); ++i) {
             for (int k = 0; k < p.points.dim(); ++k) row[static_cast<std::size_t>(k) + 2] = p.points.x(i, k);
             row.resize(static_cast<std::size_t>(p.points.dim()) + 2);
-            if (!axis.si_name.empty()) row.push_back(axis.si_value(c, p.value));
+            if (!axis.si_name.empty()) row.push_back(axis.si_at(c, p.value));
             if (si) append_state_si(row, *si, p.points.x(i));
             pts.row(row);
         }
         std::vector<double> cells;
-        if (axis.si()) cells.push_back(axis.si_value(c, p.value));
+        if (axis.si()) cells.push_back(axis.si_at(c, p.value));
         if (c.si) append_si_statistics(cells, c, m.with_parameter(o.parameter, p.value), p.statistics);
         lab.row({}, p, cells);
     };
@@ -508,7 +508,7 @@ int run_response(const response_args& a)
         }
         std::vector<double> lead_cells, si_cells;
         for (const int p : curve_params) lead_cells.push_back(at.parameter(p));
-        if (axis.si()) si_cells.push_back(axis.si_value(c, r.value));
+        if (axis.si()) si_cells.push_back(axis.si_at(c, r.value));
         if (c.si) {
             if (vdim != physical_dimension::none) si_cells.insert(si_cells.end(), {q.amplitude, q.maximum, q.minimum});
             si_cells.push_back(q.frequency);
