@@ -10,10 +10,9 @@ installed=$SECONDS
 # Neither the tests nor the benchmarks: their packages are not installed for the main job.
 # A unity build (sources compiled in batches: each header parsed once a batch) takes about
 # half the CPU of one source at a time; a new build directory is built with Ninja.
-generator=()
-[ -f build/CMakeCache.txt ] || generator=(-GNinja)
-cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON -DVIMPACT_BUILD_TESTS=OFF \
-      -DVIMPACT_BUILD_BENCH=OFF > build.log 2>&1 || { cat build.log; exit 1; }
+options=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON -DVIMPACT_BUILD_TESTS=OFF -DVIMPACT_BUILD_BENCH=OFF)
+[ -f build/CMakeCache.txt ] || options+=(-GNinja)
+cmake -S . -B build "${options[@]}" > build.log 2>&1 || { cat build.log; exit 1; }
 # The program and its default model's module first (the picture is drawn by the package's
 # pure-Python part); the other models' modules (built-in models, model files, loaded when a
 # run needs them) and the Python module (the bindings, for `import vimpact`) are built after
