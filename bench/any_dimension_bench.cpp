@@ -1,6 +1,7 @@
 // Per-step time and heap allocations (malloc calls) of a 6-state model file,
-// bench/models/two_oscillators.toml, on table_model<6> (fixed-size states, instantiated here)
-// and on table_model<Eigen::Dynamic> (the library's instance for unlisted dimensions):
+// bench/models/two_oscillators.toml, on table_model<6> (fixed-size states) and on
+// table_model<Eigen::Dynamic> (what the library runs for unlisted dimensions), both compiled
+// here from the engine modules' definitions (src/engine_instances.ipp):
 //   build/any_dimension_bench bench/models/two_oscillators.toml
 #include <atomic>
 #include <chrono>
@@ -20,8 +21,6 @@ extern "C" void* malloc(std::size_t n)
     return __libc_malloc(n);
 }
 
-VIMPACT_INSTANTIATE_ENGINE(vimpact::table_model<6>)
-
 using namespace vimpact;
 
 template <class EM>
@@ -33,14 +32,14 @@ void run(const char* name, const EM& em, const Eigen::VectorXd& x0, const protoc
     for (int rep = 0; rep < 3; ++rep) {
         const long a0 = allocations;
         const auto t0 = std::chrono::steady_clock::now();
-        const simulation s = detail::run_simulate(em, x0, o);
+        const simulation s = detail::instance::run_simulate(em, x0, o);
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         steps = s.stats.steps;
         allocs = allocations - a0;
         if (dt / static_cast<double>(steps) < best) best = dt / static_cast<double>(steps);
         const long a1 = allocations;
         const auto t1 = std::chrono::steady_clock::now();
-        const floquet_result f = detail::run_floquet(em, x0, fo, m.info());
+        const floquet_result f = detail::instance::run_floquet(em, x0, fo, m.info());
         fallocs = allocations - a1;
         const double df = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
         fsteps = f.tangent_stats.steps;

@@ -93,7 +93,7 @@ lanes_run "$build" native
 if [ -n "${AVX2_BUILD_DIR:-}" ]; then
   cmake -S . -B "$AVX2_BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DVIMPACT_NATIVE=OFF -DCMAKE_CXX_FLAGS=-march=haswell \
     -DVIMPACT_BUILD_TESTS=OFF > /dev/null
-  cmake --build "$AVX2_BUILD_DIR" -j2 --target vimpact_cli > /dev/null
+  cmake --build "$AVX2_BUILD_DIR" -j2 --target vimpact_cli vimpact_modules > /dev/null
   lanes_run "$AVX2_BUILD_DIR" avx2
 fi
 /usr/bin/python3 - "$out/lanes.csv" <<'PY'

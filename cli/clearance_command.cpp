@@ -13,7 +13,6 @@
 #include "vimpact/analysis/clearance.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
-#include "vimpact/io/csv_writer.hpp"
 #include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
@@ -83,7 +82,7 @@ int run_clearance(const clearance_args& a)
     const clearance_result shown = si ? in_si(res, *c.si, m, o.parameter) : res;
 
     json clearance_pairs = json::array(), aperiodic = json::array(), dimensionless = json::array();
-    std::vector<std::string> labels;
+    label_tally labels;
     std::string text = "clearance over " + xname + (si ? "" : " (model units)") + ": the smallest gap to " +
                        info.surfaces[static_cast<std::size_t>(res.surface)].name + " without impact\n";
     for (std::size_t k = 0; k < res.points.size(); ++k) {
@@ -99,7 +98,7 @@ int run_clearance(const clearance_args& a)
         row["clearance"] = finite_or_null(p.clearance);  // model units
         row["converged"] = p.converged;
         dimensionless.push_back(std::move(row));
-        for (const auto& cell : p.cells) labels.push_back(cell.label.label);
+        for (const auto& cell : p.cells) labels.add(cell.label.label);
         text += "  " + xname + " = " + format_double(x_of(k)) + ": gap " + format_double(q.clearance) +
                 (si ? " m" : "") + (p.converged ? "" : " (grazing NOT converged)");
         if (std::isfinite(q.aperiodic_min))
@@ -107,7 +106,7 @@ int run_clearance(const clearance_args& a)
                     (si ? " m" : "");
         text += "\n";
     }
-    const json counts = label_counts(labels);
+    const json counts = labels.counts();
     text += "chart: " + counts_text(counts) + "\n";
     json summary = {{"command", "clearance"},
                     {"param", pname},
@@ -119,60 +118,43 @@ int run_clearance(const clearance_args& a)
                     {"aperiodic", aperiodic},
                     {"dimensionless", dimensionless},
                     {"label_counts", counts},
-                    {"statistics_columns", statistics_columns()},
+                    {"statistics_columns", impact_statistics_names()},
                     {"warnings", warnings},
                     {"out", out_path(c)}};
     if (si) summary["si"] = si_json(*c.si, m);
     if (c.out) {
-        write_run(c, "clearance", summary, [&](staged_output& out) {
-            std::vector<std::string> ch{pname};
-            if (by_speed) ch.push_back("U");
-            for (const auto& col : {gname + "_graze", std::string("clearance"), std::string("converged"),
-                                    std::string("aperiodic_min"), std::string("aperiodic_max")})
-                ch.push_back(col);
-            if (si) append(ch, {"clearance_si", "aperiodic_min_si", "aperiodic_max_si"});
-            csv_writer cw(out.file("clearance.csv"), ch);
-            std::vector<std::string> hh{pname};
-            if (by_speed) hh.push_back("U");
-            append(hh, {"gap", gname, "label", "period", "impacts", "settled", "outcome"});
-            append(hh, statistics_columns());
-            if (si) {
-                hh.push_back("gap_si");
-                append(hh, si_statistics_columns());
-            }
-            csv_writer chart(out.file("chart.csv"), hh);
-            for (std::size_t k = 0; k < res.points.size(); ++k) {
-                const auto& p = res.points[k];
-                std::vector<std::string> row{format_double(p.value)};
-                if (by_speed) row.push_back(format_double(speeds[k]));
-                for (const double v : {p.grazing_value, p.clearance}) row.push_back(format_double(v));
-                row.push_back(p.converged ? "1" : "0");
-                for (const double v : {p.aperiodic_min, p.aperiodic_max}) row.push_back(format_double(v));
-                const auto& q = shown.points[k];
-                if (si)
-                    for (const double v : {q.clearance, q.aperiodic_min, q.aperiodic_max}) row.push_back(format_double(v));
-                cw.text_row(row);
-                for (std::size_t i = 0; i < p.cells.size(); ++i) {
-                    const auto& cell = p.cells[i];
-                    std::vector<std::string> r{format_double(p.value)};
-                    if (by_speed) r.push_back(format_double(speeds[k]));
-                    append(r, {format_double(cell.gap), format_double(cell.gap_parameter_value), cell.label.label,
-                               std::to_string(cell.label.period), std::to_string(cell.label.impacts_per_period),
-                               cell.label.settled ? "1" : "0", std::string(to_string(cell.status))});
-                    append_statistics(r, cell.statistics);
-                    if (si) {
-                        r.push_back(format_double(q.cells[i].gap));
-                        append_statistics(r, q.cells[i].statistics);
-                    }
-                    chart.text_row(r);
+        // The tables: a row per value and a row per chart cell as the library describes them,
+        // after the value (and speed) a cell belongs to and before the SI values.
+        const table_context context = table_context_for(info, pname, res.gap_parameter);
+        std::vector<std::string> lead{pname}, trail, chart_trail;
+        if (by_speed) lead.emplace_back("U");
+        if (si) {
+            trail = {"clearance_si", "aperiodic_min_si", "aperiodic_max_si"};
+            chart_trail = {"gap_si"};
+            append(chart_trail, si_statistics_columns());
+        }
+        streamed_output stream(c);
+        record_table<clearance_point> points(stream, "clearance.csv", context, {lead.begin() + 1, lead.end()}, trail);
+        record_table<clearance_cell> chart(stream, "chart.csv", context, lead, chart_trail);
+        for (std::size_t k = 0; k < res.points.size(); ++k) {
+            const auto& p = res.points[k];
+            const auto& q = shown.points[k];
+            std::vector<double> speed;
+            if (by_speed) speed.push_back(speeds[k]);
+            points.row(speed, p, si ? std::vector<double>{q.clearance, q.aperiodic_min, q.aperiodic_max}
+                                    : std::vector<double>{});
+            speed.insert(speed.begin(), p.value);
+            for (std::size_t i = 0; i < p.cells.size(); ++i) {
+                std::vector<double> in_si;
+                if (si) {
+                    in_si = impact_statistics_values(q.cells[i].statistics);
+                    in_si.insert(in_si.begin(), q.cells[i].gap);
                 }
+                chart.row(speed, p.cells[i], in_si);
             }
-            cw.close();
-            chart.close();
-            return json{"clearance.csv", "chart.csv"};
-        });
+        }
+        text += stream.commit("clearance", "clearance", summary);
         session.finish();
-        text += "output written to " + c.out->string() + "\n";
     }
     print(c, summary, text);
     return 0;

@@ -129,7 +129,7 @@ axis_values resolve_axis(const run_config& c, const std::string& name, const val
     return a;
 }
 
-double axis_values::si_value(const run_config& c, double v) const
+double axis_values::si_at(const run_config& c, double v) const
 {
     // A range of U or gap maps to monotone parameter values: found by bisection, not by a
     // scan of the axis for every row of a long sweep.
@@ -316,23 +316,6 @@ model load_config_model(const std::string& spec, const std::string& file)
                           "): a shared library is loaded only when given on the command line (--model " +
                           path.string() + "), never from a config file");
     return load_model(spec, base);
-}
-
-int parameter_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().parameter_index(name);
-    if (i < 0)
-        throw input_error("unknown parameter '" + name + "' for " + what + " (" + parameters_it_has(m.info()) + ")");
-    return i;
-}
-
-int state_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().state_index(name);
-    if (i < 0)
-        throw input_error(what + ": '" + name + "' is not one of " + m.info().state_names() + " (the state of model " +
-                          m.name() + ")");
-    return i;
 }
 
 nlohmann::json parameters_json(const model& m)

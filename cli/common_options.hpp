@@ -16,6 +16,7 @@
 
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/model/model.hpp"
+#include "vimpact/model/model_phrases.hpp"
 #include "vimpact/physical/si_units.hpp"
 
 namespace vimpact::cli {
@@ -102,7 +103,7 @@ struct axis_values {
     [[nodiscard]] bool si() const { return !si_name.empty(); }
     // The SI value where the parameter is v: the one given for one of `values`, else converted
     // back (a continuation's points lie between them).
-    [[nodiscard]] double si_value(const run_config& c, double v) const;
+    [[nodiscard]] double si_at(const run_config& c, double v) const;
 };
 axis_values resolve_axis(const run_config& c, const std::string& name, const value_grid& given,
                          const std::string& what);
@@ -116,9 +117,6 @@ toml::table read_config(const std::string& file);
 // A config file's value as messages show it: true, 3, 'abc' (control characters as ?), a list.
 std::string toml_shown(const toml::node& node);
 
-// Indices by name, with messages listing the valid names. `what` is the option.
-int parameter_index(const model& m, const std::string& name, const std::string& what);
-int state_index(const model& m, const std::string& name, const std::string& what);
 
 // A model by built-in name or file (.toml, .json, shared library); a relative file name is
 // taken relative to `base`.

@@ -56,7 +56,7 @@ value_grid as_grid(std::pair<double, double> interval) { return std::vector<doub
 std::string si_text(const run_config& c, const axis_values& axis, double v)
 {
     if (!axis.si()) return {};
-    return " (" + axis.si_name + " = " + format_double(axis.si_value(c, v)) + (axis.si_name == "U" ? " m/s)" : " m)");
+    return " (" + axis.si_name + " = " + format_double(axis.si_at(c, v)) + (axis.si_name == "U" ? " m/s)" : " m)");
 }
 
 std::string orbit_name(int returns) { return "P" + std::to_string(returns); }
@@ -122,9 +122,6 @@ int run_continue(const continue_args& a)
     o.start = axis.values.front();
     o.end = axis.values.back();
     o.protocol = c.protocol;
-    if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": continuation needs a section crossing (" +
-                          sections_it_has(info) + ")");
     check_options(o);  // before anything runs
     o.from_attractor = o.returns == 0;
     o.arclength.integration = tangent_integration(c.protocol.flow.integration);
@@ -160,7 +157,7 @@ int run_continue(const continue_args& a)
             const double q = m.parameters()[static_cast<std::size_t>(co.parameter2)];
             const std::string unit = axis2.si_name == "U" ? "m/s" : "m";
             throw input_error("--range2 " + a.range2 + " (" + axis2.si_name + ", " + unit + ") does not hold the run's " +
-                              axis2.si_name + " = " + format_double(axis2.si_value(c, q)) + " " + unit +
+                              axis2.si_name + " = " + format_double(axis2.si_at(c, q)) + " " + unit +
                               " (set by --si or the model's default), where the curves start: give a range around it");
         }
         validate(m, o, co);
@@ -256,7 +253,7 @@ int run_continue(const continue_args& a)
         // bifurcation and curve point (param2_si for --param2).
         summary["si"] = si_json(*c.si, m);
         const auto put = [&](json& at, const char* key, const axis_values& ax) {
-            if (ax.si()) at[std::string(key) + "_si"] = finite_or_null(ax.si_value(c, at[key].get<double>()));
+            if (ax.si()) at[std::string(key) + "_si"] = finite_or_null(ax.si_at(c, at[key].get<double>()));
         };
         if (axis.si()) summary["si_param"] = axis.si_name;
         if (axis2.si()) summary["si_param2"] = axis2.si_name;
@@ -304,7 +301,8 @@ int run_continue(const continue_args& a)
         write_run(c, "continue", "continuation", summary, [&](staged_output& out) {
             json files = json::array({"branches.csv", "sections.csv", "bifurcations.csv"});
             std::vector<std::string> bh{"branch", "point", pname, "stable", "period", "impacts"};
-            for (const auto& n : impact_count_columns(info)) bh.push_back(n);
+            for (const auto& col : record_columns<period_label>(table_context_for(info, "", -1)))
+                if (col.surface >= 0) bh.push_back(col.name);  // impacts_SURFACE, as the label names them
             bh.push_back("closure");
             bh.push_back("arclength");
             for (const auto& n : state_columns(info)) bh.push_back(n);
@@ -331,7 +329,7 @@ int run_continue(const continue_args& a)
                     row.push_back(p.arclength);
                     push_state(row, p.state);
                     push_multipliers(row, p.multipliers, dim);
-                    if (axis.si()) row.push_back(axis.si_value(c, p.parameter));
+                    if (axis.si()) row.push_back(axis.si_at(c, p.parameter));
                     const auto si = si0 ? tables_at(p.parameter) : std::nullopt;
                     if (si) append_state_si(row, *si, p.state);
                     bw.row(row);
@@ -339,7 +337,7 @@ int run_continue(const continue_args& a)
                         std::vector<double> srow{static_cast<double>(b), static_cast<double>(k), static_cast<double>(j),
                                                  p.parameter, p.stable ? 1.0 : 0.0};
                         push_state(srow, p.section_points.x(j));
-                        if (axis.si()) srow.push_back(axis.si_value(c, p.parameter));
+                        if (axis.si()) srow.push_back(axis.si_at(c, p.parameter));
                         if (si) append_state_si(srow, *si, p.section_points.x(j));
                         sw.row(srow);
                     }
@@ -367,7 +365,7 @@ int run_continue(const continue_args& a)
                 std::vector<double> mu;
                 push_multipliers(mu, bf.point.multipliers, dim);
                 for (const double v : mu) row.push_back(format_double(v));
-                if (axis.si()) row.push_back(format_double(axis.si_value(c, bf.parameter)));
+                if (axis.si()) row.push_back(format_double(axis.si_at(c, bf.parameter)));
                 fw.text_row(row);
             }
             fw.close();
@@ -391,8 +389,8 @@ int run_continue(const continue_args& a)
                         std::vector<double> mu;
                         push_multipliers(mu, p.multipliers, dim);
                         for (const double v : mu) row.push_back(format_double(v));
-                        if (axis.si()) row.push_back(format_double(axis.si_value(c, p.parameter)));
-                        if (axis2.si()) row.push_back(format_double(axis2.si_value(c, p.parameter2)));
+                        if (axis.si()) row.push_back(format_double(axis.si_at(c, p.parameter)));
+                        if (axis2.si()) row.push_back(format_double(axis2.si_at(c, p.parameter2)));
                         cw.text_row(row);
                     }
                 cw.close();
@@ -409,7 +407,7 @@ int run_continue(const continue_args& a)
                     for (std::size_t i = 0; i < p.points.size(); ++i) {
                         std::vector<std::string> row{format_double(p.value), p.label.label};
                         for (int k = 0; k < p.points.dim(); ++k) row.push_back(format_double(p.points.x(i, k)));
-                        if (axis.si()) row.push_back(format_double(axis.si_value(c, p.value)));
+                        if (axis.si()) row.push_back(format_double(axis.si_at(c, p.value)));
                         if (si) {
                             std::vector<double> v;
                             append_state_si(v, *si, p.points.x(i));

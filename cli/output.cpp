@@ -82,17 +82,6 @@ json model_json(const vimpact::model& m)
             {"sections", sections}};
 }
 
-std::vector<std::string> statistics_columns()
-{
-    const auto& names = impact_statistics_names();
-    return {names.begin(), names.end()};
-}
-
-void append_statistics(std::vector<std::string>& cells, const impact_statistics& s)
-{
-    for (const double v : impact_statistics_values(s)) cells.push_back(format_double(v));
-}
-
 json si_json(const si_input& in, const vimpact::model& m)
 {
     json inputs = json::object(), parameters = json::object(), values = json::object();
@@ -141,15 +130,6 @@ std::vector<std::string> si_statistics_columns()
     std::vector<std::string> out;
     for (const char* name : impact_statistics_names()) out.push_back(std::string(name) + "_si");
     return out;
-}
-
-json label_counts(const std::vector<std::string>& labels)
-{
-    std::map<std::string, long> counts;
-    for (const auto& l : labels) ++counts[l];
-    json j = json::object();
-    for (const auto& [k, v] : counts) j[k] = v;
-    return j;
 }
 
 std::string counts_text(const json& counts)
@@ -387,13 +367,6 @@ std::string unsettled_text(long unsettled)
     return "warning: " + std::to_string(unsettled) +
            " run(s) not settled: still converging over the record, or periodic only in its last half (lengthen "
            "--transient)\n";
-}
-
-std::vector<std::string> impact_count_columns(const model_info& info)
-{
-    std::vector<std::string> out;
-    for (const auto& s : info.surfaces) out.push_back("impacts_" + s.name);
-    return out;
 }
 
 void finish_output(staged_output& out, const std::string& kind, const run_config& c, json& record)

@@ -41,10 +41,6 @@ json out_path(const run_config& c);
 // pictures' axis labels).
 json model_json(const vimpact::model& m);
 
-// The statistics as CSV columns (the same names) and one run's cells.
-std::vector<std::string> statistics_columns();
-void append_statistics(std::vector<std::string>& cells, const impact_statistics& s);
-
 // The SI inputs of a run and what they give at the model `m`: `inputs` (by key, defaults
 // filled in), `parameters` (the model's dimensionless values they set), `values` (U, Re,
 // mass_ratio, gap and the scales: si_values) and `warnings`.
@@ -61,8 +57,7 @@ std::string add_si_results(json& summary, const run_config& c, const vimpact::mo
 // The SI columns of sweep and map tables: the statistics' names with the suffix _si.
 std::vector<std::string> si_statistics_columns();
 
-// Label -> count, and its text "P1 3, P2 4".
-json label_counts(const std::vector<std::string>& labels);
+// The text of label counts (label_tally::counts): "P1 3, P2 4".
 std::string counts_text(const json& counts);
 
 // run.json's common part: command, version, git hash, the model, the state names and the
@@ -244,7 +239,7 @@ private:
     streamed_table m_table;
 };
 
-// Labels counted as results stream: label -> count (label_counts' form).
+// Labels counted as results stream: label -> count.
 class label_tally {
 public:
     void add(const std::string& label) { ++m_counts[label]; }
@@ -258,9 +253,6 @@ private:
 // onto a periodic orbit, or periodic only in its last half), a line for the text output;
 // empty when all settled.
 std::string unsettled_text(long unsettled);
-
-// impacts_SURFACE for each surface: the columns of impacts per period on each.
-std::vector<std::string> impact_count_columns(const model_info& info);
 
 // --json: the summary on one line; otherwise the text.
 void print(const run_config& c, const json& summary, const std::string& text);

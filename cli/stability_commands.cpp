@@ -142,7 +142,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
         if (have && r.max_nontrivial_modulus >= 1.0) ++unstable;
         const double period_si = c.si ? r.period * time_scale_at(c, sv, p.value) : std::nan("");
         std::vector<double> si;
-        if (sv.si()) si.push_back(sv.si_value(c, p.value));
+        if (sv.si()) si.push_back(sv.si_at(c, p.value));
         if (c.si) si.push_back(period_si);
         if (!c.out) {
             json row = summary_json(p, info, sweep_row_form);
@@ -186,12 +186,6 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
 int run_floquet(const floquet_args& a)
 {
     run_config c = resolve(a.common);
-    if (c.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("--section " + c.section_name() + ": floquet needs a section crossing (" +
-                          sections_it_has(c.info()) + ")");
-    if (c.protocol.record_points < 2)
-        throw input_error("--record must be >= 2 section points for floquet (got " +
-                          std::to_string(c.protocol.record_points) + ")");
     floquet_options fo = a.options;
     fo.protocol = c.protocol;
     fo.tangent_integration = tangent_integration(c.protocol.flow.integration);
@@ -299,7 +293,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
         const double per_second = c.si ? 1.0 / time_scale_at(c, sv, p.value) : std::nan("");
         const auto exponent = [&](int i) { return i < r.exponents.size() ? r.exponents[i] : std::nan(""); };
         std::vector<double> si;
-        if (sv.si()) si.push_back(sv.si_value(c, p.value));
+        if (sv.si()) si.push_back(sv.si_at(c, p.value));
         if (c.si)
             for (int i = 0; i < dim; ++i) si.push_back(exponent(i) * per_second);
         if (!c.out) {

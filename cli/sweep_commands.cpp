@@ -48,12 +48,11 @@ std::vector<std::string> grazing_columns(const model& m, int parameter)
 
 
 // With --si: the SI columns of a run of `m` (the statistics in SI).
-void append_si_statistics(std::vector<std::string>& cells, const run_config& c, const model& m,
-                          const impact_statistics& s)
+void append_si_statistics(std::vector<double>& cells, const run_config& c, const model& m, const impact_statistics& s)
 {
-    append_statistics(cells, in_si(s, scales_at(*c.si, m)));
+    const auto values = impact_statistics_values(in_si(s, scales_at(*c.si, m)));
+    cells.insert(cells.end(), values.begin(), values.end());
 }
-json out_json(const run_config& c) { return c.out ? json(c.out->string()) : json(nullptr); }
 
 // ---------------------------------------------------------------- sweep
 
@@ -128,12 +127,12 @@ int run_sweep(const sweep_args& a)
         for (std::size_t i = 0; i < p.points.size(); ++i) {
             for (int k = 0; k < p.points.dim(); ++k) row[static_cast<std::size_t>(k) + 2] = p.points.x(i, k);
             row.resize(static_cast<std::size_t>(p.points.dim()) + 2);
-            if (!axis.si_name.empty()) row.push_back(axis.si_value(c, p.value));
+            if (!axis.si_name.empty()) row.push_back(axis.si_at(c, p.value));
             if (si) append_state_si(row, *si, p.points.x(i));
             pts.row(row);
         }
-        std::vector<std::string> cells;
-        if (axis.si()) cells.push_back(format_double(axis.si_value(c, p.value)));
+        std::vector<double> cells;
+        if (axis.si()) cells.push_back(axis.si_at(c, p.value));
         if (c.si) append_si_statistics(cells, c, m.with_parameter(o.parameter, p.value), p.statistics);
         lab.row({}, p, cells);
     };
@@ -144,7 +143,7 @@ int run_sweep(const sweep_args& a)
     json summary = {{"command", "sweep"},         {"param", pname},          {"values", o.values.size()},
                     {"ic_mode", to_string(o.start)}, {"direction", to_string(o.direction)}, {"section_points", npoints},
                     {"label_counts", counts},     {"unsettled", unsettled},  {"batch", res.jobs.batch},
-                    {"statistics_columns", statistics_columns()}, {"out", out_json(c)}};
+                    {"statistics_columns", impact_statistics_names()}, {"out", out_path(c)}};
     // Each point's label: in labels.csv with --out (the summary stays the same size whatever
     // the number of points), in the summary without it.
     if (!c.out) {
@@ -216,11 +215,11 @@ int run_map(const map_args& a)
             return;
         }
         const auto j = static_cast<std::size_t>(job);
-        std::vector<std::string> cells;
-        if (!sx.si_name.empty()) cells.push_back(format_double(sx.si_values[j % nx]));
-        if (!sy.si_name.empty()) cells.push_back(format_double(sy.si_values[j / nx]));
+        std::vector<double> cells;
+        if (!sx.si_name.empty()) cells.push_back(sx.si_values[j % nx]);
+        if (!sy.si_name.empty()) cells.push_back(sy.si_values[j / nx]);
         if (c.si) append_si_statistics(cells, c, at(j % nx, j / nx), cell.statistics);
-        lab.row({format_double(mx.values[j % nx]), format_double(my.values[j / nx])}, cell, cells);
+        lab.row({mx.values[j % nx], my.values[j / nx]}, cell, cells);
     };
     const map_result res = map2d(m, o, session.options(), each);
     if (!session.complete(res.jobs)) return session.exit_code();
@@ -229,7 +228,7 @@ int run_map(const map_args& a)
     json summary = {{"command", "map"},       {"x", mx.name},          {"y", my.name},
                     {"shape", {ny, nx}},      {"x_values", mx.values.values()}, {"y_values", my.values.values()},
                     {"label_counts", counts}, {"unsettled", unsettled}, {"batch", res.jobs.batch},
-                    {"statistics_columns", statistics_columns()}, {"out", out_json(c)}};
+                    {"statistics_columns", impact_statistics_names()}, {"out", out_path(c)}};
     // Each cell's label: in labels.csv with --out (the summary stays the same size whatever
     // the number of cells), in the summary without it.
     if (!c.out) summary["labels"] = rows;
@@ -349,7 +348,7 @@ int run_basins(const basins_args& a)
                     {"inadmissible_cells", excluded},
                     {"unsettled", unsettled},
                     {"batch", res.jobs.batch},
-                    {"out", out_json(c)}};
+                    {"out", out_path(c)}};
     if (c.si) summary["si"] = si_json(*c.si, m);
     std::string text = std::to_string(res.attractors.size()) + " attractor(s) on the " + std::to_string(nx) + " x " +
                        std::to_string(ny) + " grid of initial " + ax.name + ", " + ay.name + ":\n";
@@ -423,22 +422,10 @@ int run_response(const response_args& a)
             if (std::find(curve_params.begin(), curve_params.end(), p) == curve_params.end()) curve_params.push_back(p);
     std::sort(curve_params.begin(), curve_params.end());
     const std::size_t ncurves = std::max<std::size_t>(1, o.curves.size());
-    auto curve_value = [&](std::size_t k, int p) {
-        if (k < o.curves.size())
-            for (const auto& [q, v] : o.curves[k])
-                if (q == p) return v;
-        return m.parameter(p);
-    };
-    // The model at a point of a curve: the curve's parameters and the swept one.
-    auto model_at = [&](std::size_t k, double value) {
-        model at = m;
-        if (k < o.curves.size())
-            for (const auto& [q, v] : o.curves[k]) at = at.with_parameter(q, v);
-        return at.with_parameter(o.parameter, value);
-    };
     std::vector<vimpact::model> ends;
-    for (std::size_t k = 0; k < std::max<std::size_t>(1, o.curves.size()); ++k)
-        for (const double v : {o.values.front(), o.values.back()}) ends.push_back(model_at(k, v));
+    for (std::size_t k = 0; k < ncurves; ++k)
+        for (const double v : {o.values.front(), o.values.back()})
+            ends.push_back(response_model(m, o, static_cast<int>(k), v));
     warn_validity(c, ends);
     // With --si: the amplitude in metres (the measured variable a displacement), the frequency
     // in hertz and the grazing values as the smallest gap without impact, per surface, in metres.
@@ -479,9 +466,8 @@ int run_response(const response_args& a)
         double amplitude = std::nan(""), maximum = std::nan(""), minimum = std::nan(""), frequency = std::nan("");
         std::vector<double> clearance;
     };
-    auto in_si = [&](const response_point& r) {
+    auto in_si = [&](const response_point& r, const model& at) {
         si_point q;
-        const model at = model_at(static_cast<std::size_t>(r.curve), r.value);
         const physical_scales k = scales_at(*c.si, at);
         if (vdim != physical_dimension::none) {
             q.amplitude = r.amplitude * k.of(vdim);
@@ -504,7 +490,8 @@ int run_response(const response_args& a)
         auto& t = tallies[static_cast<std::size_t>(r.curve)];
         t.unconverged += r.converged ? 0 : 1;
         if (std::isfinite(r.amplitude)) t.peak = std::max(t.peak, r.amplitude);
-        const si_point q = c.si ? in_si(r) : si_point{};
+        const model at = response_model(m, o, r.curve, r.value);
+        const si_point q = c.si ? in_si(r, at) : si_point{};
         if (std::isfinite(q.amplitude)) t.peak_si = std::max(t.peak_si, q.amplitude);
         if (!c.out) {
             const auto& graze = o.grazing.parameter >= 0 ? r.grazing : r.margin;
@@ -520,8 +507,8 @@ int run_response(const response_args& a)
             return;
         }
         std::vector<double> lead_cells, si_cells;
-        for (const int p : curve_params) lead_cells.push_back(curve_value(static_cast<std::size_t>(r.curve), p));
-        if (axis.si()) si_cells.push_back(axis.si_value(c, r.value));
+        for (const int p : curve_params) lead_cells.push_back(at.parameter(p));
+        if (axis.si()) si_cells.push_back(axis.si_at(c, r.value));
         if (c.si) {
             if (vdim != physical_dimension::none) si_cells.insert(si_cells.end(), {q.amplitude, q.maximum, q.minimum});
             si_cells.push_back(q.frequency);
@@ -570,7 +557,7 @@ int run_response(const response_args& a)
                                           ? json(info.parameters[static_cast<std::size_t>(o.grazing.parameter)].name)
                                           : json(nullptr)},
                     {"curves", curves},
-                    {"out", out_json(c)}};
+                    {"out", out_path(c)}};
     if (axis.si()) summary["si_param"] = axis.si_name;
     if (c.si) summary["si"] = si_json(*c.si, m);
     if (c.out) {

@@ -13,7 +13,8 @@
 set -euo pipefail
 
 main=(
-  build-essential cmake git pkg-config
+  # Ninja compiles the program's sources alongside the library's (Make waits for the library)
+  build-essential cmake ninja-build git pkg-config
   libeigen3-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
   # journal lines read fast by a distributed run's coordinator (src/io/json_line.hpp)
   libsimdjson-dev
@@ -29,9 +30,8 @@ main=(
   python3-plotly
 )
 tests=(
-  # the test command reuses earlier builds' objects where it can, and builds a new build
-  # directory with Ninja (scripts/run-tests.sh)
-  ccache ninja-build
+  # the test command reuses earlier builds' objects where it can (scripts/run-tests.sh)
+  ccache
   libgtest-dev libgmock-dev python3-pytest
   # the notebooks of examples/notebooks, executed by the tests
   python3-nbclient python3-nbformat python3-ipykernel

@@ -29,8 +29,8 @@ build() {  # build DIR TARGET...: the log on failure only
     fi
 }
 
-# Ninja where it is installed, for a new build directory (an existing one keeps the generator
-# it was made with): Make compiles a target's objects only after the targets it links are
+# Ninja (installed by install-deps.sh) for a new build directory (an existing one keeps the
+# generator it was made with): Make compiles a target's objects only after the targets it links are
 # linked, so the program, the module and the tests waited for the library's last object with a
 # core idle; Ninja compiles them alongside it.
 new_dir_generator() {  # new_dir_generator DIR
@@ -39,8 +39,10 @@ new_dir_generator() {  # new_dir_generator DIR
 
 echo "== dev build (Release, -Werror)"
 # The benchmarks are not built here: bench/run_*.sh build and run them.
-cmake -S . -B build $(new_dir_generator build) -DCMAKE_BUILD_TYPE=Release -DVIMPACT_WERROR=ON -DVIMPACT_BUILD_TESTS=ON \
-      -DVIMPACT_BUILD_BENCH=OFF "${launcher[@]}" > /dev/null
+# A unity build, as scripts/run-main.sh's (about half the CPU for the library, the program
+# and the Python module; the test files stay units of their own: tests/CMakeLists.txt).
+cmake -S . -B build $(new_dir_generator build) -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON -DVIMPACT_WERROR=ON \
+      -DVIMPACT_BUILD_TESTS=ON -DVIMPACT_BUILD_BENCH=OFF "${launcher[@]}" > /dev/null
 build build
 # A new build directory has no record of how long each test takes, and CTest would start the
 # tests in the order they were declared: the recorded costs make it start the longest first.

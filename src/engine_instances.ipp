@@ -1,7 +1,11 @@
-// The definitions of engine_instances.hpp: included by the source files of src/instances/,
-// each of which instantiates them for one engine model with VIMPACT_INSTANTIATE_ENGINE, or
-// (MODEL_lanes.cpp) its SIMD lanes with VIMPACT_INSTANTIATE_LANES.
+// The analyses on one engine model, as its module compiles them: included by the source files
+// of src/instances/, each of which makes the module of one engine model with
+// VIMPACT_ENGINE_MODULE, or (MODEL_lanes.cpp) compiles its SIMD lanes with
+// VIMPACT_ENGINE_LANES.
+#include <cstring>
+
 #include "engine_instances.hpp"
+#include "system/system_engines.ipp"
 #include "vimpact/engine/floquet.hpp"
 #include "vimpact/engine/grazing.hpp"
 #include "vimpact/engine/lyapunov.hpp"
@@ -12,6 +16,8 @@
 #include <unordered_map>
 
 namespace vimpact::detail {
+
+namespace instance {
 
 // f.template operator()<Method>() for the chosen integrator.
 template <class F>
@@ -76,7 +82,7 @@ floquet_result run_floquet(const EM& em, const Eigen::VectorXd& x0, const floque
     else {
         if (state_dim(em) < 2) return floquet_result{};
         // The protocol with the caller's method, then the tangent runs.
-        const simulation pr = run_simulate(em, x0, o.protocol);
+        const simulation pr = instance::run_simulate(em, x0, o.protocol);
         return engine::floquet_after_protocol<dop853>(em, pr, o, info);
     }
 }
@@ -106,29 +112,47 @@ orbit_map_value run_orbit_map(const EM& em, const orbit_map_request& r)
 template <class EM>
 lyapunov_result run_lyapunov(const EM& em, const Eigen::VectorXd& x0, const lyapunov_options& o)
 {
-    const simulation pr = run_simulate(em, x0, engine::lyapunov_transient(o, em.section_count() > 0));
+    const simulation pr = instance::run_simulate(em, x0, engine::lyapunov_transient(o, em.section_count() > 0));
     return with_method(o.method, [&]<template <int> class M>() { return engine::lyapunov_after_transient<M>(em, pr, o); });
+}
+
+}  // namespace instance
+
+// The table of EM's module (its lanes, where it has them, from MODEL_lanes.cpp).
+template <class EM>
+engine_functions<EM> engine_functions_of()
+{
+    engine_functions<EM> f;
+    f.model = typeid(EM).name();
+    f.simulate = &instance::run_simulate<EM>;
+    if constexpr (lanes_engine<EM>) f.simulate_lanes = &instance::run_simulate_lanes<EM>;
+    f.grazing = &instance::run_grazing<EM>;
+    f.floquet = &instance::run_floquet<EM>;
+    f.floquet_from_point = &instance::run_floquet_from_point<EM>;
+    f.orbit_map = &instance::run_orbit_map<EM>;
+    f.lyapunov = &instance::run_lyapunov<EM>;
+    f.make_flow_system = &instance::make_flow_system<EM>;
+    f.make_tangent_engine = &instance::make_tangent_engine<EM>;
+    return f;
 }
 
 }  // namespace vimpact::detail
 
-// For an engine model that runs in SIMD lanes (lanes_engine<EM>), besides the above, in a
-// source file of its own (src/instances/MODEL_lanes.cpp: CMakeLists.txt gives it the options
-// of the lanes' moves, which would slow the other analyses' tangent runs).
-#define VIMPACT_INSTANTIATE_LANES(EM)                                                                            \
-    template vimpact::lanes_counts vimpact::detail::run_simulate_lanes<EM>(                                      \
+// A model's SIMD lanes, in a source file of its own (src/instances/MODEL_lanes.cpp:
+// CMakeLists.txt gives it the options of the lanes' moves, which would slow the other
+// analyses' tangent runs).
+#define VIMPACT_ENGINE_LANES(EM)                                                                                   \
+    template vimpact::lanes_counts vimpact::detail::instance::run_simulate_lanes<EM>(                              \
         const vimpact::protocol_options&, int, const vimpact::protocol_source&, const vimpact::protocol_sink&);
 
-#define VIMPACT_INSTANTIATE_ENGINE(EM)                                                                           \
-    template vimpact::simulation vimpact::detail::run_simulate<EM>(const EM&, const Eigen::VectorXd&,            \
-                                                                    const vimpact::protocol_options&);           \
-    template vimpact::grazing_result vimpact::detail::run_grazing<EM>(const EM&, const Eigen::VectorXd&,         \
-                                                                       const vimpact::grazing_options&);         \
-    template vimpact::floquet_result vimpact::detail::run_floquet<EM>(                                           \
-        const EM&, const Eigen::VectorXd&, const vimpact::floquet_options&, const vimpact::model_info&);         \
-    template vimpact::floquet_result vimpact::detail::run_floquet_from_point<EM>(                                \
-        const EM&, const Eigen::VectorXd&, int, const vimpact::floquet_options&);                                 \
-    template vimpact::orbit_map_value vimpact::detail::run_orbit_map<EM>(const EM&,                               \
-                                                                          const vimpact::orbit_map_request&);    \
-    template vimpact::lyapunov_result vimpact::detail::run_lyapunov<EM>(const EM&, const Eigen::VectorXd&,       \
-                                                                         const vimpact::lyapunov_options&);
+// The module of the engine model EM: its table, the one symbol the library looks up. The lanes
+// are compiled in MODEL_lanes.cpp, never here (a copy compiled without the lanes' options
+// could be the one the linker keeps).
+#define VIMPACT_ENGINE_MODULE(EM)                                                                                  \
+    extern template vimpact::lanes_counts vimpact::detail::instance::run_simulate_lanes<EM>(                       \
+        const vimpact::protocol_options&, int, const vimpact::protocol_source&, const vimpact::protocol_sink&);    \
+    extern "C" __attribute__((visibility("default"))) const void* vimpact_engine_v1()                             \
+    {                                                                                                              \
+        static const vimpact::detail::engine_functions<EM> f = vimpact::detail::engine_functions_of<EM>();        \
+        return &f;                                                                                                 \
+    }

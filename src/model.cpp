@@ -104,6 +104,22 @@ std::string it_has(const model_info& m, const Items& items, const char* kind)
 std::string parameters_it_has(const model_info& m) { return it_has(m, m.parameters, "parameters"); }
 std::string sections_it_has(const model_info& m) { return it_has(m, m.sections, "sections"); }
 std::string surfaces_it_has(const model_info& m) { return it_has(m, m.surfaces, "surfaces"); }
+
+int parameter_index(const model& m, const std::string& name, const std::string& what)
+{
+    const int i = m.info().parameter_index(name);
+    if (i < 0) throw input_error("unknown parameter '" + name + "' for " + what + " (" + parameters_it_has(m.info()) + ")");
+    return i;
+}
+
+int state_index(const model& m, const std::string& name, const std::string& what)
+{
+    const int i = m.info().state_index(name);
+    if (i < 0)
+        throw input_error(what + ": '" + name + "' is not one of " + m.info().state_names() + " (the state of model " +
+                          m.name() + ")");
+    return i;
+}
 bool model_info::has_angles() const
 {
     return std::any_of(state.begin(), state.end(), [](const auto& s) { return s.period > 0.0; });

@@ -11,6 +11,7 @@
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/period.hpp"
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/analysis/response.hpp"
 
 using namespace vimpact;
 using test::paper;
@@ -268,6 +269,36 @@ TEST(Grazing, TwoStopsAreGrazedAtTheClosedFormAmplitude)
     EXPECT_NEAR(g.response_max, X, 1e-9);
     EXPECT_NEAR(g.response_min, -X, 1e-9);
     EXPECT_NEAR(g.response_omega, w, 1e-9);
+}
+
+// A response's curves set their parameters at each value of the swept one: over w, the curves
+// a = 1 and a = 2 of the two stops' linear oscillator give the closed-form amplitude above,
+// the second twice the first; response_model names the model each point runs.
+TEST(Response, EachCurveRunsAtItsParametersAndTheClosedFormAmplitude)
+{
+    const model m = model::builtin("two_sided_impact_oscillator");
+    const auto& info = m.info();
+    const int a = info.parameter_index("a"), w = info.parameter_index("w");
+    const double zeta = m.parameter(info.parameter_index("zeta"));
+    response_options o;
+    o.parameter = w;
+    o.values = value_grid::range(1.1, 1.3, 2);
+    o.curves = {{{a, 1.0}}, {{a, 2.0}}};
+    o.variable = 0;
+    o.grazing.parameter = info.parameter_index("d");
+    const auto r = response(m, o);
+    ASSERT_EQ(r.points.size(), 4u);
+    for (const auto& p : r.points) {
+        const double amplitude = (p.curve + 1) / std::sqrt((1 - p.value * p.value) * (1 - p.value * p.value) +
+                                                           (2 * zeta * p.value) * (2 * zeta * p.value));
+        EXPECT_NEAR(p.amplitude, amplitude, 1e-9) << "curve " << p.curve << " at w = " << p.value;
+        const model at = response_model(m, o, p.curve, p.value);
+        EXPECT_EQ(at.parameter(a), p.curve + 1.0);
+        EXPECT_EQ(at.parameter(w), p.value);
+    }
+    // Beyond the curves: the model's own values.
+    EXPECT_EQ(response_model(m, o, 2, 1.2).parameter(a), m.parameter(a));
+    EXPECT_THROW((void)response_model(m, o, 0, -1.0), input_error);  // w > 0
 }
 
 // Summaries and legends read P2 before P10 (not as strings), then aperiodic, then failed runs.

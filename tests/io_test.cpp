@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <numbers>
 #include <optional>
 #include <random>
 #include <string>
@@ -15,7 +16,9 @@
 #include "io/json_line.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/io/csv_writer.hpp"
+#include "vimpact/io/model_info_json.hpp"
 #include "vimpact/io/staged_output.hpp"
+#include "vimpact/model/model.hpp"
 
 namespace fs = std::filesystem;
 
@@ -122,3 +125,42 @@ TEST(JsonCodec, ProtocolSpecRecordsTheHoldBandTheRunUses)
     o.flow.integration.hold_band.reset();
     EXPECT_EQ(band(), std::nullopt);
 }
+
+namespace vimpact {
+
+// What the models declare, as docs/model.md documents them: the
+// forced impact oscillator's state y, ydot and its forcing phase theta (period 2 pi), its
+// restitution coefficient r in [0, 1] and frequency omega > 0; the wake model's start
+// (0, 0, 0, 0.1) and Facchinetti's lift coefficient CL0 = 0.3 in its preset.
+TEST(ModelInfoJson, SaysWhatTheModelsDeclare)
+{
+    const auto j = model_info_json(model::builtin("forced_impact_oscillator").info());
+    ASSERT_EQ(j.at("state").size(), 3u);
+    EXPECT_EQ(j["state"][2]["name"], "theta");
+    EXPECT_DOUBLE_EQ(j["state"][2]["period"].get<double>(), 2 * std::numbers::pi);
+    EXPECT_TRUE(j["state"][0]["period"].is_null());
+    const auto parameter = [&](const std::string& name) {
+        for (const auto& p : j.at("parameters"))
+            if (p.at("name") == name) return p;
+        ADD_FAILURE() << name;
+        return nlohmann::json();
+    };
+    const auto r = parameter("r").at("range");
+    EXPECT_EQ(r["lower"], 0.0);
+    EXPECT_EQ(r["upper"], 1.0);
+    EXPECT_TRUE(r["lower_inclusive"].get<bool>() && r["upper_inclusive"].get<bool>());
+    EXPECT_EQ(r["text"], "[0, 1]");
+    const auto omega = parameter("omega").at("range");
+    EXPECT_FALSE(omega["lower_inclusive"].get<bool>());
+    EXPECT_TRUE(omega["upper"].is_null());  // no upper bound: JSON has no infinity
+
+    const model w = model::builtin("wake_impact");
+    const auto jw = model_info_json(w.info());
+    EXPECT_EQ(jw.at("initial_state"), nlohmann::json({0.0, 0.0, 0.0, 0.1}));
+    ASSERT_EQ(jw.at("presets").size(), 2u);
+    EXPECT_EQ(jw["presets"][1]["name"], "facchinetti");
+    EXPECT_EQ(jw["presets"][1]["values"], nlohmann::json({{"CL0", 0.3}}));
+    EXPECT_EQ(w.with_preset(1).parameter(w.info().parameter_index("CL0")), 0.3);
+}
+
+}  // namespace vimpact

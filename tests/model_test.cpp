@@ -10,6 +10,7 @@
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
 #include "vimpact/model/model.hpp"
+#include "vimpact/model/model_phrases.hpp"
 #include "vimpact/model/native_model.hpp"
 #include "vimpact/model/table_model.hpp"
 
@@ -206,4 +207,28 @@ TEST(Model, ParametersOutsideTheirRangeAreRefusedWithTheirRange)
     EXPECT_NO_THROW((void)m.with_parameter(1, -0.2));
     EXPECT_TRUE(m == model::builtin("wake_impact"));
     EXPECT_FALSE(m == m.with_parameter(1, -0.2));
+}
+
+// Names to indices for the front ends, in the order docs/model.md lists the wake model's
+// parameters (Ur, sigma, r, A, ...) and state (y, ydot, x, xdot); a name the model lacks is
+// refused naming the input and what the model has.
+TEST(ModelPhrases, NamesAreIndicesOrRefusalsThatNameTheInput)
+{
+    const auto m = vimpact::model::builtin("wake_impact");
+    EXPECT_EQ(vimpact::parameter_index(m, "Ur", "--param"), 0);
+    EXPECT_EQ(vimpact::parameter_index(m, "A", "--param"), 3);
+    EXPECT_EQ(vimpact::state_index(m, "x", "--x"), 2);
+    try {
+        (void)vimpact::parameter_index(m, "Q", "--param");
+        ADD_FAILURE() << "Q accepted";
+    } catch (const vimpact::input_error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("unknown parameter 'Q' for --param (model wake_impact has Ur, sigma, r, A", 0), 0u)
+            << e.what();
+    }
+    try {
+        (void)vimpact::state_index(m, "v", "x");
+        ADD_FAILURE() << "v accepted";
+    } catch (const vimpact::input_error& e) {
+        EXPECT_EQ(std::string(e.what()), "x: 'v' is not one of y, ydot, x, xdot (the state of model wake_impact)");
+    }
 }

@@ -7,6 +7,7 @@
 #include "test_support.hpp"
 #include "io/record_json.hpp"
 #include "vimpact/analysis/basins.hpp"
+#include "vimpact/analysis/clearance.hpp"
 #include "vimpact/analysis/response.hpp"
 #include "vimpact/analysis/stability_sweep.hpp"
 #include "vimpact/analysis/sweep.hpp"
@@ -335,6 +336,58 @@ TEST(Records, ImpactStatisticsNamesAreTheDocumentedOnes)
     EXPECT_EQ(back.impacts, 4);
     EXPECT_EQ(back.power, 0.5);
     EXPECT_TRUE(std::isnan(back.velocity_mean));
+}
+
+// clearance.csv and chart.csv of the wake model (one surface, barrier) varying Ur with the
+// gap parameter sigma: the columns docs/engineering.md lists, in its order after the lead
+// columns (Ur and U), with the period label's and statistics' own columns among them.
+TEST(Records, ClearanceColumnsAreTheDocumentedOnes)
+{
+    const table_context c{"Ur", "sigma", {"barrier"}};
+    std::vector<std::string> names;
+    for (const auto& col : record_columns<clearance_point>(c)) names.push_back(col.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"Ur", "sigma_graze", "clearance", "converged", "aperiodic_min",
+                                               "aperiodic_max"}));
+    names.clear();
+    for (const auto& col : record_columns<clearance_cell>(c)) names.push_back(col.name);
+    const std::vector<std::string> documented{"gap", "sigma", "label", "period", "impacts", "settled", "outcome"};
+    auto at = names.begin();
+    for (const auto& d : documented) {
+        at = std::find(at, names.end(), d);
+        EXPECT_NE(at, names.end()) << d << " missing or out of order";
+    }
+    for (const char* s : impact_statistics_names()) EXPECT_NE(std::find(names.begin(), names.end(), s), names.end()) << s;
+}
+
+// A clearance job's journal line: the point's record and its cells' (src/analysis/clearance.cpp).
+TEST(Records, ClearanceRecordsReadBackBitForBit)
+{
+    clearance_point p;
+    p.value = 0.1 + 0.2;
+    p.grazing_value = -1.0 / 3.0;
+    p.clearance = 1.0 / 3.0;
+    p.converged = true;
+    p.aperiodic_max = 5e-324;
+    clearance_cell cell;
+    cell.gap = 2.0 / 3.0;
+    cell.gap_parameter_value = -2.0 / 3.0;
+    cell.label = {"aperiodic", -1, 0, {0}, nan, false};
+    cell.status = outcome::chattering;
+    cell.statistics.velocity_max = 0.7;
+    const auto q = detail::record_from<clearance_point>(detail::json::parse(detail::record_json(p).dump()));
+    EXPECT_TRUE(same_bits(q.value, p.value));
+    EXPECT_TRUE(same_bits(q.grazing_value, p.grazing_value));
+    EXPECT_TRUE(same_bits(q.clearance, p.clearance));
+    EXPECT_TRUE(q.converged);
+    EXPECT_TRUE(std::isnan(q.aperiodic_min));
+    EXPECT_TRUE(same_bits(q.aperiodic_max, 5e-324));
+    const auto d = detail::record_from<clearance_cell>(detail::json::parse(detail::record_json(cell).dump()));
+    EXPECT_TRUE(same_bits(d.gap, cell.gap));
+    EXPECT_TRUE(same_bits(d.gap_parameter_value, cell.gap_parameter_value));
+    EXPECT_EQ(d.label.label, "aperiodic");
+    EXPECT_EQ(d.label.period, -1);
+    EXPECT_EQ(d.status, outcome::chattering);
+    EXPECT_EQ(d.statistics.velocity_max, 0.7);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/jobs/job_options.hpp"
 #include "vimpact/model/model.hpp"
+#include "vimpact/model/model_phrases.hpp"
 
 namespace vimpact::python {
 
@@ -218,17 +219,6 @@ inline py::dict statistics_dict(const impact_statistics& s)
     return d;
 }
 
-// The impact statistics of many runs: a dict name -> column (float64, one row per item).
-template <class Range, class Get>
-py::dict statistics_columns(const Range& items, Get&& get)
-{
-    const auto& names = impact_statistics_names();
-    py::dict d;
-    for (std::size_t i = 0; i < names.size(); ++i)
-        d[names[i]] = column<double>(items, [&](const auto& x) { return impact_statistics_values(get(x))[i]; });
-    return d;
-}
-
 // ---------------------------------------------------------------- options
 
 // The keyword dict of one call, read key by key. Every key must be read: a key left over is
@@ -353,25 +343,6 @@ py::list declarations()
     const O o{};
     declare(l, o);
     return l.out;
-}
-
-// Name lookups: the library addresses everything by index (model_info), the front end by name.
-inline int parameter_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().parameter_index(name);
-    if (i < 0)
-        throw input_error(what + ": model " + m.name() + " has no parameter '" + name + "' (parameters: " +
-                          m.info().parameter_names() + ")");
-    return i;
-}
-
-inline int state_index(const model& m, const std::string& name, const std::string& what)
-{
-    const int i = m.info().state_index(name);
-    if (i < 0)
-        throw input_error(what + ": model " + m.name() + " has no state variable '" + name + "' (state: " +
-                          m.info().state_names() + ")");
-    return i;
 }
 
 // "maxima" (a section of the model), "impacts" (every surface) or "impacts:SURFACE".

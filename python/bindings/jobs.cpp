@@ -26,27 +26,6 @@
 namespace vimpact::python {
 namespace {
 
-// Per-job labels as columns.
-template <class Range, class Label>
-void put_labels(py::dict& d, const Range& items, Label&& label_of, int surfaces)
-{
-    d["label"] = string_list(items, [&](const auto& x) { return label_of(x).label; });
-    d["period"] = column<std::int64_t>(items, [&](const auto& x) { return label_of(x).period; });
-    d["impacts"] = column<std::int64_t>(items, [&](const auto& x) { return label_of(x).impacts_per_period; });
-    d["closure"] = column<double>(items, [&](const auto& x) { return label_of(x).closure; });
-    d["settled"] = column<bool>(items, [&](const auto& x) { return label_of(x).settled; });
-    py::array_t<std::int64_t> by({static_cast<py::ssize_t>(items.size()), static_cast<py::ssize_t>(surfaces)});
-    auto bv = by.mutable_unchecked<2>();
-    py::ssize_t r = 0;
-    for (const auto& x : items) {
-        const auto& v = label_of(x).impacts_by_surface;
-        for (int s = 0; s < surfaces; ++s)
-            bv(r, s) = static_cast<std::size_t>(s) < v.size() ? static_cast<std::int64_t>(v[static_cast<std::size_t>(s)]) : 0;
-        ++r;
-    }
-    d["impacts_by_surface"] = by;
-}
-
 py::array_t<double> per_surface(const std::vector<std::vector<double>>& v, int surfaces)
 {
     py::array_t<double> a({static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(surfaces)});
@@ -189,33 +168,22 @@ py::dict clearance_run(const model& m, const py::dict& kw)
     co.grazing = job_grazing_options(co.protocol.flow.integration, co.grazing.transient_time);
     co.grazing.method = co.protocol.method;
     const auto analysis = [&](const job_options& c) { return clearance(m, co, c); };
+    // The values' records and the chart cells', value after value, with the index of their value.
     const auto put = [&](py::dict& d, const clearance_result& r) {
-        const auto& p = r.points;
-        d["gap_param"] = m.info().parameters[static_cast<std::size_t>(r.gap_parameter)].name;
-        d["surface"] = m.info().surfaces[static_cast<std::size_t>(r.surface)].name;
-        d["value"] = column<double>(p, [](const auto& x) { return x.value; });
-        d["grazing_value"] = column<double>(p, [](const auto& x) { return x.grazing_value; });
-        d["clearance"] = column<double>(p, [](const auto& x) { return x.clearance; });
-        d["converged"] = column<bool>(p, [](const auto& x) { return x.converged; });
-        d["aperiodic_min"] = column<double>(p, [](const auto& x) { return x.aperiodic_min; });
-        d["aperiodic_max"] = column<double>(p, [](const auto& x) { return x.aperiodic_max; });
-        // The chart's cells, value after value, with the index of their value.
-        struct flat_cell {
-            long point;
-            const clearance_cell* cell;
-        };
-        std::vector<flat_cell> cells;
-        for (std::size_t k = 0; k < p.size(); ++k)
-            for (const auto& c : p[k].cells) cells.push_back({static_cast<long>(k), &c});
-        d["cell_point"] = column<std::int64_t>(cells, [](const flat_cell& x) { return x.point; });
-        d["cell_gap"] = column<double>(cells, [](const flat_cell& x) { return x.cell->gap; });
-        d["cell_gap_value"] = column<double>(cells, [](const flat_cell& x) { return x.cell->gap_parameter_value; });
-        put_labels(d, cells, [](const flat_cell& x) -> const period_label& { return x.cell->label; }, m.surface_count());
-        d["outcome"] = string_list(cells, [](const flat_cell& x) { return to_string(x.cell->status); });
-        d["statistics"] =
-            statistics_columns(cells, [](const flat_cell& x) -> const impact_statistics& { return x.cell->statistics; });
+        std::vector<clearance_cell> cells;
+        std::vector<long> point;
+        for (std::size_t k = 0; k < r.points.size(); ++k)
+            for (const auto& c : r.points[k].cells) {
+                cells.push_back(c);
+                point.push_back(static_cast<long>(k));
+            }
+        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
+        d["cells"] = record_arrays(cells, m.surface_count(), m.dim());
+        d["cell_point"] = int_array(point);
     };
     return run_jobs(o, analysis, [&](py::dict& d, const clearance_result& r) {
+        d["gap_param"] = m.info().parameters[static_cast<std::size_t>(r.gap_parameter)].name;
+        d["surface"] = m.info().surfaces[static_cast<std::size_t>(r.surface)].name;
         put(d, r);
         if (!units) return;
         py::dict si;

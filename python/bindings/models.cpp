@@ -13,77 +13,11 @@
 #include "bindings.hpp"
 #include "common.hpp"
 #include "vimpact/analysis/grazing.hpp"
+#include "vimpact/io/model_info_json.hpp"
 #include "vimpact/model/model_file.hpp"
 
 namespace vimpact::python {
 namespace {
-
-py::dict range_dict(const value_range& r)
-{
-    py::dict d;
-    d["lower"] = r.lower;
-    d["upper"] = r.upper;
-    d["lower_inclusive"] = r.lower_inclusive;
-    d["upper_inclusive"] = r.upper_inclusive;
-    d["text"] = r.text();
-    return d;
-}
-
-py::dict info_dict(const model_info& info)
-{
-    py::dict d;
-    d["name"] = info.name;
-    d["description"] = info.description;
-    d["source"] = info.source;
-    d["identity"] = info.identity;
-    py::list state, parameters, surfaces, sections, presets;
-    for (const auto& s : info.state) {
-        py::dict e;
-        e["name"] = s.name;
-        e["meaning"] = s.meaning;
-        e["unit"] = s.unit;
-        e["period"] = s.period;
-        state.append(e);
-    }
-    for (const auto& p : info.parameters) {
-        py::dict e;
-        e["name"] = p.name;
-        e["meaning"] = p.meaning;
-        e["unit"] = p.unit;
-        e["default"] = p.default_value;
-        e["range"] = range_dict(p.range);
-        parameters.append(e);
-    }
-    for (const auto& s : info.surfaces) {
-        py::dict e;
-        e["name"] = s.name;
-        e["meaning"] = s.meaning;
-        e["sticks"] = s.sticks;
-        surfaces.append(e);
-    }
-    for (const auto& s : info.sections) {
-        py::dict e;
-        e["name"] = s.name;
-        e["meaning"] = s.meaning;
-        e["direction"] = std::string(to_string(s.direction));
-        sections.append(e);
-    }
-    for (const auto& p : info.presets) {
-        py::dict e, values;
-        e["name"] = p.name;
-        e["meaning"] = p.meaning;
-        for (const auto& [i, v] : p.values) values[py::str(info.parameters[static_cast<std::size_t>(i)].name)] = v;
-        e["values"] = values;
-        presets.append(e);
-    }
-    d["state"] = state;
-    d["parameters"] = parameters;
-    d["surfaces"] = surfaces;
-    d["sections"] = sections;
-    d["presets"] = presets;
-    d["initial_state"] = vector_array(info.initial_state);
-    return d;
-}
 
 Eigen::VectorXd point_of(const model& m, const input_array& x)
 {
@@ -133,7 +67,8 @@ void bind_models(py::module_& m)
             });
         },
         py::arg("text"), py::arg("source"));
-    cls.def_property_readonly("info", [](const model& x) { return info_dict(x.info()); });
+    // As JSON text (io/model_info_json.hpp): vimpact/_model.py reads it with json.loads.
+    cls.def_property_readonly("info", [](const model& x) { return model_info_json(x.info()).dump(); });
     cls.def_property_readonly("identity", [](const model& x) { return x.info().identity; });
     cls.def_property_readonly("parameters", [](const model& x) { return x.parameters(); });
     cls.def("with_parameters",

@@ -658,7 +658,7 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
         return report
     warnings = []
     if units is not None:
-        for v in d["value"]:
+        for v in d["records"]["value"]:
             warnings += [w for w in units.warnings(model.with_(**{param: v})) if w not in warnings]
     opts = _result_options(ic, o, "values", "gaps", "fractions", "units")
     if units is not None:

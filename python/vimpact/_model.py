@@ -199,9 +199,10 @@ class Model:
     def info(self):
         """dict: name, description, source, identity, state, parameters, surfaces, sections,
         presets (each a list of dicts with name, meaning and what else applies: unit, default,
-        range, period, sticks, direction, values) and initial_state."""
+        range, period (None unless a phase), sticks, direction, values) and initial_state, as
+        `vimpact models --json` gives them."""
         if self._info is None:
-            object.__setattr__(self, "_info", self._handle.info)
+            object.__setattr__(self, "_info", json.loads(self._handle.info))
         return self._info
 
     @property

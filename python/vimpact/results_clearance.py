@@ -1,6 +1,6 @@
-"""The result of clearance design (``vimpact.clearance``, the command ``clearance``), which the
-library does not describe as a record: its attributes and its reader of clearance.csv and
-chart.csv are written here. ``vimpact.results`` names it too. Pure Python and numpy."""
+"""The result of clearance design (``vimpact.clearance``, the command ``clearance``), built from
+the records of its values and chart cells (analysis/clearance.hpp). ``vimpact.results`` names
+it too. Pure Python and numpy."""
 import functools
 import os
 from dataclasses import dataclass, field
@@ -9,7 +9,7 @@ from typing import Optional
 import numpy as np
 
 from .results import (_a, _Context, _documented, _Labels, _loaded, _reader, _str_array, JobReport, label_counts,
-                      read_table)
+                      read_table, read_tables)
 
 
 _CHART = "ndarray, float64, shape (n, k)"
@@ -83,38 +83,38 @@ class Clearance(_Context, _Labels):
 
     @classmethod
     def of(cls, d, si=None, **run):
-        """From the bindings' columns (``load`` reads the same from the files): per value of
-        the parameter and per chart cell (``cell_point``: its value's index, cells value
-        after value); ``si`` the same in SI units (the attributes ``*_si``) or None."""
-        chart = functools.partial(cls.chart, d["cell_point"], n=len(d["value"]))
+        """From the records of the values (``records``) and of the chart's cells (``cells``,
+        value after value; ``cell_point``: each one's value index), as the bindings give them
+        and ``read_tables`` reads clearance.csv and chart.csv; ``si`` the same in SI units (the
+        attributes ``*_si``) or None."""
+        chart = functools.partial(cls.chart, d["cell_point"], n=len(d["records"]["value"]))
 
-        def quantities(c):  # what has an SI form
-            return dict(clearance=c["clearance"], aperiodic=np.column_stack([c["aperiodic_min"], c["aperiodic_max"]]),
-                        gap=chart(c["cell_gap"]), statistics={k: chart(v) for k, v in c["statistics"].items()})
-        return cls(value=d["value"], grazing_value=d["grazing_value"], converged=d["converged"],
-                   label=chart(_str_array(d["label"])), period=chart(d["period"]), impacts=chart(d["impacts"]),
-                   outcome=chart(_str_array(d["outcome"])), **quantities(d),
-                   **({k + "_si": v for k, v in quantities(si).items()} if si is not None else {}), **run)
+        def quantities(p, c):  # what has an SI form
+            return dict(clearance=p["clearance"], aperiodic=np.column_stack([p["aperiodic_min"], p["aperiodic_max"]]),
+                        gap=chart(c["gap"]),
+                        statistics={k: chart(v) for k, v in c["statistics"].items() if np.ndim(v) == 1})
+        p, c = d["records"], d["cells"]
+        return cls(value=p["value"], grazing_value=p["grazing_value"], converged=p["converged"],
+                   label=chart(_str_array(c["label"])), period=chart(c["period"]), impacts=chart(c["impacts"]),
+                   outcome=chart(_str_array(c["outcome"])), **quantities(p, c),
+                   **({k + "_si": v for k, v in quantities(si["records"], si["cells"]).items()} if si else {}), **run)
 
     @_reader
     def load(cls, directory):
         """The result of ``vimpact clearance --out DIR``."""
         ctx, res = _loaded(directory)
-        param, gname, names = res["param"], res["gap_param"], res["statistics_columns"]
+        tables = read_tables(directory)
         cl, ch = (read_table(os.path.join(directory, f)) for f in ("clearance.csv", "chart.csv"))
-        column = {k: np.array(v, dtype=float) for k, v in cl.items()}
 
-        def cell(key):
-            return np.array(ch[key], dtype=float)
+        def column(table, key):
+            return np.array(table[key], dtype=float)
+        value = tables["clearance.csv"]["value"]
         # Cells are written value after value; their value index from the parameter column.
-        point = np.array([int(np.argmin(np.abs(column[param] - v))) for v in cell(param)], dtype=np.int64)
-        d = dict(value=column[param], grazing_value=column[gname + "_graze"], clearance=column["clearance"],
-                 converged=column["converged"] > 0.5, aperiodic_min=column["aperiodic_min"],
-                 aperiodic_max=column["aperiodic_max"], cell_point=point, cell_gap=cell("gap"), label=ch["label"],
-                 period=cell("period").astype(np.int64), impacts=cell("impacts").astype(np.int64),
-                 outcome=ch["outcome"], statistics={k: cell(k) for k in names})
-        si = dict(clearance=column["clearance_si"], aperiodic_min=column["aperiodic_min_si"],
-                  aperiodic_max=column["aperiodic_max_si"], cell_gap=cell("gap_si"),
-                  statistics={k: cell(k + "_si") for k in names if k + "_si" in ch}) if res["units"] == "si" else None
-        return cls.of(d, si, param=param, x=res["x"], gap_param=gname, surface=res["surface"],
-                      speed=column["U"] if res["x"] == "U" else None, warnings=tuple(res["warnings"]), **ctx)
+        point = np.array([int(np.argmin(np.abs(value - v))) for v in column(ch, res["param"])], dtype=np.int64)
+        si = dict(records={k: column(cl, k + "_si") for k in ("clearance", "aperiodic_min", "aperiodic_max")},
+                  cells=dict(gap=column(ch, "gap_si"),
+                             statistics={k: column(ch, k + "_si") for k in res["statistics_columns"]}))
+        return cls.of(dict(records=tables["clearance.csv"], cells=tables["chart.csv"], cell_point=point),
+                      si if res["units"] == "si" else None,
+                      param=res["param"], x=res["x"], gap_param=res["gap_param"], surface=res["surface"],
+                      speed=column(cl, "U") if res["x"] == "U" else None, warnings=tuple(res["warnings"]), **ctx)

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "io/json_codec.hpp"
+#include "io/record_json.hpp"
 #include "jobs/journal.hpp"
 #include "vimpact/analysis/sweep.hpp"
 #include "vimpact/core/format.hpp"
@@ -15,42 +16,19 @@ namespace {
 
 using detail::json;
 
+// The point's fields and its cells, each as its record.
 json encode(const clearance_point& p)
 {
-    json cells = json::array();
-    for (const auto& c : p.cells)
-        cells.push_back({{"gap", detail::number(c.gap)},
-                         {"value", detail::number(c.gap_parameter_value)},
-                         {"label", detail::to_json(c.label)},
-                         {"status", std::string(to_string(c.status))},
-                         {"statistics", detail::to_json(c.statistics)}});
-    return {{"value", detail::number(p.value)},
-            {"grazing_value", detail::number(p.grazing_value)},
-            {"clearance", detail::number(p.clearance)},
-            {"converged", p.converged},
-            {"cells", cells},
-            {"aperiodic", detail::numbers({p.aperiodic_min, p.aperiodic_max})}};
+    json j = detail::record_json(p);
+    j["cells"] = json::array();
+    for (const auto& c : p.cells) j["cells"].push_back(detail::record_json(c));
+    return j;
 }
 
 clearance_point decode(const json& j)
 {
-    clearance_point p;
-    p.value = detail::number_from(j.at("value"));
-    p.grazing_value = detail::number_from(j.at("grazing_value"));
-    p.clearance = detail::number_from(j.at("clearance"));
-    p.converged = j.at("converged").get<bool>();
-    for (const auto& c : j.at("cells")) {
-        clearance_cell cell;
-        cell.gap = detail::number_from(c.at("gap"));
-        cell.gap_parameter_value = detail::number_from(c.at("value"));
-        cell.label = detail::label_from(c.at("label"));
-        cell.status = detail::outcome_from(c.at("status"));
-        cell.statistics = detail::statistics_from(c.at("statistics"));
-        p.cells.push_back(std::move(cell));
-    }
-    const auto a = detail::numbers_from(j.at("aperiodic"));
-    p.aperiodic_min = a.at(0);
-    p.aperiodic_max = a.at(1);
+    auto p = detail::record_from<clearance_point>(j);
+    for (const auto& c : j.at("cells")) p.cells.push_back(detail::record_from<clearance_cell>(c));
     return p;
 }
 

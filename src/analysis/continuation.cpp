@@ -87,8 +87,8 @@ void validate(const model& m, const continuation_options& o)
     validate(o.protocol);
     validate(m, o.protocol.section);
     if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("continuation needs a section crossing, not the impacts (" +
-                          sections_it_has(m.info()) + ")");
+        throw option_error("section", ": continuation needs a section crossing, not the impacts (" +
+                                          sections_it_has(m.info()) + ")");
     if (!o.from_attractor && o.returns < 1)
         throw input_error("a continuation from a given point needs its section returns per period (>= 1)");
     validate(o.arclength);

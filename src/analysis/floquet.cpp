@@ -14,11 +14,11 @@ void validate(const model& m, const floquet_options& o)
     validate(m, o.protocol.section);
     validate(o.tangent_integration);
     if (o.protocol.section.type != section_choice::kind::crossing)
-        throw input_error("Floquet analysis needs a section crossing, not the impacts (" +
-                          sections_it_has(m.info()) + ")");
+        throw option_error("section", ": Floquet analysis needs a section crossing, not the impacts (" +
+                                          sections_it_has(m.info()) + ")");
     if (o.protocol.record_points < 2)
-        throw input_error("Floquet analysis needs at least 2 recorded section points (got " +
-                          std::to_string(o.protocol.record_points) + ")");
+        throw option_error("record", " = " + std::to_string(o.protocol.record_points) +
+                                         ": Floquet analysis needs at least 2 recorded section points");
     check_options(o);
     // A period of a few time units sampled at the bound is a few million samples; a smaller
     // step would only fill memory (and at 1e-300 never end).

@@ -8,18 +8,15 @@
 
 namespace vimpact {
 
-namespace {
-
 using detail::json;
 
-model curve_model(const model& m, const std::vector<std::pair<int, double>>& curve)
+model response_model(const model& m, const response_options& o, int curve, double value)
 {
     model c = m;
-    for (const auto& [p, v] : curve) c = c.with_parameter(p, v);
-    return c;
+    if (curve >= 0 && curve < static_cast<int>(o.curves.size()))
+        for (const auto& [p, v] : o.curves[static_cast<std::size_t>(curve)]) c = c.with_parameter(p, v);
+    return c.with_parameter(o.parameter, value);
 }
-
-}  // namespace
 
 response_result response(const model& m, const response_options& o, const job_options& j,
                          const job_stream<response_point>& each)
@@ -36,14 +33,13 @@ response_result response(const model& m, const response_options& o, const job_op
     go.response_variable = o.variable;
     validate(m, go);
     const auto curves = o.curves.empty() ? std::vector<std::vector<std::pair<int, double>>>{{}} : o.curves;
-    for (const auto& c : curves) {
-        for (const auto& [p, v] : c) {
+    for (std::size_t k = 0; k < curves.size(); ++k) {
+        for (const auto& [p, v] : curves[k]) {
             if (p < 0 || p >= P) throw input_error("curve parameter index out of range");
             if (p == o.parameter)
                 throw input_error("a curve sets " + pname + ", the swept parameter (its values come from the range)");
         }
-        const model mc = curve_model(m, c);  // validates the curve's values
-        for (const double v : o.values) (void)mc.with_parameter(o.parameter, v);
+        for (const double v : o.values) (void)response_model(m, o, static_cast<int>(k), v);  // validates the values
     }
     const Eigen::VectorXd ic = o.initial_state.size() ? o.initial_state : m.initial_state();
     check_state_size(m, ic.size(), "the initial state");
@@ -64,7 +60,7 @@ response_result response(const model& m, const response_options& o, const job_op
         response_point p;
         p.curve = static_cast<int>(k);
         p.value = o.values[static_cast<std::size_t>(i)];
-        const model mv = curve_model(m, curves[static_cast<std::size_t>(k)]).with_parameter(o.parameter, p.value);
+        const model mv = response_model(m, o, p.curve, p.value);
         const auto g = grazing(mv, ic, go);
         p.maximum = g.response_max;
         p.minimum = g.response_min;

@@ -36,7 +36,7 @@ void* module_symbol(const char* file, const char* symbol)
         if (handle == nullptr) {
             const char* why = dlerror();
             throw std::runtime_error("cannot load " + path + " (" + (why ? why : "unknown reason") +
-                                     "): this vimpact is not completely installed");
+                                     "): this vimpact is not completely built (build all its targets) or installed");
         }
     }
     void* address = dlsym(handle, symbol);

@@ -1,8 +1,6 @@
-// Every analysis and the steppable systems (include/vimpact/system/) on the built-in model
-// wake_impact, compiled natively (see src/dispatch.hpp); its SIMD lanes are in
-// wake_impact_lanes.cpp.
+// The module of the built-in model wake_impact (libvimpact_engine_wake_impact.so): every analysis and the
+// steppable systems on its native definition (see src/engine_instances.hpp); its SIMD lanes are
+// in wake_impact_lanes.cpp.
 #include "engine_instances.ipp"
-#include "system/system_engines.ipp"
 
-VIMPACT_INSTANTIATE_ENGINE(vimpact::native_model<vimpact::wake_impact>)
-VIMPACT_INSTANTIATE_SYSTEMS(vimpact::native_model<vimpact::wake_impact>)
+VIMPACT_ENGINE_MODULE(vimpact::native_model<vimpact::wake_impact>)

@@ -1,6 +1,7 @@
-// The job commands' SIMD lanes on the built-in model wake_impact, in a translation unit of their own:
-// it is compiled with the options that make the compiler move a lane value whole
-// (CMakeLists.txt, VIMPACT_LANE_MOVE_OPTIONS), which would slow the other analyses' tangent runs.
+// The job commands' SIMD lanes on the built-in model wake_impact, part of its module, in a translation
+// unit of its own: it is compiled with the options that make the compiler move a lane value
+// whole (CMakeLists.txt, VIMPACT_LANE_MOVE_OPTIONS), which would slow the other analyses'
+// tangent runs.
 #include "engine_instances.ipp"
 
-VIMPACT_INSTANTIATE_LANES(vimpact::native_model<vimpact::wake_impact>)
+VIMPACT_ENGINE_LANES(vimpact::native_model<vimpact::wake_impact>)

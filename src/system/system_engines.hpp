@@ -1,9 +1,10 @@
 #pragma once
 // The steppable systems' engines behind virtual interfaces, so that the public classes
 // (include/vimpact/system/) hold a model-independent pointer: declared here, defined in
-// system_engines.ipp and instantiated for every engine model beside its analyses in
-// src/instances/ (one unit per model: the flow and integrator templates both use are then
-// compiled once). The public classes reach them through detail::with_engine (dispatch.hpp).
+// system_engines.ipp and compiled for every engine model in its module beside its analyses
+// (src/instances/: the flow and integrator templates both use are then compiled once). The
+// public classes make them through detail::with_engine (dispatch.hpp) and make_flow_system,
+// make_tangent_engine (engine_instances.hpp).
 #include <memory>
 
 #include <Eigen/Core>
@@ -73,15 +74,5 @@ protected:
     double m_t = 0.0;
     outcome m_status = outcome::ok;
 };
-
-// Started at (t, x); throws input_error where the flow does (x beyond a surface).
-template <class EM>
-std::unique_ptr<flow_system> make_flow_system(const EM& em, const flow_system_spec& s, double t,
-                                              const Eigen::VectorXd& x);
-
-// Started at (t, x) with deviations w (N x k, k = o.deviations).
-template <class EM>
-std::unique_ptr<tangent_engine> make_tangent_engine(const EM& em, const tangent_system_options& o, double t,
-                                                    const Eigen::VectorXd& x, const Eigen::MatrixXd& w);
 
 }  // namespace vimpact::detail

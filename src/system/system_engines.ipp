@@ -1,5 +1,6 @@
-// The definitions of system_engines.hpp: included by the engine instances (src/instances/),
-// each of which instantiates them for one engine model with VIMPACT_INSTANTIATE_SYSTEMS.
+// The steppable systems' engines (system_engines.hpp) on one engine model: included by the
+// engine modules (src/instances/), whose table of functions (engine_instances.ipp) holds
+// make_flow_system and make_tangent_engine.
 #include "system/system_engines.hpp"
 
 #include <optional>
@@ -98,6 +99,8 @@ private:
 
     engine::stepping_flow<EM, Method> m_run;
 };
+
+namespace instance {
 
 template <class EM>
 std::unique_ptr<flow_system> make_flow_system(const EM& em, const flow_system_spec& s, double t,
@@ -218,10 +221,6 @@ std::unique_ptr<tangent_engine> make_tangent_engine(const EM& em, const tangent_
     return std::make_unique<tangent_engine_on<EM>>(em, o, t, head_as<EM::dim>(x, state_dim(em)), w);
 }
 
-}  // namespace vimpact::detail
+}  // namespace instance
 
-#define VIMPACT_INSTANTIATE_SYSTEMS(EM)                                                                          \
-    template std::unique_ptr<vimpact::detail::flow_system> vimpact::detail::make_flow_system<EM>(              \
-        const EM&, const vimpact::detail::flow_system_spec&, double, const Eigen::VectorXd&);                   \
-    template std::unique_ptr<vimpact::detail::tangent_engine> vimpact::detail::make_tangent_engine<EM>(         \
-        const EM&, const vimpact::tangent_system_options&, double, const Eigen::VectorXd&, const Eigen::MatrixXd&);
+}  // namespace vimpact::detail

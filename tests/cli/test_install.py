@@ -55,9 +55,10 @@ def test_the_main_job_configures_without_the_tests_and_benchmarks_packages(tmp_p
     # run-main.sh's own configure line, with the packages only the tests and the benchmarks
     # install made invisible to CMake: it must not need them.
     text = (ROOT / "scripts" / "run-main.sh").read_text()
-    line = re.search(r"^cmake -S \. -B build (.*?) >", text, flags=re.M)
-    assert line, "run-main.sh has no configure line"
+    line = re.search(r'^cmake -S \. -B build "\$\{options\[@\]\}" >', text, flags=re.M)
+    options = re.search(r"^options=\((.*?)\)$", text, flags=re.M)
+    assert line and options, "run-main.sh has no configure line"
     hidden = [f"-DCMAKE_DISABLE_FIND_PACKAGE_{name}=ON" for name in ("GTest", "benchmark", "Boost", "MPI")]
-    p = subprocess.run(["cmake", "-S", str(ROOT), "-B", str(tmp_path / "build"), *line.group(1).split(), *hidden],
+    p = subprocess.run(["cmake", "-S", str(ROOT), "-B", str(tmp_path / "build"), *options.group(1).split(), *hidden],
                        capture_output=True, text=True)
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]

@@ -112,9 +112,9 @@ def test_section_names_and_errors(pair):
         vimpact.simulate(m, section="maxima")
     with pytest.raises(vimpact.InputError, match="no surface 'top'"):
         vimpact.simulate(m, section="impacts:top")
-    with pytest.raises(vimpact.InputError, match="has no parameter 'Ur'"):
+    with pytest.raises(vimpact.InputError, match="unknown parameter 'Ur' for param"):
         vimpact.sweep(m, "Ur", [1, 2])
-    with pytest.raises(vimpact.InputError, match="has no state variable 'y'"):
+    with pytest.raises(vimpact.InputError, match="x: 'y' is not one of x, v, phi"):
         vimpact.basins(m, x=("y", [0, 1]), y=("v", [0, 1]))
     with pytest.raises(vimpact.InputError, match="does not enter the vector field"):
         vimpact.response(m, "d", [1, 2])

@@ -116,7 +116,7 @@ def test_response_shapes():
     # sigma is the minimum of y.
     np.testing.assert_array_equal(r.amplitude, np.maximum(np.abs(r.maximum), np.abs(r.minimum)))
     np.testing.assert_array_equal(r.grazing[:, :, 0], r.minimum)
-    with pytest.raises(vimpact.InputError, match="has no parameter 'B'"):
+    with pytest.raises(vimpact.InputError, match="unknown parameter 'B' for curves"):
         vimpact.response(W, "Ur", [5], curves=[{"B": 1}])
 
 

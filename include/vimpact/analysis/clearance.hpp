@@ -58,6 +58,18 @@ struct clearance_cell {
     impact_statistics statistics;
 };
 
+// A chart cell as a record (core/record.hpp): a row of chart.csv, a journal entry.
+template <class V, record_of<clearance_cell> C>
+void describe(V& v, C& c)
+{
+    v(field{"gap", "the gap from the rest state to the surface", "g"}, c.gap);
+    v(field{"gap_value", "the gap parameter's value at this gap", "parameter", field_span::one, "{grazing}"},
+      c.gap_parameter_value);
+    describe(v, c.label);
+    v(field{"outcome", "ok, or how the run ended early"}, c.status);
+    v.group(field{"statistics", "impact statistics of the recorded window"}, c.statistics);
+}
+
 struct clearance_point {
     static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     double value = nan;            // of the flow parameter
@@ -67,6 +79,20 @@ struct clearance_point {
     std::vector<clearance_cell> cells;
     double aperiodic_min = nan, aperiodic_max = nan;
 };
+
+// A value's point as a record: a row of clearance.csv. Its cells are not a field: chart.csv
+// is a table of its own.
+template <class V, record_of<clearance_point> P>
+void describe(V& v, P& p)
+{
+    v(field{"value", "the flow parameter's value", "parameter", field_span::one, "{axis}"}, p.value);
+    v(field{"grazing_value", "the gap parameter's grazing value", "parameter", field_span::one, "{grazing}_graze"},
+      p.grazing_value);
+    v(field{"clearance", "the gap at grazing: the smallest gap without impact", "g"}, p.clearance);
+    v(field{"converged", "the grazing run converged"}, p.converged);
+    v(field{"aperiodic_min", "the smallest chart gap labelled aperiodic (NaN: none)", "g"}, p.aperiodic_min);
+    v(field{"aperiodic_max", "the largest chart gap labelled aperiodic (NaN: none)", "g"}, p.aperiodic_max);
+}
 
 struct clearance_result {
     int gap_parameter = -1;

@@ -79,6 +79,11 @@ struct response_result {
     job_report jobs;
 };
 
+// The model a point of a response runs: m with curve `curve`'s parameters (none beyond
+// o.curves: one curve at m's values) and the swept parameter at `value`. Throws input_error
+// for a value outside a parameter's range.
+model response_model(const model& m, const response_options& o, int curve, double value);
+
 // With `each`, the points go to it in job order as the run goes (jobs/job_options.hpp,
 // Streaming) and `points` stays empty.
 response_result response(const model& m, const response_options& o, const job_options& j = {},
