@@ -112,12 +112,15 @@ class RunFrames:
 
 
 class ImpactFrames:
-    """For a single run: its impacts, section points and samples as rows."""
+    """For a single run: its impacts, and its states over time (``_state_tables``: a table's
+    name -> the attributes of its times and states) as rows."""
+    _state_tables = {"sections": ("section_t", "section"), "series": ("series_t", "series")}
 
     def to_pandas(self, table="impacts"):
         """A pandas DataFrame: ``"impacts"`` (default; time, surface, the state before and
-        after as NAME_pre, NAME_post), ``"sections"`` (time and state of each section point)
-        or ``"series"`` (the samples)."""
+        after as NAME_pre, NAME_post), or time and state of each row of a state table:
+        ``"sections"`` (the section points) and ``"series"`` (the samples) of a Simulation,
+        ``"orbit"`` (the refined orbit's samples) of a Floquet result."""
         names = list(self.state_names)
         if table == "impacts":
             columns = {"t": self.impact_t, "surface": [self.surfaces[int(i)] for i in self.impact_surface]}
@@ -125,10 +128,11 @@ class ImpactFrames:
                 states = np.asarray(states, dtype=float).reshape(-1, len(names))
                 columns.update({f"{n}_{when}": states[:, k] for k, n in enumerate(names)})
             return _module("pandas").DataFrame(columns)
-        if table in ("sections", "series"):
-            t, states = (self.section_t, self.section) if table == "sections" else (self.series_t, self.series)
+        if table in self._state_tables:
+            t, states = (getattr(self, a) for a in self._state_tables[table])
             return _state_frame(np.asarray(states).reshape(len(t), len(names)), names, {"t": t})
-        raise ValueError(f"table must be 'impacts', 'sections' or 'series' (got {table!r})")
+        tables = ", ".join(repr(k) for k in ("impacts", *self._state_tables))
+        raise ValueError(f"table must be one of {tables} (got {table!r})")
 
 
 class BranchFrames:

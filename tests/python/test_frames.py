@@ -179,3 +179,17 @@ def test_a_dimensions_curve_and_grazings_surfaces_are_rows():
     df = g.to_pandas()
     assert list(df["surface"]) == ["right", "left"] and list(df.columns[-3:]) == ["x", "v", "phi"]
     assert np.array_equal(df["value"], g.value) and np.array_equal(df[["x", "v", "phi"]].to_numpy(), g.x)
+
+
+def test_a_floquet_results_impacts_and_orbit():
+    f = vimpact.floquet(W.with_(Ur=16), sample_dt=0.05, **QUICK)
+    assert f.period > 0 and len(f.impact_t) > 0
+    df = f.to_pandas()
+    assert np.array_equal(df["t"], f.impact_t) and np.array_equal(df[["y_pre", "ydot_pre"]].to_numpy(),
+                                                                 f.impact_pre[:, :2])
+    orbit = f.to_pandas("orbit")
+    assert list(orbit.columns) == ["t", "y", "ydot", "x", "xdot"] and len(orbit) == len(f.orbit_t)
+    # The samples span one period of the refined orbit.
+    assert orbit["t"].iloc[-1] - orbit["t"].iloc[0] == pytest.approx(f.period, abs=0.05 + 1e-12)
+    with pytest.raises(ValueError, match="'impacts', 'orbit'"):
+        f.to_pandas("series")
