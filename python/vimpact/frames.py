@@ -112,12 +112,15 @@ class RunFrames:
 
 
 class ImpactFrames:
-    """For a single run: its impacts, section points and samples as rows."""
+    """For a single run: its impacts, and its states over time (``_state_tables``: a table's
+    name -> the attributes of its times and states) as rows."""
+    _state_tables = {"sections": ("section_t", "section"), "series": ("series_t", "series")}
 
     def to_pandas(self, table="impacts"):
         """A pandas DataFrame: ``"impacts"`` (default; time, surface, the state before and
-        after as NAME_pre, NAME_post), ``"sections"`` (time and state of each section point)
-        or ``"series"`` (the samples)."""
+        after as NAME_pre, NAME_post), or time and state of each row of a state table:
+        ``"sections"`` (the section points) and ``"series"`` (the samples) of a Simulation,
+        ``"orbit"`` (the refined orbit's samples) of a Floquet result."""
         names = list(self.state_names)
         if table == "impacts":
             columns = {"t": self.impact_t, "surface": [self.surfaces[int(i)] for i in self.impact_surface]}
@@ -125,10 +128,11 @@ class ImpactFrames:
                 states = np.asarray(states, dtype=float).reshape(-1, len(names))
                 columns.update({f"{n}_{when}": states[:, k] for k, n in enumerate(names)})
             return _module("pandas").DataFrame(columns)
-        if table in ("sections", "series"):
-            t, states = (self.section_t, self.section) if table == "sections" else (self.series_t, self.series)
+        if table in self._state_tables:
+            t, states = (getattr(self, a) for a in self._state_tables[table])
             return _state_frame(np.asarray(states).reshape(len(t), len(names)), names, {"t": t})
-        raise ValueError(f"table must be 'impacts', 'sections' or 'series' (got {table!r})")
+        tables = ", ".join(repr(k) for k in ("impacts", *self._state_tables))
+        raise ValueError(f"table must be one of {tables} (got {table!r})")
 
 
 class BranchFrames:
@@ -153,3 +157,63 @@ class BranchFrames:
                          **{n: f.state[k] for k, n in enumerate(names)}) for f in self.bifurcations]
             return pd.DataFrame(rows, columns=["type", self.param, "branch", "surface", *names])
         raise ValueError(f"table must be 'branches' or 'bifurcations' (got {table!r})")
+
+
+class ClearanceFrames:
+    """For clearance design: its values (the grazing line) and its chart's cells as rows."""
+
+    def to_pandas(self, table="values"):
+        """A pandas DataFrame with the columns of the command line's tables: ``"values"``
+        (default; clearance.csv: one row per value of the flow parameter: the value, the speed
+        U with SI units, the grazing value GAP_PARAM_graze, the clearance, whether it converged,
+        the aperiodic band's ends, with their SI columns NAME_si) or ``"chart"`` (chart.csv:
+        one row per chart cell: its value, U, gap, label, period, impacts, outcome and impact
+        statistics, with SI columns)."""
+        pd = _module("pandas")
+        lead = {self.param: np.asarray(self.value, dtype=float)}
+        if self.speed is not None:
+            lead["U"] = np.asarray(self.speed, dtype=float)
+        if table == "values":
+            columns = dict(lead, **{self.gap_param + "_graze": self.grazing_value}, clearance=self.clearance,
+                           converged=self.converged, aperiodic_min=self.aperiodic[:, 0],
+                           aperiodic_max=self.aperiodic[:, 1])
+            if self.clearance_si is not None:
+                columns.update(clearance_si=self.clearance_si, aperiodic_min_si=self.aperiodic_si[:, 0],
+                               aperiodic_max_si=self.aperiodic_si[:, 1])
+            return pd.DataFrame(columns)
+        if table != "chart":
+            raise ValueError(f"table must be 'values' or 'chart' (got {table!r})")
+        cells = np.asarray(self.label) != ""  # the padding left out, cells value after value
+        point = np.nonzero(cells)[0]
+        columns = {k: v[point] for k, v in lead.items()}
+        columns.update(gap=np.asarray(self.gap)[cells], label=np.asarray(self.label)[cells],
+                       period=np.asarray(self.period)[cells], impacts=np.asarray(self.impacts)[cells],
+                       outcome=np.asarray(self.outcome)[cells])
+        columns.update({k: np.asarray(v)[cells] for k, v in self.statistics.items()})
+        if self.gap_si is not None:
+            columns["gap_si"] = np.asarray(self.gap_si)[cells]
+            columns.update({k + "_si": np.asarray(v)[cells] for k, v in (self.statistics_si or {}).items()})
+        return pd.DataFrame(columns)
+
+
+class CurveFrames:
+    """For a correlation dimension: its correlation curve as rows."""
+
+    def to_pandas(self):
+        """A pandas DataFrame, one row per radius: r, pairs, C(r), the local slope and whether
+        the radius is in the fit."""
+        k = np.arange(len(self.r))
+        return _module("pandas").DataFrame(dict(r=self.r, pairs=self.pairs, c=self.c, local_slope=self.local_slope,
+                                                fitted=(k >= self.fit_first) & (k <= self.fit_last)))
+
+
+class SurfaceFrames:
+    """For grazing: one row per surface."""
+
+    def to_pandas(self):
+        """A pandas DataFrame, one row per surface: its name, the parameter that moves it and
+        its grazing value, the margin, whether it converged, the last change, and the time and
+        state (NAME columns) of the minimum gap."""
+        lead = dict(surface=list(self.surfaces), param=list(self.param), value=self.value, margin=self.margin,
+                    converged=self.surface_converged, change=self.change, minima=self.minima, t=self.t)
+        return _state_frame(self.x, list(self.state_names), lead)

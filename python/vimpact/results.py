@@ -25,7 +25,7 @@ from typing import Optional
 
 import numpy as np
 
-from .frames import ImpactFrames, RunFrames
+from .frames import CurveFrames, ImpactFrames, RunFrames, SurfaceFrames
 
 try:  # the records' descriptions, for the documentation only
     from ._vimpact import described as _DESCRIBED
@@ -555,7 +555,7 @@ _PER_SURFACE = "ndarray, float64, shape (surfaces,)"
 
 @_documented()
 @dataclass(repr=False)
-class Grazing(_Context):
+class Grazing(_Context, SurfaceFrames):
     """Where the attracting surface-free orbit just touches each surface (``vimpact.grazing``,
     the command ``grazing``)."""
     param: tuple = _a("tuple of (str or None)", "Per surface, the parameter whose grazing value ``value`` gives "
@@ -799,7 +799,7 @@ class Response(_Records):
 
 @_documented()
 @dataclass(repr=False)
-class Dimension:
+class Dimension(CurveFrames):
     """The correlation dimension of a point set (``vimpact.dimension``, the command
     ``dimension``)."""
     dimension: float = _a("float", "The slope of log C against log r over the scaling region (NaN when "

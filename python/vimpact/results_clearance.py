@@ -8,6 +8,7 @@ from typing import Optional
 
 import numpy as np
 
+from .frames import ClearanceFrames
 from .results import (_a, _Context, _documented, _Labels, _loaded, _reader, _str_array, JobReport, label_counts,
                       read_table, read_tables)
 
@@ -17,7 +18,7 @@ _CHART = "ndarray, float64, shape (n, k)"
 
 @_documented()
 @dataclass(repr=False)
-class Clearance(_Context, _Labels):
+class Clearance(_Context, _Labels, ClearanceFrames):
     """Clearance design over a flow parameter (``vimpact.clearance``, the command ``clearance``):
     the smallest gap to the surface without impact at each value (the grazing line), the gaps
     where the response is aperiodic, and the design chart (a period label and the impact

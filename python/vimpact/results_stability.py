@@ -8,18 +8,20 @@ from typing import Optional
 
 import numpy as np
 
+from .frames import ImpactFrames
 from .results import (_a, _documented, _Impacts, _Labels, _loaded_record, _PointRuns, _Records, _Run, _states,
                       read_csv)
 
 
 @_documented("floquet", section_points="section", protocol_stats=None, tangent_stats=None, map_evaluations=None)
 @dataclass(repr=False)
-class Floquet(_Run, _Impacts):
+class Floquet(_Run, _Impacts, ImpactFrames):
     """Floquet multipliers of the periodic orbit reached (``vimpact.floquet``, the command
     ``floquet``; the paper's Algorithm 1 with the orbit refined by Newton shooting). Without
     a period (``status`` aperiodic, or a failed run) there are no multipliers and the period
     is NaN. Its impacts are those of the refined orbit over one period."""
     _timed_files, _si_key = {"orbit": "orbit.csv"}, "period_si"
+    _state_tables = {"orbit": ("orbit_t", "orbit")}
     monodromy: np.ndarray = _a("ndarray, float64, shape (dim, dim)")
     stable: Optional[bool] = _a("bool or None", "Every nontrivial |mu| < 1 (None without multipliers).")
     impact_map: str = _a("str", "The mapping of deviations at impacts.", "saltation")

@@ -141,3 +141,55 @@ def test_columns_follow_the_span_when_surfaces_and_states_are_as_many():
     g = vimpact.map(m, ("mu", [0.8, 1.0]), ("d", [1.5, 1.8]), ic=[0.5, 0.0], transient=20, record=10)
     ds = g.to_xarray()
     assert ds.impacts_by_surface.dims == ("d", "mu", "surface") and list(ds.surface.values) == ["right", "left"]
+
+
+def test_clearance_values_and_chart_cells_are_the_command_lines_tables(cli, tmp_path):
+    # The command line writes clearance.csv and chart.csv from the library's records; the frames
+    # are built from the Python result's arrays: the same run, two writers.
+    c = vimpact.clearance(W, "Ur", [15.0, 16.0], fractions=[0.5, 1.2], **QUICK)
+    out = tmp_path / "c"
+    p = cli("clearance", "--param", "Ur", "--range", "15:16:2", "--fractions", "0.5:1.2:2", "--transient", 50,
+            "--record", 20, "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    pd = importlib.import_module("pandas")
+    values, chart = c.to_pandas(), c.to_pandas("chart")
+    # pandas reads decimals exactly only when asked (its fast parser is off by an ulp at times).
+    written_values, written_chart = (pd.read_csv(out / f, float_precision="round_trip")
+                                     for f in ("clearance.csv", "chart.csv"))
+    assert len(values) == 2 and len(chart) == 4  # two values, two gaps each
+    for frame, written in ((values, written_values), (chart, written_chart)):
+        assert set(frame.columns) <= set(written.columns)  # named as the tables name them
+        for name in frame.columns:
+            if frame[name].dtype == object:
+                assert list(frame[name]) == list(written[name]), name
+            else:
+                assert np.array_equal(frame[name].astype(float), written[name].astype(float), equal_nan=True), name
+    assert {"sigma_graze", "clearance", "aperiodic_min"} <= set(values.columns)
+    assert {"gap", "label", "impact_rate", "energy_per_impact"} <= set(chart.columns)
+    assert list(chart["label"][1::2]) == ["P0", "P0"]  # 1.2 times the clearance: no impact
+
+
+def test_a_dimensions_curve_and_grazings_surfaces_are_rows():
+    rng = np.random.default_rng(3)
+    d = vimpact.dimension(rng.random((2000, 2)))
+    df = d.to_pandas()
+    assert len(df) == len(d.r) and np.array_equal(df["c"], d.pairs / d.total_pairs)
+    assert df["fitted"].sum() == d.fitted  # the radii of the fit, as many as it says
+    g = vimpact.grazing(vimpact.Model("two_sided_impact_oscillator"), param="d")
+    df = g.to_pandas()
+    assert list(df["surface"]) == ["right", "left"] and list(df.columns[-3:]) == ["x", "v", "phi"]
+    assert np.array_equal(df["value"], g.value) and np.array_equal(df[["x", "v", "phi"]].to_numpy(), g.x)
+
+
+def test_a_floquet_results_impacts_and_orbit():
+    f = vimpact.floquet(W.with_(Ur=16), sample_dt=0.05, **QUICK)
+    assert f.period > 0 and len(f.impact_t) > 0
+    df = f.to_pandas()
+    assert np.array_equal(df["t"], f.impact_t) and np.array_equal(df[["y_pre", "ydot_pre"]].to_numpy(),
+                                                                 f.impact_pre[:, :2])
+    orbit = f.to_pandas("orbit")
+    assert list(orbit.columns) == ["t", "y", "ydot", "x", "xdot"] and len(orbit) == len(f.orbit_t)
+    # The samples span one period of the refined orbit.
+    assert orbit["t"].iloc[-1] - orbit["t"].iloc[0] == pytest.approx(f.period, abs=0.05 + 1e-12)
+    with pytest.raises(ValueError, match="'impacts', 'orbit'"):
+        f.to_pandas("series")
