@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds with warnings as errors and runs every test (GoogleTest and
 # pytest under CTest: unit, command line, Python, examples, documents). A failed build or a
-# missing test fails the run. About 15 minutes on 2 cores from a clean clone.
+# missing test fails the run. About 13 minutes on 2 cores from a clean clone.
 # Longer checks, VIMPACT_LONG_TESTS=1: the long unit tests, the pip package, and then a second
 # build of the unit tests with AddressSanitizer + UBSan, run again (about 20 minutes more).
 set -euo pipefail
