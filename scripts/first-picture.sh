@@ -12,8 +12,14 @@ cd "$(dirname "$0")/.."
 root=${1:-/tmp/vimpact-fresh}
 [ "$(id -u)" = 0 ] || { echo "first-picture: needs root (debootstrap, chroot)" >&2; exit 2; }
 command -v debootstrap > /dev/null || apt-get install -y debootstrap > /dev/null
+# Only a root this script made is removed (its mark file), never another directory.
+if [ -e "$root" ] && [ ! -f "$root/.vimpact-fresh-root" ]; then
+  echo "first-picture: $root exists and was not made by this script; name a new directory" >&2
+  exit 2
+fi
 if mountpoint -q "$root/proc" 2> /dev/null; then umount "$root/proc"; fi
 rm -rf "$root"
+mkdir -p "$root" && touch "$root/.vimpact-fresh-root"
 debootstrap --variant=minbase bookworm "$root" http://deb.debian.org/debian > "$root.log" 2>&1 ||
   { tail -20 "$root.log"; exit 1; }
 cp /etc/resolv.conf "$root/etc/"

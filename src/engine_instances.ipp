@@ -2,8 +2,6 @@
 // of src/instances/, each of which makes the module of one engine model with
 // VIMPACT_ENGINE_MODULE, or (MODEL_lanes.cpp) compiles its SIMD lanes with
 // VIMPACT_ENGINE_LANES.
-#include <cstring>
-
 #include "engine_instances.hpp"
 #include "system/system_engines.ipp"
 #include "vimpact/engine/floquet.hpp"
