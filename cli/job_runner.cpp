@@ -20,7 +20,8 @@ void add_job_options(CLI::App& app, job_args& a)
     app.add_option("--threads", a.threads, "Worker threads (default 0: every core); results do not depend on it");
     app.add_option("--batch", a.batch,
                    "Jobs integrated together in SIMD lanes (default 0: the SIMD width of the build; 1: one at a time; "
-                   "model files always one at a time); results do not depend on it");
+                   "a plugin, or a model file of a dimension the build has no fixed-size states for, always one at a "
+                   "time); results do not depend on it");
     app.add_option("--shard", a.shard,
                    "Run only shard I/N of the jobs (with --out; the last shard to finish writes the result)");
     app.add_flag("--resume", a.resume, "Continue an interrupted run of the same command in --out");

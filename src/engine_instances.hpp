@@ -18,6 +18,7 @@
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
 #include "vimpact/model/native_model.hpp"
+#include "vimpact/model/table_lanes.hpp"
 #include "vimpact/model/table_model.hpp"
 #include "vimpact/hybrid/flow_lanes.hpp"
 
@@ -34,8 +35,21 @@ template <class EM>
 struct lanes_engine_t : std::false_type {};
 template <class D>
 struct lanes_engine_t<native_model<D>> : std::bool_constant<lanes_capable<D>> {};
+// A model file's lanes come with its table (model/table_lanes.hpp), for the fixed dimensions.
+template <int N>
+struct lanes_engine_t<table_model<N>> : std::bool_constant<N != Eigen::Dynamic> {};
 template <class EM>
 inline constexpr bool lanes_engine = lanes_engine_t<EM>::value;
+
+// Whether this model's jobs run in lanes: a lanes engine, whose table (if any) has lanes of
+// this build's width.
+template <class EM>
+bool lanes_ready(const EM& em)
+{
+    if constexpr (!lanes_engine<EM>) return false;
+    else if constexpr (requires { em.table(); }) return table_lanes<EM::dim>::available(em.table());
+    else return true;
+}
 
 // What an engine model's module gives: its analyses, as engine_instances.ipp defines them.
 template <class EM>

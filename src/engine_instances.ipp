@@ -32,28 +32,51 @@ simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_
     return with_method(o.method, [&]<template <int> class M>() { return engine::run_protocol<M>(em, head_as<EM::dim>(x0, state_dim(em)), o); });
 }
 
+// The engine model of m: a built-in's from its parameters, a table's from its table and context.
+template <class EM>
+EM engine_model_of(const model& m)
+{
+    if constexpr (requires { typename EM::definition_type; }) return EM(m.parameters());
+    else return EM(m.table(), m.context());
+}
+
 template <class EM>
 lanes_counts run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next,
                                 const protocol_sink& done)
 {
-    using D = typename EM::definition_type;
+    constexpr bool table = !requires { typename EM::definition_type; };
     // The jobs in the lanes, by the number run_in_lanes knows them by.
     std::unordered_map<long, protocol_job> running;
     long taken = 0;
+    // A table's lanes definition: its lanes and the lanes of the jobs' contexts (the jobs
+    // share the table: simulate_stream gives the lanes one model's jobs).
+    const vimpact_model_table* lanes_table = nullptr;
+    const auto make = [&](std::span<const lanes> p) {
+        if constexpr (table) return table_lanes<EM::dim>(*lanes_table, p);
+        else return typename EM::definition_type::lanes_definition(p);
+    };
+    using L = std::invoke_result_t<decltype(make), std::span<const lanes>>;
     auto run = [&]<template <int, class = double> class M>() {
-        return run_in_lanes<D, M>(
-            width,
+        return run_in_lanes_of<L, EM::dim, M>(
+            width, make,
             [&]() -> std::optional<long> {
                 std::optional<protocol_job> j = next();
                 if (!j) return std::nullopt;
+                if constexpr (table) lanes_table = &j->m.table();
                 running.emplace(taken, std::move(*j));
                 return taken++;
             },
             [&](long k) {
                 const protocol_job& j = running.at(k);
-                return std::make_unique<engine::protocol_run<M, EM>>(EM(j.m.parameters()), head_as<EM::dim>(j.x0, EM::dim), o);
+                return std::make_unique<engine::protocol_run<M, EM>>(engine_model_of<EM>(j.m), head_as<EM::dim>(j.x0, EM::dim), o);
             },
-            [&](long k) { return std::span<const double>(running.at(k).m.parameters()); },
+            [&](long k) {
+                const model& m = running.at(k).m;
+                if constexpr (table)
+                    return std::span<const double>(static_cast<const double*>(m.context()),
+                                                   static_cast<std::size_t>(m.table().context_size));
+                else return std::span<const double>(m.parameters());
+            },
             [&](long k, simulation&& s) {
                 auto node = running.extract(k);
                 done(std::move(node.mapped()), std::move(s));

@@ -141,7 +141,7 @@ const std::optional<fused_headers>& find_fused_headers()
         const std::string eigen(vimpact::eigen_include_dir());
         if (eigen.empty() || !fs::exists(fs::path(eigen) / "Eigen" / "Core")) return std::nullopt;
         for (const std::string_view dir : {vimpact::installed_include_dir(), vimpact::source_include_dir()}) {
-            const auto files = vimpact_includes(fs::path(dir), "vimpact/integrate/fused_step.hpp");
+            const auto files = vimpact_includes(fs::path(dir), "vimpact/integrate/fused_lanes.hpp");
             if (!files) continue;
             fused_headers h{std::string(dir), eigen, {}};
             for (const auto& f : *files) h.text += f.name + "\n" + f.text + "\n";
@@ -153,16 +153,21 @@ const std::optional<fused_headers>& find_fused_headers()
 }
 
 
-// No -ffast-math: the results must be IEEE arithmetic, as in the library's own code. The
-// Eigen alignment is the library's (its stage code runs here).
+// No -ffast-math: the results must be IEEE arithmetic, as in the library's own code, and no
+// multiply-add fused by the compiler (-ffp-contract=off, as the library's analyses): a job in
+// SIMD lanes then gets the bits it gets alone, whichever side runs its stages. The Eigen
+// alignment and the lanes' width are the library's (its stage code runs here).
 const std::vector<std::string>& compile_flags()
 {
     static const std::vector<std::string> flags = [] {
-        std::vector<std::string> f{"-std=c++20", "-O3",     "-march=native",       "-fPIC",
-                                   "-shared",    "-fno-math-errno", "-fvisibility=hidden"};
+        std::vector<std::string> f{"-std=c++20",      "-O3",    "-march=native",       "-fPIC",
+                                   "-shared",         "-fno-math-errno", "-fvisibility=hidden", "-ffp-contract=off"};
         if (const auto& h = find_fused_headers()) {
             f.insert(f.end(), {"-DVIMPACT_FUSED_STEPS", "-DEIGEN_MAX_ALIGN_BYTES=64", "-DEIGEN_MAX_STATIC_ALIGN_BYTES=64",
                                "-I" + h->vimpact, "-isystem", h->eigen});
+#ifdef VIMPACT_LANES_512
+            f.emplace_back("-DVIMPACT_LANES_512");
+#endif
         }
         return f;
     }();

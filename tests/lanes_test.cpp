@@ -3,7 +3,7 @@
 // counters, section points and impacts, bit for bit, also on chaotic orbits (where any
 // difference in rounding would grow to the size of the attractor) and through contact phases;
 // the step-size controller's polynomials against the standard library; the job commands with
-// --batch 1 against the default batch; a model file runs one job at a time.
+// --batch 1 against the default batch; model files in their binaries' lanes.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <tuple>
 
 #include "example_models.hpp"
 #include "test_support.hpp"
@@ -353,19 +354,84 @@ TEST(Lanes, InitialStatesAndSamplesEqualTheScalarRuns)
     expect_lanes_equal_scalar(std::vector<model>(x0s.size(), m), x0s, po);
 }
 
-TEST(Lanes, ModelFilesRunOneJobAtATime)
+// The models of a model file at every value of its parameter `name` in `values`.
+std::vector<model> file_models(const model& f, const std::string& name, const std::vector<double>& values)
+{
+    std::vector<model> out;
+    for (const double v : values) out.push_back(f.with_parameter(f.info().parameter_index(name), v));
+    return out;
+}
+
+// A model file of a fixed dimension runs its jobs in lanes (its binary's lanes, abi.h), each
+// with the bits it gets alone: the paper's model (a contact phase at sigma near 0), a pendulum
+// (sin and cos lane by lane, a contact phase), two stops, and a ball on a vibrating table (a
+// gap and a section that are not affine, checked on every step).
+TEST(Lanes, ModelFileJobsEqualTheirScalarRunsBitForBit)
 {
     const model f = test::example_model("wake_impact");
+    if (!wide_lanes) GTEST_SKIP() << "this build has no SIMD lanes";
+    ASSERT_TRUE(runs_in_lanes(f)) << "the model file's binary has no lanes of this build's width";
+    EXPECT_EQ(resolve_batch(f, 0), lane_width);
+    std::vector<model> paper;
+    for (const double ur : {12.0, 16.0, 18.5, 22.5, 24.1, 13.7, 21.2})
+        for (const double sigma : {-0.150298, -0.05, -0.003})
+            paper.push_back(f.with_parameter(f.info().parameter_index("Ur"), ur)
+                                .with_parameter(f.info().parameter_index("sigma"), sigma));
+    for_each_method(80, 40, 0.0, [&](const protocol_options& po) {
+        expect_lanes_equal_scalar(paper, std::vector<Eigen::VectorXd>(paper.size(), f.initial_state()), po);
+    });
+    for (const auto& [file, parameter, values] :
+         std::vector<std::tuple<std::string, std::string, std::vector<double>>>{
+             {"impacting_pendulum", "a", {0.3, 0.5, 0.6, 0.8, 1.0, 1.2, 1.5, 2.0, 2.5}},
+             {"two_sided_impact_oscillator", "a", {0.2, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0}},
+             {"vibrating_table", "G", {1.05, 1.2, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5}}}) {
+        SCOPED_TRACE(file);
+        const model m = test::example_model(file);
+        ASSERT_TRUE(runs_in_lanes(m));
+        const auto models = file_models(m, parameter, values);
+        for_each_method(60, 30, 0.0, [&](const protocol_options& po) {
+            expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
+        });
+    }
+}
+
+// A model file of a dimension with no fixed-size states in this build (states sized at run
+// time) and a C++ definition loaded as a table run one job at a time, with their own bits.
+TEST(Lanes, ModelsWithoutTableLanesRunOneJobAtATime)
+{
+    const std::string copies = R"toml(
+name = "five"
+description = "a forced oscillator at a stop beside a free damped one"
+state = [{ name = "x1" }, { name = "x2" }, { name = "x3" }, { name = "x4" }, { name = "phi" }]
+initial_state = [0.5, 1, 0.5, 0.2, 0]
+[parameters]
+k = { default = 1.0, meaning = "stiffness", above = 0 }
+[derivatives]
+x1 = "x2"
+x2 = "-k*x1 - 0.1*x2 + 0.6*cos(phi)"
+x3 = "x4"
+x4 = "-x3 - 0.1*x4"
+phi = "1.3"
+[[surfaces]]
+name = "stop"
+gap = "0.8 - x1"
+reset = { x2 = "-0.7*x2" }
+[[sections]]
+name = "top"
+when = "x2"
+direction = "up"
+)toml";
+    const model f = model::from_toml(copies, "five.toml");
     EXPECT_FALSE(runs_in_lanes(f));
     EXPECT_EQ(resolve_batch(f, 0), 1);
-    EXPECT_EQ(resolve_batch(model::builtin("wake_impact"), 1), 1);
     EXPECT_THROW((void)resolve_batch(f, -1), input_error);
     protocol_options po;
-    po.transient_impacts = 20;
+    po.transient_impacts = 5;
     po.record_points = 10;
-    const auto many = simulate_many({f, f}, {f.initial_state(), f.initial_state()}, po, 8);
-    const auto alone = simulate(f, f.initial_state(), po);
-    expect_same_series(alone.points, many[1].points, "model file");
+    const model g = f.with_parameter(0, 1.3);
+    const auto many = simulate_many({f, g}, {f.initial_state(), f.initial_state()}, po, 8);
+    expect_same_run(simulate(f, f.initial_state(), po), many[0], "five states");
+    expect_same_run(simulate(g, f.initial_state(), po), many[1], "five states, k = 1.3");
 }
 
 // The job commands: the default batch (lanes) and --batch 1 give the same cells and points.

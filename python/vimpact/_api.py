@@ -363,7 +363,8 @@ def sweep(model, param, values, ic=None, *, grazing=False, section=None, threads
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
-        (a model file always runs one at a time). Results never depend on it.
+        (a plugin, or a model file of a dimension without fixed-size states in this build, runs
+        one at a time). Results never depend on it.
     <jobs>
 
     Returns
@@ -433,7 +434,8 @@ def map(model, x, y, ic=None, *, section=None, threads=_D["threads"], batch=0, j
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
-        (a model file always runs one at a time). Results never depend on it.
+        (a plugin, or a model file of a dimension without fixed-size states in this build, runs
+        one at a time). Results never depend on it.
     <jobs>
 
     Returns
@@ -487,7 +489,8 @@ def basins(model, x, y, ic=None, *, section=None, threads=_D["threads"], batch=0
     <protocol>
     batch : int, default 0
         Jobs integrated together in SIMD lanes: 0 the SIMD width of the build, 1 one at a time
-        (a model file always runs one at a time). Results never depend on it.
+        (a plugin, or a model file of a dimension without fixed-size states in this build, runs
+        one at a time). Results never depend on it.
     <jobs>
 
     Returns

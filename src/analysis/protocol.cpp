@@ -83,7 +83,7 @@ void validate(const protocol_options& o)
 bool runs_in_lanes(const model& m)
 {
     if constexpr (!wide_lanes) return false;
-    return detail::with_engine(m, [](const auto& em) { return detail::lanes_engine<std::decay_t<decltype(em)>>; });
+    return detail::with_engine(m, [](const auto& em) { return detail::lanes_ready(em); });
 }
 
 int resolve_batch(const model& m, int requested)

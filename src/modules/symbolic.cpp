@@ -1438,8 +1438,8 @@ private:
         const std::size_t S = m_d.surfaces.size(), K = m_d.sections.size();
         std::string s;
 
-        s += "static void vimpact_rhs(const void* c, const double* x, double* out)\n{\n" + prologue() +
-             assign_vector(m_field.value, "derivatives", "    ") + "}\n\n";
+        const std::string rhs_body = assign_vector(m_field.value, "derivatives", "    ");
+        s += "static void vimpact_rhs(const void* c, const double* x, double* out)\n{\n" + prologue() + rhs_body + "}\n\n";
         s += "static void vimpact_jacobian(const void* c, const double* x, double* out)\n{\n" + prologue() +
              assign_matrix(m_field.jacobian, "derivatives", "    ") + "}\n\n";
         s += "static void vimpact_second_derivative(const void* c, const double* x, const double* u, const double* w, "
@@ -1450,10 +1450,21 @@ private:
         s += "static double vimpact_divergence(const void* c, const double* x)\n{\n" + prologue() + "    return " +
              c(divergence, "derivatives") + ";\n}\n\n";
 
+        // The gaps' and sections' texts, printed once: the same in the one-job functions and in
+        // the lanes' (lanes_code).
+        std::vector<std::string> gap_value, gap_gradient, section_value, section_gradient;
+        for (const auto& g : m_gaps) {
+            gap_value.push_back(c(g.value, g.key));
+            gap_gradient.push_back(assign_vector(g.gradient, g.key, in));
+        }
+        for (const auto& k : m_sections) {
+            section_value.push_back(c(k.value, k.key));
+            section_gradient.push_back(assign_vector(k.gradient, k.key, in));
+        }
         s += indexed_scalar("vimpact_gap(const void* c, int i, const double* x)", S,
-                            [&](std::size_t i) { return c(m_gaps[i].value, m_gaps[i].key); });
+                            [&](std::size_t i) { return gap_value[i]; });
         s += indexed_void("vimpact_gap_gradient(const void* c, int i, const double* x, double* out)", S, n,
-                          [&](std::size_t i) { return assign_vector(m_gaps[i].gradient, m_gaps[i].key, in); });
+                          [&](std::size_t i) { return gap_gradient[i]; });
         s += indexed_void("vimpact_gap_hessian(const void* c, int i, const double* x, double* out)", S, n * n,
                           [&](std::size_t i) { return assign_matrix(m_gaps[i].hessian, m_gaps[i].key, in); });
         s += indexed_void("vimpact_reset(const void* c, int i, const double* x, double* out)", S, n,
@@ -1466,9 +1477,10 @@ private:
             S, n, [&](std::size_t i) { return assign_bilinear(m_resets[i].hessian, m_resets[i].key, in); }, true);
 
         s += indexed_scalar("vimpact_section(const void* c, int i, const double* x)", K,
-                            [&](std::size_t k) { return c(m_sections[k].value, m_sections[k].key); });
+                            [&](std::size_t k) { return section_value[k]; });
         s += indexed_void("vimpact_section_gradient(const void* c, int i, const double* x, double* out)", K, n,
-                          [&](std::size_t k) { return assign_vector(m_sections[k].gradient, m_sections[k].key, in); });
+                          [&](std::size_t k) { return section_gradient[k]; });
+        m_lanes_code = lanes_code(rhs_body, gap_value, gap_gradient, section_value, section_gradient);
 
         // Every gap and section with its rate grad . f in one call: the flow samples each step
         // end with it (abi.h, samples).
@@ -1501,6 +1513,58 @@ private:
         s += indexed_void("vimpact_rest(const void* c, int i, const double* x, double* out)", S, n,
                           [&](std::size_t i) { return assign_vector(m_rest[i], sticking_key(i, "rest"), in); });
         return create() + s;
+    }
+
+    // The SIMD lanes' functions (abi.h, lanes_step and the lanes' gaps and sections): the same
+    // texts as the one-job functions, on core/lanes.hpp's type, whose operations are those of
+    // one double lane by lane (the lanes' csgn and integer powers are overloads of the same
+    // operations). The contexts and states are the library's lanes values.
+    std::string lanes_code(const std::string& rhs_body, const std::vector<std::string>& gap_value,
+                           const std::vector<std::string>& gap_gradient, const std::vector<std::string>& section_value,
+                           const std::vector<std::string>& section_gradient) const
+    {
+        const std::string n = std::to_string(m_n), L = "vimpact::lanes";
+        const std::string prologue = "    const " + L + "* p = (const " + L + "*)c;\n    const " + L + "* x = (const " + L +
+                                     "*)xd;\n    " + L + "* out = (" + L + "*)od;\n    (void)p;\n    (void)x;\n";
+        std::string s = "static inline " + L + " vimpact_csgn(" + L + " v)\n{\n    return vimpact::select(v > " + L +
+                        "(0.0), " + L + "(1.0), vimpact::select(v < " + L + "(0.0), " + L + "(-1.0), " + L + "(0.0)));\n}\n";
+        for (const int k : m_powers)
+            s += "static inline " + L + " vimpact_pow" + std::to_string(k) + "(" + L + " b) { return " +
+                 multiplication_chain("b", k) + "; }\n";
+        s += "\nstatic void vimpact_lanes_rhs(const double* c, const double* xd, double* od)\n{\n" + prologue + rhs_body +
+             "}\n\n";
+        const auto indexed = [&](const std::string& name, const std::vector<std::string>& bodies, bool scalar,
+                                 std::size_t outputs) {
+            std::string f = "static void " + name + "(const double* c, int i, const double* xd, double* od)\n{\n" +
+                            prologue + "    switch (i) {\n";
+            for (std::size_t i = 0; i < bodies.size(); ++i)
+                f += "    case " + std::to_string(i) + ":\n" + (scalar ? "        out[0] = " + bodies[i] + ";\n" : bodies[i]) +
+                     "        return;\n";
+            f += "    default:\n        break;\n    }\n    for (int k = 0; k < " + std::to_string(outputs) +
+                 "; ++k) out[k] = " + L + "(0.0);\n}\n\n";
+            return f;
+        };
+        // Every gap and section with its gradient at one state (abi.h, lanes_points).
+        s += "static void vimpact_lanes_points(const double* c, const double* xd, double* vd, double* gd)\n{\n"
+             "    const " + L + "* p = (const " + L + "*)c;\n    const " + L + "* x = (const " + L + "*)xd;\n    " + L +
+             "* v = (" + L + "*)vd;\n    (void)p;\n    (void)x;\n    (void)v;\n    (void)gd;\n";
+        const auto point = [&](std::size_t slot, const std::string& value, const std::string& gradient) {
+            s += "    v[" + std::to_string(slot) + "] = " + value + ";\n    {\n        " + L + "* out = (" + L + "*)gd + " +
+                 std::to_string(slot * static_cast<std::size_t>(m_n)) + ";\n" + gradient + "    }\n";
+        };
+        for (std::size_t i = 0; i < gap_value.size(); ++i) point(i, gap_value[i], gap_gradient[i]);
+        for (std::size_t k = 0; k < section_value.size(); ++k)
+            point(gap_value.size() + k, section_value[k], section_gradient[k]);
+        s += "}\n\n";
+        s += indexed("vimpact_lanes_gap", gap_value, true, 1);
+        s += indexed("vimpact_lanes_gap_gradient", gap_gradient, false, static_cast<std::size_t>(m_n));
+        s += indexed("vimpact_lanes_section", section_value, true, 1);
+        s += indexed("vimpact_lanes_section_gradient", section_gradient, false, static_cast<std::size_t>(m_n));
+        s += "namespace {\nstruct vimpact_lanes_field {\n    const double* c;\n"
+             "    vimpact::vec_t<" + L + ", " + n + "> operator()(const vimpact::vec_t<" + L + ", " + n + ">& x) const\n"
+             "    {\n        vimpact::vec_t<" + L + ", " + n + "> f;\n"
+             "        vimpact_lanes_rhs(c, (const double*)x.data(), (double*)f.data());\n        return f;\n    }\n};\n}  // namespace\n";
+        return s;
     }
 
     std::string sticking_key(std::size_t i, const char* what) const
@@ -1678,6 +1742,14 @@ private:
             "vimpact_samples",
             array("const int", "vimpact_surface_affine", surface_affine, integer, s),
             array("const int", "vimpact_section_affine", section_affine, integer, s),
+            "VIMPACT_LANES_WIDTH",
+            std::to_string(std::max(1, m_p + m_nd + static_cast<int>(m_parts.size()))),
+            "VIMPACT_LANES(step)",
+            "VIMPACT_LANES(gap)",
+            "VIMPACT_LANES(gap_gradient)",
+            "VIMPACT_LANES(section)",
+            "VIMPACT_LANES(section_gradient)",
+            "VIMPACT_LANES(points)",
         };
         // Positional, in the order of the fields of vimpact_model_table (abi.h), so that the
         // table is a constant in read-only memory, valid C and C++.
@@ -1690,8 +1762,10 @@ private:
             "preset_sizes", "preset_parameters", "preset_values", "create", "destroy", "rhs", "jacobian",
             "second_derivative", "divergence", "gap", "gap_gradient", "gap_hessian", "reset", "reset_jacobian",
             "reset_second_derivative", "section", "section_gradient", "sticking_rhs", "release",
-            "release_gradient", "rest", "step", "dense", "samples", "surface_affine", "section_affine"};
-        static_assert(std::size(field_names) == 54);
+            "release_gradient", "rest", "step", "dense", "samples", "surface_affine", "section_affine",
+            "lanes_width", "context_size", "lanes_step", "lanes_gap", "lanes_gap_gradient", "lanes_section",
+            "lanes_section_gradient", "lanes_points"};
+        static_assert(std::size(field_names) == 62);
         if (fields.size() != std::size(field_names)) throw std::logic_error("model file: table fields out of step");
         // The fused Runge-Kutta step (integrate/fused_step.hpp): the library's own stage code
         // compiled here with the field inlined, when the compiler is given vimpact's headers
@@ -1704,6 +1778,16 @@ private:
              "#define VIMPACT_STEP (&vimpact::fused_step_entry<" + std::to_string(m_n) + ", vimpact_field>)\n"
              "#define VIMPACT_DENSE (&vimpact::fused_dense_entry<" + std::to_string(m_n) + ", vimpact_field>)\n"
              "#else\n#define VIMPACT_STEP 0\n#define VIMPACT_DENSE 0\n#endif\n";
+        // The SIMD lanes (abi.h, ABI version 5), where the compiler is given vimpact's headers.
+        s += "\n#if defined(VIMPACT_FUSED_STEPS) && __has_include(<xsimd/xsimd.hpp>)\n"
+             "#include \"vimpact/integrate/fused_lanes.hpp\"\n" + m_lanes_code +
+             "#define VIMPACT_LANES_WIDTH vimpact::lane_width\n"
+             "#define VIMPACT_LANES(f) (&vimpact_lanes_##f)\n"
+             "static void vimpact_lanes_step(const double* c, int method, const double* x, const double* f, const double* h,\n"
+             "                               double rtol, double atol, double* x_new, double* f_new, double* stages, double* err2)\n"
+             "{\n    vimpact::fused_lanes_step_entry<" + std::to_string(m_n) +
+             ", vimpact_lanes_field>(c, method, x, f, h, rtol, atol, x_new, f_new, stages, err2);\n}\n"
+             "#else\n#define VIMPACT_LANES_WIDTH 0\n#define VIMPACT_LANES(f) 0\n#endif\n";
         s += "\nstatic const vimpact_model_table vimpact_table = {\n";
         for (std::size_t i = 0; i < fields.size(); ++i)
             s += "    /* " + std::string(field_names[i]) + " */ " + fields[i] + (i + 1 < fields.size() ? ",\n" : "\n");
@@ -1733,6 +1817,7 @@ private:
     std::vector<vector_function> m_resets;
     std::vector<std::vector<ex>> m_sticking_field, m_rest;
     std::set<int> m_powers;
+    std::string m_lanes_code;  // lanes_code(), emitted with the fused steps
 };
 
 }  // namespace

@@ -120,8 +120,8 @@ TWO_COMMANDS = {
 # different order: step counts, the block of minima at which a grazing run is found to have
 # converged (its time and unwrapped phase; the values agree), and the fit of a dimension of the
 # P1 orbit's points, which lie within 1e-12 of each other (rounding noise).
-# "batch": the built-in model runs its jobs in SIMD lanes, the model file one at a time (the same
-# results, tested in tests/lanes_test.cpp).
+# "batch": both run their jobs in SIMD lanes (each job's bits those of its run alone, tested in
+# tests/lanes_test.cpp).
 IGNORED = {"out", "batch", "stats", "t", "minima", "state", "change", "fit_range", "r2", "slope_error", "slope_spread",
            "dimension", "scaling_region", "scaling_region_found", "fitted_radii", "pairs_at_fit_range",
            "c_at_fit_range", "r_cap", "all_pairs", "pairs_below_cap", "radii", "t_final"}

@@ -14,8 +14,9 @@
 //
 // What a definition needs: D::lanes_definition, the same definition with its parameters held
 // as lanes and constructible from them; its vector field must compile for T = lanes
-// (core/lanes.hpp says how). The built-in models have it; model files (a function table)
-// do not, and their jobs run one at a time.
+// (core/lanes.hpp says how). The built-in models have it. A model file's table brings its own
+// lanes (model/table_lanes.hpp: its stages, gaps and sections compiled in its binary), given
+// to run_in_lanes_of as a lanes definition with an attempt() of its own.
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -24,6 +25,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "vimpact/core/lanes.hpp"
@@ -86,6 +88,41 @@ inline lane_mask maybe_two_interior_extrema(const lanes& v0, const lanes& v1, co
 // section the flow checks for resolution (not declared affine: model/spec.hpp) resolved on the
 // step, by the flow's own check (integrate/event_resolution.hpp), which takes the other steps
 // back.
+// Whether gap i (section k) of a lanes definition is affine in the state: declared in its
+// spec (model/spec.hpp), or said by the definition at run time (a model file's table).
+template <class L>
+bool lanes_gap_affine(const L& def, int i)
+{
+    if constexpr (requires { def.gap_affine(i); }) return def.gap_affine(i);
+    else return L::surfaces[static_cast<std::size_t>(i)].affine;
+}
+template <class L>
+bool lanes_section_affine(const L& def, int k)
+{
+    if constexpr (requires { def.section_affine(k); }) return def.section_affine(k);
+    else return L::sections[static_cast<std::size_t>(k)].affine;
+}
+
+// The gaps and sections of a lanes definition at one state, with their gradients: as the
+// definition computes them one at a time (inlined), or all in one call where it has one
+// (point(x, slot): a model file's table, model/table_lanes.hpp, whose slot 0 and 1 hold two
+// states at once).
+template <class L, int N>
+struct lanes_point {
+    const L* def;
+    const vec_t<lanes, N>* x;
+    [[nodiscard]] lanes gap(int i) const { return def->gap(i, *x); }
+    [[nodiscard]] vec_t<lanes, N> gap_gradient(int i) const { return def->gap_gradient(i, *x); }
+    [[nodiscard]] lanes section(int k) const { return def->section(k, *x); }
+    [[nodiscard]] vec_t<lanes, N> section_gradient(int k) const { return def->section_gradient(k, *x); }
+};
+template <int N, class L>
+auto lanes_point_at(const L& def, const vec_t<lanes, N>& x, int slot)
+{
+    if constexpr (requires { def.point(x, slot); }) return def.point(x, slot);
+    else return lanes_point<L, N>{&def, &x};
+}
+
 template <int N, class L>
 lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const vec_t<lanes, N>& x0,
                       const vec_t<lanes, N>& f0, const vec_t<lanes, N>& x1, const vec_t<lanes, N>& f1, const lanes& h)
@@ -114,23 +151,23 @@ lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const
     const auto no_crossing = [&](const lanes& v0, const lanes& v1, const lanes& r0, const lanes& r1) {
         return !down_crossing_possible(v0, v1, r0, r1) && !maybe_two_interior_extrema(v0, v1, r0 * h, r1 * h);
     };
+    const auto p0 = lanes_point_at<N>(def, x0, 0), p1 = lanes_point_at<N>(def, x1, 1);
     if (opt.surfaces)
         for (int i = 0; i < surfaces; ++i) {
-            const lanes v0 = def.gap(i, x0), v1 = def.gap(i, x1);
-            const lanes r0 = rate<N>(def.gap_gradient(i, x0), f0, quiet), r1 = rate<N>(def.gap_gradient(i, x1), f1, quiet);
+            const lanes v0 = p0.gap(i), v1 = p1.gap(i);
+            const lanes r0 = rate<N>(p0.gap_gradient(i), f0, quiet), r1 = rate<N>(p1.gap_gradient(i), f1, quiet);
             quiet = quiet && (v0 > zero || v1 > zero) && no_crossing(v0, v1, r0, r1);
             // The flow's rule for a gap maximum inside the step (report_gap_maxima).
             if (opt.gap_maxima) quiet = quiet && !(r0 > zero && r1 <= zero);
-            if (!L::surfaces[static_cast<std::size_t>(i)].affine)
+            if (!lanes_gap_affine(def, i))
                 quiet = quiet && resolved(v0, r0, v1, r1, [&](const vec_t<lanes, N>& y) { return def.gap(i, y); });
         }
     for (const flow_event& e : opt.events) {
-        const lanes v0 = def.section(e.index, x0), v1 = def.section(e.index, x1);
-        const lanes r0 = rate<N>(def.section_gradient(e.index, x0), f0, quiet),
-                    r1 = rate<N>(def.section_gradient(e.index, x1), f1, quiet);
+        const lanes v0 = p0.section(e.index), v1 = p1.section(e.index);
+        const lanes r0 = rate<N>(p0.section_gradient(e.index), f0, quiet), r1 = rate<N>(p1.section_gradient(e.index), f1, quiet);
         if (e.direction != crossing::up) quiet = quiet && no_crossing(v0, v1, r0, r1);
         if (e.direction != crossing::down) quiet = quiet && no_crossing(-v0, -v1, -r0, -r1);
-        if (!L::sections[static_cast<std::size_t>(e.index)].affine)
+        if (!lanes_section_affine(def, e.index))
             quiet = quiet && resolved(v0, r0, v1, r1, [&](const vec_t<lanes, N>& y) { return def.section(e.index, y); });
     }
     return quiet;
@@ -148,11 +185,13 @@ lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const
 //     finish(outcome) -> Result;
 //   parameters(job) -> the job's parameter values (std::span<const double> or a vector);
 //   done(job, Result&&): called as jobs end, in the order they end.
-template <model_definition D, template <int, class = double> class Method, class Next, class Start, class Parameters,
-          class Done>
-lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters, Done&& done)
+// run_in_lanes_of does the same for a lanes definition L of dimension N made by
+// make_definition(std::span<const lanes>) from the lanes of what parameters(job) gives.
+template <class L, int N, template <int, class = double> class Method, class Make, class Next, class Start,
+          class Parameters, class Done>
+lanes_counts run_in_lanes_of(int width, Make&& make_definition, Next&& next, Start&& start, Parameters&& parameters,
+                             Done&& done)
 {
-    constexpr int N = definition_dim<D>;
     constexpr int W = lane_width;
     using run_ptr = std::decay_t<decltype(start(0L))>;
     using flow_type = std::decay_t<decltype(start(0L)->flow)>;
@@ -168,7 +207,7 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
     // says from what time its step-end call can act (step_end_acts_from); before that, and below
     // the step limit, the steps need nothing from the run. About 95 % of the steps of the
     // paper's protocol are quiet.
-    constexpr bool keeps_quiet = lanes_screenable<typename D::lanes_definition, N> &&
+    constexpr bool keeps_quiet = lanes_screenable<L, N> &&
                                  requires(const observer_type& o) { { o.step_end_acts_from() } -> std::convertible_to<double>; };
     constexpr double inf = std::numeric_limits<double>::infinity();
 
@@ -195,7 +234,7 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
     std::fill(std::begin(QT), std::end(QT), -inf);
     std::vector<std::array<double, W>> GB;
     std::vector<std::array<double, W>> par;
-    std::optional<typename D::lanes_definition> def;
+    std::optional<L> def;
     bool params_changed = true;
     lane_method method;
     const int used = std::clamp(width, 1, W);
@@ -215,6 +254,9 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
         auto& dst = m.stages();
         for (std::size_t k = 0; k < src.size(); ++k)
             for (int i = 0; i < N; ++i) dst[k][i] = src[k][i].lane(sc->lane);
+        // A stepper that keeps stages of its own between a step and its interpolant (a model
+        // file's fused steps) learns that these are the step's.
+        if constexpr (requires { m.stages_set_outside(); }) m.stages_set_outside();
     };
 
     // Lane j's run takes over the steps the lane kept; before any other call on the run.
@@ -384,7 +426,7 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
         if (params_changed) {
             std::vector<lanes> p(par.size());
             for (std::size_t k = 0; k < par.size(); ++k) p[k] = lanes::load(par[k].data());
-            def.emplace(std::span<const lanes>(p));
+            def.emplace(make_definition(std::span<const lanes>(p)));
             params_changed = false;
         }
 
@@ -405,8 +447,12 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
         }
         const auto& field = *def;
         ++counts.lane_trials;
-        const lanes err2 = method.attempt([&field](const lvec& y) { return lvec(field.derivatives(y)); }, x, f, plan.h,
-                                         io.rtol, io.atol, xn, fn);
+        lanes err2;
+        if constexpr (requires { field.attempt(method, x, f, plan.h, io.rtol, io.atol, xn, fn); })
+            err2 = field.attempt(method, x, f, plan.h, io.rtol, io.atol, xn, fn);
+        else
+            err2 = method.attempt([&field](const lvec& y) { return lvec(field.derivatives(y)); }, x, f, plan.h, io.rtol,
+                                  io.atol, xn, fn);
         lane_mask finite = is_finite(err2);
         for (int i = 0; i < N; ++i) finite = finite && is_finite(xn[i]) && is_finite(fn[i]);
         const auto out = control_step(c, err2, finite, plan.h, h, plan.clipped, rb, le);
@@ -430,7 +476,7 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
         const unsigned clipped = lane_bits(plan.clipped), underflow = lane_bits(plan.underflow),
                        accepted = lane_bits(accepted_mask), finite_bits = lane_bits(finite);
         unsigned quiet = 0, kept = 0;
-        if constexpr (lanes_screenable<typename D::lanes_definition, N>) {
+        if constexpr (lanes_screenable<L, N>) {
             const bool sections_only = std::all_of(opt.events.begin(), opt.events.end(), [](const flow_event& e) {
                 return e.kind == flow_event::source::section;
             });
@@ -518,6 +564,17 @@ lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& pa
         }
     }
     return counts;
+}
+
+// The jobs of a C++ definition D in lanes (its lanes_definition).
+template <model_definition D, template <int, class = double> class Method, class Next, class Start, class Parameters,
+          class Done>
+lanes_counts run_in_lanes(int width, Next&& next, Start&& start, Parameters&& parameters, Done&& done)
+{
+    using L = typename D::lanes_definition;
+    return run_in_lanes_of<L, definition_dim<D>, Method>(
+        width, [](std::span<const lanes> p) { return L(p); }, std::forward<Next>(next), std::forward<Start>(start),
+        std::forward<Parameters>(parameters), std::forward<Done>(done));
 }
 
 }  // namespace vimpact

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define VIMPACT_MODEL_ABI_VERSION 4
+#define VIMPACT_MODEL_ABI_VERSION 5
 
 enum vimpact_crossing { VIMPACT_CROSSING_DOWN = 0, VIMPACT_CROSSING_UP = 1, VIMPACT_CROSSING_BOTH = 2 };
 
@@ -103,6 +103,29 @@ typedef struct vimpact_model_table {
      * version 4). NULL: none is. */
     const int* surface_affine;
     const int* section_affine;
+
+    /* Optional (NULL: the jobs of this model run one at a time): SIMD lanes (ABI version 5),
+     * several jobs of the model stepped at once, each lane with the bits it gets alone (the
+     * library's core/lanes.hpp). A lanes value is `lanes_width` doubles, one per lane; a vector
+     * of them is dim such values in a row (x[i * lanes_width + lane]). `contexts` holds every
+     * lane's context, a context being `context_size` doubles: contexts[k * lanes_width + lane].
+     * The library uses them only when lanes_width is its own. */
+    int lanes_width;
+    int context_size;
+    /* One trial Runge-Kutta step of the free field in every lane (method as for `step`): the
+     * step sizes h, x_new, f_new, the stages (the library's method object in lanes, which is
+     * its stages alone: 16 * dim lanes values for DOP853, 7 * dim for DOPRI5), and each lane's
+     * squared scaled error norm err2 (one lanes value). */
+    void (*lanes_step)(const double* contexts, int method, const double* x, const double* f, const double* h,
+                       double rtol, double atol, double* x_new, double* f_new, double* stages, double* err2);
+    /* Gap i or section k (one lanes value) and its gradient (dim lanes values) in every lane. */
+    void (*lanes_gap)(const double* contexts, int i, const double* x, double* out);
+    void (*lanes_gap_gradient)(const double* contexts, int i, const double* x, double* out);
+    void (*lanes_section)(const double* contexts, int k, const double* x, double* out);
+    void (*lanes_section_gradient)(const double* contexts, int k, const double* x, double* out);
+    /* Every gap, then every section, at x in one call: their values (surface_count +
+     * section_count lanes values) and gradients (dim lanes values each, in the same order). */
+    void (*lanes_points)(const double* contexts, const double* x, double* values, double* gradients);
 } vimpact_model_table;
 
 /* The one symbol a model library exports. */

@@ -212,6 +212,21 @@ public:
         Method<N>::build_dense(rhs, t0, h, x0, x1, out);
     }
 
+    // The stages of the last step were set from outside, in the method's stages (the step was
+    // tried in SIMD lanes, hybrid/flow_lanes.hpp): its interpolant is then built as after a
+    // fused step, by the table's dense (the same arithmetic with the field inlined: a table
+    // with lanes has fused steps, model/abi.h).
+    void stages_set_outside()
+    {
+        if constexpr (N != Eigen::Dynamic) {
+            for (std::size_t k = 0; k < this->stages().size(); ++k)
+                for (int i = 0; i < N; ++i) m_stages[k * N + static_cast<std::size_t>(i)] = this->stages()[k][i];
+            m_fused = true;
+        } else {
+            m_fused = false;
+        }
+    }
+
 private:
     static constexpr int method_id()
     {
