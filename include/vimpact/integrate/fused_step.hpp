@@ -4,7 +4,8 @@
 // field once per stage through a pointer, and the stage chain could not be scheduled across
 // the calls (about twice the time per step for a 4-dimensional model). The model's binary
 // compiles these two functions with its field inlined and exports them in its table; the
-// library keeps the stages between a step and its interpolant in a buffer of its own.
+// library keeps the stages between a step and its interpolant, in memory laid out as the
+// method (method_at).
 //
 // The arithmetic is the library's (the same templates of integrate/runge_kutta.hpp); only
 // where it is compiled differs.
@@ -14,27 +15,28 @@
 
 namespace vimpact {
 
-// The scratch a fused step needs: the stages of the larger method (DOP853, 16 of them).
-template <int N>
-inline constexpr int fused_stage_doubles = dop853<N>::stage_count * N;
-
 enum class fused_method : int { dop853 = 0, dopri5 = 1 };
+
+// The caller's stage memory is the method (a method is its stages alone): the step is tried in
+// place, and the stages stay there for the interpolant, without a copy either way.
+template <int N, template <int> class Method>
+Method<N>& method_at(double* stages)
+{
+    static_assert(sizeof(vec<N>) == N * sizeof(double), "stages must be contiguous doubles");
+    static_assert(sizeof(Method<N>) == Method<N>::stage_count * sizeof(vec<N>), "a method must be its stages alone");
+    return *reinterpret_cast<Method<N>*>(stages);
+}
 
 template <int N, template <int> class Method, class F>
 double fused_attempt(F&& rhs, const double* x, const double* f, double h, double rtol, double atol, double* x_new,
                      double* f_new, double* stages)
 {
-    static_assert(sizeof(vec<N>) == N * sizeof(double), "stages must be contiguous doubles");
-    Method<N> m;
     vec<N> xn, fn;
-    const double err2 = m.attempt(rhs, Eigen::Map<const vec<N>>(x), Eigen::Map<const vec<N>>(f), h, rtol, atol, xn, fn);
+    const double err2 = method_at<N, Method>(stages).attempt(rhs, Eigen::Map<const vec<N>>(x),
+                                                             Eigen::Map<const vec<N>>(f), h, rtol, atol, xn, fn);
     Eigen::Map<vec<N>> x_out(x_new), f_out(f_new);
     x_out = xn;
     f_out = fn;
-    for (std::size_t k = 0; k < m.stages().size(); ++k) {
-        Eigen::Map<vec<N>> out(stages + k * N);
-        out = m.stages()[k];
-    }
     return err2;
 }
 
@@ -42,10 +44,8 @@ template <int N, template <int> class Method, class F>
 void fused_dense(F&& rhs, double t0, double h, const double* x0, const double* x1, double* stages,
                  double* coefficients)
 {
-    Method<N> m;
-    for (std::size_t k = 0; k < m.stages().size(); ++k) m.stages()[k] = Eigen::Map<const vec<N>>(stages + k * N);
     typename Method<N>::dense_type d;
-    m.build_dense(rhs, t0, h, Eigen::Map<const vec<N>>(x0), Eigen::Map<const vec<N>>(x1), d);
+    method_at<N, Method>(stages).build_dense(rhs, t0, h, Eigen::Map<const vec<N>>(x0), Eigen::Map<const vec<N>>(x1), d);
     for (std::size_t j = 0; j < d.c.size(); ++j) {
         Eigen::Map<vec<N>> out(coefficients + j * N);
         out = d.c[j];

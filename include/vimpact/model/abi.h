@@ -84,8 +84,10 @@ typedef struct vimpact_model_table {
 
     /* Optional (NULL: the library calls rhs once per stage): one trial Runge-Kutta step of the
      * free vector field with the field compiled in (integrate/fused_step.hpp); method 0 is
-     * DOP853, 1 DOPRI5. `stages` is the caller's scratch of 16 * dim doubles, carried from a
-     * step to its interpolant. Returns the squared scaled error norm (ABI version 3; the norm itself
+     * DOP853, 1 DOPRI5. `stages` is the caller's method, carried from a step to its interpolant:
+     * the library's fixed-size method object of the model's dimension (integrate/fused_step.hpp,
+     * its stages alone: 16 * dim doubles for DOP853, 7 * dim for DOPRI5), aligned as Eigen
+     * aligns it. Returns the squared scaled error norm (ABI version 3; the norm itself
      * in version 2), writes x_new and f_new = F(x_new). */
     double (*step)(const void* c, int method, const double* x, const double* f, double h, double rtol, double atol,
                    double* x_new, double* f_new, double* stages);

@@ -178,7 +178,7 @@ public:
                     m_stages.resize(static_cast<std::size_t>(dop853<N>::stage_count * x.size()));
                 }
                 return t.step(rhs.model->context(), method_id(), x.data(), f.data(), h, rtol, atol, x_new.data(),
-                              f_new.data(), m_stages.data());
+                              f_new.data(), stage_memory());
             }
         }
         m_fused = false;
@@ -199,12 +199,12 @@ public:
                     const Eigen::Index n = x0.size();
                     m_coefficients.resize(out.c.size() * static_cast<std::size_t>(n));
                     rhs.model->table().dense(rhs.model->context(), method_id(), t0, h, x0.data(), x1.data(),
-                                             m_stages.data(), m_coefficients.data());
+                                             stage_memory(), m_coefficients.data());
                     for (std::size_t j = 0; j < out.c.size(); ++j)
                         out.c[j] = Eigen::Map<const vec<N>>(m_coefficients.data() + j * static_cast<std::size_t>(n), n);
                 } else {
                     rhs.model->table().dense(rhs.model->context(), method_id(), t0, h, x0.data(), x1.data(),
-                                             m_stages.data(), out.c[0].data());
+                                             stage_memory(), out.c[0].data());
                 }
                 return;
             }
@@ -216,16 +216,7 @@ public:
     // tried in SIMD lanes, hybrid/flow_lanes.hpp): its interpolant is then built as after a
     // fused step, by the table's dense (the same arithmetic with the field inlined: a table
     // with lanes has fused steps, model/abi.h).
-    void stages_set_outside()
-    {
-        if constexpr (N != Eigen::Dynamic) {
-            for (std::size_t k = 0; k < this->stages().size(); ++k)
-                for (int i = 0; i < N; ++i) m_stages[k * N + static_cast<std::size_t>(i)] = this->stages()[k][i];
-            m_fused = true;
-        } else {
-            m_fused = false;
-        }
-    }
+    void stages_set_outside() { m_fused = N != Eigen::Dynamic; }
 
 private:
     static constexpr int method_id()
@@ -234,11 +225,18 @@ private:
     }
     static_assert(N == Eigen::Dynamic || sizeof(vec<N>) == N * sizeof(double),
                   "interpolant coefficients must be contiguous doubles");
-    // The stages between a fused step and its interpolant (and, for a dynamic N, the
-    // interpolant's coefficients on their way to the segment's vectors).
-    using stage_buffer = std::conditional_t<N == Eigen::Dynamic, std::vector<double>, std::array<double, fused_stage_doubles<std::max(N, 1)>>>;
-    stage_buffer m_stages{};
-    std::vector<double> m_coefficients;
+    // Where a fused step keeps its stages for its interpolant: the model's binary tries the
+    // step in place on them as its own method object (integrate/fused_step.hpp). For a fixed N
+    // that is this method itself, whose stages are then also those a step in SIMD lanes
+    // leaves (stages_set_outside); for a dynamic N, whose stages are separate vectors here, a
+    // buffer laid out as the model's fixed-size method, aligned as Eigen aligns it.
+    double* stage_memory()
+    {
+        if constexpr (N == Eigen::Dynamic) return m_stages.data();
+        else return reinterpret_cast<double*>(static_cast<Method<N>*>(this));
+    }
+    std::vector<double, Eigen::aligned_allocator<double>> m_stages;  // dynamic N only
+    std::vector<double> m_coefficients;  // dynamic N: the interpolant on its way to the segment's vectors
     bool m_fused = false;
 };
 
