@@ -165,9 +165,13 @@ const std::vector<std::string>& compile_flags()
         if (const auto& h = find_fused_headers()) {
             f.insert(f.end(), {"-DVIMPACT_FUSED_STEPS", "-DEIGEN_MAX_ALIGN_BYTES=64", "-DEIGEN_MAX_STATIC_ALIGN_BYTES=64",
                                "-I" + h->vimpact, "-isystem", h->eigen});
-#ifdef VIMPACT_LANES_512
+            // The lanes as the library's (core/lanes.hpp): 512 bits only where the library has
+            // them, whatever the machine has; and compiled only for the dimensions the library
+            // runs in lanes, those with fixed-size states (src/engine_instances.hpp).
+#if defined(VIMPACT_LANES_512) && defined(__AVX512F__)
             f.emplace_back("-DVIMPACT_LANES_512");
 #endif
+            for (const int n : {VIMPACT_MODEL_DIMS}) f.push_back("-DVIMPACT_LANES_DIM_" + std::to_string(n));
         }
         return f;
     }();

@@ -24,6 +24,8 @@
 #include "vimpact/core/first_beyond.hpp"
 #include "vimpact/core/lanes.hpp"
 #include "vimpact/integrate/step_control.hpp"
+#include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
+#include "vimpact/model/export.hpp"
 
 using namespace vimpact;
 
@@ -396,7 +398,8 @@ TEST(Lanes, ModelFileJobsEqualTheirScalarRunsBitForBit)
 }
 
 // A model file of a dimension with no fixed-size states in this build (states sized at run
-// time) and a C++ definition loaded as a table run one job at a time, with their own bits.
+// time) and a C++ definition reached through its table run one job at a time, with their own
+// bits.
 TEST(Lanes, ModelsWithoutTableLanesRunOneJobAtATime)
 {
     const std::string copies = R"toml(
@@ -432,6 +435,15 @@ direction = "up"
     const auto many = simulate_many({f, g}, {f.initial_state(), f.initial_state()}, po, 8);
     expect_same_run(simulate(f, f.initial_state(), po), many[0], "five states");
     expect_same_run(simulate(g, f.initial_state(), po), many[1], "five states, k = 1.3");
+
+    // A C++ definition reached through its function table leaves the table's lanes empty.
+    const model d = model::from_definition<two_sided_impact_oscillator>();
+    EXPECT_FALSE(runs_in_lanes(d));
+    EXPECT_EQ(resolve_batch(d, 0), 1);
+    const model d2 = d.with_parameter(d.info().parameter_index("a"), 2.0);
+    const auto both = simulate_many({d, d2}, {d.initial_state(), d.initial_state()}, po, 8);
+    expect_same_run(simulate(d2, d.initial_state(), po), both[1], "C++ definition, a = 2");
+    EXPECT_EQ(resolve_batch(model::builtin("wake_impact"), 1), 1);
 }
 
 // The job commands: the default batch (lanes) and --batch 1 give the same cells and points.

@@ -1275,14 +1275,19 @@ private:
         std::vector<ex> v = m_field.value;
         for (std::size_t j = 1; j < v.size(); ++j)
             for (std::size_t i = 0; i < j; ++i) {
+                poll_cancel();
                 const ex& e = m_field.value[i];
                 if (!is_a<GiNaC::add>(e) || e.nops() > max_terms || parameter_only(e)) continue;
                 GiNaC::exmap found;
                 for (auto it = v[j].preorder_begin(); it != v[j].preorder_end(); ++it) {
                     const ex& a = *it;
                     if (!is_a<GiNaC::add>(a) || a.nops() != e.nops() || found.count(a)) continue;
-                    const ex q = GiNaC::normal(a / e);
-                    if (is_a<GiNaC::numeric>(q) && !q.is_zero()) found[a] = q * m_out[i];
+                    // A sum that is zero unsimplified makes normal() divide by zero: no match.
+                    try {
+                        const ex q = GiNaC::normal(a / e);
+                        if (is_a<GiNaC::numeric>(q) && !q.is_zero()) found[a] = q * m_out[i];
+                    } catch (const std::exception&) {
+                    }
                 }
                 if (!found.empty()) v[j] = v[j].subs(found, GiNaC::subs_options::no_pattern);
             }
@@ -1815,7 +1820,8 @@ private:
              "#define VIMPACT_DENSE (&vimpact::fused_dense_entry<" + std::to_string(m_n) + ", vimpact_field>)\n"
              "#else\n#define VIMPACT_STEP 0\n#define VIMPACT_DENSE 0\n#endif\n";
         // The SIMD lanes (abi.h, ABI version 5), where the compiler is given vimpact's headers.
-        s += "\n#if defined(VIMPACT_FUSED_STEPS) && __has_include(<xsimd/xsimd.hpp>)\n"
+        s += "\n#if defined(VIMPACT_FUSED_STEPS) && defined(VIMPACT_LANES_DIM_" + std::to_string(m_n) +
+             ") && __has_include(<xsimd/xsimd.hpp>)\n"
              "#include \"vimpact/integrate/fused_lanes.hpp\"\n" + m_lanes_code +
              "#define VIMPACT_LANES_WIDTH vimpact::lane_width\n"
              "#define VIMPACT_LANES(f) (&vimpact_lanes_##f)\n"

@@ -111,7 +111,8 @@ typedef struct vimpact_model_table {
      * library's core/lanes.hpp). A lanes value is `lanes_width` doubles, one per lane; a vector
      * of them is dim such values in a row (x[i * lanes_width + lane]). `contexts` holds every
      * lane's context, a context being `context_size` doubles: contexts[k * lanes_width + lane].
-     * The library uses them only when lanes_width is its own. */
+     * The library uses them only when lanes_width is its own and the table has `step` and
+     * `dense` (a lane's interpolant is built by `dense`, as after a fused step). */
     int lanes_width;
     int context_size;
     /* One trial Runge-Kutta step of the free field in every lane (method as for `step`): the

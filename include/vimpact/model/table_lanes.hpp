@@ -23,11 +23,13 @@ public:
     static_assert(N >= 1, "lanes need a fixed dimension");
     static_assert(sizeof(lvec) == N * sizeof(lanes), "lanes vectors must be contiguous lanes values");
 
-    // Whether the jobs of table t run in lanes here: it has them, for this dimension and width.
+    // Whether the jobs of table t run in lanes here: it has them, for this dimension and width,
+    // with the fused steps a job alone takes (the same stage code; a step's interpolant after
+    // lanes is the table's dense).
     static bool available(const vimpact_model_table& t)
     {
-        return t.dim == N && t.lanes_width == lane_width && t.context_size > 0 && t.lanes_step && t.lanes_gap &&
-               t.lanes_gap_gradient && t.lanes_section && t.lanes_section_gradient && t.lanes_points;
+        return t.dim == N && t.lanes_width == lane_width && t.context_size > 0 && t.step && t.dense && t.lanes_step &&
+               t.lanes_gap && t.lanes_gap_gradient && t.lanes_section && t.lanes_section_gradient && t.lanes_points;
     }
 
     table_lanes(const vimpact_model_table& t, std::span<const lanes> contexts)
