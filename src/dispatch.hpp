@@ -39,14 +39,14 @@ template <class F>
 auto with_engine(const model& m, F&& f)
 {
     switch (m.native()) {
-        case native_kind::wake_impact: return f(native_model<wake_impact>(m.parameters()));
-        case native_kind::forced_impact_oscillator: return f(native_model<forced_impact_oscillator>(m.parameters()));
+        case native_kind::wake_impact: return f(engine_model_of<native_model<wake_impact>>(m));
+        case native_kind::forced_impact_oscillator: return f(engine_model_of<native_model<forced_impact_oscillator>>(m));
         case native_kind::two_sided_impact_oscillator:
-            return f(native_model<two_sided_impact_oscillator>(m.parameters()));
+            return f(engine_model_of<native_model<two_sided_impact_oscillator>>(m));
         case native_kind::none: break;
     }
     return with_table_dimension(model_dimensions{}, m.dim(),
-                                [&]<int N>() { return f(table_model<N>(m.table(), m.context())); });
+                                [&]<int N>() { return f(engine_model_of<table_model<N>>(m)); });
 }
 
 }  // namespace vimpact::detail

@@ -17,6 +17,7 @@
 #include "vimpact/model/builtin/forced_impact_oscillator.hpp"
 #include "vimpact/model/builtin/two_sided_impact_oscillator.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
+#include "vimpact/model/model.hpp"
 #include "vimpact/model/native_model.hpp"
 #include "vimpact/model/table_lanes.hpp"
 #include "vimpact/model/table_model.hpp"
@@ -40,6 +41,15 @@ template <int N>
 struct lanes_engine_t<table_model<N>> : std::bool_constant<N != Eigen::Dynamic> {};
 template <class EM>
 inline constexpr bool lanes_engine = lanes_engine_t<EM>::value;
+
+// The engine model EM of m: a built-in's from its parameters, a table's from its table and
+// context.
+template <class EM>
+EM engine_model_of(const model& m)
+{
+    if constexpr (requires { typename EM::definition_type; }) return EM(m.parameters());
+    else return EM(m.table(), m.context());
+}
 
 // Whether this model's jobs run in lanes: a lanes engine, whose table (if any) has lanes of
 // this build's width.

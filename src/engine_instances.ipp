@@ -32,14 +32,6 @@ simulation run_simulate(const EM& em, const Eigen::VectorXd& x0, const protocol_
     return with_method(o.method, [&]<template <int> class M>() { return engine::run_protocol<M>(em, head_as<EM::dim>(x0, state_dim(em)), o); });
 }
 
-// The engine model of m: a built-in's from its parameters, a table's from its table and context.
-template <class EM>
-EM engine_model_of(const model& m)
-{
-    if constexpr (requires { typename EM::definition_type; }) return EM(m.parameters());
-    else return EM(m.table(), m.context());
-}
-
 template <class EM>
 lanes_counts run_simulate_lanes(const protocol_options& o, int width, const protocol_source& next,
                                 const protocol_sink& done)

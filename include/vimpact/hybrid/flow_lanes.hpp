@@ -82,12 +82,6 @@ inline lane_mask maybe_two_interior_extrema(const lanes& v0, const lanes& v1, co
     return near_turn && !(u <= lanes(-1e-9)) && !(u >= lanes(1.0 + 1e-9));
 }
 
-// Where the step of size h from (x0, f0) to (x1, f1) is quiet: every gap positive at one end
-// at least and not crossed, every watched section not crossed in its directions, by the
-// flow's own rule (hybrid_flow::after_free_step) with rates of certain sign; and every gap or
-// section the flow checks for resolution (not declared affine: model/spec.hpp) resolved on the
-// step, by the flow's own check (integrate/event_resolution.hpp), which takes the other steps
-// back.
 // Whether gap i (section k) of a lanes definition is affine in the state: declared in its
 // spec (model/spec.hpp), or said by the definition at run time (a model file's table).
 template <class L>
@@ -123,6 +117,12 @@ auto lanes_point_at(const L& def, const vec_t<lanes, N>& x, int slot)
     else return lanes_point<L, N>{&def, &x};
 }
 
+// Where the step of size h from (x0, f0) to (x1, f1) is quiet: every gap positive at one end
+// at least and not crossed, every watched section not crossed in its directions, by the
+// flow's own rule (hybrid_flow::after_free_step) with rates of certain sign; and every gap or
+// section the flow checks for resolution (not declared affine: model/spec.hpp) resolved on the
+// step, by the flow's own check (integrate/event_resolution.hpp), which takes the other steps
+// back.
 template <int N, class L>
 lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const vec_t<lanes, N>& x0,
                       const vec_t<lanes, N>& f0, const vec_t<lanes, N>& x1, const vec_t<lanes, N>& f1, const lanes& h)
