@@ -99,7 +99,8 @@ public:
     using dense_type = typename integrator_type::dense_type;
 
     hybrid_flow(const Model& model, const flow_options& opt)
-        : m_model(model), m_opt(opt), m_integ(opt.integration), m_x(state::Zero(state_dim(model)))
+        : m_model(model), m_opt(opt), m_integ(opt.integration), m_x(state::Zero(state_dim(model))), m_point(m_x),
+          m_slope(m_x), m_pre(m_x), m_post(m_x), m_gradient(m_x)
     {
         m_stats.impacts_by_surface.assign(static_cast<std::size_t>(m_model.surface_count()), 0);
         for (auto* e : {&m_start, &m_end}) {
@@ -263,7 +264,8 @@ public:
     [[nodiscard]] double hop_resolution(int i, const state& x) const
     {
         if (m_opt.sticking_height >= 0.0) return m_opt.sticking_height;
-        const double scale = m_model.gap_gradient(i, x).cwiseProduct(x).cwiseAbs().sum();
+        gap_gradient_into(m_model, i, x, m_gradient);
+        const double scale = m_gradient.cwiseProduct(x).cwiseAbs().sum();
         return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, scale);
     }
 
@@ -303,10 +305,8 @@ private:
     auto on_dense(Rhs& rhs, Value&& value, Derivative&& derivative)
     {
         return [this, &rhs, value, derivative](double theta) {
-            const dense_type& d = m_integ.dense(rhs);
-            state p, dp;
-            d.value_and_slope(theta, p, dp);
-            return scalar_sample{value(p), derivative(p, dp)};
+            m_integ.dense(rhs).value_and_slope(theta, m_point, m_slope);
+            return scalar_sample{value(m_point), derivative(m_point, m_slope)};
         };
     }
 
@@ -316,7 +316,7 @@ private:
     // zero. Anything else (sin(phi) near phi = 2 pi k has a gradient that rounds to a unit
     // vector too) keeps the root finder's point, which lies on the far side of the crossing.
     template <class Value>
-    static void polish(Value&& value_at, const state& gradient, state& p)
+    static void polish(Value&& value_at, const state& gradient, state& p, state& q)
     {
         int j = -1;
         for (int k = 0; k < gradient.size(); ++k) {
@@ -325,7 +325,7 @@ private:
             j = k;
         }
         if (j < 0) return;
-        state q = p;
+        q = p;
         q[j] -= value_at(p) / gradient[j];
         if (value_at(q) == 0.0) p = q;
     }
@@ -439,8 +439,11 @@ private:
             if (m_stop) continue;
             const auto& fe = found[static_cast<std::size_t>(i)];
             const flow_event& ev = m_opt.events[static_cast<std::size_t>(fe.event)];
-            state p = m_integ.dense(rhs).value_at(fe.theta);
-            polish([&](const state& y) { return event_value(ev, y); }, event_gradient(ev, p), p);
+            state& p = m_pre;
+            m_integ.dense(rhs).value_at(fe.theta, p);
+            if (ev.kind == flow_event::source::section) section_gradient_into(m_model, ev.index, p, m_gradient);
+            else m_gradient = event_gradient(ev, p);
+            polish([&](const state& y) { return event_value(ev, y); }, m_gradient, p, m_slope);
             if (obs.on_section(fe.event, fe.direction, t0 + fe.theta * h, p) == flow_control::stop) {
                 m_stop = true;
                 m_stop_theta = fe.theta;
@@ -545,9 +548,13 @@ private:
         const auto& d = m_integ.dense(rhs);
         const double t_impact = (theta_impact >= 1.0) ? m_integ.t() : t0 + theta_impact * h;
         if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_impact, flow_mode::free);
-        state pre = (theta_impact >= 1.0) ? x1 : d.value_at(theta_impact);
-        polish([&](const state& y) { return m_model.gap(surface, y); }, m_model.gap_gradient(surface, pre), pre);
-        const state post = m_model.reset(surface, pre);
+        state& pre = m_pre;
+        if (theta_impact >= 1.0) pre = x1;
+        else d.value_at(theta_impact, pre);
+        gap_gradient_into(m_model, surface, pre, m_gradient);
+        polish([&](const state& y) { return m_model.gap(surface, y); }, m_gradient, pre, m_slope);
+        reset_into(m_model, surface, pre, m_post);
+        const state& post = m_post;
         if (const auto fault = !pre.allFinite() ? std::optional<outcome>(outcome::non_finite) : reset_fault(surface, post)) {
             // The run ends at the last finite state: the impact's, else the step's start (the
             // interpolant of a step near overflow can overflow where its ends did not).
@@ -585,7 +592,7 @@ private:
     {
         event_resolution::deviation<double> worst{0.0, 1.0};
         for (int point = 0; point < 2; ++point) {
-            state xc = sized<state>(m_integ.x().size());
+            state& xc = m_point;
             event_resolution::hermite_state<N>(point, m_integ.x_prev(), m_integ.f_prev(), m_integ.x(), m_integ.f(), h, xc);
             const auto consider = [&](const end_sample& a, const end_sample& b, double vc) {
                 const scalar_sample s0 = a.at(h), s1 = b.at(h);
@@ -660,11 +667,10 @@ private:
             const double slope_start = m_start.gaps[static_cast<std::size_t>(i)].rate * h;  // per unit theta
             double value = m_end.gaps[static_cast<std::size_t>(i)].value;
             double slope_end = m_end.gaps[static_cast<std::size_t>(i)].rate * h;
-            state p, dp;
             if (theta_end < 1.0) {
-                m_integ.dense(rhs).value_and_slope(theta_end, p, dp);
-                value = i == impacting ? 0.0 : m_model.gap(i, p);
-                slope_end = gap_derivative(m_model, i, p, dp);
+                m_integ.dense(rhs).value_and_slope(theta_end, m_point, m_slope);
+                value = i == impacting ? 0.0 : m_model.gap(i, m_point);
+                slope_end = gap_derivative(m_model, i, m_point, m_slope);
             }
             double best = value, theta_best = theta_end;
             if (slope_start > 0.0 && slope_end < 0.0) {
@@ -673,7 +679,8 @@ private:
                     [this, i](const state& x, const state& v) { return gap_derivative(m_model, i, x, v); });
                 const double c =
                     detail::extremum_bracketed(g, 0.0, m_start.gaps[static_cast<std::size_t>(i)].at(h), theta_end, {value, slope_end});
-                const double gc = m_model.gap(i, m_integ.dense(rhs).value_at(c));
+                m_integ.dense(rhs).value_at(c, m_point);
+                const double gc = m_model.gap(i, m_point);
                 if (gc > best) {
                     best = gc;
                     theta_best = c;
@@ -817,6 +824,12 @@ private:
     int m_contact = -1;
     double m_t = 0.0;
     state m_x;
+    // Points on the interpolant where event functions are evaluated, sized once: the
+    // runtime-sized flow allocates nothing per step.
+    mutable state m_point, m_slope;
+    // The same for impacts and section crossings: the state on the surface, its image, a gradient.
+    state m_pre, m_post;
+    mutable state m_gradient;
     bool m_stop = false;
     double m_stop_theta = 2.0;  // where in the current step the observer stopped the run
     double m_free_step_max = 0.0;  // the longest free-flight step so far

@@ -22,28 +22,39 @@ struct dense_segment {
 
     [[nodiscard]] vec<N> value_at(double theta) const
     {
-        vec<N> s = c[K - 1];
-        for (int j = K - 1; j >= 1; --j) {
-            const double p = (j % 2 == 0) ? theta : 1.0 - theta;
-            s = c[j - 1] + p * s;
-        }
-        return x0 + theta * s;
+        vec<N> out = x0;
+        value_at(theta, out);
+        return out;
     }
 
-    // Value and d/dtheta at theta (divide the derivative by h for d/dt).
+    // The same into `out` (sized as x0), with no temporary: the runtime-sized flow calls it on
+    // every step and allocates nothing. The Horner sum runs in `out` itself; each component sees
+    // the same operations in the same order as in the expression form, so the bits are those.
+    void value_at(double theta, vec<N>& out) const
+    {
+        out = c[K - 1];
+        for (int j = K - 1; j >= 1; --j) {
+            const double p = (j % 2 == 0) ? theta : 1.0 - theta;
+            out = c[j - 1] + p * out;
+        }
+        out = x0 + theta * out;
+    }
+
+    // Value and d/dtheta at theta (divide the derivative by h for d/dt), into outputs sized as
+    // x0; the outputs carry the sums, so nothing is allocated.
     void value_and_slope(double theta, vec<N>& value, vec<N>& slope) const
     {
-        vec<N> s = c[K - 1];
-        vec<N> ds = vec<N>::Zero(s.size());
+        value = c[K - 1];  // the sum s
+        slope.setZero(value.size());  // its derivative ds
         for (int j = K - 1; j >= 1; --j) {
             const bool even = (j % 2 == 0);
             const double p = even ? theta : 1.0 - theta;
             const double dp = even ? 1.0 : -1.0;
-            ds = dp * s + p * ds;
-            s = c[j - 1] + p * s;
+            slope = dp * value + p * slope;
+            value = c[j - 1] + p * value;
         }
-        value = x0 + theta * s;
-        slope = s + theta * ds;
+        slope = value + theta * slope;  // before value, which still holds s
+        value = x0 + theta * value;
     }
 
     [[nodiscard]] vec<N> value(double t) const { return value_at(theta(t)); }

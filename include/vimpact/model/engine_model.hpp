@@ -74,7 +74,29 @@ double section_derivative(const M& m, int k, const vec<M::dim>& x, const vec<M::
 template <engine_model M>
 double gap_rate(const M& m, int i, const vec<M::dim>& x)
 {
-    return gap_derivative(m, i, x, m.rhs(x));
+    if constexpr (requires { { m.gap_rate(i, x) } -> std::convertible_to<double>; }) return m.gap_rate(i, x);
+    else return gap_derivative(m, i, x, m.rhs(x));
+}
+
+// A gradient or a reset written into `out`: a model whose states are sized at run time writes
+// there without a temporary (the flow keeps `out` from one impact to the next).
+template <engine_model M>
+void gap_gradient_into(const M& m, int i, const vec<M::dim>& x, vec<M::dim>& out)
+{
+    if constexpr (requires { m.gap_gradient_into(i, x, out); }) m.gap_gradient_into(i, x, out);
+    else out = m.gap_gradient(i, x);
+}
+template <engine_model M>
+void section_gradient_into(const M& m, int k, const vec<M::dim>& x, vec<M::dim>& out)
+{
+    if constexpr (requires { m.section_gradient_into(k, x, out); }) m.section_gradient_into(k, x, out);
+    else out = m.section_gradient(k, x);
+}
+template <engine_model M>
+void reset_into(const M& m, int i, const vec<M::dim>& x, vec<M::dim>& out)
+{
+    if constexpr (requires { m.reset_into(i, x, out); }) m.reset_into(i, x, out);
+    else out = m.reset(i, x);
 }
 
 // A model may provide these itself when it knows a cheaper form (the tangent flow does: its

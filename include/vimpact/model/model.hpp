@@ -22,6 +22,7 @@
 
 #include "vimpact/model/abi.h"
 #include "vimpact/model/model_info.hpp"
+#include "vimpact/model/model_limits.hpp"
 
 namespace vimpact {
 
@@ -96,11 +97,6 @@ private:
 // the built-ins, the fast path); a model file or plugin of any other dimension up to
 // max_model_dimension runs on states sized at run time (table_model<Eigen::Dynamic>).
 const std::vector<int>& engine_dimensions();
-
-// The largest state dimension accepted: a tangent run (Floquet, Lyapunov, the tangent system)
-// carries N + N^2 doubles per state, 8 MB per state vector at N = 1000 and a dozen such
-// vectors per Runge-Kutta step.
-inline constexpr int max_model_dimension = 1000;
 
 // Throws input_error naming `what`, its dimension and the limit unless 1 <= dim <= max_model_dimension.
 void check_engine_dimension(int dim, std::string_view what);

@@ -17,6 +17,7 @@
 #include "vimpact/hybrid/stepper.hpp"
 #include "vimpact/integrate/fused_step.hpp"
 #include "vimpact/model/abi.h"
+#include "vimpact/model/model_limits.hpp"
 #include "vimpact/model/spec.hpp"
 
 namespace vimpact {
@@ -31,6 +32,7 @@ public:
     table_model(const vimpact_model_table& table, const void* context) : m_t(&table), m_c(context)
     {
         assert(N == Eigen::Dynamic || table.dim == N);
+        assert(table.dim <= max_model_dimension);
     }
 
     // The state dimension (state_dim in model/engine_model.hpp reads it where N is dynamic).
@@ -97,6 +99,42 @@ public:
         return out;
     }
 
+    // Where states are sized at run time, a gap's or section's derivative along v with its
+    // gradient on the stack: event location asks for it on every step, and a returned
+    // gradient would be a heap allocation each time.
+    [[nodiscard]] double gap_derivative(int i, const state& x, const state& v) const
+        requires(N == Eigen::Dynamic)
+    {
+        return along(m_t->gap_gradient, i, x, v);
+    }
+    [[nodiscard]] double section_derivative(int k, const state& x, const state& v) const
+        requires(N == Eigen::Dynamic)
+    {
+        return along(m_t->section_gradient, k, x, v);
+    }
+    [[nodiscard]] double gap_rate(int i, const state& x) const
+        requires(N == Eigen::Dynamic)
+    {
+        alignas(64) std::array<double, max_model_dimension> f;
+        m_t->rhs(m_c, x.data(), f.data());
+        return along(m_t->gap_gradient, i, x, Eigen::Map<const state, Eigen::Aligned64>(f.data(), x.size()));
+    }
+    void gap_gradient_into(int i, const state& x, state& out) const
+    {
+        out.resize(x.size());
+        m_t->gap_gradient(m_c, i, x.data(), out.data());
+    }
+    void section_gradient_into(int k, const state& x, state& out) const
+    {
+        out.resize(x.size());
+        m_t->section_gradient(m_c, k, x.data(), out.data());
+    }
+    void reset_into(int i, const state& x, state& out) const
+    {
+        out.resize(x.size());
+        m_t->reset(m_c, i, x.data(), out.data());
+    }
+
     [[nodiscard]] double section(int k, const state& x) const { return m_t->section(m_c, k, x.data()); }
     [[nodiscard]] state section_gradient(int k, const state& x) const
     {
@@ -146,6 +184,17 @@ public:
     }
 
 private:
+    // gradient . v, the gradient written by the table on the stack: the same dot product on the
+    // same aligned layout as a returned gradient's, so the same bits.
+    using gradient_function = void (*)(const void*, int, const double*, double*);
+    template <class V>
+    double along(gradient_function gradient, int i, const state& x, const V& v) const
+    {
+        alignas(64) std::array<double, max_model_dimension> g;
+        gradient(m_c, i, x.data(), g.data());
+        return Eigen::Map<const state, Eigen::Aligned64>(g.data(), x.size()).dot(v);
+    }
+
     // Outputs the table writes into: sized at run time where N is dynamic.
     [[nodiscard]] state new_state() const { return sized<state>(m_t->dim); }
     [[nodiscard]] matrix new_matrix() const
