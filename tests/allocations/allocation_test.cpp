@@ -1,0 +1,63 @@
+// Heap allocations of a run on states sized at run time (a model file of a dimension without
+// fixed-size states: table_model<Eigen::Dynamic>). A free flight that lasts twice as long takes
+// twice the steps and must not allocate more: nothing in the step allocates. The test counts
+// every malloc of the process, so it is a program of its own, and is not built with the
+// sanitizers (which replace malloc).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <string>
+
+#include "vimpact/analysis/protocol.hpp"
+#include "vimpact/model/model.hpp"
+
+static std::atomic<long> allocations{0};
+extern "C" void* __libc_malloc(std::size_t);
+extern "C" void* malloc(std::size_t n)
+{
+    allocations.fetch_add(1, std::memory_order_relaxed);
+    return __libc_malloc(n);
+}
+
+using namespace vimpact;
+
+namespace {
+
+struct counted_run {
+    long steps = 0, impacts = 0, allocations = 0;
+};
+
+// Two copies of the two-sided impact oscillator (6 states), stops at +-d.
+counted_run run(double quiet_time, double d)
+{
+    model m = model::from_file(std::string(VIMPACT_SOURCE_DIR) + "/bench/models/two_oscillators.toml");
+    m = m.with_parameter(m.info().parameter_index("d"), d);
+    m = m.with_parameter(m.info().parameter_index("a1"), 1.01);
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(6);
+    x0[3] = 0.1;
+    protocol_options o;
+    o.quiet_time = quiet_time;
+    o.transient_impacts = 100000;
+    const long before = allocations.load();
+    const simulation s = simulate(m, x0, o);
+    return {s.stats.steps, s.stats.impacts, allocations.load() - before};
+}
+
+}  // namespace
+
+TEST(Allocations, RuntimeSizedStepsAllocateNothing)
+{
+    // Stops at d = 100: never reached; the run ends after quiet_time without an impact. The
+    // first run loads the engine module and the model: what happens once is not counted.
+    (void)run(100.0, 100.0);
+    const counted_run shorter = run(2000.0, 100.0);
+    const counted_run longer = run(4000.0, 100.0);
+    ASSERT_EQ(shorter.impacts, 0);
+    ASSERT_EQ(longer.impacts, 0);
+    ASSERT_GT(longer.steps, shorter.steps + 5000);
+    // The section crossings' records grow by doubling: a few reallocations, not one per step.
+    EXPECT_LE(longer.allocations - shorter.allocations, 16)
+        << shorter.allocations << " allocations in " << shorter.steps << " steps, " << longer.allocations << " in "
+        << longer.steps;
+}
