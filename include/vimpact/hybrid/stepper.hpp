@@ -13,6 +13,13 @@ template <class Model>
 struct free_field {
     const Model* model;
     vec<Model::dim> operator()(const vec<Model::dim>& x) const { return model->rhs(x); }
+    // The same into `out`, where the model writes there without a temporary (states sized at
+    // run time: the Runge-Kutta stages of the tangent runs, integrate/runge_kutta.hpp).
+    void into(const vec<Model::dim>& x, vec<Model::dim>& out) const
+    {
+        if constexpr (requires { model->rhs_into(x, out); }) model->rhs_into(x, out);
+        else out = model->rhs(x);
+    }
 };
 
 template <class Model, template <int> class Method>

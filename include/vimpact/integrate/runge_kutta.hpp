@@ -44,6 +44,15 @@ inline vec_t<T, N> error_scale(const vec_t<T, N>& x0, const vec_t<T, N>& x1, dou
     }
 }
 
+// error_weights (below) for double, into w (sized as x0): the scale, then h times its
+// reciprocal, in w itself.
+template <int N>
+inline void error_weights_into(const vec<N>& x0, const vec<N>& x1, double h, double rtol, double atol, vec<N>& w)
+{
+    w = (atol + rtol * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array()).matrix();
+    w = (h * w.array().inverse()).matrix();
+}
+
 // The weights h / (atol + rtol max(|x0|, |x1|)) of the error estimate's components (the
 // estimate is h times a sum of stages): computed from the step's ends before its last stage
 // is, so that the error's own chain to the controller has a multiplication where a division
@@ -51,12 +60,14 @@ inline vec_t<T, N> error_scale(const vec_t<T, N>& x0, const vec_t<T, N>& x1, dou
 template <int N, class T>
 inline vec_t<T, N> error_weights(const vec_t<T, N>& x0, const vec_t<T, N>& x1, const T& h, double rtol, double atol)
 {
-    const vec_t<T, N> sc = error_scale<N, T>(x0, x1, rtol, atol);
     // h (1 / sc_i), not h / sc_i: Eigen vectorises the reciprocal for double (a loop of
     // quotients made DOP853's step 1.3x slower), and lanes take the same two roundings.
     if constexpr (std::is_same_v<T, double>) {
-        return (h * sc.array().inverse()).matrix();
+        vec<N> w = sized<vec<N>>(x0.size());
+        error_weights_into<N>(x0, x1, h, rtol, atol, w);
+        return w;
     } else {
+        const vec_t<T, N> sc = error_scale<N, T>(x0, x1, rtol, atol);
         vec_t<T, N> w = sized<vec_t<T, N>>(x0.size());
         for (Eigen::Index i = 0; i < x0.size(); ++i) w[i] = h * (T(1.0) / sc[i]);
         return w;
@@ -66,19 +77,32 @@ inline vec_t<T, N> error_weights(const vec_t<T, N>& x0, const vec_t<T, N>& x1, c
 // sum_i (e_i w_i)^2 in one fixed order with explicit multiply-adds (two interleaved
 // accumulators, even and odd i, then their sum): the same rounding for a scalar and for a SIMD
 // lane (core/lanes.hpp), whatever the compiler would contract on its own.
+// The sum of q(i)^2, i < n, in that order.
+template <int N, class T, class Q>
+inline T ordered_square_sum(Q&& q, Eigen::Index n)
+{
+    using std::fma;
+    if constexpr (N == 1) {
+        return T(q(0) * q(0));
+    } else {
+        if (N == Eigen::Dynamic && n == 1) return T(q(0) * q(0));
+        T even = q(0) * q(0), odd = q(1) * q(1);
+        for (Eigen::Index i = 2; i < n; i += 2) even = fma(q(i), q(i), even);
+        for (Eigen::Index i = 3; i < n; i += 2) odd = fma(q(i), q(i), odd);
+        return T(even + odd);
+    }
+}
+
 template <int N, class T>
 inline T weighted_square_sum(const vec_t<T, N>& e, const vec_t<T, N>& w)
 {
-    using std::fma;
-    const vec_t<T, N> q = e.cwiseProduct(w);
-    if constexpr (N == 1) {
-        return T(q[0] * q[0]);
+    // Sized at run time, each product as it is needed (the same rounding), not in a vector
+    // that would be allocated on every step.
+    if constexpr (N == Eigen::Dynamic) {
+        return ordered_square_sum<N, T>([&](Eigen::Index i) { return T(e[i] * w[i]); }, e.size());
     } else {
-        if (N == Eigen::Dynamic && q.size() == 1) return T(q[0] * q[0]);
-        T even = q[0] * q[0], odd = q[1] * q[1];
-        for (Eigen::Index i = 2; i < q.size(); i += 2) even = fma(q[i], q[i], even);
-        for (Eigen::Index i = 3; i < q.size(); i += 2) odd = fma(q[i], q[i], odd);
-        return T(even + odd);
+        const vec_t<T, N> q = e.cwiseProduct(w);
+        return ordered_square_sum<N, T>([&](Eigen::Index i) -> const T& { return q[i]; }, q.size());
     }
 }
 
@@ -91,6 +115,21 @@ template <double C, class State>
 inline void add_term(State& acc, const State& k)
 {
     if constexpr (C != 0.0) acc += C * k;
+}
+
+// The same into out, with acc as the second accumulator (both sized as the stages): states
+// sized at run time keep their vectors.
+template <int Count, const auto& Coef, class State, std::size_t S>
+inline void combine_into(const std::array<State, S>& k, State& out, State& acc)
+{
+    using T = typename State::Scalar;
+    [&]<int... J>(std::integer_sequence<int, J...>) {
+        const Eigen::Index n = k[0].size();
+        out.setConstant(n, T(0.0));
+        acc.setConstant(n, T(0.0));
+        (add_term<Coef[J]>(J % 2 == 0 ? out : acc, k[J]), ...);
+        out += acc;
+    }(std::make_integer_sequence<int, Count>{});
 }
 
 template <int Count, const auto& Coef, class State, std::size_t S>
@@ -137,12 +176,12 @@ inline T stage_term(const T& acc, const T& c, const T& k)
 // vector: for lanes, a sum kept in the vector went through memory at every term, and the
 // lanes' engine (bench/lanes_bench.cpp) took 1.4x as long.
 template <int Count, const auto& Coef, class State, std::size_t S, class H>
-inline State stage_input_ordered(const std::array<State, S>& k, const State& x, H h)
+inline void stage_input_into(const std::array<State, S>& k, const State& x, H h, State& out)
 {
     using T = typename State::Scalar;
-    return [&]<int... J>(std::integer_sequence<int, J...>) {
+    [&]<int... J>(std::integer_sequence<int, J...>) {
         const H hc[] = {H(h * Coef[J])...};
-        State out = sized<State>(x.size());
+        out.resize(x.size());
         for (Eigen::Index i = 0; i < x.size(); ++i) {
             T acc = x[i];
             ((Coef[J] != 0.0 ? (void)(acc = stage_term<T>(acc, hc[J], k[J][i])) : (void)0), ...);
@@ -153,9 +192,37 @@ inline State stage_input_ordered(const std::array<State, S>& k, const State& x, 
 #endif
             out[i] = acc;
         }
-        return out;
     }(std::make_integer_sequence<int, Count>{});
 }
+
+template <int Count, const auto& Coef, class State, std::size_t S, class H>
+inline State stage_input_ordered(const std::array<State, S>& k, const State& x, H h)
+{
+    State out = sized<State>(x.size());
+    stage_input_into<Count, Coef>(k, x, h, out);
+    return out;
+}
+
+// F(x) into out: through the field's own `into` where it has one (free_field, for models that
+// write their field in place), else assigned.
+template <class F, class State>
+inline void evaluate_into(F& rhs, const State& x, State& out)
+{
+    if constexpr (requires { rhs.into(x, out); }) rhs.into(x, out);
+    else out = rhs(x);
+}
+
+// What a step on states sized at run time keeps from one step to the next instead of
+// allocating: a stage's input, the new state and its field, the error weights, an
+// accumulator. Nothing for fixed sizes: the methods are then their stages alone
+// (integrate/fused_step.hpp).
+template <int N, class T>
+struct run_time_vectors {
+    vec_t<T, N> input, x_new, f_new, weights, sum;
+};
+struct no_vectors {};
+template <int N, class T>
+using step_vectors = std::conditional_t<N == Eigen::Dynamic && std::is_same_v<T, double>, run_time_vectors<N, T>, no_vectors>;
 
 }  // namespace rk_detail
 
@@ -285,6 +352,9 @@ public:
                               state& x_new, state& f_new)
     {
         namespace Tab = dop853_tableau;
+        if constexpr (N == Eigen::Dynamic && std::is_same_v<T, double>) {
+            return attempt_in_place(rhs, x, f, h, rtol, atol, x_new, f_new);
+        }
         m_k[0] = f;
         // Stages unrolled at compile time; zero tableau entries cost nothing.
         [&]<int... S>(std::integer_sequence<int, S...>) {
@@ -314,6 +384,10 @@ public:
                                      dense_type& out)
     {
         namespace Tab = dop853_tableau;
+        if constexpr (N == Eigen::Dynamic && std::is_same_v<T, double>) {
+            build_dense_in_place(rhs, t0, h, x0, x1, out);
+            return;
+        }
         [&]<int... S>(std::integer_sequence<int, S...>) {
             ((m_k[Tab::stages + 1 + S] = rhs(rk_detail::stage_input_ordered<Tab::stages + 1 + S, Tab::A[Tab::stages + 1 + S]>(m_k, x0, h))), ...);
         }(std::make_integer_sequence<int, Tab::stages_extended - Tab::stages - 1>{});
@@ -337,7 +411,60 @@ public:
     [[nodiscard]] const std::array<state, dop853_tableau::stages_extended>& stages() const { return m_k; }
 
 private:
+    // attempt() and build_dense() on states sized at run time: the same operations in the same
+    // order, every vector kept in m_k and m_vectors, so that a step allocates nothing.
+    template <class F>
+    T attempt_in_place(F& rhs, const state& x, const state& f, T h, double rtol, double atol, state& x_new,
+                       state& f_new)
+    {
+        namespace Tab = dop853_tableau;
+        auto& v = m_vectors;
+        m_k[0] = f;
+        [&]<int... S>(std::integer_sequence<int, S...>) {
+            ((rk_detail::stage_input_into<S + 1, Tab::A[S + 1]>(m_k, x, h, v.input),
+              rk_detail::evaluate_into(rhs, v.input, m_k[S + 1])),
+             ...);
+        }(std::make_integer_sequence<int, Tab::stages - 1>{});
+        rk_detail::stage_input_into<Tab::stages, Tab::B>(m_k, x, h, v.x_new);
+        rk_detail::evaluate_into(rhs, v.x_new, v.f_new);
+        m_k[Tab::stages] = v.f_new;
+        error_weights_into<N>(x, v.x_new, h, rtol, atol, v.weights);
+        rk_detail::combine_into<Tab::stages + 1, Tab::E5>(m_k, v.input, v.sum);
+        const T n5 = weighted_square_sum<N>(v.input, v.weights);
+        rk_detail::combine_into<Tab::stages + 1, Tab::E3>(m_k, v.input, v.sum);
+        const T n3 = weighted_square_sum<N>(v.input, v.weights);
+        x_new = v.x_new;
+        f_new = v.f_new;
+        return select(n5 == T(0.0) && n3 == T(0.0), T(0.0), T(n5 * n5 / ((n5 + 0.01 * n3) * double(x.size()))));
+    }
+
+    template <class F>
+    void build_dense_in_place(F& rhs, double t0, double h, const vec<N>& x0, const vec<N>& x1, dense_type& out)
+    {
+        namespace Tab = dop853_tableau;
+        auto& v = m_vectors;
+        [&]<int... S>(std::integer_sequence<int, S...>) {
+            ((rk_detail::stage_input_into<Tab::stages + 1 + S, Tab::A[Tab::stages + 1 + S]>(m_k, x0, h, v.input),
+              rk_detail::evaluate_into(rhs, v.input, m_k[Tab::stages + 1 + S])),
+             ...);
+        }(std::make_integer_sequence<int, Tab::stages_extended - Tab::stages - 1>{});
+        out.t0 = t0;
+        out.h = h;
+        out.x0 = x0;
+        vec<N>& dx = v.input;
+        dx = x1 - x0;
+        out.c[0] = dx;
+        out.c[1] = h * m_k[0] - dx;
+        out.c[2] = 2.0 * dx - h * (m_k[Tab::stages] + m_k[0]);
+        // h times each sum, as h * combine(): the product commutes, so the same bits.
+        [&]<int... J>(std::integer_sequence<int, J...>) {
+            ((rk_detail::combine_into<Tab::stages_extended, Tab::D[J]>(m_k, out.c[3 + J], v.sum), out.c[3 + J] *= h),
+             ...);
+        }(std::make_integer_sequence<int, 4>{});
+    }
+
     std::array<state, dop853_tableau::stages_extended> m_k;
+    [[no_unique_address]] rk_detail::step_vectors<N, T> m_vectors;
 };
 
 }  // namespace vimpact

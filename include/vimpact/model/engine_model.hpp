@@ -78,13 +78,26 @@ double gap_rate(const M& m, int i, const vec<M::dim>& x)
     else return gap_derivative(m, i, x, m.rhs(x));
 }
 
-// A gradient or a reset written into `out`: a model whose states are sized at run time writes
-// there without a temporary (the flow keeps `out` from one impact to the next).
+// A gradient, a reset, the field or its Jacobian written into `out`: a model whose states are
+// sized at run time writes there without a temporary (the flow and the tangent field keep
+// `out` from one call to the next).
 template <engine_model M>
 void gap_gradient_into(const M& m, int i, const vec<M::dim>& x, vec<M::dim>& out)
 {
     if constexpr (requires { m.gap_gradient_into(i, x, out); }) m.gap_gradient_into(i, x, out);
     else out = m.gap_gradient(i, x);
+}
+template <engine_model M>
+void rhs_into(const M& m, const vec<M::dim>& x, vec<M::dim>& out)
+{
+    if constexpr (requires { m.rhs_into(x, out); }) m.rhs_into(x, out);
+    else out = m.rhs(x);
+}
+template <engine_model M>
+void jacobian_into(const M& m, const vec<M::dim>& x, mat<M::dim>& out)
+{
+    if constexpr (requires { m.jacobian_into(x, out); }) m.jacobian_into(x, out);
+    else out = m.jacobian(x);
 }
 template <engine_model M>
 void section_gradient_into(const M& m, int k, const vec<M::dim>& x, vec<M::dim>& out)

@@ -119,6 +119,16 @@ public:
         m_t->rhs(m_c, x.data(), f.data());
         return along(m_t->gap_gradient, i, x, Eigen::Map<const state, Eigen::Aligned64>(f.data(), x.size()));
     }
+    void rhs_into(const state& x, state& out) const
+    {
+        out.resize(x.size());
+        m_t->rhs(m_c, x.data(), out.data());
+    }
+    void jacobian_into(const state& x, matrix& out) const
+    {
+        out.resize(x.size(), x.size());
+        m_t->jacobian(m_c, x.data(), out.data());
+    }
     void gap_gradient_into(int i, const state& x, state& out) const
     {
         out.resize(x.size());

@@ -137,6 +137,22 @@ public:
         return f;
     }
 
+    // The same into `f` where states are sized at run time, with the base state, its field and
+    // Jacobian in this model's own vectors (a flow integrates its own copy of the model): the
+    // same numbers as rhs(), and no allocation per stage. Every component of f is written.
+    void rhs_into(const state& X, state& f) const
+        requires(sized_at_run_time)
+    {
+        const int n = base_size(X);
+        m_x = head(X, n);
+        jacobian_into(m_model, m_x, m_jacobian);
+        vimpact::rhs_into(m_model, m_x, m_field);
+        f.resize(X.size());
+        head(f, n) = m_field;
+        tangent_of(f.data() + n, n).noalias() = m_jacobian * tangent_of(X.data() + n, n);
+        if constexpr (Divergence) f[divergence_index_of(n)] = m_model.divergence(m_x);
+    }
+
     // The flow needs the tangent model's derivatives only for events of the reference state:
     // their gradients are those of the base model, padded with zeros. No N^2 x N^2 matrix is
     // ever formed.
@@ -146,11 +162,11 @@ public:
     }
     [[nodiscard]] double gap_derivative(int i, const state& X, const state& V) const
     {
-        return vimpact::gap_derivative(m_model, i, point(X), point(V));
+        return vimpact::gap_derivative(m_model, i, base_of(X, m_x), base_of(V, m_field));
     }
     [[nodiscard]] double section_derivative(int k, const state& X, const state& V) const
     {
-        return vimpact::section_derivative(m_model, k, point(X), point(V));
+        return vimpact::section_derivative(m_model, k, base_of(X, m_x), base_of(V, m_field));
     }
     [[nodiscard]] state state_rate_gradient(int j, const state& X) const
     {
@@ -158,12 +174,20 @@ public:
     }
     [[nodiscard]] mat<dim> jacobian(const state& X) const;  // not defined: see above
     [[nodiscard]] state second_derivative(const state& X, const state&, const state&) const { return zero_like(X); }
-    [[nodiscard]] double divergence(const state& X) const { return m_model.divergence(point(X)); }
+    [[nodiscard]] double divergence(const state& X) const { return m_model.divergence(base_of(X, m_x)); }
 
-    [[nodiscard]] double gap(int i, const state& X) const { return m_model.gap(i, point(X)); }
+    [[nodiscard]] double gap(int i, const state& X) const { return m_model.gap(i, base_of(X, m_x)); }
     [[nodiscard]] bool gap_affine(int i) const { return gap_is_affine(m_model, i); }
     [[nodiscard]] bool section_affine(int k) const { return section_is_affine(m_model, k); }
     [[nodiscard]] state gap_gradient(int i, const state& X) const { return embed(m_model.gap_gradient(i, point(X))); }
+    // The same into `out` (the flow's hop resolution on every step that may hold an impact).
+    void gap_gradient_into(int i, const state& X, state& out) const
+    {
+        const int n = base_size(X);
+        vimpact::gap_gradient_into(m_model, i, base_of(X, m_x), m_field);
+        out.setZero(X.size());
+        head(out, n) = m_field;
+    }
     [[nodiscard]] mat<dim> gap_hessian(int i, const state& X) const;  // not defined: see above
 
     [[nodiscard]] state reset(int i, const state& X) const
@@ -191,7 +215,7 @@ public:
         return zero_like(X);
     }
 
-    [[nodiscard]] double section(int k, const state& X) const { return m_model.section(k, point(X)); }
+    [[nodiscard]] double section(int k, const state& X) const { return m_model.section(k, base_of(X, m_x)); }
     [[nodiscard]] state section_gradient(int k, const state& X) const
     {
         return embed(m_model.section_gradient(k, point(X)));
@@ -254,6 +278,21 @@ private:
     Model m_model;
     impact_tangent m_jump;
     double m_scale;
+    // The base state of X for the functions the flow calls on every step: where states are sized
+    // at run time, in `scratch` (m_x, or m_field for a second one), not in a new vector.
+    decltype(auto) base_of(const state& X, base_state& scratch) const
+    {
+        if constexpr (sized_at_run_time) {
+            scratch = head(X, base_size(X));
+            return static_cast<const base_state&>(scratch);
+        } else {
+            return point(X);
+        }
+    }
+
+    // rhs_into's base state, field and Jacobian (states sized at run time only), and base_of's.
+    mutable base_state m_x, m_field;
+    mutable tangent m_jacobian;
 };
 
 }  // namespace vimpact
