@@ -82,7 +82,7 @@ public:
         rec.points.pop_front();
         take_impacts(rec, p.t, m_impacts, identity);
         m_t = p.t;
-        m_x = to_dynamic(p.x);
+        assign_dynamic(p.x, m_x);
         return outcome::ok;  // the flow may have ended after this point: the next call says so
     }
     [[nodiscard]] run_stats stats() const override { return m_run.stats(); }
@@ -94,7 +94,7 @@ private:
     {
         take_impacts(m_run.record(), m_run.t(), m_impacts, identity);
         m_t = m_run.t();
-        m_x = to_dynamic(m_run.x());
+        assign_dynamic(m_run.x(), m_x);
     }
 
     engine::stepping_flow<EM, Method> m_run;
@@ -192,18 +192,19 @@ private:
         m_w = w;
         m_status = outcome::ok;
     }
+    // Read in place, element by element (as start() says why), into the vectors already there.
     void publish(double t, const typename VM::state& X)
     {
         m_t = t;
-        m_x = to_dynamic(VM::point(X));
-        const mat<N> Y = VM::matrix(X);
+        const auto Y = VM::matrix_view(X);
+        assign_dynamic(X.head(Y.rows()), m_x);
         for (Eigen::Index j = 0; j < m_w.cols(); ++j)
             for (Eigen::Index i = 0; i < Y.rows(); ++i) m_w(i, j) = Y(i, j);
     }
     // The tangent map of a contact phase is not implemented (variational.hpp).
     [[nodiscard]] outcome checked(outcome o) const
     {
-        return o == outcome::ok && m_run->flow().stats().sticking_phases > 0 ? outcome::sticking : o;
+        return o == outcome::ok && m_run->flow().sticking_phases() > 0 ? outcome::sticking : o;
     }
 
     VM m_vm;

@@ -38,6 +38,17 @@ vec<N> head_as(const Eigen::VectorXd& x, [[maybe_unused]] Eigen::Index n)
     else return x.template head<N>();
 }
 
+// a into `out`, element by element (see to_dynamic below), resized only when its size differs: a
+// stepped system that publishes its state after every step allocates nothing from one step to
+// the next.
+template <class Derived, class Out>
+void assign_dynamic(const Eigen::MatrixBase<Derived>& a, Out& out)
+{
+    out.resize(a.rows(), a.cols());
+    for (Eigen::Index j = 0; j < a.cols(); ++j)
+        for (Eigen::Index i = 0; i < a.rows(); ++i) out(i, j) = a(i, j);
+}
+
 // A fixed-size vector or matrix as a dynamic one, element by element (Eigen's packet copy into
 // a dynamic destination trips false -Warray-bounds errors in GCC 12 with AVX-512 for sizes
 // below one register).
@@ -46,8 +57,7 @@ Eigen::Matrix<double, Eigen::Dynamic, Derived::ColsAtCompileTime == 1 ? 1 : Eige
     const Eigen::MatrixBase<Derived>& a)
 {
     Eigen::Matrix<double, Eigen::Dynamic, Derived::ColsAtCompileTime == 1 ? 1 : Eigen::Dynamic> out(a.rows(), a.cols());
-    for (Eigen::Index j = 0; j < a.cols(); ++j)
-        for (Eigen::Index i = 0; i < a.rows(); ++i) out(i, j) = a(i, j);
+    assign_dynamic(a, out);
     return out;
 }
 

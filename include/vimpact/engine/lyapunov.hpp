@@ -169,7 +169,7 @@ bool run_interval(Flow& flow, Observer& obs, lyapunov_result& res)
         res.status = o;
         return false;
     }
-    if (flow.stats().sticking_phases > 0) {
+    if (flow.sticking_phases() > 0) {
         res.status = outcome::sticking;
         return false;
     }
@@ -208,7 +208,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
         stepping_flow<VM, dop853> run(vm, fo, t, X);
         const outcome o = run.advance_to(t_begin + static_cast<double>(k + 1) * opt.t0);
         res.stats.add(run.stats());
-        if (o != outcome::ok || run.flow().stats().sticking_phases > 0) {
+        if (o != outcome::ok || run.flow().sticking_phases() > 0) {
             res.status = o != outcome::ok ? o : outcome::sticking;
             return;
         }

@@ -247,6 +247,8 @@ public:
     [[nodiscard]] int contact_surface() const { return m_contact; }
     [[nodiscard]] const Model& model() const { return m_model; }
     [[nodiscard]] const flow_options& options() const { return m_opt; }
+    // stats().sticking_phases without the copy of the statistics (a driver asks after every step).
+    [[nodiscard]] long sticking_phases() const { return m_stats.sticking_phases; }
     [[nodiscard]] run_stats stats() const
     {
         run_stats s = m_stats;

@@ -114,6 +114,12 @@ public:
         const int n = base_size(X);
         return tangent_of(X.data() + n, n);
     }
+    // The same, read in place.
+    static auto matrix_view(const state& X)
+    {
+        const int n = base_size(X);
+        return tangent_of(X.data() + n, n);
+    }
     static double divergence_integral(const state& X)
     {
         if constexpr (Divergence) return X[divergence_index_of(base_size(X))];
@@ -164,6 +170,9 @@ public:
     {
         return vimpact::gap_derivative(m_model, i, base_of(X, m_x), base_of(V, m_field));
     }
+    // The rate of gap i along the flow: the base field's part of the tangent field, without
+    // the tangent field itself (an n x n product) that the generic form would compute.
+    [[nodiscard]] double gap_rate(int i, const state& X) const { return vimpact::gap_rate(m_model, i, base_of(X, m_x)); }
     [[nodiscard]] double section_derivative(int k, const state& X, const state& V) const
     {
         return vimpact::section_derivative(m_model, k, base_of(X, m_x), base_of(V, m_field));
