@@ -396,6 +396,13 @@ private:
         }
         return state_rate_gradient(m_model, e.index, x);
     }
+    // The same into `out`: a section's without allocating (the runtime-sized flow locates
+    // its crossings on every step that holds one).
+    void event_gradient_into(const flow_event& e, const state& x, state& out) const
+    {
+        if (e.kind == flow_event::source::section) section_gradient_into(m_model, e.index, x, out);
+        else out = event_gradient(e, x);
+    }
 
     // The watched events' crossings in (0, theta_end], in time order, reported to the
     // observer (the step-end samples are taken: sample_step_ends).
@@ -443,8 +450,7 @@ private:
             const flow_event& ev = m_opt.events[static_cast<std::size_t>(fe.event)];
             state& p = m_pre;
             m_integ.dense(rhs).value_at(fe.theta, p);
-            if (ev.kind == flow_event::source::section) section_gradient_into(m_model, ev.index, p, m_gradient);
-            else m_gradient = event_gradient(ev, p);
+            event_gradient_into(ev, p, m_gradient);
             polish([&](const state& y) { return event_value(ev, y); }, m_gradient, p, m_slope);
             if (obs.on_section(fe.event, fe.direction, t0 + fe.theta * h, p) == flow_control::stop) {
                 m_stop = true;

@@ -50,13 +50,13 @@ public:
     [[nodiscard]] state rhs(const state& x) const
     {
         state f = new_state();
-        m_t->rhs(m_c, x.data(), f.data());
+        rhs_into(x, f);
         return f;
     }
     [[nodiscard]] matrix jacobian(const state& x) const
     {
         matrix J = new_matrix();
-        m_t->jacobian(m_c, x.data(), J.data());
+        jacobian_into(x, J);
         return J;
     }
     [[nodiscard]] state second_derivative(const state& x, const state& u, const state& w) const
@@ -71,7 +71,7 @@ public:
     [[nodiscard]] state gap_gradient(int i, const state& x) const
     {
         state out = new_state();
-        m_t->gap_gradient(m_c, i, x.data(), out.data());
+        gap_gradient_into(i, x, out);
         return out;
     }
     [[nodiscard]] matrix gap_hessian(int i, const state& x) const
@@ -83,7 +83,7 @@ public:
     [[nodiscard]] state reset(int i, const state& x) const
     {
         state out = new_state();
-        m_t->reset(m_c, i, x.data(), out.data());
+        reset_into(i, x, out);
         return out;
     }
     [[nodiscard]] matrix reset_jacobian(int i, const state& x) const
@@ -149,7 +149,7 @@ public:
     [[nodiscard]] state section_gradient(int k, const state& x) const
     {
         state out = new_state();
-        m_t->section_gradient(m_c, k, x.data(), out.data());
+        section_gradient_into(k, x, out);
         return out;
     }
 
