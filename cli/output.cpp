@@ -420,6 +420,17 @@ std::string streamed_output::commit(const std::string& command, const std::strin
     return "output written to " + m_config.out->string() + "\n";
 }
 
+int streamed_output::finish(job_session& session, const std::string& command, const std::string& plot,
+                            const json& summary, std::string text)
+{
+    if (m_config.out) {
+        text += commit(command, plot, summary);
+        session.finish();
+    }
+    print(m_config, summary, text);
+    return 0;
+}
+
 streamed_table::streamed_table(streamed_output& out, std::string file, std::vector<std::string> header, json schema)
     : m_out(out), m_file(std::move(file)), m_header(std::move(header)), m_schema(std::move(schema))
 {

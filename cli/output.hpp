@@ -15,6 +15,7 @@
 
 #include "common_options.hpp"
 #include "interrupts.hpp"
+#include "job_runner.hpp"
 #include "vimpact/analysis/impact_statistics.hpp"
 #include "vimpact/core/state_series.hpp"
 #include "vimpact/hybrid/run_stats.hpp"
@@ -145,6 +146,10 @@ public:
     // as its result, the tables and the standard files), config.toml and the picture of
     // `plot`, and commits DIR. Returns the text output's line saying where.
     std::string commit(const std::string& command, const std::string& plot, const json& summary);
+    // The end of a complete many-job run: with --out, DIR committed (commit) and the journal
+    // removed; then the summary or the text printed. Returns the exit code, 0.
+    int finish(job_session& session, const std::string& command, const std::string& plot, const json& summary,
+               std::string text);
 
 private:
     friend class streamed_table;

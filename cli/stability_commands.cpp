@@ -139,7 +139,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
         const auto& r = p.result;  // NaN and 0 where it has no multipliers (floquet_sweep_point)
         const bool have = r.has_multipliers();
         tally.add(r.label);
-        if (have && r.max_nontrivial_modulus >= 1.0) ++unstable;
+        if (have && !p.stable) ++unstable;
         const double period_si = c.si ? r.period * time_scale_at(c, sv, p.value) : std::nan("");
         std::vector<double> si;
         if (sv.si()) si.push_back(sv.si_at(c, p.value));
@@ -175,12 +175,7 @@ int run_floquet_sweep(const floquet_args& a, const run_config& c, const floquet_
     std::string text = "floquet sweep of " + sv.name + " over " + std::to_string(sv.values.size()) +
                        " values: " + counts_text(counts) + "; " + std::to_string(unstable) +
                        " periodic orbit(s) with a multiplier outside the unit circle\n";
-    if (c.out) {
-        text += stream.commit("floquet", "floquet_sweep", summary);
-        session.finish();
-    }
-    print(c, summary, text);
-    return 0;
+    return stream.finish(session, "floquet", "floquet_sweep", summary, text);
 }
 
 int run_floquet(const floquet_args& a)
@@ -328,12 +323,7 @@ int run_lyapunov_sweep(const lyapunov_args& a, const run_config& c, lyapunov_opt
     if (unsettled > 0)
         text += "warning: the largest exponent drifts between the halves of the averaging at " +
                 std::to_string(unsettled) + " value(s) (column settled = 0): lengthen --transient or --impacts\n";
-    if (c.out) {
-        text += stream.commit("lyapunov", "lyapunov_sweep", summary);
-        session.finish();
-    }
-    print(c, summary, text);
-    return 0;
+    return stream.finish(session, "lyapunov", "lyapunov_sweep", summary, text);
 }
 
 int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
@@ -398,19 +388,13 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
                     h.push_back("lambda" + std::to_string(i) + "_si");
             }
             csv_writer w(out.file("convergence.csv"), h);
-            Eigen::VectorXd sum = Eigen::VectorXd::Zero(c.model.dim());
-            std::vector<double> row(h.size());
-            for (std::size_t k = 0; k < r.history.size(); ++k) {
-                const double elapsed = r.history_t[k] - r.t_start;
-                row[0] = r.history_t[k];
-                for (int i = 0; i < c.model.dim(); ++i) {
-                    sum[i] += r.history[k][i];
-                    row[static_cast<std::size_t>(i) + 1] = sum[i] / elapsed;
-                }
+            const auto running = r.running_exponents();
+            for (std::size_t k = 0; k < running.size(); ++k) {
+                std::vector<double> row{r.history_t[k]};
+                row.insert(row.end(), running[k].begin(), running[k].end());
                 if (c.si) {
-                    const std::size_t n = static_cast<std::size_t>(c.model.dim()) + 1;
-                    row[n] = row[0] * second;
-                    for (std::size_t i = 1; i < n; ++i) row[n + i] = row[i] / second;
+                    row.push_back(r.history_t[k] * second);
+                    for (const double e : running[k]) row.push_back(e / second);
                 }
                 w.row(row);
             }

@@ -156,12 +156,7 @@ int run_sweep(const sweep_args& a)
     if (c.si) summary["si"] = si_json(*c.si, m);
     std::string text = "sweep of " + pname + " over " + std::to_string(o.values.size()) + " values (" +
                        std::string(to_string(o.start)) + " starts): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
-    if (c.out) {
-        text += stream.commit("sweep", "sweep", summary);
-        session.finish();
-    }
-    print(c, summary, text);
-    return 0;
+    return stream.finish(session, "sweep", "sweep", summary, text);
 }
 
 // ---------------------------------------------------------------- map
@@ -357,12 +352,7 @@ int run_basins(const basins_args& a)
                 std::to_string(t["cells"].get<long>()) + " cells\n";
     if (excluded) text += "  (" + std::to_string(excluded) + " cells start beyond a surface and are excluded)\n";
     text += unsettled_text(unsettled);
-    if (c.out) {
-        text += stream.commit("basins", "basins", summary);
-        session.finish();
-    }
-    print(c, summary, text);
-    return 0;
+    return stream.finish(session, "basins", "basins", summary, text);
 }
 
 // ---------------------------------------------------------------- response
@@ -560,12 +550,7 @@ int run_response(const response_args& a)
                     {"out", out_path(c)}};
     if (axis.si()) summary["si_param"] = axis.si_name;
     if (c.si) summary["si"] = si_json(*c.si, m);
-    if (c.out) {
-        text += stream.commit("response", "response", summary);
-        session.finish();
-    }
-    print(c, summary, text);
-    return 0;
+    return stream.finish(session, "response", "response", summary, text);
 }
 
 }  // namespace

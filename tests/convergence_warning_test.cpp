@@ -207,6 +207,32 @@ TEST(Settled, LyapunovDriftBetweenHalvesIsReported)
     EXPECT_NEAR(r.exponents[0], 0.045, 1e-12);
 }
 
+// The running estimates every front end shows (convergence.csv, Python's running_exponents):
+// growth k and -1 on unit intervals from t_start = 2 average to (k + 1) / 2 and -1 after
+// interval k; the last estimate is the exponents, before their sort.
+TEST(Settled, RunningEstimatesAreTheGrowthSoFarOverTheTimeSoFar)
+{
+    lyapunov_result r;
+    r.t_start = 2.0;
+    vec<2> sum = vec<2>::Zero();
+    for (int k = 1; k <= 10; ++k) {
+        r.history.push_back(Eigen::Vector2d(k, -1.0));
+        r.history_t.push_back(2.0 + k);
+        sum += r.history.back();
+    }
+    r.time = 10.0;
+    const auto running = r.running_exponents();
+    ASSERT_EQ(running.size(), 10U);
+    for (int k = 1; k <= 10; ++k) {
+        EXPECT_DOUBLE_EQ(running[static_cast<std::size_t>(k - 1)][0], (k + 1) / 2.0) << k;
+        EXPECT_DOUBLE_EQ(running[static_cast<std::size_t>(k - 1)][1], -1.0) << k;
+    }
+    engine::finish_exponents<2>(r, sum);
+    EXPECT_DOUBLE_EQ(r.exponents[0], running.back()[0]);
+    EXPECT_DOUBLE_EQ(r.exponents[1], running.back()[1]);
+    EXPECT_TRUE(lyapunov_result{}.running_exponents().empty());
+}
+
 TEST(Settled, TooFewIntervalsSayNothing)
 {
     lyapunov_result r;

@@ -304,7 +304,7 @@ TEST(Records, StabilitySweepColumnsAreTheDocumentedOnes)
     };
     EXPECT_EQ(names(record_columns<floquet_sweep_point>(c)),
               (std::vector<std::string>{"w", "label", "period", "impacts", "trivial_error", "max_nontrivial_modulus",
-                                        "closure", "outcome", "impacts_right", "impacts_left"}));
+                                        "closure", "outcome", "impacts_right", "impacts_left", "stable"}));
     const auto lc = record_columns<lyapunov_sweep_point>(c);
     EXPECT_EQ(names(lc), (std::vector<std::string>{"w", "lambda1", "lambda2", "lambda3", "lle_standard_error",
                                                    "settled", "impacts", "time", "misses", "outcome",

@@ -98,6 +98,7 @@ py::dict lyapunov_dict(const model& m, const lyapunov_result& r)
     d["positive"] = r.positive_largest_exponent();
     d["history_t"] = vector_array(r.history_t);
     d["history_growth"] = rows_array(r.history, m.dim());
+    d["running_exponents"] = rows_array(r.running_exponents(), m.dim());
     return d;
 }
 

@@ -58,7 +58,9 @@ class Lyapunov(_Run):
                         "above 0.", False)
     history_t: np.ndarray = _a("ndarray, float64, shape (h,)", "The end of every counted interval.")
     history_growth: np.ndarray = _a("ndarray, float64, shape (h, dim)", "ln(R_ii / r0) of every counted interval "
-                                    "(QR order); ``running_exponents`` gives the running averages.")
+                                    "(QR order).")
+    running_exponents: np.ndarray = _a("ndarray, float64, shape (h, dim)", "The estimates after each counted "
+                                       "interval (QR order): the growth so far over the time since ``t_start``.")
     stats: dict = _a("dict", "``transient`` and ``tangent`` RunStats.", dict)
     si: dict = None
 
@@ -66,12 +68,6 @@ class Lyapunov(_Run):
     def lle(self):
         """The largest exponent."""
         return float(self.exponents[0])
-
-    @property
-    def running_exponents(self):
-        """ndarray, float64, shape (h, dim): the estimates after each counted interval."""
-        elapsed = (self.history_t - self.t_start)[:, None]
-        return np.cumsum(self.history_growth, axis=0) / elapsed
 
     def __repr__(self):
         return (f"Lyapunov(status={self.status!r}, exponents {np.array2string(self.exponents, precision=6)}, "
@@ -81,10 +77,11 @@ class Lyapunov(_Run):
     def _read(cls, res, directory):
         conv = read_csv(os.path.join(directory, "convergence.csv"))
         running = _states(conv, [f"lambda{i + 1}" for i in range(len(res["exponents"]))], len(conv["t"]))
-        # Back from running averages to per-interval growth, so running_exponents round-trips.
+        # Back from the running estimates to each interval's growth.
         total = running * (conv["t"] - res["t_start"])[:, None]
         growth = np.diff(np.vstack([np.zeros((1, running.shape[1])), total]), axis=0) if len(total) else total
-        return dict(positive=res["positive"], history_t=conv["t"], history_growth=growth, stats={},
+        return dict(positive=res["positive"], history_t=conv["t"], history_growth=growth, running_exponents=running,
+                    stats={},
                     record=_loaded_record(cls, res, status=res["outcome"]))
 
 
@@ -135,9 +132,10 @@ class FloquetSweep(_ValueSweep, _Labels):
 
     @property
     def stable(self):
-        """ndarray, object, shape (n,): True, False or None (no multipliers)."""
-        return np.array([bool(s == "ok" and m < 1) if h else None for s, m, h in
-                         zip(self.status, self.max_nontrivial_modulus, self.trivial.any(axis=1))], dtype=object)
+        """ndarray, object, shape (n,): the library's verdict (the record's ``stable``), None where
+        there are no multipliers."""
+        return np.array([bool(s) if h else None for s, h in zip(self.records["stable"], self.trivial.any(axis=1))],
+                        dtype=object)
 
     def _per_value(self):
         return {"stable": self.stable}

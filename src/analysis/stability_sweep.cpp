@@ -28,7 +28,8 @@ floquet_sweep_point floquet_point(double value, floquet_result r)
         r.impacts_by_surface.clear();
     }
     if (r.section_returns <= 0) r.closure = r.initial_closure = nan;
-    return {value, std::move(r)};
+    const bool stable = r.stable();
+    return {value, std::move(r), stable};
 }
 
 lyapunov_sweep_point lyapunov_point(double value, lyapunov_result r)

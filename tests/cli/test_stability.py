@@ -224,7 +224,7 @@ def test_sweep_out_directory(vimpact, tmp_path, command, files):
             "impacts_barrier,positive")
     else:
         assert (out / "labels.csv").read_text().splitlines()[0] == (
-            "sigma,label,period,impacts,trivial_error,max_nontrivial_modulus,closure,outcome,impacts_barrier")
+            "sigma,label,period,impacts,trivial_error,max_nontrivial_modulus,closure,outcome,impacts_barrier,stable")
 
 
 SWEEP_BAD = [

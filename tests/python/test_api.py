@@ -143,6 +143,8 @@ def test_stability_and_dimension_shapes():
     fs = vimpact.floquet_sweep(W, "Ur", [16, 18.426], **Q)
     check(fs.multipliers, (2, 4), np.complex128)
     assert fs.label.tolist() == ["P2", "aperiodic"] and np.isnan(fs.multipliers[1]).all()
+    # The library's verdict, against the multipliers themselves: none without them.
+    assert fs.stable.tolist() == [bool(np.all(np.abs(fs.multipliers[0][1:]) < 1)), None]
     assert fs.points.shape == (2 * Q["record"], 4)
     ls = vimpact.lyapunov_sweep(W, "Ur", [16, 17], impacts=30, transient=60, record=5)
     check(ls.exponents, (2, 4), np.float64)

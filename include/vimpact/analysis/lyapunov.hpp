@@ -127,6 +127,19 @@ struct lyapunov_result {
         return has_exponents() && exponents.size() > 0 && std::isfinite(exponents[0]) &&
                std::isfinite(lle_standard_error) && exponents[0] > 3.0 * lle_standard_error;
     }
+    // The estimates after each counted interval (a row each): the growth summed so far over the
+    // time since t_start. Their last row is the exponents in QR order, before the sort.
+    [[nodiscard]] std::vector<Eigen::VectorXd> running_exponents() const
+    {
+        std::vector<Eigen::VectorXd> out;
+        out.reserve(history.size());
+        Eigen::VectorXd sum = Eigen::VectorXd::Zero(history.empty() ? 0 : history.front().size());
+        for (std::size_t k = 0; k < history.size(); ++k) {
+            sum += history[k];
+            out.push_back(sum / (history_t[k] - t_start));
+        }
+        return out;
+    }
 };
 
 // What a sweep keeps of a result (its journal, its tables, Python's arrays): all but the

@@ -22,6 +22,7 @@ struct floquet_sweep_options {
 struct floquet_sweep_point {
     double value = 0.0;
     floquet_result result;  // what its describe() keeps (no monodromy, impacts or orbit samples)
+    bool stable = false;    // result.stable(), the verdict every front end shows
 };
 
 template <class V, record_of<floquet_sweep_point> P>
@@ -29,6 +30,7 @@ void describe(V& v, P& p)
 {
     v(field{"value", "the swept parameter's value", "parameter", field_span::one, "{axis}"}, p.value);
     describe(v, p.result);
+    v(field{"stable", "converged, and every nontrivial multiplier inside the unit circle"}, p.stable);
 }
 
 struct floquet_sweep_result {
