@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <complex>
 #include <numeric>
 #include <sstream>
@@ -204,6 +205,87 @@ TEST(AnyDimension, LyapunovSpectrumIsTheCopiesTogether)
     std::sort(want.begin(), want.end(), std::greater<>());
     EXPECT_NEAR(all.exponents[0], want[0], std::max(largest_error, 1e-6));
     for (int i = 1; i < 3 * K; ++i) EXPECT_NEAR(all.exponents[i], want[static_cast<std::size_t>(i)], 1e-6) << i;
+}
+
+// Identical copies started alike hit their stops at the same instant, one surface per copy:
+// each impact after the located one is taken at that instant too (not a start beyond the
+// surface, which ended the run inadmissible). Each copy runs the one-copy orbit, and the
+// monodromy is the one copy's block K times: its multipliers, each K times. 3 copies: 9
+// states, sized at run time.
+TEST(AnyDimension, IdenticalCopiesHitTheirStopsTogether)
+{
+    constexpr int K = 3;
+    const model m = copies(K);  // every a_k = 1
+    const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(3 * K);
+    const simulation all = simulate(m, x0, window(40));
+    ASSERT_EQ(all.status, outcome::ok);
+    const simulation one = simulate(single(0), Eigen::VectorXd::Zero(3), window(40));  // a_0 = 1
+    ASSERT_EQ(one.status, outcome::ok);
+    ASSERT_GT(one.impacts.size(), 10U);
+    for (int k = 0; k < K; ++k) expect_copy_matches(all, one, k);
+    // The copies' impacts come K at a time, at one instant.
+    ASSERT_EQ(all.impacts.size(), K * one.impacts.size());
+    for (std::size_t i = 0; i < all.impacts.size(); i += K)
+        for (std::size_t j = 1; j < static_cast<std::size_t>(K); ++j)
+            EXPECT_EQ(all.impacts.pre.t(i + j), all.impacts.pre.t(i)) << i;
+
+    floquet_options o;
+    o.protocol.flow = test::flow_tolerances(tol, 1e6);
+    const floquet_result f = floquet(m, x0, o);
+    const floquet_result g = floquet(copies(1), Eigen::VectorXd::Zero(3), o);
+    ASSERT_EQ(f.status, outcome::ok) << f.label;
+    ASSERT_EQ(g.status, outcome::ok) << g.label;
+    EXPECT_EQ(f.impacts_per_period, K * g.impacts_per_period);
+    std::vector<std::complex<double>> want;
+    for (int k = 0; k < K; ++k) want.insert(want.end(), g.multipliers.begin(), g.multipliers.end());
+    expect_same_multiset(f.multipliers, want, 1e-7);
+}
+
+// Two balls dropped together from height 1 onto their floors (gravity 1, restitution r), 4
+// states (a fixed size): both bounce at the closed-form instants t_1 = sqrt 2, t_(k+1) = t_k +
+// 2 r^k sqrt 2, arriving at r^(k-1) sqrt 2, each pair of impacts at one instant.
+TEST(AnyDimension, TwoBallsDroppedTogetherBounceTogether)
+{
+    const model m = model::with_defaults(compile_model_text(R"(
+name = "two_balls"
+state = ["x0", "v0", "x1", "v1"]
+[parameters]
+r = { default = 0.8 }
+[derivatives]
+x0 = "v0"
+v0 = "-1"
+x1 = "v1"
+v1 = "-1"
+[[surfaces]]
+name = "floor0"
+gap = "x0"
+reset = { v0 = "-r*v0" }
+[[surfaces]]
+name = "floor1"
+gap = "x1"
+reset = { v1 = "-r*v1" }
+[[sections]]
+name = "apex"
+when = "v0"
+direction = "down"
+)", "two_balls.toml"));
+    protocol_options o = window(6);
+    const Eigen::Vector4d x0(1.0, 0.0, 1.0, 0.0);
+    const simulation s = simulate(m, x0, o);
+    ASSERT_EQ(s.status, outcome::ok);
+    ASSERT_GE(s.impacts.size(), 12U);
+    const double r = 0.8, root2 = std::sqrt(2.0);
+    double t = root2, speed = root2;
+    for (std::size_t k = 0; k + 1 < s.impacts.size(); k += 2) {
+        for (std::size_t j = 0; j < 2; ++j) {
+            EXPECT_EQ(s.impacts.surface[k + j], static_cast<int>(j)) << k;
+            EXPECT_NEAR(s.impacts.pre.t(k + j), t, 1e-9) << k;
+            EXPECT_NEAR(s.impacts.pre.x(k + j)[2 * j + 1], -speed, 1e-9) << k;
+            EXPECT_NEAR(s.impacts.post.x(k + j)[2 * j + 1], r * speed, 1e-9) << k;
+        }
+        t += 2.0 * r * speed;
+        speed *= r;
+    }
 }
 
 // 22 copies: 66 states (a tangent state of 66 + 66^2 numbers). Only copy 0 has its stops: with

@@ -577,8 +577,33 @@ private:
         if (!m_stop && obs.on_impact(surface, t_impact, pre, post) == flow_control::stop) m_stop = true;
         m_t = t_impact;
         m_x = post;
-        after_impact(obs, surface);
+        simultaneous_impacts(obs, surface);
+        if (!m_finished) after_impact(obs, surface);
         return step_status::ok;
+    }
+
+    // The other surfaces the state reaches at the same instant as surface `first` (identical
+    // copies of a system hit their stops together; a symmetric pair hits both neighbours):
+    // each one whose gap is zero to within its resolution and closing takes its impact now,
+    // after `first`'s, in the order of the surfaces (a tie goes to the lower index). Without
+    // this the next step would start beyond that surface and the run would end inadmissible.
+    template <class Observer>
+    void simultaneous_impacts(Observer& obs, int first)
+    {
+        for (int j = 0; j < m_model.surface_count(); ++j) {
+            if (j == first || absent(j)) continue;
+            if (!(m_model.gap(j, m_x) <= hop_resolution(j, m_x)) || !(gap_rate(m_model, j, m_x) < 0.0)) continue;
+            m_pre = m_x;
+            reset_into(m_model, j, m_pre, m_post);
+            if (const auto fault = reset_fault(j, m_post)) {
+                m_finished = *fault;
+                return;
+            }
+            ++m_stats.impacts;
+            ++m_stats.impacts_by_surface[static_cast<std::size_t>(j)];
+            if (!m_stop && obs.on_impact(j, m_t, m_pre, m_post) == flow_control::stop) m_stop = true;
+            m_x = m_post;
+        }
     }
 
     // Event functions the integrator's error control resolves: affine functions of the state
