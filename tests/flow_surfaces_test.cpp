@@ -16,7 +16,9 @@
 
 #include "test_support.hpp"
 #include "vimpact/hybrid/flow.hpp"
+#include "vimpact/model/model.hpp"
 #include "vimpact/model/native_model.hpp"
+#include "vimpact/system/hybrid_system.hpp"
 
 namespace {
 
@@ -408,4 +410,60 @@ TEST(FlowSurfaces, GapAndStateExtremaMatchClosedForms)
     // Extrema of x are put exactly on v = 0 (the rate of x is a coordinate).
     for (std::size_t ev : {2u, 3u})
         for (const auto& e : got[ev]) EXPECT_EQ(e.x[1], 0.0);
+}
+
+// A block at rest on a floor (a contact phase that never releases) slides at unit speed
+// between walls at x = 0 and x = 1 (restitution 1/2 on vx). The walls act during the contact
+// phase as in flight: the block hits them at t_k = 0.5 + 2^k - 2 from x = 0.5, stays on the
+// floor and between the walls. (The contact step ignored other surfaces: the block slid
+// through the wall to x = 1e6, outcome time_limit, no impact.)
+TEST(FlowSurfaces, SurfacesActDuringAContactPhase)
+{
+    const auto m = vimpact::model::from_toml(R"(
+name = "sliding_block"
+state = ["x", "vx", "y", "vy"]
+[parameters]
+r = { default = 0.5 }
+[derivatives]
+x = "vx"
+vx = "0"
+y = "vy"
+vy = "-1"
+[[surfaces]]
+name = "floor"
+gap = "y"
+reset = { vy = "-r*vy" }
+sticking = { release = "-1", rest = { y = "0", vy = "0" }, derivatives = { y = "0", vy = "0" } }
+[[surfaces]]
+name = "right"
+gap = "1 - x"
+reset = { vx = "-r*vx" }
+[[surfaces]]
+name = "left"
+gap = "x"
+reset = { vx = "-r*vx" }
+)");
+    vimpact::hybrid_system_options o;
+    o.flow = flow_tolerances(1e-12, 100.0);
+    vimpact::hybrid_system s(m, Eigen::Vector4d(0.5, 1.0, 0.0, 0.0), 0.0, o);
+    ASSERT_TRUE(s.in_contact());
+    std::vector<double> times;
+    std::vector<int> surfaces;
+    for (int steps = 0; times.size() < 4 && steps < 10000; ++steps) {
+        ASSERT_EQ(s.step(), outcome::ok);
+        const auto& imp = s.impacts();
+        for (std::size_t k = 0; k < imp.size(); ++k) {
+            times.push_back(imp.pre.t(k));
+            surfaces.push_back(imp.surface[k]);
+        }
+        EXPECT_TRUE(s.in_contact()) << "t = " << s.time();
+        EXPECT_GE(s.state()[0], -1e-12) << "t = " << s.time();
+        EXPECT_LE(s.state()[0], 1.0 + 1e-12) << "t = " << s.time();
+    }
+    ASSERT_EQ(times.size(), 4U);
+    for (int k = 1; k <= 4; ++k) {
+        EXPECT_NEAR(times[static_cast<std::size_t>(k - 1)], 0.5 + std::ldexp(1.0, k) - 2.0, 1e-12) << k;
+        EXPECT_EQ(surfaces[static_cast<std::size_t>(k - 1)], k % 2 == 1 ? 1 : 2) << k;
+    }
+    EXPECT_EQ(s.stats().impacts_by_surface, (std::vector<long>{0, 2, 2}));
 }

@@ -591,7 +591,7 @@ private:
     void simultaneous_impacts(Observer& obs, int first)
     {
         for (int j = 0; j < m_model.surface_count(); ++j) {
-            if (j == first || absent(j)) continue;
+            if (j == first || j == m_contact || absent(j)) continue;
             if (!(m_model.gap(j, m_x) <= hop_resolution(j, m_x)) || !(gap_rate(m_model, j, m_x) < 0.0)) continue;
             m_pre = m_x;
             reset_into(m_model, j, m_pre, m_post);
@@ -811,17 +811,49 @@ private:
         const scalar_sample s1{m_model.release(i, x1), m_model.release_gradient(i, x1).dot(m_integ.f()) * h};
         find_crossings(crossing_direction::up, ga, s0, s1, [&](double th) { theta_release = th; return false; },
                        m_opt.event_subdivisions);
+        // The other surfaces, which the motion in contact can reach (a ball sliding on the floor
+        // into a wall): the first crossing in time, as in free flight.
+        double theta_impact = 2.0;
+        int surface = -1;
+        if (m_opt.surfaces)
+            for (int j = 0; j < m_model.surface_count(); ++j) {
+                if (j == i || absent(j)) continue;
+                auto g = on_dense(
+                    rhs, [this, j](const state& x) { return m_model.gap(j, x); },
+                    [this, j](const state& x, const state& v) { return gap_derivative(m_model, j, x, v); });
+                const scalar_sample g0{m_model.gap(j, x0), gap_derivative(m_model, j, x0, m_integ.f_prev()) * h};
+                const scalar_sample g1{m_model.gap(j, x1), gap_derivative(m_model, j, x1, m_integ.f()) * h};
+                double theta = 2.0;
+                find_crossings(crossing_direction::down, g, g0, g1, [&](double th) { theta = th; return false; },
+                               m_opt.event_subdivisions);
+                if (theta < theta_impact) {
+                    theta_impact = theta;
+                    surface = j;
+                }
+            }
+        if (theta_impact >= theta_release) surface = -1;  // released first (or neither)
+        // No crossing found, yet another surface ends beyond: crossed unseen, as in flight.
+        if (surface < 0 && theta_release > 1.0 && m_opt.surfaces)
+            for (int j = 0; j < m_model.surface_count(); ++j)
+                if (j != i && !absent(j) && m_model.gap(j, x1) < -hop_resolution(j, x1)) {
+                    m_t = t0;
+                    m_x = x0;
+                    m_finished = outcome::inadmissible;
+                    return step_status::ok;
+                }
+        const double theta_stop = std::min(theta_release, theta_impact);
 
         sample_step_ends(false);
-        report_events(obs, rhs, theta_release);
+        report_events(obs, rhs, theta_stop);
         if (m_opt.gap_maxima && !m_stop) {
             // In contact the contact surface's gap is 0; the others' at the step's end.
-            const double theta_end = std::min(theta_release, 1.0);
+            const double theta_end = std::min(theta_stop, 1.0);
             const state x_end = theta_end >= 1.0 ? x1 : m_integ.dense(rhs).value_at(theta_end);
             for (int s = 0; s < m_model.surface_count(); ++s)
                 obs.on_gap_maximum(s, t0 + theta_end * h, s == i ? 0.0 : m_model.gap(s, x_end));
         }
 
+        if (surface >= 0) return impact_in_contact(obs, rhs, surface, theta_impact);
         if (theta_release > 1.0) {
             if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::sticking);
             m_stats.sticking_time += m_integ.t() - m_t;
@@ -840,6 +872,49 @@ private:
         m_mode = flow_mode::free;
         m_contact = -1;
         if (!m_stop) obs.on_release(i, m_t, m_x);
+        restart(m_integ.step_size());
+        return step_status::ok;
+    }
+
+    // An impact on surface j at theta of the contact step just taken, in contact with surface
+    // m_contact. The contact goes on where the impact leaves the state at rest on that surface
+    // (a wall's reset of the horizontal velocity); otherwise it ends there.
+    template <class Observer, class Rhs>
+    step_status impact_in_contact(Observer& obs, Rhs& rhs, int j, double theta)
+    {
+        const int i = m_contact;
+        const double h = m_integ.last_step();
+        const double t0 = m_integ.t_prev();
+        const auto& d = m_integ.dense(rhs);
+        const double t_impact = theta >= 1.0 ? m_integ.t() : t0 + theta * h;
+        if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_impact, flow_mode::sticking);
+        m_stats.sticking_time += t_impact - m_t;
+        state& pre = m_pre;
+        if (theta >= 1.0) pre = m_integ.x();
+        else d.value_at(theta, pre);
+        gap_gradient_into(m_model, j, pre, m_gradient);
+        polish([&](const state& y) { return m_model.gap(j, y); }, m_gradient, pre, m_slope);
+        reset_into(m_model, j, pre, m_post);
+        if (const auto fault = !pre.allFinite() ? std::optional<outcome>(outcome::non_finite) : reset_fault(j, m_post)) {
+            m_t = pre.allFinite() ? t_impact : t0;
+            m_x = pre.allFinite() ? pre : m_integ.x_prev();
+            m_finished = *fault;
+            return step_status::ok;
+        }
+        ++m_stats.impacts;
+        ++m_stats.impacts_by_surface[static_cast<std::size_t>(j)];
+        if (!m_stop && obs.on_impact(j, t_impact, pre, m_post) == flow_control::stop) m_stop = true;
+        m_t = t_impact;
+        m_x = m_post;
+        simultaneous_impacts(obs, j);
+        if (m_finished) return step_status::ok;
+        const bool resting = m_model.gap(i, m_x) <= hop_resolution(i, m_x) &&
+                             std::abs(gap_rate(m_model, i, m_x)) < m_opt.sticking_velocity && m_model.release(i, m_x) <= 0.0;
+        if (!resting) {
+            m_mode = flow_mode::free;
+            m_contact = -1;
+            if (!m_stop) obs.on_release(i, m_t, m_x);
+        }
         restart(m_integ.step_size());
         return step_status::ok;
     }
