@@ -556,9 +556,20 @@ private:
         const auto& d = m_integ.dense(rhs);
         const double t_impact = (theta_impact >= 1.0) ? m_integ.t() : t0 + theta_impact * h;
         if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_impact, flow_mode::free);
+        if (take_impact(obs, d, surface, theta_impact, t_impact)) after_impact(obs, surface);
+        return step_status::ok;
+    }
+
+    // The impact on `surface` at theta (time t_impact) of the step just taken, whose
+    // interpolant is d: the state put on the surface and reset, counted and reported, then
+    // the other surfaces reached at that instant. False when the run ends there: a state not
+    // finite, or a reset that is not admissible.
+    template <class Observer, class Dense>
+    bool take_impact(Observer& obs, const Dense& d, int surface, double theta, double t_impact)
+    {
         state& pre = m_pre;
-        if (theta_impact >= 1.0) pre = x1;
-        else d.value_at(theta_impact, pre);
+        if (theta >= 1.0) pre = m_integ.x();
+        else d.value_at(theta, pre);
         gap_gradient_into(m_model, surface, pre, m_gradient);
         polish([&](const state& y) { return m_model.gap(surface, y); }, m_gradient, pre, m_slope);
         reset_into(m_model, surface, pre, m_post);
@@ -567,10 +578,10 @@ private:
             // The run ends at the last finite state: the impact's, else the step's start (the
             // interpolant of a step near overflow can overflow where its ends did not).
             const bool at_impact = pre.allFinite();
-            m_t = at_impact ? t_impact : t0;
-            m_x = at_impact ? pre : x0;
+            m_t = at_impact ? t_impact : m_integ.t_prev();
+            m_x = at_impact ? pre : m_integ.x_prev();
             m_finished = *fault;
-            return step_status::ok;
+            return false;
         }
         ++m_stats.impacts;
         ++m_stats.impacts_by_surface[static_cast<std::size_t>(surface)];
@@ -578,8 +589,7 @@ private:
         m_t = t_impact;
         m_x = post;
         simultaneous_impacts(obs, surface);
-        if (!m_finished) after_impact(obs, surface);
-        return step_status::ok;
+        return !m_finished;
     }
 
     // The other surfaces the state reaches at the same instant as surface `first` (identical
@@ -889,25 +899,7 @@ private:
         const double t_impact = theta >= 1.0 ? m_integ.t() : t0 + theta * h;
         if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_impact, flow_mode::sticking);
         m_stats.sticking_time += t_impact - m_t;
-        state& pre = m_pre;
-        if (theta >= 1.0) pre = m_integ.x();
-        else d.value_at(theta, pre);
-        gap_gradient_into(m_model, j, pre, m_gradient);
-        polish([&](const state& y) { return m_model.gap(j, y); }, m_gradient, pre, m_slope);
-        reset_into(m_model, j, pre, m_post);
-        if (const auto fault = !pre.allFinite() ? std::optional<outcome>(outcome::non_finite) : reset_fault(j, m_post)) {
-            m_t = pre.allFinite() ? t_impact : t0;
-            m_x = pre.allFinite() ? pre : m_integ.x_prev();
-            m_finished = *fault;
-            return step_status::ok;
-        }
-        ++m_stats.impacts;
-        ++m_stats.impacts_by_surface[static_cast<std::size_t>(j)];
-        if (!m_stop && obs.on_impact(j, t_impact, pre, m_post) == flow_control::stop) m_stop = true;
-        m_t = t_impact;
-        m_x = m_post;
-        simultaneous_impacts(obs, j);
-        if (m_finished) return step_status::ok;
+        if (!take_impact(obs, d, j, theta, t_impact)) return step_status::ok;
         const bool resting = m_model.gap(i, m_x) <= hop_resolution(i, m_x) &&
                              std::abs(gap_rate(m_model, i, m_x)) < m_opt.sticking_velocity && m_model.release(i, m_x) <= 0.0;
         if (!resting) {
