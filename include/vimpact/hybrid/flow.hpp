@@ -506,14 +506,9 @@ private:
         if (m_opt.surfaces) {
             for (int i = 0; i < m_model.surface_count(); ++i) {
                 if (absent(i)) continue;
-                auto g = on_dense(
-                    rhs, [this, i](const state& x) { return m_model.gap(i, x); },
-                    [this, i](const state& x, const state& v) { return gap_derivative(m_model, i, x, v); });
                 const scalar_sample s0 = m_start.gaps[static_cast<std::size_t>(i)].at(h);
                 const scalar_sample s1 = m_end.gaps[static_cast<std::size_t>(i)].at(h);
-                double theta = 2.0;
-                find_crossings(crossing_direction::down, g, s0, s1, [&](double th) { theta = th; return false; },
-                               m_opt.event_subdivisions);
+                const double theta = gap_crossing(rhs, i, s0, s1);
                 if (theta < theta_impact) {
                     theta_impact = theta;
                     surface = i;
@@ -526,17 +521,10 @@ private:
             }
         }
 
-        // No crossing found, yet a present gap ends beyond its surface: the motion crossed it
-        // unseen (or a hop below resolution pushed away from the surface). Going on would
-        // continue in the forbidden region; the run ends at the step's start instead.
-        if (theta_impact > 1.0 && m_opt.surfaces)
-            for (int i = 0; i < m_model.surface_count(); ++i)
-                if (!absent(i) && m_end.gaps[static_cast<std::size_t>(i)].value < -hop_resolution(i, x1)) {
-                    m_t = t0;
-                    m_x = x0;
-                    m_finished = outcome::inadmissible;
-                    return step_status::ok;
-                }
+        // No crossing found, yet a present gap ends beyond its surface.
+        if (theta_impact > 1.0 &&
+            ended_beyond_unseen(-1, [this](int i) { return m_end.gaps[static_cast<std::size_t>(i)].value; }))
+            return step_status::ok;
 
         const bool stopped_before = m_stop;
         m_stop_theta = 2.0;
@@ -828,14 +816,9 @@ private:
         if (m_opt.surfaces)
             for (int j = 0; j < m_model.surface_count(); ++j) {
                 if (j == i || absent(j)) continue;
-                auto g = on_dense(
-                    rhs, [this, j](const state& x) { return m_model.gap(j, x); },
-                    [this, j](const state& x, const state& v) { return gap_derivative(m_model, j, x, v); });
                 const scalar_sample g0{m_model.gap(j, x0), gap_derivative(m_model, j, x0, m_integ.f_prev()) * h};
                 const scalar_sample g1{m_model.gap(j, x1), gap_derivative(m_model, j, x1, m_integ.f()) * h};
-                double theta = 2.0;
-                find_crossings(crossing_direction::down, g, g0, g1, [&](double th) { theta = th; return false; },
-                               m_opt.event_subdivisions);
+                const double theta = gap_crossing(rhs, j, g0, g1);
                 if (theta < theta_impact) {
                     theta_impact = theta;
                     surface = j;
@@ -843,14 +826,9 @@ private:
             }
         if (theta_impact >= theta_release) surface = -1;  // released first (or neither)
         // No crossing found, yet another surface ends beyond: crossed unseen, as in flight.
-        if (surface < 0 && theta_release > 1.0 && m_opt.surfaces)
-            for (int j = 0; j < m_model.surface_count(); ++j)
-                if (j != i && !absent(j) && m_model.gap(j, x1) < -hop_resolution(j, x1)) {
-                    m_t = t0;
-                    m_x = x0;
-                    m_finished = outcome::inadmissible;
-                    return step_status::ok;
-                }
+        if (surface < 0 && theta_release > 1.0 &&
+            ended_beyond_unseen(i, [this, &x1](int j) { return m_model.gap(j, x1); }))
+            return step_status::ok;
         const double theta_stop = std::min(theta_release, theta_impact);
 
         sample_step_ends(false);
@@ -884,6 +862,39 @@ private:
         if (!m_stop) obs.on_release(i, m_t, m_x);
         restart(m_integ.step_size());
         return step_status::ok;
+    }
+
+    // The first downward crossing of gap j on the interpolant of the step just taken, from its
+    // samples at the step's ends (2 when there is none).
+    template <class Rhs>
+    double gap_crossing(Rhs& rhs, int j, const scalar_sample& s0, const scalar_sample& s1)
+    {
+        auto g = on_dense(
+            rhs, [this, j](const state& x) { return m_model.gap(j, x); },
+            [this, j](const state& x, const state& v) { return gap_derivative(m_model, j, x, v); });
+        double theta = 2.0;
+        find_crossings(crossing_direction::down, g, s0, s1, [&](double th) { theta = th; return false; },
+                       m_opt.event_subdivisions);
+        return theta;
+    }
+
+    // No crossing located, yet a present surface (but `skip`) ends the step beyond itself, its
+    // gap there `gap_end(j)`: the motion crossed it unseen (or a hop below resolution pushed
+    // away from it). Going on would continue in the forbidden region; the run ends at the
+    // step's start instead. True when it ends.
+    template <class GapEnd>
+    bool ended_beyond_unseen(int skip, GapEnd&& gap_end)
+    {
+        if (!m_opt.surfaces) return false;
+        const state& x1 = m_integ.x();
+        for (int j = 0; j < m_model.surface_count(); ++j)
+            if (j != skip && !absent(j) && gap_end(j) < -hop_resolution(j, x1)) {
+                m_t = m_integ.t_prev();
+                m_x = m_integ.x_prev();
+                m_finished = outcome::inadmissible;
+                return true;
+            }
+        return false;
     }
 
     // An impact on surface j at theta of the contact step just taken, in contact with surface
