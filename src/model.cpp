@@ -179,6 +179,9 @@ model_info info_from_table(const vimpact_model_table& t)
     for (int k = 0; k < t.section_count; ++k)
         m.sections.push_back({text_or_empty(t.section_names, k), text_or_empty(t.section_meanings, k),
                               static_cast<crossing>(t.section_directions[k])});
+    for (int k = 0; k < t.switch_count; ++k)
+        m.switches.push_back({text_or_empty(t.switch_names, k), text_or_empty(t.switch_meanings, k),
+                              static_cast<crossing>(t.switch_directions[k])});
     for (int k = 0, offset = 0; k < t.preset_count; ++k) {
         preset_info p{text_or_empty(t.preset_names, k), text_or_empty(t.preset_meanings, k), {}};
         for (int j = 0; j < t.preset_sizes[k]; ++j, ++offset)

@@ -139,8 +139,8 @@ private:
     const std::string& m_where;
 };
 
-// The names of state variables, parameters, derived quantities and named expressions share
-// one space: an expression must know what each name means.
+// The names of state variables, parameters, derived quantities, named expressions and
+// switches share one space: an expression must know what each name means.
 class name_space {
 public:
     explicit name_space(const reader& r) : m_r(r) {}
@@ -345,6 +345,36 @@ void read_surfaces(const reader& r, description& d, const json& tree)
     }
 }
 
+crossing read_direction(const reader& r, const json& v, const std::string& path)
+{
+    const std::string dir = r.string(v, path);
+    if (dir == "down") return crossing::down;
+    if (dir == "up") return crossing::up;
+    if (dir == "both") return crossing::both;
+    r.fail(path, "'" + dir + "' is not a direction (valid: up, down, both)");
+}
+
+void read_switches(const reader& r, name_space& names, description& d, const json& tree)
+{
+    const json* switches = reader::find(tree, "switches");
+    if (!switches) return;
+    const json& a = r.array(*switches, "switches");
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        const std::string path = item("switches", k);
+        const json& v = r.object(a[k], path);
+        r.keys(v, path, {"name", "meaning", "when", "reset", "direction"});
+        switch_decl s;
+        s.name = r.name(r.require(v, path, "name"), join(path, "name"));
+        names.add(join(path, "name"), s.name, "a switch");
+        s.meaning = r.optional_string(v, path, "meaning");
+        s.when = r.expression(r.require(v, path, "when"), join(path, "when"));
+        if (const json* reset = reader::find(v, "reset")) s.reset = read_assignments(r, d, *reset, join(path, "reset"));
+        if (const json* dir = reader::find(v, "direction")) s.direction = read_direction(r, *dir, join(path, "direction"));
+        d.switches.push_back(std::move(s));
+    }
+    if (d.switches.size() > 64) r.fail("switches", "at most 64 switches, got " + std::to_string(d.switches.size()));
+}
+
 void read_sections(const reader& r, description& d, const json& tree)
 {
     const json* sections = reader::find(tree, "sections");
@@ -360,11 +390,7 @@ void read_sections(const reader& r, description& d, const json& tree)
             if (other.name == s.name) r.fail(join(path, "name"), "a section named '" + s.name + "' is already declared");
         s.meaning = r.optional_string(v, path, "meaning");
         s.when = r.expression(r.require(v, path, "when"), join(path, "when"));
-        const std::string dir = r.string(r.require(v, path, "direction"), join(path, "direction"));
-        if (dir == "down") s.direction = crossing::down;
-        else if (dir == "up") s.direction = crossing::up;
-        else if (dir == "both") s.direction = crossing::both;
-        else r.fail(join(path, "direction"), "'" + dir + "' is not a direction (valid: up, down, both)");
+        s.direction = read_direction(r, r.require(v, path, "direction"), join(path, "direction"));
         d.sections.push_back(std::move(s));
     }
 }
@@ -425,7 +451,7 @@ description describe(const json& tree, const std::string& where)
     if (!tree.is_object()) r.fail("expected a table of keys (name, state, parameters, derivatives, ...), got " +
                                   type_name(tree));
     r.keys(tree, "", {"name", "description", "state", "initial_state", "parameters", "derived", "expressions",
-                      "derivatives", "angles", "surfaces", "sections", "presets"});
+                      "derivatives", "angles", "surfaces", "sections", "switches", "presets"});
     description d;
     d.name = r.name(r.require(tree, "", "name"), "name");
     d.description = r.optional_string(tree, "", "description");
@@ -441,6 +467,7 @@ description describe(const json& tree, const std::string& where)
     read_initial_state(r, d, tree);
     read_surfaces(r, d, tree);
     read_sections(r, d, tree);
+    read_switches(r, names, d, tree);
     read_presets(r, d, tree);
     return d;
 }
@@ -492,6 +519,17 @@ json canonical_json(const description& d)
                             {"when", s.when.text},
                             {"direction", std::string(to_string(s.direction))}});
     j["sections"] = std::move(sections);
+    // Only when there are switches: the models without keep the identity they had.
+    if (!d.switches.empty()) {
+        json switches = json::array();
+        for (const auto& s : d.switches)
+            switches.push_back({{"name", s.name},
+                                {"meaning", s.meaning},
+                                {"when", s.when.text},
+                                {"reset", assignments_json(d, s.reset)},
+                                {"direction", std::string(to_string(s.direction))}});
+        j["switches"] = std::move(switches);
+    }
     json presets = json::array();
     for (const auto& p : d.presets) {
         json values = json::array();

@@ -72,6 +72,15 @@ struct section_decl {
     crossing direction = crossing::down;
 };
 
+// A switching surface: the field changes where `when` changes sign (side(NAME), on(NAME) in
+// the expressions); `reset` applies at the crossings in `direction`.
+struct switch_decl {
+    std::string name, meaning;
+    expression_text when;
+    std::vector<assignment> reset;
+    crossing direction = crossing::both;
+};
+
 struct preset_decl {
     std::string name, meaning;
     std::vector<std::pair<int, double>> values;  // (parameter index, value)
@@ -86,6 +95,7 @@ struct description {
     std::vector<expression_text> derivatives;  // one per state variable, in state order
     std::vector<surface_decl> surfaces;
     std::vector<section_decl> sections;
+    std::vector<switch_decl> switches;
     std::vector<preset_decl> presets;
 };
 

@@ -17,6 +17,7 @@
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/model/builtin/wake_impact.hpp"
 #include "vimpact/model/native_model.hpp"
+#include "map_differences.hpp"
 #include "vimpact/tangent/section_map.hpp"
 
 namespace {
@@ -146,17 +147,7 @@ TEST(StabilityFloquet, SectionMapJacobianMatchesFiniteDifferences)
     const vimpact::section_chart<wake> chart(m, 0, x_star);
     ASSERT_EQ(chart.dropped(), 1);  // the section ydot = 0 is solved for ydot
     const mat<3> jac = chart.projection() * base.return_derivative * chart.embedding(x_star);
-    const double h = 1e-6;
-    mat<3> fd;
-    for (int j = 0; j < 3; ++j) {
-        vec<3> z = chart.to_chart(x_star);
-        z[j] += h;
-        const auto plus = vimpact::section_map<vimpact::dop853>(m, chart.from_chart(z, x_star), 2);
-        z[j] -= 2.0 * h;
-        const auto minus = vimpact::section_map<vimpact::dop853>(m, chart.from_chart(z, x_star), 2);
-        ASSERT_TRUE(plus.valid() && minus.valid());
-        fd.col(j) = (chart.to_chart(plus.x_end) - chart.to_chart(minus.x_end)) / (2.0 * h);
-    }
+    const mat<3> fd = vimpact::test::map_differences(m, chart, x_star, 2, 1e-6);
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             EXPECT_NEAR(jac(i, j), fd(i, j), 1e-6 * (1.0 + std::abs(fd(i, j)))) << i << "," << j;

@@ -22,7 +22,7 @@ json range_json(const value_range& r)
 json model_info_json(const model_info& info)
 {
     json state = json::array(), params = json::array(), surfaces = json::array(), sections = json::array(),
-         presets = json::array();
+         switches = json::array(), presets = json::array();
     for (const auto& v : info.state)
         state.push_back({{"name", v.name},
                          {"meaning", v.meaning},
@@ -37,6 +37,8 @@ json model_info_json(const model_info& info)
     for (const auto& s : info.surfaces) surfaces.push_back({{"name", s.name}, {"meaning", s.meaning}, {"sticks", s.sticks}});
     for (const auto& s : info.sections)
         sections.push_back({{"name", s.name}, {"meaning", s.meaning}, {"direction", std::string(to_string(s.direction))}});
+    for (const auto& s : info.switches)
+        switches.push_back({{"name", s.name}, {"meaning", s.meaning}, {"direction", std::string(to_string(s.direction))}});
     for (const auto& p : info.presets) {
         json values = json::object();
         for (const auto& [i, v] : p.values) values[info.parameters[static_cast<std::size_t>(i)].name] = v;
@@ -51,6 +53,7 @@ json model_info_json(const model_info& info)
             {"parameters", params},
             {"surfaces", surfaces},
             {"sections", sections},
+            {"switches", switches},
             {"presets", presets}};
 }
 

@@ -532,7 +532,11 @@ struct bounded_substitution : GiNaC::map_function {
     throw input_error(where + ": " + key + ": " + message);
 }
 
-enum symbol_kind : unsigned { state_kind = 1, parameter_kind = 2, derived_kind = 4, expression_kind = 8 };
+enum symbol_kind : unsigned { state_kind = 1, parameter_kind = 2, derived_kind = 4, expression_kind = 8, switch_kind = 16 };
+
+// side(NAME) and on(NAME): the side of switch NAME (+1 or -1) and (1 + side) / 2. Not
+// functions of an expression: their argument is a switch's name.
+bool is_side_call(const std::string& name) { return name == "side" || name == "on"; }
 
 const char* kind_name(unsigned k)
 {
@@ -540,6 +544,7 @@ const char* kind_name(unsigned k)
         case state_kind: return "a state variable";
         case parameter_kind: return "a parameter";
         case derived_kind: return "a derived quantity";
+        case switch_kind: return "a switch";
         default: return "a named expression";
     }
 }
@@ -741,6 +746,11 @@ public:
             if (tk.kind == token::close && --depth < 0) fail(m_where, e.key, "unbalanced ')' in '" + e.text + "'");
             if (tk.kind != token::name) continue;
             const bool call = t + 1 < tokens.size() && tokens[t + 1].kind == token::open;
+            if (call && is_side_call(tk.text)) {
+                check_side_call(e, tokens, t, rules);
+                t += 3;  // past '(' NAME ')'
+                continue;
+            }
             if (call) {
                 check_call(e, tokens, t);
                 continue;
@@ -750,6 +760,8 @@ public:
             const auto it = m_names.find(tk.text);
             if (it == m_names.end())
                 fail(m_where, e.key, "unknown symbol '" + tk.text + "' (" + known_names(rules.allowed) + ")");
+            if (it->second.kind == switch_kind)
+                fail(m_where, e.key, "'" + tk.text + "' is a switch: write side(" + tk.text + ") or on(" + tk.text + ")");
             if (!(it->second.kind & rules.allowed))
                 fail(m_where, e.key, "'" + tk.text + "' is " + kind_name(it->second.kind) + ": " + rules.reason);
             used.push_back(tk.text);
@@ -894,6 +906,16 @@ private:
         for (std::size_t t = 0; t < tokens.size(); ++t) {
             const token& tk = tokens[t];
             const bool call = t + 1 < tokens.size() && tokens[t + 1].kind == token::open;
+            if (tk.kind == token::name && call && is_side_call(tk.text)) {
+                // side(NAME) or on(NAME), checked by names_used: one operand.
+                const std::string placeholder = "a" + std::to_string(t);
+                operands[placeholder] = GiNaC::symbol(placeholder);
+                const ex side = m_names.at(tokens[t + 2].text).value;
+                values[placeholder] = tk.text == "side" ? side : (1 + side) / 2;
+                text += placeholder + " ";
+                t += 3;
+                continue;
+            }
             if (tk.kind == token::number || (tk.kind == token::name && !call)) {
                 const std::string placeholder = "a" + std::to_string(t);
                 operands[placeholder] = GiNaC::symbol(placeholder);
@@ -910,6 +932,27 @@ private:
             }
         }
         return text;
+    }
+
+    void check_side_call(const expression_text& e, const std::vector<token>& tokens, std::size_t t,
+                         const expression_rules& rules) const
+    {
+        const std::string& f = tokens[t].text;
+        if (!(t + 3 < tokens.size() && tokens[t + 2].kind == token::name && tokens[t + 3].kind == token::close))
+            fail(m_where, e.key, f + "() takes the name of a switch: " + f + "(NAME) in '" + e.text + "'");
+        const std::string& name = tokens[t + 2].text;
+        const auto it = m_names.find(name);
+        if (it == m_names.end() || it->second.kind != switch_kind)
+            fail(m_where, e.key, "'" + name + "' is not a switch (" + f + "() takes the name of one: " + switch_names() + ")");
+        if (!(rules.allowed & switch_kind))
+            fail(m_where, e.key, f + "(" + name + ") is the side of a switch: " + rules.reason);
+    }
+    std::string switch_names() const
+    {
+        std::string list;
+        for (const auto& name : m_order)
+            if (m_names.at(name).kind == switch_kind) list += (list.empty() ? "" : ", ") + name;
+        return list.empty() ? "the model has none" : "switches: " + list;
     }
 
     void check_call(const expression_text& e, const std::vector<token>& tokens, std::size_t t) const
@@ -1075,6 +1118,12 @@ public:
         for (int k = 0; k < m_p; ++k) m_reader.add(d.parameters[static_cast<std::size_t>(k)].name, parameter_kind, m_ctx[static_cast<std::size_t>(k)]);
         for (int k = 0; k < m_nd; ++k) m_reader.add(d.derived[static_cast<std::size_t>(k)].name, derived_kind, m_ctx[static_cast<std::size_t>(m_p + k)]);
         for (const auto& e : d.expressions) m_reader.add(e.name, expression_kind, 0, false);
+        // A switch's side: S[k] in every function of the state, from the context or the state
+        // (vimpact_sides).
+        for (std::size_t k = 0; k < d.switches.size(); ++k) {
+            m_side.emplace_back("S[" + std::to_string(k) + "]");
+            m_reader.add(d.switches[k].name, switch_kind, m_side.back());
+        }
     }
 
     std::string run()
@@ -1091,8 +1140,8 @@ public:
 private:
     static constexpr expression_rules derived_rules{parameter_kind | derived_kind,
                                                     "derived quantities depend on the parameters only"};
-    static constexpr expression_rules state_rules{state_kind | parameter_kind | derived_kind | expression_kind,
-                                                  ""};
+    static constexpr expression_rules state_rules{
+        state_kind | parameter_kind | derived_kind | expression_kind | switch_kind, ""};
     static constexpr expression_rules constant_rules{0, "a period must be a constant, such as 2*pi"};
 
     void read_derived()
@@ -1242,6 +1291,14 @@ private:
             }
         }
         for (const auto& s : m_d.sections) m_sections.push_back(differentiate(s.when.key, read(s.when), false));
+        for (const auto& w : m_d.switches) {
+            const ex h = read(w.when);
+            for (const auto& side : m_side)
+                if (h.has(side)) fail(m_where, w.when.key, "a switching function cannot use side() or on(): its sign is the side");
+            m_switching.push_back(differentiate(w.when.key, h, false));
+            const std::string key = w.reset.empty() ? w.when.key : w.reset.front().expr.key;
+            m_switch_resets.push_back(differentiate(key, assigned(w.reset, m_identity), false));
+        }
     }
 
     // ---- printing
@@ -1414,10 +1471,15 @@ private:
         return out.empty() ? "0.0" : out;
     }
 
-    static std::string prologue(bool bilinear_args = false)
+    // `sides`: the function reads the sides of the switches, S[k] (all but the switching
+    // functions themselves).
+    std::string prologue(bool bilinear_args = false, bool sides = true) const
     {
-        return std::string("    const double* p = (const double*)c;\n    (void)p;\n    (void)x;\n") +
-               (bilinear_args ? "    (void)u;\n    (void)w;\n" : "");
+        std::string s = std::string("    const double* p = (const double*)c;\n    (void)p;\n    (void)x;\n") +
+                        (bilinear_args ? "    (void)u;\n    (void)w;\n" : "");
+        if (sides && !m_side.empty())
+            s += "    double S[" + std::to_string(m_side.size()) + "];\n    vimpact_sides(p, x, S);\n    (void)S;\n";
+        return s;
     }
 
     // One case of a switch over surfaces or sections, or the body of a plain function.
@@ -1448,9 +1510,9 @@ private:
     // A switch over items with a fill of zeros for an index out of range.
     template <class Body>
     std::string indexed_void(const std::string& signature, std::size_t count, std::size_t outputs, Body body,
-                             bool bilinear_args = false)
+                             bool bilinear_args = false, bool sides = true)
     {
-        std::string s = "static void " + signature + "\n{\n" + prologue(bilinear_args) + "    switch (i) {\n";
+        std::string s = "static void " + signature + "\n{\n" + prologue(bilinear_args, sides) + "    switch (i) {\n";
         for (std::size_t i = 0; i < count; ++i)
             s += "    case " + std::to_string(i) + ":\n" + body(i) + "        return;\n";
         s += "    default:\n        break;\n    }\n";
@@ -1458,9 +1520,9 @@ private:
         return s;
     }
     template <class Body>
-    std::string indexed_scalar(const std::string& signature, std::size_t count, Body body)
+    std::string indexed_scalar(const std::string& signature, std::size_t count, Body body, bool sides = true)
     {
-        std::string s = "static double " + signature + "\n{\n" + prologue() + "    switch (i) {\n";
+        std::string s = "static double " + signature + "\n{\n" + prologue(false, sides) + "    switch (i) {\n";
         for (std::size_t i = 0; i < count; ++i) s += "    case " + std::to_string(i) + ":\n        return " + body(i) + ";\n";
         s += "    default:\n        return 0.0;\n    }\n}\n\n";
         return s;
@@ -1550,7 +1612,54 @@ private:
                           [&](std::size_t i) { return assign_vector(m_release[i].gradient, m_release[i].key, in); });
         s += indexed_void("vimpact_rest(const void* c, int i, const double* x, double* out)", S, n,
                           [&](std::size_t i) { return assign_vector(m_rest[i], sticking_key(i, "rest"), in); });
+        if (!m_side.empty()) s += switch_functions();
         return create() + s;
+    }
+
+    // The switches' functions (abi.h, ABI version 6). The context holds, after the parameters,
+    // derived quantities and hoisted parts, a flag (nonzero: pinned) and the pinned sides.
+    std::string switch_functions()
+    {
+        const std::string in = "        ";
+        const std::size_t W = m_side.size(), n = static_cast<std::size_t>(m_n);
+        const std::string w = std::to_string(W), dim = std::to_string(m_n);
+        std::string s;
+        s += indexed_scalar(
+            "vimpact_switching(const void* c, int i, const double* x)", W,
+            [&](std::size_t k) { return c(m_switching[k].value, m_switching[k].key); }, false);
+        s += indexed_void(
+            "vimpact_switching_gradient(const void* c, int i, const double* x, double* out)", W, n,
+            [&](std::size_t k) { return assign_vector(m_switching[k].gradient, m_switching[k].key, in); }, false, false);
+        s += indexed_void("vimpact_switch_reset(const void* c, int i, const double* x, double* out)", W, n,
+                          [&](std::size_t k) { return assign_vector(m_switch_resets[k].value, m_switch_resets[k].key, in); });
+        s += indexed_void("vimpact_switch_reset_jacobian(const void* c, int i, const double* x, double* out)", W, n * n,
+                          [&](std::size_t k) { return assign_matrix(m_switch_resets[k].jacobian, m_switch_resets[k].key, in); });
+        std::string directions, resets;
+        for (std::size_t k = 0; k < W; ++k) {
+            directions += (k ? ", " : "") + std::to_string(static_cast<int>(m_d.switches[k].direction));
+            resets += (k ? ", " : "") + std::string(m_d.switches[k].reset.empty() ? "0" : "1");
+        }
+        s += "static void* vimpact_copy_context(const void* c)\n{\n"
+             "    double* q = (double*)malloc(VIMPACT_CONTEXT_SIZE * sizeof(double));\n"
+             "    if (q) memcpy(q, c, VIMPACT_CONTEXT_SIZE * sizeof(double));\n    return q;\n}\n\n"
+             "static void vimpact_pin_sides(void* c, unsigned long long negative)\n{\n"
+             "    double* p = (double*)c;\n    p[VIMPACT_PINNED] = 1.0;\n"
+             "    for (int k = 0; k < " + w + "; ++k) p[VIMPACT_PINNED + 1 + k] = ((negative >> k) & 1ULL) ? -1.0 : 1.0;\n}\n\n"
+             "static unsigned long long vimpact_sides_at(const void* c, const double* x)\n{\n"
+             "    double S[" + w + "];\n    unsigned long long negative = 0;\n    vimpact_sides((const double*)c, x, S);\n"
+             "    for (int k = 0; k < " + w + "; ++k)\n        if (S[k] < 0.0) negative |= 1ULL << k;\n"
+             "    return negative;\n}\n\n"
+             "static int vimpact_cross(void* c, int i, const double* x, double* out)\n{\n"
+             "    static const int direction[] = {" + directions + "};\n"
+             "    static const int has_reset[] = {" + resets + "};\n"
+             "    double* p = (double*)c;\n"
+             "    if (p[VIMPACT_PINNED] == 0.0) vimpact_pin_sides(c, vimpact_sides_at(c, x));\n"
+             "    const int down = p[VIMPACT_PINNED + 1 + i] > 0.0;\n"
+             "    p[VIMPACT_PINNED + 1 + i] = -p[VIMPACT_PINNED + 1 + i];\n"
+             "    if (has_reset[i] && (direction[i] == 2 || (direction[i] == 0) == down)) {\n"
+             "        vimpact_switch_reset(c, i, x, out);\n        return 1;\n    }\n"
+             "    for (int j = 0; j < " + dim + "; ++j) out[j] = x[j];\n    return 0;\n}\n\n";
+        return s;
     }
 
     // The SIMD lanes' functions (abi.h, lanes_step and the lanes' gaps and sections): the same
@@ -1612,8 +1721,21 @@ private:
 
     std::string create()
     {
-        const int count = m_p + m_nd + static_cast<int>(m_parts.size());
-        std::string s =
+        const int W = static_cast<int>(m_side.size());
+        const int pinned = m_p + m_nd + static_cast<int>(m_parts.size());
+        const int count = pinned + (W > 0 ? 1 + W : 0);
+        std::string s;
+        if (W > 0)
+            s += "#define VIMPACT_PINNED " + std::to_string(pinned) + "\n#define VIMPACT_CONTEXT_SIZE " +
+                 std::to_string(count) +
+                 "\nstatic double vimpact_switching(const void* c, int i, const double* x);\n\n"
+                 "/* The sides of the switches: those the context holds once pinned, the state's before. */\n"
+                 "static void vimpact_sides(const double* p, const double* x, double* S)\n{\n"
+                 "    if (p[VIMPACT_PINNED] != 0.0) {\n        for (int k = 0; k < " + std::to_string(W) +
+                 "; ++k) S[k] = p[VIMPACT_PINNED + 1 + k];\n        return;\n    }\n"
+                 "    for (int k = 0; k < " + std::to_string(W) +
+                 "; ++k) S[k] = vimpact_switching(p, k, x) >= 0.0 ? 1.0 : -1.0;\n}\n\n";
+        s +=
             "static void vimpact_refuse(char* error, size_t size, const char* name, double value)\n{\n"
             "    if (error && size > 0) snprintf(error, size, \"derived quantity %s = %.17g is not finite\", name, value);\n"
             "}\n\n"
@@ -1645,7 +1767,7 @@ private:
         std::string s = "/* The function table of the model '" + m_d.name +
                         "', generated by vimpact from a model file. Compiled once per machine and cached. */\n";
         s += vimpact::detail::model_abi_text;
-        s += "\n#include <math.h>\n#include <stdio.h>\n#include <stdlib.h>\n\n";
+        s += "\n#include <math.h>\n#include <stdio.h>\n#include <stdlib.h>\n#include <string.h>\n\n";
         s += "static inline double vimpact_csgn(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }\n";
         s += "static inline void vimpact_store_pair(double* out, double a, double b)\n{\n"
              "    typedef double vimpact_pair __attribute__((vector_size(16)));\n"
@@ -1718,6 +1840,14 @@ private:
         std::vector<int> surface_affine, section_affine;
         for (const auto& g : m_gaps) surface_affine.push_back(affine(g));
         for (const auto& k : m_sections) section_affine.push_back(affine(k));
+        std::vector<std::string> wn, wm;
+        std::vector<int> wd, switch_affine;
+        for (std::size_t k = 0; k < m_switching.size(); ++k) {
+            wn.push_back(m_d.switches[k].name);
+            wm.push_back(m_d.switches[k].meaning);
+            wd.push_back(static_cast<int>(m_d.switches[k].direction));
+            switch_affine.push_back(affine(m_switching[k]));
+        }
         for (const auto& x : m_d.presets) {
             rn.push_back(x.name);
             rm.push_back(x.meaning);
@@ -1791,7 +1921,15 @@ private:
             "VIMPACT_LANES(section)",
             "VIMPACT_LANES(section_gradient)",
             "VIMPACT_LANES(points)",
+            std::to_string(m_side.size()),
+            array(cs, "vimpact_switch_names", wn, str, s),
+            array(cs, "vimpact_switch_meanings", wm, str, s),
+            array("const int", "vimpact_switch_directions", wd, integer, s),
+            array("const int", "vimpact_switch_affine", switch_affine, integer, s),
         };
+        for (const char* f : {"vimpact_switching", "vimpact_switching_gradient", "vimpact_copy_context",
+                              "vimpact_pin_sides", "vimpact_sides_at", "vimpact_cross", "vimpact_switch_reset_jacobian"})
+            fields.emplace_back(m_side.empty() ? "0" : f);
         // Positional, in the order of the fields of vimpact_model_table (abi.h), so that the
         // table is a constant in read-only memory, valid C and C++.
         static const char* const field_names[] = {
@@ -1805,8 +1943,10 @@ private:
             "reset_second_derivative", "section", "section_gradient", "sticking_rhs", "release",
             "release_gradient", "rest", "step", "dense", "samples", "surface_affine", "section_affine",
             "lanes_width", "context_size", "lanes_step", "lanes_gap", "lanes_gap_gradient", "lanes_section",
-            "lanes_section_gradient", "lanes_points"};
-        static_assert(std::size(field_names) == 62);
+            "lanes_section_gradient", "lanes_points", "switch_count", "switch_names", "switch_meanings",
+            "switch_directions", "switch_affine", "switching", "switching_gradient", "copy_context", "pin_sides",
+            "sides_at", "cross", "switch_reset_jacobian"};
+        static_assert(std::size(field_names) == 74);
         if (fields.size() != std::size(field_names)) throw std::logic_error("model file: table fields out of step");
         // The fused Runge-Kutta step (integrate/fused_step.hpp): the library's own stage code
         // compiled here with the field inlined, when the compiler is given vimpact's headers
@@ -1820,7 +1960,8 @@ private:
              "#define VIMPACT_DENSE (&vimpact::fused_dense_entry<" + std::to_string(m_n) + ", vimpact_field>)\n"
              "#else\n#define VIMPACT_STEP 0\n#define VIMPACT_DENSE 0\n#endif\n";
         // The SIMD lanes (abi.h, ABI version 5), where the compiler is given vimpact's headers.
-        s += "\n#if defined(VIMPACT_FUSED_STEPS) && defined(VIMPACT_LANES_DIM_" + std::to_string(m_n) +
+        // Not for a model with switches: its jobs run one at a time (abi.h).
+        s += "\n#if " + std::string(m_side.empty() ? "1" : "0") + " && defined(VIMPACT_FUSED_STEPS) && defined(VIMPACT_LANES_DIM_" + std::to_string(m_n) +
              ") && __has_include(<xsimd/xsimd.hpp>)\n"
              "#include \"vimpact/integrate/fused_lanes.hpp\"\n" + m_lanes_code +
              "#define VIMPACT_LANES_WIDTH vimpact::lane_width\n"
@@ -1859,6 +2000,9 @@ private:
     std::vector<scalar_function> m_gaps, m_sections, m_release;
     std::vector<vector_function> m_resets;
     std::vector<std::vector<ex>> m_sticking_field, m_rest;
+    std::vector<GiNaC::realsymbol> m_side;  // S[k]: the side of switch k
+    std::vector<scalar_function> m_switching;
+    std::vector<vector_function> m_switch_resets;
     std::set<int> m_powers;
     std::string m_lanes_code;  // lanes_code(), emitted with the fused steps
 };
@@ -1869,7 +2013,10 @@ private:
 // calls stay here.
 namespace {
 
-bool reserved_name(std::string_view name) { return name == "pi" || find_function(name) != nullptr; }
+bool reserved_name(std::string_view name)
+{
+    return name == "pi" || name == "side" || name == "on" || find_function(name) != nullptr;
+}
 
 std::string source_of(const description& d, const std::string& where, const std::atomic<bool>* cancel)
 {

@@ -20,13 +20,14 @@ enum class outcome {
     not_converged,   // Newton's method did not reach its tolerance
     inadmissible,    // the initial state lies beyond an impact surface
     sample_limit,    // the time series reached its sample limit (protocol_options::max_samples)
+    sliding,         // the fields on both sides of a switching surface point into it (Filippov sliding)
 };
 
 inline constexpr outcome all_outcomes[] = {
     outcome::ok,         outcome::time_limit, outcome::step_limit,    outcome::impact_limit,
     outcome::step_underflow, outcome::non_finite, outcome::interrupted, outcome::chattering,
     outcome::sticking,   outcome::aperiodic,  outcome::not_converged, outcome::inadmissible,
-    outcome::sample_limit,
+    outcome::sample_limit, outcome::sliding,
 };
 
 constexpr std::string_view to_string(outcome o)
@@ -45,6 +46,7 @@ constexpr std::string_view to_string(outcome o)
         case outcome::not_converged: return "not_converged";
         case outcome::inadmissible: return "inadmissible";
         case outcome::sample_limit: return "sample_limit";
+        case outcome::sliding: return "sliding";
     }
     return "unknown";
 }

@@ -60,6 +60,10 @@ struct tangent_tally {
     tangent_tally(const VModel& vm, const Record& rec, const section_recorder& sections)
         : by_surface(static_cast<std::size_t>(vm.surface_count()), 0)
     {
+        // A switching surface's jump S (tangent/variational.hpp): det S = det Y+ / det Y-.
+        for (const auto& c : rec.switchings)
+            log_det_jumps += std::log(std::abs(VModel::matrix(c.post).determinant())) -
+                             std::log(std::abs(VModel::matrix(c.pre).determinant()));
         for (const auto& p : rec.points) sections.add(p.t, VModel::point(p.x));
         for (const auto& i : rec.impacts) {
             ++impacts;
@@ -206,6 +210,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
     fo.t_max = std::numeric_limits<double>::infinity();
     for (long k = 0;; ++k) {
         stepping_flow<VM, dop853> run(vm, fo, t, X);
+        run.record().keep_switchings = true;
         const outcome o = run.advance_to(t_begin + static_cast<double>(k + 1) * opt.t0);
         res.stats.add(run.stats());
         if (o != outcome::ok || run.flow().sticking_phases() > 0) {

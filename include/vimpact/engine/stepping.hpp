@@ -30,6 +30,16 @@ struct step_record : flow_observer {
     int impact_points = -2;
     std::deque<impact> impacts;
     std::deque<point> points;
+    // The crossings of switching surfaces (`surface`: the switch), kept only when asked
+    // (a tangent flow's caller reads their jumps).
+    bool keep_switchings = false;
+    std::deque<impact> switchings;
+
+    flow_control on_switch(int k, double t, const X& pre, const X& post)
+    {
+        if (keep_switchings) switchings.push_back({t, k, pre, post});
+        return flow_control::proceed;
+    }
 
     flow_control on_section(int, crossing, double t, const X& x)
     {

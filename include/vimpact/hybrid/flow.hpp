@@ -78,6 +78,10 @@ struct flow_observer {
     flow_control on_section(int /*event*/, crossing /*direction*/, double, const X&) { return flow_control::proceed; }
     template <class X>
     flow_control on_impact(int /*surface*/, double, const X& /*pre*/, const X& /*post*/) { return flow_control::proceed; }
+    // A crossing of switching surface `k` (model/spec.hpp): the states before and after it
+    // (the same unless the switch has a reset that applied).
+    template <class X>
+    flow_control on_switch(int /*k*/, double, const X& /*pre*/, const X& /*post*/) { return flow_control::proceed; }
     template <class X>
     void on_stick(int /*surface*/, double, const X&) {}
     template <class X>
@@ -106,13 +110,16 @@ public:
         for (auto* e : {&m_start, &m_end}) {
             e->gaps.resize(static_cast<std::size_t>(m_model.surface_count()));
             e->events.resize(m_opt.events.size());
+            e->switches.resize(static_cast<std::size_t>(switch_count(m_model)));
         }
         m_batch_gaps.resize(2 * static_cast<std::size_t>(m_model.surface_count()));
         m_batch_sections.resize(2 * static_cast<std::size_t>(m_model.section_count()));
         for (int i = 0; i < m_model.surface_count(); ++i) m_check_gap.push_back(!gap_is_affine(m_model, i));
         for (const flow_event& e : m_opt.events) m_check_event.push_back(!resolved_by_integrator(e));
-        m_check_any = std::any_of(m_check_event.begin(), m_check_event.end(), [](char c) { return c != 0; }) ||
-                      (m_opt.surfaces && std::any_of(m_check_gap.begin(), m_check_gap.end(), [](char c) { return c != 0; }));
+        if constexpr (has_switches)
+            for (int k = 0; k < m_model.switch_count(); ++k) m_check_switch.push_back(!m_model.switching_affine(k));
+        const auto any = [](const std::vector<char>& v) { return std::any_of(v.begin(), v.end(), [](char c) { return c != 0; }); };
+        m_check_any = any(m_check_event) || any(m_check_switch) || (m_opt.surfaces && any(m_check_gap));
     }
 
     // Starts at (t, x). Throws input_error if x is not admissible (beyond a surface). A state
@@ -141,6 +148,7 @@ public:
                     break;
                 }
         }
+        if constexpr (has_switches) pin_sides_at(x);
         restart(0.0);
     }
 
@@ -279,8 +287,33 @@ private:
         [[nodiscard]] scalar_sample at(double h) const { return {value, rate * h}; }
     };
     struct end_samples {
-        std::vector<end_sample> gaps, events;
+        std::vector<end_sample> gaps, events, switches;  // switches: side * h_k, held sides
     };
+    static constexpr bool has_switches = switching_model<Model>;
+
+    // The sides of the switches at a start x: the sign of h_k, and where h_k = 0 the side the
+    // motion moves into.
+    void pin_sides_at(const state& x)
+        requires has_switches
+    {
+        switch_sides sides;
+        for (int k = 0; k < m_model.switch_count(); ++k) {
+            const double h = m_model.switching(k, x);
+            sides.set(k, h > 0.0 || (h == 0.0 && m_model.switching_derivative(k, x, m_model.rhs(x)) >= 0.0));
+        }
+        m_model.pin_sides(sides);
+    }
+    // Switch k's value as an event function: side * h_k, positive until its crossing.
+    [[nodiscard]] double switch_value(int k, const state& x) const
+    {
+        if constexpr (has_switches) return m_model.sides_at(x).side(k) * m_model.switching(k, x);
+        else return (void)k, (void)x, 0.0;
+    }
+    [[nodiscard]] double switch_derivative(int k, const state& x, const state& v) const
+    {
+        if constexpr (has_switches) return m_model.sides_at(x).side(k) * m_model.switching_derivative(k, x, v);
+        else return (void)k, (void)x, (void)v, 0.0;
+    }
 
     [[nodiscard]] bool absent(int i) const
     {
@@ -343,6 +376,7 @@ private:
         if (m_ends_valid) {
             std::copy(m_end.gaps.begin(), m_end.gaps.end(), m_start.gaps.begin());
             std::copy(m_end.events.begin(), m_end.events.end(), m_start.events.begin());
+            if constexpr (has_switches) std::copy(m_end.switches.begin(), m_end.switches.end(), m_start.switches.begin());
         } else {
             sample_at(m_integ.x_prev(), m_integ.f_prev(), gaps, m_start);
         }
@@ -362,6 +396,9 @@ private:
             out.gaps[k] = batched ? end_sample{m_batch_gaps[2 * k], m_batch_gaps[2 * k + 1]}
                                   : end_sample{m_model.gap(i, x), gap_derivative(m_model, i, x, f)};
         }
+        if constexpr (has_switches)
+            for (int k = 0; k < m_model.switch_count(); ++k)
+                out.switches[static_cast<std::size_t>(k)] = {switch_value(k, x), switch_derivative(k, x, f)};
         for (std::size_t e = 0; e < m_opt.events.size(); ++e) {
             const flow_event& ev = m_opt.events[e];
             if (batched && ev.kind == flow_event::source::section) {
@@ -526,12 +563,27 @@ private:
             ended_beyond_unseen(-1, [this](int i) { return m_end.gaps[static_cast<std::size_t>(i)].value; }))
             return step_status::ok;
 
+        // The first crossing of a switching surface; before the step's impact, it ends the step.
+        const auto [theta_switch, sw] = first_switch_crossing(rhs, h);
+        if (sw < 0 && ended_on_other_side()) return step_status::ok;
+        const bool switch_first = theta_switch < theta_impact;
+        const double theta_first = std::min(theta_impact, theta_switch);
+
         const bool stopped_before = m_stop;
         m_stop_theta = 2.0;
-        report_events(obs, rhs, theta_impact);
+        report_events(obs, rhs, theta_first);
         // The gaps up to the impact, or up to the crossing at which the observer stopped.
         if (m_opt.gap_maxima && m_opt.surfaces && !stopped_before)
-            report_gap_maxima(obs, rhs, std::min(theta_impact, m_stop_theta), m_stop_theta < theta_impact ? -1 : surface);
+            report_gap_maxima(obs, rhs, std::min(theta_first, m_stop_theta),
+                              m_stop_theta < theta_first || switch_first ? -1 : surface);
+
+        if (switch_first) {
+            const auto& d = m_integ.dense(rhs);
+            const double t_switch = (theta_switch >= 1.0) ? m_integ.t() : t0 + theta_switch * h;
+            if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_switch, flow_mode::free);
+            take_switch(obs, d, sw, theta_switch, t_switch);
+            return step_status::ok;
+        }
 
         if (theta_impact > 1.0) {
             if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::free);
@@ -604,6 +656,106 @@ private:
         }
     }
 
+    // The first crossing of a switching surface in the step just taken (end samples taken):
+    // (theta, switch), or (2, -1) where there is none.
+    template <class Rhs>
+    std::pair<double, int> first_switch_crossing(Rhs& rhs, double h)
+    {
+        double theta_first = 2.0;
+        int first = -1;
+        for (int k = 0; k < switch_count(m_model); ++k) {
+            auto g = on_dense(
+                rhs, [this, k](const state& x) { return switch_value(k, x); },
+                [this, k](const state& x, const state& v) { return switch_derivative(k, x, v); });
+            double theta = 2.0;
+            find_crossings(crossing_direction::down, g, m_start.switches[static_cast<std::size_t>(k)].at(h),
+                           m_end.switches[static_cast<std::size_t>(k)].at(h), [&](double th) { theta = th; return false; },
+                           m_opt.event_subdivisions);
+            if (theta < theta_first) {
+                theta_first = theta;
+                first = k;
+            }
+        }
+        return {theta_first, first};
+    }
+
+    // No crossing of a switch located, yet the step ended on the other side of one: it started
+    // on the surface (a crossing just taken) and the field of the new side turned it back. The
+    // fields on both sides point into the surface, where the motion would slide (Filippov),
+    // which a switch does not model: the run ends with `sliding` at the step's start.
+    bool ended_on_other_side()
+    {
+        for (const end_sample& e : m_end.switches)
+            if (e.value < 0.0) return end_at_step_start(outcome::sliding);
+        return false;
+    }
+
+    // Ends the run with `o` at the start of the step just taken (its last state known to be
+    // good). True.
+    bool end_at_step_start(outcome o)
+    {
+        m_t = m_integ.t_prev();
+        m_x = m_integ.x_prev();
+        m_finished = o;
+        return true;
+    }
+
+    // The crossing of switch k at theta (time t) of the step just taken, whose interpolant is
+    // d: the state put on the surface, the side changed, the switch's reset applied where it
+    // does, counted and reported; the integration starts again with the field of the new side.
+    template <class Observer, class Dense>
+    void take_switch(Observer& obs, const Dense& d, int k, double theta, double t)
+    {
+        if constexpr (has_switches) {
+            state& pre = m_pre;
+            if (theta >= 1.0) pre = m_integ.x();
+            else d.value_at(theta, pre);
+            m_gradient = m_model.sides_at(pre).side(k) * m_model.switching_gradient(k, pre);
+            polish([&](const state& y) { return switch_value(k, y); }, m_gradient, pre, m_slope);
+            if (!pre.allFinite()) {
+                end_at_step_start(outcome::non_finite);
+                return;
+            }
+            m_model.cross(k, pre, m_post);
+            const state& post = m_post;
+            m_t = t;
+            if (!post.allFinite()) {
+                m_x = pre;
+                m_finished = outcome::non_finite;
+                return;
+            }
+            ++m_stats.switchings;
+            if (!m_stop && obs.on_switch(k, t, pre, post) == flow_control::stop) m_stop = true;
+            m_x = post;
+            if (m_opt.surfaces)
+                for (int j = 0; j < m_model.surface_count(); ++j)
+                    if (!absent(j) && m_model.gap(j, post) < -hop_resolution(j, post)) {
+                        m_finished = outcome::inadmissible;
+                        return;
+                    }
+            // The new side's field points back into the surface: the motion would slide on it.
+            const state f = m_mode == flow_mode::free ? m_model.rhs(post) : m_model.sticking_rhs(m_contact, post);
+            if (std::abs(m_model.switching(k, post)) <= hop_resolution_of_switch(k, post) &&
+                switch_derivative(k, post, f) < 0.0) {
+                m_finished = outcome::sliding;
+                return;
+            }
+            restart(m_integ.step_size());
+        } else {
+            (void)obs, (void)d, (void)k, (void)theta, (void)t;
+        }
+    }
+    // The resolution of switching function k near zero at x, as hop_resolution's of a gap.
+    [[nodiscard]] double hop_resolution_of_switch(int k, const state& x) const
+    {
+        if constexpr (has_switches) {
+            const double scale = m_model.switching_gradient(k, x).cwiseProduct(x).cwiseAbs().sum();
+            return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, scale);
+        } else {
+            return (void)k, (void)x, 0.0;
+        }
+    }
+
     // Event functions the integrator's error control resolves: affine functions of the state
     // and the rates of state variables (the derivatives of such functions along the flow).
     [[nodiscard]] bool resolved_by_integrator(const flow_event& e) const
@@ -638,6 +790,9 @@ private:
                                  m_model.gap(i, xc));
             for (std::size_t e = 0; e < m_opt.events.size(); ++e)
                 if (m_check_event[e]) consider(m_start.events[e], m_end.events[e], event_value(m_opt.events[e], xc));
+            for (std::size_t k = 0; k < m_check_switch.size(); ++k)
+                if (m_check_switch[k])
+                    consider(m_start.switches[k], m_end.switches[k], switch_value(static_cast<int>(k), xc));
         }
         return worst;
     }
@@ -672,6 +827,13 @@ private:
                                    down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope, 1.0)))
                     return false;
                 if (m_opt.gap_maxima && s0.slope > 0.0 && s1.slope <= 0.0) return false;
+            }
+        if constexpr (has_switches)
+            for (std::size_t k = 0; k < m_start.switches.size(); ++k) {
+                const scalar_sample s0 = m_start.switches[k].at(h), s1 = m_end.switches[k].at(h);
+                if ((!(s0.value > 0.0) && !(s1.value > 0.0)) || s1.value < 0.0 ||
+                    down_crossing_possible(s0.value, s1.value, s0.slope, s1.slope, 1.0))
+                    return false;
             }
         for (std::size_t e = 0; e < m_opt.events.size(); ++e) {
             const scalar_sample s0 = m_start.events[e].at(h), s1 = m_end.events[e].at(h);
@@ -829,9 +991,15 @@ private:
         if (surface < 0 && theta_release > 1.0 &&
             ended_beyond_unseen(i, [this, &x1](int j) { return m_model.gap(j, x1); }))
             return step_status::ok;
-        const double theta_stop = std::min(theta_release, theta_impact);
-
         sample_step_ends(false);
+        // A switching surface crossed in contact (a compliant support the resting body slides
+        // onto) before the release and any impact.
+        const auto [theta_switch, sw] = first_switch_crossing(rhs, h);
+        if (sw < 0 && theta_release > 1.0 && surface < 0 && ended_on_other_side()) return step_status::ok;
+        const bool switch_first = theta_switch < std::min(theta_release, theta_impact);
+        if (switch_first) surface = -1;
+        const double theta_stop = std::min({theta_release, theta_impact, theta_switch});
+
         report_events(obs, rhs, theta_stop);
         if (m_opt.gap_maxima && !m_stop) {
             // In contact the contact surface's gap is 0; the others' at the step's end.
@@ -842,6 +1010,14 @@ private:
         }
 
         if (surface >= 0) return impact_in_contact(obs, rhs, surface, theta_impact);
+        if (switch_first) {
+            const auto& d = m_integ.dense(rhs);
+            const double t_switch = theta_switch >= 1.0 ? m_integ.t() : t0 + theta_switch * h;
+            if (!m_stop && obs.wants_segments()) obs.on_segment(d, t0, t_switch, flow_mode::sticking);
+            m_stats.sticking_time += t_switch - m_t;
+            take_switch(obs, d, sw, theta_switch, t_switch);
+            return step_status::ok;
+        }
         if (theta_release > 1.0) {
             if (!m_stop && obs.wants_segments()) obs.on_segment(m_integ.dense(rhs), t0, m_integ.t(), flow_mode::sticking);
             m_stats.sticking_time += m_integ.t() - m_t;
@@ -888,12 +1064,7 @@ private:
         if (!m_opt.surfaces) return false;
         const state& x1 = m_integ.x();
         for (int j = 0; j < m_model.surface_count(); ++j)
-            if (j != skip && !absent(j) && gap_end(j) < -hop_resolution(j, x1)) {
-                m_t = m_integ.t_prev();
-                m_x = m_integ.x_prev();
-                m_finished = outcome::inadmissible;
-                return true;
-            }
+            if (j != skip && !absent(j) && gap_end(j) < -hop_resolution(j, x1)) return end_at_step_start(outcome::inadmissible);
         return false;
     }
 
@@ -948,7 +1119,7 @@ private:
     // Which gaps and watched events are checked for resolution on each step (not affine in the
     // state), and how many steps in a row were taken back for it.
     static constexpr int max_retractions = 8;
-    std::vector<char> m_check_gap, m_check_event;
+    std::vector<char> m_check_gap, m_check_event, m_check_switch;
     bool m_check_any = false;
     int m_retractions = 0;
 };

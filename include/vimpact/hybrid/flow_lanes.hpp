@@ -37,7 +37,7 @@
 namespace vimpact {
 
 template <class D>
-concept lanes_capable = model_definition<D> && requires(std::span<const lanes> p, const vec_t<lanes, definition_dim<D>>& x) {
+concept lanes_capable = model_definition<D> && switch_count_of<D>() == 0 && requires(std::span<const lanes> p, const vec_t<lanes, definition_dim<D>>& x) {
     { typename D::lanes_definition(p).derivatives(x) } -> std::convertible_to<vec_t<lanes, definition_dim<D>>>;
 };
 

@@ -15,6 +15,7 @@ struct run_stats {
     long impacts = 0;          // on every surface
     std::vector<long> impacts_by_surface;
     long sections = 0;         // section crossings located
+    long switchings = 0;       // crossings of switching surfaces
     long sticking_phases = 0;  // chatter sequences ended by a contact phase
     double sticking_time = 0.0;
     double h_min = std::numeric_limits<double>::infinity();
@@ -31,6 +32,7 @@ struct run_stats {
         if (impacts_by_surface.size() < s.impacts_by_surface.size()) impacts_by_surface.resize(s.impacts_by_surface.size());
         for (std::size_t i = 0; i < s.impacts_by_surface.size(); ++i) impacts_by_surface[i] += s.impacts_by_surface[i];
         sections += s.sections;
+        switchings += s.switchings;
         sticking_phases += s.sticking_phases;
         sticking_time += s.sticking_time;
         h_min = std::min(h_min, s.h_min);
@@ -49,6 +51,7 @@ void describe(V& v, S& s)
     v(field{"impacts_by_surface", "impacts on each surface", "", field_span::per_surface, "impacts_{surface}"},
       s.impacts_by_surface);
     v(field{"sections", "section crossings located"}, s.sections);
+    v(field{"switchings", "crossings of switching surfaces"}, s.switchings);
     v(field{"sticking_phases", "chatter sequences ended by a contact phase"}, s.sticking_phases);
     v(field{"sticking_time", "time in contact phases", "t"}, s.sticking_time);
     v(field{"h_min", "smallest accepted step", "t"}, s.h_min);

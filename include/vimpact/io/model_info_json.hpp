@@ -4,7 +4,8 @@
 // source, identity; state [{name, meaning, unit, period (null unless a phase)}]; initial_state;
 // parameters [{name, meaning, unit, default, range {lower, upper (null when infinite),
 // lower_inclusive, upper_inclusive, text}}]; surfaces [{name, meaning, sticks}]; sections
-// [{name, meaning, direction}]; presets [{name, meaning, values {parameter: value}}].
+// [{name, meaning, direction}]; switches [{name, meaning, direction}]; presets [{name, meaning,
+// values {parameter: value}}].
 #include <nlohmann/json.hpp>
 
 #include "vimpact/model/model_info.hpp"

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define VIMPACT_MODEL_ABI_VERSION 5
+#define VIMPACT_MODEL_ABI_VERSION 6
 
 enum vimpact_crossing { VIMPACT_CROSSING_DOWN = 0, VIMPACT_CROSSING_UP = 1, VIMPACT_CROSSING_BOTH = 2 };
 
@@ -129,6 +129,29 @@ typedef struct vimpact_model_table {
     /* Every gap, then every section, at x in one call: their values (surface_count +
      * section_count lanes values) and gradients (dim lanes values each, in the same order). */
     void (*lanes_points)(const double* contexts, const double* x, double* values, double* gradients);
+
+    /* Switching surfaces (ABI version 6; switch_count 0: none, and the rest may be NULL): the
+     * field changes where a switching function h_k changes sign, the state going on
+     * continuously unless the switch's reset applies (model/spec.hpp, switching_surface). The
+     * functions of a context read the sides the context holds once pinned, the sides of the
+     * state before (h_k >= 0: +1). A side set is a bit mask: bit k set for side -1 of switch k.
+     * The library pins only its own copies of a context (copy_context, released by destroy),
+     * one per flow, never the context it created. */
+    int switch_count;
+    const char* const* switch_names;
+    const char* const* switch_meanings;
+    const int* switch_directions;         /* enum vimpact_crossing: the crossings the reset applies at */
+    const int* switch_affine;             /* nonzero: h_k is affine in the state */
+    double (*switching)(const void* c, int k, const double* x);
+    void (*switching_gradient)(const void* c, int k, const double* x, double* out);
+    void* (*copy_context)(const void* c);
+    void (*pin_sides)(void* c, unsigned long long negative);
+    unsigned long long (*sides_at)(const void* c, const double* x);
+    /* Crossing switch k at x (context pinned): its side changes; out is the state after it.
+     * Returns nonzero when the switch's reset applied (out is then its image of x). */
+    int (*cross)(void* c, int k, const double* x, double* out);
+    /* The Jacobian of switch k's reset at x, on the context's (pinned) sides. */
+    void (*switch_reset_jacobian)(const void* c, int k, const double* x, double* out);
 } vimpact_model_table;
 
 /* The one symbol a model library exports. */

@@ -18,10 +18,19 @@
 //   template <class T> T gap(int i, const vec_t<T, N>& x) const;          >= 0 is admissible
 //   template <class T> vec_t<T, N> reset(int i, const vec_t<T, N>& x) const;
 //   template <class T> T section(int k, const vec_t<T, N>& x) const;
+// (gap and reset only with surfaces, section only with sections)
 // and, when a surface sticks,
 //   template <class T> vec_t<T, N> sticking_derivatives(int i, const vec_t<T, N>& x) const;
 //   template <class T> T release(int i, const vec_t<T, N>& x) const;    contact ends when > 0
 //   vec<N> rest(int i, const vec<N>& x) const;                           the state put at rest
+// Switching surfaces (optional: a piecewise-smooth field, model/spec.hpp):
+//   static constexpr std::array<switching_surface, W> switches;
+//   template <class T> T switching(int k, const vec_t<T, N>& x) const;   h_k: its sign is the side
+//   template <class T> vec_t<T, N> derivatives(const vec_t<T, N>& x, const switch_sides& s) const;
+// the field on the sides s (s.side(k) = +1 or -1, s.on(k) = 1 or 0) instead of the one-argument
+// derivatives, and, for a jump of the state at a crossing,
+//   template <class T> vec_t<T, N> switch_reset(int k, const vec_t<T, N>& x, const switch_sides& s) const;
+// with s the sides after the crossing.
 // Optional: static constexpr std::array<double, N> initial_state; and the hand-written
 // derivatives jacobian(x), second_derivative(x, u, w), divergence(x), gap_gradient(i, x),
 // gap_hessian(i, x), reset_jacobian(i, x), reset_second_derivative(i, x, u, w),
@@ -33,12 +42,35 @@
 #include <string_view>
 
 #include "vimpact/core/state.hpp"
+#include "vimpact/core/switch_sides.hpp"
 #include "vimpact/model/spec.hpp"
 
 namespace vimpact {
 
 template <class D>
 constexpr int definition_dim = static_cast<int>(std::tuple_size_v<std::decay_t<decltype(D::state)>>);
+
+// A definition with switching surfaces (their number is switch_count_of<D>).
+template <class D>
+concept switching_definition = requires(const D& d, const vec<definition_dim<D>>& x, int k) {
+    { D::switches.size() } -> std::convertible_to<std::size_t>;
+    { D::switches[0] } -> std::convertible_to<switching_surface>;
+    { d.switching(k, x) } -> std::convertible_to<double>;
+    { d.derivatives(x, switch_sides{}) } -> std::convertible_to<vec<definition_dim<D>>>;
+};
+
+template <class D>
+constexpr int switch_count_of()
+{
+    if constexpr (requires { D::switches.size(); }) return static_cast<int>(D::switches.size());
+    else return 0;
+}
+
+// The field of a definition: on sides s where it has switches, else its only one.
+template <class D>
+constexpr bool fields_by_side = requires(const D& d, const vec<definition_dim<D>>& x) {
+    { d.derivatives(x, switch_sides{}) } -> std::convertible_to<vec<definition_dim<D>>>;
+};
 
 template <class D>
 concept model_definition = requires(const D& d, const vec<definition_dim<D>>& x, std::span<const double> p, int i) {
@@ -49,10 +81,12 @@ concept model_definition = requires(const D& d, const vec<definition_dim<D>>& x,
     { D::surfaces.size() } -> std::convertible_to<std::size_t>;
     { D::sections.size() } -> std::convertible_to<std::size_t>;
     D(p);
-    { d.derivatives(x) } -> std::convertible_to<vec<definition_dim<D>>>;
-    { d.gap(i, x) } -> std::convertible_to<double>;
-    { d.reset(i, x) } -> std::convertible_to<vec<definition_dim<D>>>;
-    { d.section(i, x) } -> std::convertible_to<double>;
+    requires fields_by_side<D> || requires { { d.derivatives(x) } -> std::convertible_to<vec<definition_dim<D>>>; };
+    requires D::surfaces.size() == 0 || requires {
+        { d.gap(i, x) } -> std::convertible_to<double>;
+        { d.reset(i, x) } -> std::convertible_to<vec<definition_dim<D>>>;
+    };
+    requires D::sections.size() == 0 || requires { { d.section(i, x) } -> std::convertible_to<double>; };
 };
 
 template <class D>

@@ -10,6 +10,7 @@
 #include <concepts>
 
 #include "vimpact/core/state.hpp"
+#include "vimpact/core/switch_sides.hpp"
 #include "vimpact/model/spec.hpp"
 
 namespace vimpact {
@@ -39,6 +40,32 @@ concept engine_model = requires(const M& m, const vec<M::dim>& x, int i) {
     { m.rest(i, x) } -> std::convertible_to<vec<M::dim>>;
     { m.state_difference(x, x) } -> std::convertible_to<vec<M::dim>>;
 };
+
+// A model with switching surfaces (model/spec.hpp, switching_surface): switching function
+// h_k, its gradient and derivative along a direction, the sides its field is evaluated on
+// (core/switch_sides.hpp), pinned by the flow that holds them, and the crossing of switch k,
+// which changes its side and maps the state by the switch's reset where one applies (true
+// then). The saltation of a crossing is formed from these (tangent/variational.hpp).
+template <class M>
+concept switching_model = requires(M& mm, const M& m, const vec<M::dim>& x, vec<M::dim>& out, int k) {
+    { m.switch_count() } -> std::convertible_to<int>;
+    { m.switch_direction(k) } -> std::convertible_to<crossing>;
+    { m.switching_affine(k) } -> std::convertible_to<bool>;
+    { m.switching(k, x) } -> std::convertible_to<double>;
+    { m.switching_gradient(k, x) } -> std::convertible_to<vec<M::dim>>;
+    { m.switching_derivative(k, x, x) } -> std::convertible_to<double>;
+    { m.sides_at(x) } -> std::convertible_to<switch_sides>;
+    { m.switch_reset_jacobian(k, x) } -> std::convertible_to<mat<M::dim>>;
+    mm.pin_sides(switch_sides{});
+    { mm.cross(k, x, out) } -> std::convertible_to<bool>;
+};
+
+template <class M>
+int switch_count(const M& m)
+{
+    if constexpr (switching_model<M>) return m.switch_count();
+    else return (void)m, 0;
+}
 
 // The state dimension of an engine model: its compile-time dim, or, for a model whose states
 // are sized at run time (dim == Eigen::Dynamic: table_model<Eigen::Dynamic>), its own count.

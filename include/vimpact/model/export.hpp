@@ -146,6 +146,7 @@ public:
             out(o) = m(c).release_gradient(i, in(x));
         };
         m_table.rest = [](const void* c, int i, const double* x, double* o) { out(o) = m(c).rest(i, in(x)); };
+        if constexpr (model_type::switches > 0) add_switches();
         m_table.step = &fused_step_entry<N, field>;
         m_table.dense = &fused_dense_entry<N, field>;
         m_table.samples = [](const void* c, const double* x, const double* f, double* gaps, double* sections) {
@@ -164,6 +165,41 @@ public:
     [[nodiscard]] const vimpact_model_table& table() const { return m_table; }
 
 private:
+    void add_switches()
+    {
+        m_table.switch_count = model_type::switches;
+        for (const auto& s : D::switches) {
+            m_switch_names.push_back(keep(s.name));
+            m_switch_meanings.push_back(keep(s.meaning));
+            m_switch_directions.push_back(static_cast<int>(s.direction));
+            m_switch_affine.push_back(s.affine ? 1 : 0);
+        }
+        m_table.switch_names = m_switch_names.data();
+        m_table.switch_meanings = m_switch_meanings.data();
+        m_table.switch_directions = m_switch_directions.data();
+        m_table.switch_affine = m_switch_affine.data();
+        m_table.switching = [](const void* c, int k, const double* x) { return m(c).switching(k, in(x)); };
+        m_table.switching_gradient = [](const void* c, int k, const double* x, double* o) {
+            out(o) = m(c).switching_gradient(k, in(x));
+        };
+        m_table.copy_context = [](const void* c) -> void* { return new model_type(m(c)); };
+        m_table.pin_sides = [](void* c, unsigned long long negative) {
+            static_cast<model_type*>(c)->pin_sides(switch_sides::from_bits(negative));
+        };
+        m_table.sides_at = [](const void* c, const double* x) -> unsigned long long {
+            return m(c).sides_at(in(x)).negative_bits();
+        };
+        m_table.cross = [](void* c, int k, const double* x, double* o) {
+            vec<N> after;
+            const bool applied = static_cast<model_type*>(c)->cross(k, in(x), after);
+            out(o) = after;
+            return applied ? 1 : 0;
+        };
+        m_table.switch_reset_jacobian = [](const void* c, int k, const double* x, double* o) {
+            matrix_out(o) = m(c).switch_reset_jacobian(k, in(x));
+        };
+    }
+
     // The free field for the fused Runge-Kutta steps (integrate/fused_step.hpp).
     struct field {
         const void* c;
@@ -200,10 +236,10 @@ private:
     std::vector<const char*> m_state_names, m_state_meanings, m_state_units;
     std::vector<const char*> m_parameter_names, m_parameter_meanings, m_parameter_units;
     std::vector<const char*> m_surface_names, m_surface_meanings, m_section_names, m_section_meanings;
-    std::vector<const char*> m_preset_names, m_preset_meanings;
+    std::vector<const char*> m_preset_names, m_preset_meanings, m_switch_names, m_switch_meanings;
     std::vector<double> m_state_periods, m_initial, m_defaults, m_lower, m_upper, m_preset_values;
     std::vector<int> m_closed, m_sticks, m_directions, m_surface_affine, m_section_affine, m_preset_sizes,
-        m_preset_parameters;
+        m_preset_parameters, m_switch_directions, m_switch_affine;
 };
 
 }  // namespace detail

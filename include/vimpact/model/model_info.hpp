@@ -33,6 +33,13 @@ struct section_info {
     crossing direction = crossing::down;
 };
 
+// A switching surface (model/spec.hpp, switching_surface): the crossings in `direction`
+// apply its reset, if it has one.
+struct switch_info {
+    std::string name, meaning;
+    crossing direction = crossing::both;
+};
+
 struct preset_info {
     std::string name, meaning;
     std::vector<std::pair<int, double>> values;  // (parameter index, value)
@@ -46,6 +53,7 @@ struct model_info {
     std::vector<parameter_info> parameters;
     std::vector<surface_info> surfaces;
     std::vector<section_info> sections;
+    std::vector<switch_info> switches;
     std::vector<preset_info> presets;
     std::vector<double> initial_state;
 

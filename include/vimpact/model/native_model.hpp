@@ -34,28 +34,111 @@ public:
     [[nodiscard]] static constexpr bool gap_affine(int i) { return D::surfaces[i].affine; }
     [[nodiscard]] static constexpr bool section_affine(int k) { return D::sections[k].affine; }
 
-    [[nodiscard]] state rhs(const state& x) const { return m_def.derivatives(x); }
+    [[nodiscard]] state rhs(const state& x) const { return call_field(x, sides_at(x)); }
+
+    // Switching surfaces (a definition that declares them: model/definition.hpp). The sides
+    // the field is evaluated on are pinned by a flow that holds them between crossings;
+    // unpinned, they are taken from the state (h_k >= 0: +1).
+    static constexpr int switches = switch_count_of<D>();
+    [[nodiscard]] static constexpr int switch_count()
+        requires(switches > 0)
+    {
+        return switches;
+    }
+    [[nodiscard]] static constexpr crossing switch_direction(int k)
+        requires(switches > 0)
+    {
+        return D::switches[static_cast<std::size_t>(k)].direction;
+    }
+    [[nodiscard]] static constexpr bool switching_affine(int k)
+        requires(switches > 0)
+    {
+        return D::switches[static_cast<std::size_t>(k)].affine;
+    }
+    [[nodiscard]] double switching(int k, const state& x) const
+        requires(switches > 0)
+    {
+        return m_def.switching(k, x);
+    }
+    [[nodiscard]] state switching_gradient(int k, const state& x) const
+        requires(switches > 0)
+    {
+        return ad::gradient<dim>([this, k](const auto& y) { return m_def.switching(k, y); }, x);
+    }
+    [[nodiscard]] double switching_derivative(int k, const state& x, const state& v) const
+        requires(switches > 0)
+    {
+        return ad::directional<dim>([this, k](const auto& y) { return m_def.switching(k, y); }, x, v);
+    }
+    [[nodiscard]] switch_sides sides_at(const state& x) const
+    {
+        if constexpr (switches == 0) return (void)x, switch_sides{};
+        else {
+            if (m_pinned) return m_sides;
+            switch_sides s;
+            for (int k = 0; k < switches; ++k) s.set(k, m_def.switching(k, x) >= 0.0);
+            return s;
+        }
+    }
+    // Holds the sides until unpin(): the flow's copy of the model, between crossings.
+    void pin_sides(const switch_sides& s)
+        requires(switches > 0)
+    {
+        m_sides = s;
+        m_pinned = true;
+    }
+    // Crossing switch k at x (pinned): the side changes; out is the state after it, the
+    // switch's reset where the crossing goes in the switch's direction, x otherwise. True
+    // when the reset applied.
+    bool cross(int k, const state& x, state& out)
+        requires(switches > 0)
+    {
+        const bool down = !m_sides.negative(k);
+        m_sides.flip(k);
+        const crossing d = switch_direction(k);
+        const bool applies = d == crossing::both || (d == crossing::down) == down;
+        if constexpr (has_switch_reset) {
+            out = applies ? state(m_def.switch_reset(k, x, m_sides)) : x;
+            return applies;
+        } else {
+            out = x;
+            return false;
+        }
+    }
+    // The Jacobian of the reset of switch k at x, on the sides after the crossing (cross).
+    [[nodiscard]] matrix switch_reset_jacobian(int k, const state& x) const
+        requires(switches > 0)
+    {
+        if constexpr (has_switch_reset)
+            return ad::jacobian<dim>(
+                [this, k](const auto& y) {
+                    using T = typename std::decay_t<decltype(y)>::Scalar;
+                    return vec_t<T, dim>(m_def.switch_reset(k, y, m_sides));
+                },
+                x);
+        else return (void)k, matrix::Identity(x.size(), x.size());
+    }
 
     [[nodiscard]] matrix jacobian(const state& x) const
     {
-        if constexpr (requires { { m_def.jacobian(x) } -> std::convertible_to<matrix>; }) return m_def.jacobian(x);
-        else return ad::jacobian<dim>(field(), x);
+        if constexpr (switches == 0 && requires { { m_def.jacobian(x) } -> std::convertible_to<matrix>; }) return m_def.jacobian(x);
+        else return ad::jacobian<dim>(field(sides_at(x)), x);
     }
 
     [[nodiscard]] state second_derivative(const state& x, const state& u, const state& w) const
     {
-        if constexpr (requires { { m_def.second_derivative(x, u, w) } -> std::convertible_to<state>; })
+        if constexpr (switches == 0 && requires { { m_def.second_derivative(x, u, w) } -> std::convertible_to<state>; })
             return m_def.second_derivative(x, u, w);
-        else return ad::second_directional<dim>(field(), x, u, w);
+        else return ad::second_directional<dim>(field(sides_at(x)), x, u, w);
     }
 
     [[nodiscard]] double divergence(const state& x) const
     {
-        if constexpr (requires { { m_def.divergence(x) } -> std::convertible_to<double>; }) return m_def.divergence(x);
+        if constexpr (switches == 0 && requires { { m_def.divergence(x) } -> std::convertible_to<double>; }) return m_def.divergence(x);
         else return jacobian(x).trace();
     }
 
-    [[nodiscard]] double gap(int i, const state& x) const { return m_def.gap(i, x); }
+    [[nodiscard]] double gap(int i, const state& x) const { return call_gap(i, x); }
 
     [[nodiscard]] state gap_gradient(int i, const state& x) const
     {
@@ -78,7 +161,7 @@ public:
         else return ad::hessian<dim>(gap_function(i), x);
     }
 
-    [[nodiscard]] state reset(int i, const state& x) const { return m_def.reset(i, x); }
+    [[nodiscard]] state reset(int i, const state& x) const { return call_reset(i, x); }
 
     [[nodiscard]] matrix reset_jacobian(int i, const state& x) const
     {
@@ -94,7 +177,7 @@ public:
         else return ad::second_directional<dim>(reset_function(i), x, u, w);
     }
 
-    [[nodiscard]] double section(int k, const state& x) const { return m_def.section(k, x); }
+    [[nodiscard]] double section(int k, const state& x) const { return call_section(k, x); }
 
     [[nodiscard]] state section_gradient(int k, const state& x) const
     {
@@ -151,31 +234,57 @@ private:
     static_assert(!any_surface_sticks<D>() || sticking_definition<D>,
                   "a surface declares sticking: the definition needs sticking_derivatives, release and rest");
 
-    auto field() const
+    static constexpr bool has_switch_reset = requires(const D& d, const state& x) {
+        { d.switch_reset(0, x, switch_sides{}) } -> std::convertible_to<state>;
+    };
+
+    template <class Y>
+    auto call_field(const Y& y, const switch_sides& s) const
     {
-        return [this](const auto& y) {
-            using T = typename std::decay_t<decltype(y)>::Scalar;
-            return vec_t<T, dim>(m_def.derivatives(y));
-        };
+        using T = typename Y::Scalar;
+        if constexpr (fields_by_side<D>) return vec_t<T, dim>(m_def.derivatives(y, s));
+        else return (void)s, vec_t<T, dim>(m_def.derivatives(y));
+    }
+    // The field on sides s, as a function to differentiate.
+    auto field(const switch_sides& s) const
+    {
+        return [this, s](const auto& y) { return call_field(y, s); };
     }
     auto gap_function(int i) const
     {
-        return [this, i](const auto& y) { return m_def.gap(i, y); };
+        return [this, i](const auto& y) { return call_gap(i, y); };
     }
     auto reset_function(int i) const
     {
-        return [this, i](const auto& y) {
-            using T = typename std::decay_t<decltype(y)>::Scalar;
-            return vec_t<T, dim>(m_def.reset(i, y));
-        };
+        return [this, i](const auto& y) { return call_reset(i, y); };
+    }
+    // A definition without surfaces (sections) need not write gaps and resets (sections): the
+    // flow never asks for those of a surface (section) that does not exist.
+    template <class Y>
+    auto call_gap(int i, const Y& y) const
+    {
+        using T = typename Y::Scalar;
+        if constexpr (surfaces > 0) return T(m_def.gap(i, y));
+        else return (void)i, T(0.0);
+    }
+    template <class Y>
+    auto call_reset(int i, const Y& y) const
+    {
+        using T = typename Y::Scalar;
+        if constexpr (surfaces > 0) return vec_t<T, dim>(m_def.reset(i, y));
+        else return (void)i, vec_t<T, dim>(y);
     }
     template <class Y>
     auto call_section(int k, const Y& y) const
     {
-        return m_def.section(k, y);
+        using T = typename Y::Scalar;
+        if constexpr (sections > 0) return T(m_def.section(k, y));
+        else return (void)k, T(0.0);
     }
 
     D m_def;
+    switch_sides m_sides;
+    bool m_pinned = false;
 };
 
 }  // namespace vimpact

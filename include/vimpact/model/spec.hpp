@@ -60,6 +60,19 @@ constexpr std::string_view to_string(crossing c)
     return "unknown";
 }
 
+// A switching surface: the zero set of a switching function h(x) where the vector field
+// changes (a compliant contact, a bilinear spring, the pivot of a rocking block) while the
+// state goes on continuously. The field is evaluated on one side, held between located
+// crossings (core/switch_sides.hpp). A crossing in `direction` (down: h from positive to
+// negative; up; both) applies the switch's reset, if the model has one; any crossing changes
+// the side. `affine` as for impact_surface.
+struct switching_surface {
+    std::string_view name;
+    std::string_view meaning = "";
+    crossing direction = crossing::both;
+    bool affine = false;
+};
+
 // A Poincare section: the zero crossings of a scalar function of the state in a direction.
 // `affine` as for impact_surface: a section function affine in the state is not checked for
 // resolution on each step.

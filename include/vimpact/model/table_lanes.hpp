@@ -28,7 +28,8 @@ public:
     // lanes is the table's dense).
     static bool available(const vimpact_model_table& t)
     {
-        return t.dim == N && t.lanes_width == lane_width && t.context_size > 0 && t.step && t.dense && t.lanes_step &&
+        return t.dim == N && t.switch_count == 0 && t.lanes_width == lane_width && t.context_size > 0 && t.step &&
+               t.dense && t.lanes_step &&
                t.lanes_gap && t.lanes_gap_gradient && t.lanes_section && t.lanes_section_gradient && t.lanes_points;
     }
 

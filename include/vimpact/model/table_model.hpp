@@ -10,10 +10,12 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
 #include "vimpact/core/state.hpp"
+#include "vimpact/core/switch_sides.hpp"
 #include "vimpact/hybrid/stepper.hpp"
 #include "vimpact/integrate/fused_step.hpp"
 #include "vimpact/model/abi.h"
@@ -182,6 +184,63 @@ public:
         return true;
     }
 
+    // Switching surfaces (model/abi.h, ABI version 6; engine_model.hpp's switching_model). The
+    // first pin_sides gives this copy a context of its own (the table's copy_context), which
+    // copies of it copy again: the flow that pins holds its sides alone, whatever other flows
+    // of the same model do in other threads.
+    [[nodiscard]] int switch_count() const { return m_t->switch_count; }
+    [[nodiscard]] crossing switch_direction(int k) const { return static_cast<crossing>(m_t->switch_directions[k]); }
+    [[nodiscard]] bool switching_affine(int k) const { return m_t->switch_affine && m_t->switch_affine[k] != 0; }
+    [[nodiscard]] double switching(int k, const state& x) const { return m_t->switching(m_c, k, x.data()); }
+    [[nodiscard]] state switching_gradient(int k, const state& x) const
+    {
+        state out = new_state();
+        m_t->switching_gradient(m_c, k, x.data(), out.data());
+        return out;
+    }
+    [[nodiscard]] double switching_derivative(int k, const state& x, const state& v) const
+    {
+        return along(m_t->switching_gradient, k, x, v);
+    }
+    [[nodiscard]] switch_sides sides_at(const state& x) const
+    {
+        if (m_t->switch_count == 0) return {};
+        return switch_sides::from_bits(m_t->sides_at(m_c, x.data()));
+    }
+    void pin_sides(const switch_sides& s)
+    {
+        if (m_t->switch_count == 0) return;
+        own_context();
+        m_t->pin_sides(m_own.get(), s.negative_bits());
+    }
+    bool cross(int k, const state& x, state& out)
+    {
+        own_context();
+        out.resize(x.size());
+        return m_t->cross(m_own.get(), k, x.data(), out.data()) != 0;
+    }
+    [[nodiscard]] matrix switch_reset_jacobian(int k, const state& x) const
+    {
+        matrix out = new_matrix();
+        m_t->switch_reset_jacobian(m_c, k, x.data(), out.data());
+        return out;
+    }
+
+    table_model(const table_model& o) : m_t(o.m_t), m_c(o.m_c) { copy_own(o); }
+    table_model& operator=(const table_model& o)
+    {
+        if (this != &o) {
+            m_t = o.m_t;
+            m_c = o.m_c;
+            m_own.reset();
+            copy_own(o);
+        }
+        return *this;
+    }
+    table_model(table_model&&) noexcept = default;
+    table_model& operator=(table_model&&) noexcept = default;
+    ~table_model() = default;
+
     // b - a, with every phase variable's difference taken into (-period/2, period/2].
     [[nodiscard]] state state_difference(const state& b, const state& a) const
     {
@@ -213,8 +272,22 @@ private:
         else return matrix();
     }
 
+    void own_context()
+    {
+        if (m_own) return;
+        m_own = std::shared_ptr<void>(m_t->copy_context(m_c), m_t->destroy);
+        m_c = m_own.get();
+    }
+    void copy_own(const table_model& o)
+    {
+        if (!o.m_own) return;
+        m_own = std::shared_ptr<void>(m_t->copy_context(o.m_own.get()), m_t->destroy);
+        m_c = m_own.get();
+    }
+
     const vimpact_model_table* m_t;
     const void* m_c;
+    std::shared_ptr<void> m_own;  // this copy's own context, once it pins sides of switches
 };
 
 // The stepper of a table model's flows: the table's fused step for the free field when the

@@ -202,6 +202,14 @@ public:
         m_out.log_det_jumps += std::log(std::abs(jump.determinant()));
         return flow_control::proceed;
     }
+    // A switching surface's jump S (tangent/variational.hpp) has det S = det Y+ / det Y-.
+    flow_control on_switch(int, double, const typename VModel::state& pre, const typename VModel::state& post)
+    {
+        if (reached()) return flow_control::stop;
+        m_out.log_det_jumps +=
+            std::log(std::abs(VModel::matrix(post).determinant())) - std::log(std::abs(VModel::matrix(pre).determinant()));
+        return flow_control::proceed;
+    }
     template <class X>
     void on_stick(int, double, const X&)
     {

@@ -224,6 +224,77 @@ public:
         return zero_like(X);
     }
 
+    // Switching surfaces: the base's, read on its point. Crossing one maps the columns of Y by
+    // its saltation matrix S = R' + (F+ - R' F-) n^T / (n^T F-): n = grad h_k, F- and F+ the
+    // base fields of the sides before and after, R the switch's reset where it applies (the
+    // identity otherwise), so that S = I + (F+ - F-) n^T / (n^T F-) for a field that only
+    // changes. The second-order mapping of impacts has no counterpart here: S is applied for
+    // it too; reset_jacobian applies R' alone, identity nothing.
+    [[nodiscard]] int switch_count() const
+        requires switching_model<Model>
+    {
+        return m_model.switch_count();
+    }
+    [[nodiscard]] crossing switch_direction(int k) const
+        requires switching_model<Model>
+    {
+        return m_model.switch_direction(k);
+    }
+    [[nodiscard]] bool switching_affine(int k) const
+        requires switching_model<Model>
+    {
+        return m_model.switching_affine(k);
+    }
+    [[nodiscard]] double switching(int k, const state& X) const
+        requires switching_model<Model>
+    {
+        return m_model.switching(k, point(X));
+    }
+    [[nodiscard]] state switching_gradient(int k, const state& X) const
+        requires switching_model<Model>
+    {
+        return embed(m_model.switching_gradient(k, point(X)));
+    }
+    [[nodiscard]] double switching_derivative(int k, const state& X, const state& V) const
+        requires switching_model<Model>
+    {
+        return m_model.switching_derivative(k, point(X), point(V));
+    }
+    [[nodiscard]] switch_sides sides_at(const state& X) const
+        requires switching_model<Model>
+    {
+        return m_model.sides_at(point(X));
+    }
+    void pin_sides(const switch_sides& s)
+        requires switching_model<Model>
+    {
+        m_model.pin_sides(s);
+    }
+    [[nodiscard]] mat<dim> switch_reset_jacobian(int, const state&) const
+        requires switching_model<Model>;  // not defined: the flow crosses with cross()
+    bool cross(int k, const state& X, state& out)
+        requires switching_model<Model>
+    {
+        const int n = base_size(X);
+        const base_state x = point(X);
+        const base_state normal = m_model.switching_gradient(k, x);
+        const base_state f_before = m_model.rhs(x);
+        base_state x_after = x;
+        const bool applied = m_model.cross(k, x, x_after);
+        const tangent Rp = applied ? tangent(m_model.switch_reset_jacobian(k, x)) : tangent(tangent::Identity(n, n));
+        const tangent Y = matrix(X);
+        tangent Yp = Y;
+        if (m_jump == impact_tangent::reset_jacobian) {
+            Yp = Rp * Y;
+        } else if (m_jump != impact_tangent::identity) {
+            const base_state f_after = m_model.rhs(x_after);
+            const tangent S = Rp + (f_after - Rp * f_before) * normal.transpose() / normal.dot(f_before);
+            Yp = S * Y;
+        }
+        out = pack(x_after, Yp, divergence_integral(X));
+        return applied;
+    }
+
     [[nodiscard]] double section(int k, const state& X) const { return m_model.section(k, base_of(X, m_x)); }
     [[nodiscard]] state section_gradient(int k, const state& X) const
     {
