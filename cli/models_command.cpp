@@ -56,10 +56,14 @@ std::string text_of(const model& m)
     t += table(info.parameters, [](const parameter_info& p) {
         return format_double(p.default_value) + ", " + p.range.text() + ": " + with_unit(p.meaning, p.unit);
     });
-    t += "  surfaces:\n";
+    t += info.surfaces.empty() ? std::string("  surfaces: none\n") : std::string("  surfaces:\n");
     t += table(info.surfaces, [](const surface_info& s) {
         return s.meaning + (s.sticks ? " (sticks: contact phases)" : " (no contact phase: chattering ends a run)");
     });
+    if (!info.switches.empty()) {
+        t += "  switches (the field changes across them):\n";
+        t += table(info.switches, [](const switch_info& s) { return s.meaning; });
+    }
     t += info.sections.empty() ? std::string("  sections: none (record --section impacts)\n") : std::string("  sections:\n");
     t += table(info.sections, [](const section_info& s) { return std::string(to_string(s.direction)) + ": " + s.meaning; });
     if (!info.presets.empty()) {

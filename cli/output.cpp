@@ -282,6 +282,24 @@ void write_impacts(const std::filesystem::path& p, const impact_series& s, const
     w.close();
 }
 
+void write_switchings(const std::filesystem::path& p, const impact_series& s, const model_info& info)
+{
+    std::vector<std::string> header{"t"};
+    for (const auto& v : info.state) header.push_back(v.name);
+    for (const auto& v : info.state) header.push_back(v.name + "_after");
+    header.emplace_back("switch");
+    csv_writer w(p, header);
+    std::vector<std::string> cells;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        cells = {format_double(s.pre.t(i))};
+        for (const auto* side : {&s.pre, &s.post})
+            for (int j = 0; j < info.dim(); ++j) cells.push_back(format_double(side->x(i, j)));
+        cells.push_back(info.switches.at(static_cast<std::size_t>(s.surface[i])).name);
+        w.text_row(cells);
+    }
+    w.close();
+}
+
 namespace {
 
 // The plotting program: the package from the directory given (argv[1]), never from the

@@ -98,6 +98,10 @@ void write_states(const std::filesystem::path& p, const state_series& s, const m
 void write_impacts(const std::filesystem::path& p, const impact_series& s, const vimpact::model& m,
                    const si_tables* si = nullptr);
 
+// The crossings of switching surfaces: t, the state before (each variable's name) and after
+// (NAME_after: a reset's image, else the same), and the switch's name.
+void write_switchings(const std::filesystem::path& p, const impact_series& s, const model_info& info);
+
 // Draws DIR's picture with vimpact.plot (KIND DIR FORMAT: png, pdf, svg) in an isolated
 // interpreter (-I: no module of the working directory, no PYTHON* variables; the package from
 // the build's python directory) started in DIR. Returns what failed, in one line, or nothing

@@ -65,6 +65,9 @@ int run_simulate(const simulate_args& a)
                     {"final_state", vector_json(r.final_state)},
                     {"stats", stats},
                     {"out", out_path(c)}};
+    // A model with switching surfaces: their crossings too.
+    const bool switches = !info.switches.empty();
+    if (switches) summary["switchings_recorded"] = r.switchings.size();
     const std::string si_text = add_si_results(summary, c, c.model, r.statistics);
     if (c.out)
         write_run(c, "simulate", summary, [&](staged_output& out) {
@@ -72,10 +75,17 @@ int run_simulate(const simulate_args& a)
             write_states(out.file("timeseries.csv"), r.series, info, si ? &*si : nullptr);
             write_impacts(out.file("impacts.csv"), r.impacts, c.model, si ? &*si : nullptr);
             write_states(out.file("sections.csv"), r.points, info, si ? &*si : nullptr);
-            return json{"timeseries.csv", "impacts.csv", "sections.csv"};
+            json files{"timeseries.csv", "impacts.csv", "sections.csv"};
+            if (switches) {
+                write_switchings(out.file("switchings.csv"), r.switchings, info);
+                files.push_back("switchings.csv");
+            }
+            return files;
         });
     const std::string text = "outcome " + std::string(to_string(r.status)) + ", " + std::to_string(r.stats.impacts) +
-                             " impacts, " + std::to_string(r.points.size()) + " section points recorded from t = " +
+                             " impacts, " +
+                             (switches ? std::to_string(r.stats.switchings) + " crossings of switches, " : std::string()) +
+                             std::to_string(r.points.size()) + " section points recorded from t = " +
                              format_double(r.t_record_start) + " to t = " + format_double(r.stats.t_final) + "\n" +
                              "steps " + std::to_string(r.stats.steps) + " (rejected " +
                              std::to_string(r.stats.rejected) + "), rhs calls " + std::to_string(r.stats.rhs_calls) +

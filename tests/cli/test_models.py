@@ -1,6 +1,7 @@
 """Any model: `vimpact models`, model files (checked, compiled), every command on a model other
 than the paper's, the built-in and its model file giving the same results, per-surface impact
 counts."""
+import csv
 import json
 import os
 import subprocess
@@ -253,3 +254,33 @@ def test_a_model_without_parameters_says_so(vimpact, tmp_path):
     p = run(vimpact, "simulate", "--model", str(path), "--set", "q=1")
     assert p.returncode == 2
     assert p.stderr == "vimpact: error: unknown parameter 'q' in --set (model e has no parameters)\n"
+
+
+COMPLIANT_TOML = os.path.join(os.path.dirname(TWO_SIDED_TOML), "compliant_stop.toml")
+
+
+def test_a_model_with_a_switch_lists_it_and_records_its_crossings(vimpact, tmp_path):
+    """examples/models/compliant_stop.toml: a switch (the stop's surface y = d, no reset) and no
+    impact surface. `models` lists the switch; `simulate` records each crossing in
+    switchings.csv, on the surface (y = d) with the state unchanged, entering (v > 0) and
+    leaving (v < 0) in turn."""
+    p = run(vimpact, "models", COMPLIANT_TOML)
+    assert p.returncode == 0, p.stderr
+    assert "switches" in p.stdout and "contact" in p.stdout and "surfaces: none" in p.stdout
+    [m] = models_json(vimpact, COMPLIANT_TOML)
+    assert m["surfaces"] == [] and [s["name"] for s in m["switches"]] == ["contact"]
+    out = tmp_path / "run"
+    j = run_json(vimpact, "simulate", "--model", COMPLIANT_TOML, "--out", str(out), "--no-plot")
+    assert j["outcome"] == "ok" and j["impacts"] == 0
+    assert j["stats"]["switchings"] >= j["switchings_recorded"] > 10
+    with open(out / "switchings.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == j["switchings_recorded"]
+    d = 1.0  # the file's default
+    for r in rows:
+        assert r["switch"] == "contact"
+        assert abs(float(r["y"]) - d) < 1e-9
+        assert all(r[name] == r[name + "_after"] for name in ("y", "v", "phi"))
+    signs = [float(r["v"]) > 0 for r in rows]
+    assert all(a != b for a, b in zip(signs, signs[1:]))
+    assert "switchings.csv" in json.load(open(out / "run.json"))["files"]

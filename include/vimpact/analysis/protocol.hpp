@@ -97,6 +97,7 @@ struct simulation {
     double t_record_end = 0.0;
     state_series points;         // the recorded section points
     impact_series impacts;       // the impacts of the recorded window
+    impact_series switchings;    // the crossings of switching surfaces there (`surface`: the switch)
     state_series series;         // time series of the recorded window (sample_dt > 0)
     Eigen::VectorXd final_state;
     run_stats stats;

@@ -28,6 +28,7 @@ public:
             m_res.transient_impacts = m_impacts;
             m_res.points.clear();
             m_res.impacts.clear();
+            m_res.switchings.clear();
             m_res.series.clear();
             begin_recording(t);
             if (m_opt.section.type == section_choice::kind::impacts) m_done = true;
@@ -108,6 +109,18 @@ public:
             (m_opt.section.index < 0 || m_opt.section.index == surface))
             m_res.points.push_back(t, post);
         return finished_at(t) ? flow_control::stop : flow_control::proceed;
+    }
+
+    flow_control on_switch(int k, double t, const vec<N>& pre, const vec<N>& post)
+    {
+        if (!m_recording) return flow_control::proceed;
+        m_res.switchings.push_back(t, k, pre, post);
+        // A reset that moved the state: the series shows the jump, as at an impact.
+        if (m_opt.sample_dt > 0.0 && pre != post) {
+            m_res.series.push_back(t, pre);
+            m_res.series.push_back(t, post);
+        }
+        return flow_control::proceed;
     }
 
     template <class D>
@@ -220,6 +233,7 @@ private:
         const int n = state_dim(model);
         r.points = state_series(n);
         r.impacts = impact_series(n);
+        r.switchings = impact_series(n);
         r.series = state_series(n);
         r.max_gap.assign(static_cast<std::size_t>(model.surface_count()), std::numeric_limits<double>::quiet_NaN());
         return r;
