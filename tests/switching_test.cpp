@@ -22,6 +22,7 @@
 #include "test_support.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
+#include "vimpact/analysis/protocol.hpp"
 #include "vimpact/core/input_error.hpp"
 #include "vimpact/hybrid/flow.hpp"
 #include "vimpact/model/export.hpp"
@@ -348,11 +349,13 @@ TEST(Switching, FloquetMultipliersOfTheRuntimeModelAreThoseOfTheMapsDifferences)
     ASSERT_EQ(handle.info().switches.size(), 1U);
     EXPECT_EQ(handle.info().switches[0].name, "contact");
     vimpact::floquet_options fo;
-    fo.protocol.quiet_time = 1000.0;  // no impacts: the transient ends after this long
     fo.protocol.record_points = 20;
     const vimpact::floquet_result r = vimpact::floquet(handle, Eigen::Vector3d(0.0, 0.0, 0.5), fo);
     ASSERT_EQ(r.status, outcome::ok) << to_string(r.status);
-    EXPECT_EQ(r.label, "P0");  // no impacts: a periodic orbit of the switching system
+    // Its crossings are the events of the protocol: the transient is 500 of them, and the orbit
+    // is labelled by its period (P0 is an orbit away from every surface and switch).
+    EXPECT_EQ(r.label, "P1");
+    EXPECT_EQ(r.impacts_per_period, 0);
     EXPECT_EQ(r.section_returns, 1);
     EXPECT_LT(r.trivial_error, 1e-8);
     EXPECT_GT(r.tangent_stats.switchings, 0);
@@ -379,14 +382,11 @@ TEST(Switching, LyapunovExponentsOfTheOrbitAreItsFloquetMultipliersLogsOverThePe
 {
     const vimpact::model handle = vimpact::model::from_definition<compliant_stop>().with_parameter(6, 0.8);
     vimpact::floquet_options fo;
-    fo.protocol.quiet_time = 1000.0;  // no impacts: the transient ends after this long
     fo.protocol.record_points = 20;
     const auto f = vimpact::floquet(handle, Eigen::Vector3d(0.0, 0.0, 0.5), fo);
     ASSERT_EQ(f.status, outcome::ok);
     ASSERT_EQ(f.section_returns, 1);
     vimpact::lyapunov_options lo;
-    lo.quiet_time = 1000.0;
-    lo.p0_time = 4000.0;
     const auto l = vimpact::lyapunov(handle, Eigen::Vector3d(0.0, 0.0, 0.5), lo);
     ASSERT_EQ(l.status, outcome::ok);
     ASSERT_EQ(l.exponents.size(), 3);
@@ -403,7 +403,6 @@ TEST(Switching, LyapunovExponentsOfTheOrbitAreItsFloquetMultipliersLogsOverThePe
 vimpact::floquet_result stop_floquet(const vimpact::model& m)
 {
     vimpact::floquet_options fo;
-    fo.protocol.quiet_time = 1000.0;  // no impacts: the transient ends after this long
     fo.protocol.record_points = 20;
     return vimpact::floquet(m, Eigen::Vector3d(0.0, 0.0, 0.5), fo);
 }
@@ -425,6 +424,39 @@ TEST(Switching, ModelFileWithASwitchGivesTheDefinitionsOrbitAndMultipliers)
     ASSERT_EQ(a.multipliers.size(), b.multipliers.size());
     for (std::size_t k = 0; k < a.multipliers.size(); ++k) EXPECT_LT(std::abs(a.multipliers[k] - b.multipliers[k]), 1e-9);
     EXPECT_NEAR(a.period, b.period, 1e-9);
+}
+
+// examples/models/rocking_block.toml, Housner's full block. On each side the energy
+// omega^2/2 + p^2 cos(alpha side - theta) is constant, so a crossing leaves with the speed it
+// arrived at the one before times eta, and a turning point of amplitude a is followed by one
+// of amplitude b on the other side with cos(alpha - b) = cos(alpha) + eta^2 (cos(alpha - a) -
+// cos(alpha)). The crossings accumulate as the block comes to rest; once one is slower than
+// the sticking velocity the run ends `sliding` there, at rest on theta = 0.
+TEST(Switching, FullRockingBlockTurnsWhereItsEnergySaysAndComesToRest)
+{
+    const vimpact::model m = vimpact::test::example_model("rocking_block");
+    const double alpha = 0.2, eta = 1.0 - 1.5 * std::sin(alpha) * std::sin(alpha), theta0 = 0.1;  // the file's
+    vimpact::protocol_options o;
+    o.transient_impacts = 0;
+    o.record_points = 100000;
+    o.flow.integration.rtol = o.flow.integration.atol = 1e-12;
+    const vimpact::simulation r = vimpact::simulate(m, Eigen::Vector2d(theta0, 0.0), o);
+    EXPECT_EQ(r.status, outcome::sliding);
+    EXPECT_LT(std::abs(r.final_state[0]), 1e-12);
+    EXPECT_LT(std::abs(r.final_state[1]), 1e-8);
+    // About log(1e-8 / 0.35) / log(eta) = 285 crossings before the speed falls below 1e-8.
+    ASSERT_GT(r.switchings.size(), 200U);
+    EXPECT_LT(r.switchings.size(), 400U);
+    double a = theta0;
+    for (std::size_t k = 0; k < 20; ++k) {
+        a = alpha - std::acos(std::cos(alpha) + eta * eta * (std::cos(alpha - a) - std::cos(alpha)));
+        EXPECT_NEAR(std::abs(r.points.x(k, 0)), a, 1e-9) << k;
+        EXPECT_EQ(r.points.x(k, 0) > 0.0, k % 2 == 1) << k;
+    }
+    for (std::size_t k = 1; k < 20; ++k) {
+        const double before = r.switchings.pre.x(k - 1, 1), now = r.switchings.pre.x(k, 1);
+        EXPECT_NEAR(std::abs(now), eta * std::abs(before), 1e-9 * std::abs(before)) << k;
+    }
 }
 
 // A model file's mistakes with switches are refused when it is loaded, naming the key.

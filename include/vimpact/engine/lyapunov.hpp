@@ -56,9 +56,10 @@ struct tangent_tally {
     std::vector<long> by_surface;
     double log_det_jumps = 0.0;
     long misses = 0;
+    long crossings = 0;  // of switches
 
     tangent_tally(const VModel& vm, const Record& rec, const section_recorder& sections)
-        : by_surface(static_cast<std::size_t>(vm.surface_count()), 0)
+        : by_surface(static_cast<std::size_t>(vm.surface_count()), 0), crossings(static_cast<long>(rec.switchings.size()))
     {
         // A switching surface's jump S (tangent/variational.hpp): det S = det Y+ / det Y-.
         for (const auto& c : rec.switchings)
@@ -83,6 +84,13 @@ struct tangent_tally {
 struct impact_counter : flow_observer {
     section_recorder sections;
     long impacts = 0;
+    long crossings = 0;  // of switches
+    template <class X>
+    flow_control on_switch(int, double, const X&, const X&)
+    {
+        ++crossings;
+        return flow_control::proceed;
+    }
     std::vector<long> by_surface;
     template <class X>
     flow_control on_section(int, crossing, double t, const X& x)
@@ -100,7 +108,8 @@ struct impact_counter : flow_observer {
     }
 };
 
-// Decides when the averaging is over.
+// Decides when the averaging is over. `impacts` counts the crossings of switches too: an
+// orbit of a switching system averages over its events as an impacting one does.
 struct averaging_window {
     const lyapunov_options& opt;
     bool impacting;
@@ -204,6 +213,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
                 opt.r0);
     typename VM::state X = VM::pack(x_start, mat<N>::Identity(x_start.size(), x_start.size()), 0.0);
     double q_start = 0.0, log_det_sum = 0.0;
+    long crossings = 0;  // of switches by the reference in the window
     double t = t_begin;
     // Each interval lands on its end (the steppable tangent's way, system/tangent_system.hpp),
     // where the deviations are re-orthonormalised and the tangent flow starts again.
@@ -230,13 +240,14 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
         res.history_t.push_back(t);
         res.history.push_back(to_dynamic(growth));
         res.impacts += obs.impacts;
+        crossings += obs.crossings;
         add_counts(res.impacts_by_surface, obs.by_surface);
         res.misses += obs.misses;
         log_det_sum += obs.log_det_jumps;
         res.intervals = k + 1 - opt.warmup_intervals;
         res.time = t - res.t_start;
-        if (window.done(res.time, res.impacts) || window.over_limit(res.time)) {
-            res.status = window.done(res.time, res.impacts) ? outcome::ok : outcome::time_limit;
+        if (window.done(res.time, res.impacts + crossings) || window.over_limit(res.time)) {
+            res.status = window.done(res.time, res.impacts + crossings) ? outcome::ok : outcome::time_limit;
             res.jump_log_det_rate = log_det_sum / res.time;
             if constexpr (VM::has_divergence_integral) {
                 res.divergence_average = (VM::divergence_integral(X) - q_start) / res.time;
@@ -265,6 +276,7 @@ void trajectory_intervals(const Model& model, const lyapunov_options& opt, const
     using counts = std::conditional_t<N == Eigen::Dynamic, std::vector<long>, std::array<long, std::max(N, 0) + 1>>;
     states starts{}, ends{};
     counts impacts{};
+    long crossings = 0;  // of switches by the reference in the window
     if constexpr (N == Eigen::Dynamic) {
         starts.resize(static_cast<std::size_t>(n) + 1);
         ends.resize(static_cast<std::size_t>(n) + 1);
@@ -288,7 +300,10 @@ void trajectory_intervals(const Model& model, const lyapunov_options& opt, const
             if (!run_interval(flow, obs, res)) return;
             ends[static_cast<std::size_t>(j)] = flow.x();
             impacts[static_cast<std::size_t>(j)] = obs.impacts;
-            if (j == 0 && k >= opt.warmup_intervals) add_counts(res.impacts_by_surface, obs.by_surface);
+            if (j == 0 && k >= opt.warmup_intervals) {
+                add_counts(res.impacts_by_surface, obs.by_surface);
+                crossings += obs.crossings;
+            }
         }
         t = fo.t_max;
         xr = ends[0];
@@ -303,8 +318,8 @@ void trajectory_intervals(const Model& model, const lyapunov_options& opt, const
             if (impacts[static_cast<std::size_t>(j)] != impacts[0]) ++res.misses;
         res.intervals = k + 1 - opt.warmup_intervals;
         res.time = t - res.t_start;
-        if (window.done(res.time, res.impacts) || window.over_limit(res.time)) {
-            res.status = window.done(res.time, res.impacts) ? outcome::ok : outcome::time_limit;
+        if (window.done(res.time, res.impacts + crossings) || window.over_limit(res.time)) {
+            res.status = window.done(res.time, res.impacts + crossings) ? outcome::ok : outcome::time_limit;
             return;
         }
     }

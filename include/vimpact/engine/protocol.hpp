@@ -93,7 +93,7 @@ public:
         ++m_impacts;
         set_last_impact(t);
         if (!m_recording) {
-            if (m_impacts >= m_opt.transient_impacts) {
+            if (m_impacts + m_crossings >= m_opt.transient_impacts) {
                 m_res.transient_impacts = m_impacts;
                 begin_recording(t);
                 if (m_opt.sample_dt > 0.0) m_res.series.push_back(t, post);
@@ -111,9 +111,21 @@ public:
         return finished_at(t) ? flow_control::stop : flow_control::proceed;
     }
 
+    // A crossing of a switch is an event of the non-smooth motion as an impact is: it counts
+    // towards the transient and keeps the P0 rule from applying (a compliant stop's periodic
+    // orbit is labelled by its period, not P0).
     flow_control on_switch(int k, double t, const vec<N>& pre, const vec<N>& post)
     {
-        if (!m_recording) return flow_control::proceed;
+        ++m_crossings;
+        set_last_impact(t);
+        if (!m_recording) {
+            if (m_impacts + m_crossings >= m_opt.transient_impacts) {
+                m_res.transient_impacts = m_impacts;
+                begin_recording(t);
+                if (m_opt.sample_dt > 0.0) m_res.series.push_back(t, post);
+            }
+            return flow_control::proceed;
+        }
         m_res.switchings.push_back(t, k, pre, post);
         // A reset that moved the state: the series shows the jump, as at an impact.
         if (m_opt.sample_dt > 0.0 && pre != post) {
@@ -176,6 +188,7 @@ private:
     bool m_end_set = false;
     double m_contact_since = 0.0;
     long m_impacts = 0;
+    long m_crossings = 0;  // of switches
     double m_last_impact = 0.0;
     // first_beyond(m_last_impact, quiet_time), computed once per impact: the lanes' driver asks
     // for it after every step that goes back through the run.

@@ -733,10 +733,7 @@ private:
                         m_finished = outcome::inadmissible;
                         return;
                     }
-            // The new side's field points back into the surface: the motion would slide on it.
-            const state f = m_mode == flow_mode::free ? m_model.rhs(post) : m_model.sticking_rhs(m_contact, post);
-            if (std::abs(m_model.switching(k, post)) <= hop_resolution_of_switch(k, post) &&
-                switch_derivative(k, post, f) < 0.0) {
+            if (slides_after(k, post)) {
                 m_finished = outcome::sliding;
                 return;
             }
@@ -745,6 +742,28 @@ private:
             (void)obs, (void)d, (void)k, (void)theta, (void)t;
         }
     }
+    // Whether the motion stays on switch k after its crossing at `post` (sides changed): the
+    // new side's field points back into the surface (Filippov sliding), or it leaves the
+    // surface too slowly to get away from it. The second is the switch's chattering rule: a
+    // rate of side * h below sticking_velocity that the new side's field turns back (its
+    // derivative along the field, by a difference over a short time, negative), as the
+    // crossings of a rocking block coming to rest accumulate, each slower by its restitution.
+    // Without it their number would be bounded only by the time resolution.
+    [[nodiscard]] bool slides_after(int k, const state& post) const
+    {
+        if (!(std::abs(m_model.switching(k, post)) <= hop_resolution_of_switch(k, post))) return false;
+        const auto field = [&](const state& x) {
+            return m_mode == flow_mode::free ? state(m_model.rhs(x)) : state(m_model.sticking_rhs(m_contact, x));
+        };
+        const state f = field(post);
+        const double u = switch_derivative(k, post, f);
+        if (u < 0.0) return true;
+        if (!(u < m_opt.sticking_velocity)) return false;
+        const double tau = 1e-6 * std::max(1.0, m_integ.step_size());
+        const state y = post + tau * f;
+        return (switch_derivative(k, y, field(y)) - u) / tau < 0.0;
+    }
+
     // The resolution of switching function k near zero at x, as hop_resolution's of a gap.
     [[nodiscard]] double hop_resolution_of_switch(int k, const state& x) const
     {
