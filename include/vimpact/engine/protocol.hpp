@@ -91,15 +91,7 @@ public:
     flow_control on_impact(int surface, double t, const vec<N>& pre, const vec<N>& post)
     {
         ++m_impacts;
-        set_last_impact(t);
-        if (!m_recording) {
-            if (m_impacts + m_crossings >= m_opt.transient_impacts) {
-                m_res.transient_impacts = m_impacts;
-                begin_recording(t);
-                if (m_opt.sample_dt > 0.0) m_res.series.push_back(t, post);
-            }
-            return flow_control::proceed;
-        }
+        if (!recording_after_event(t, post)) return flow_control::proceed;
         m_res.impacts.push_back(t, surface, pre, post);
         if (m_opt.sample_dt > 0.0) {
             m_res.series.push_back(t, pre);
@@ -117,15 +109,7 @@ public:
     flow_control on_switch(int k, double t, const vec<N>& pre, const vec<N>& post)
     {
         ++m_crossings;
-        set_last_impact(t);
-        if (!m_recording) {
-            if (m_impacts + m_crossings >= m_opt.transient_impacts) {
-                m_res.transient_impacts = m_impacts;
-                begin_recording(t);
-                if (m_opt.sample_dt > 0.0) m_res.series.push_back(t, post);
-            }
-            return flow_control::proceed;
-        }
+        if (!recording_after_event(t, post)) return flow_control::proceed;
         m_res.switchings.push_back(t, k, pre, post);
         // A reset that moved the state: the series shows the jump, as at an impact.
         if (m_opt.sample_dt > 0.0 && pre != post) {
@@ -177,6 +161,20 @@ private:
     {
         m_last_impact = t;
         m_acts_from = first_beyond(t, m_opt.quiet_time);
+    }
+    // An impact or a crossing at t (`post`: the state after it), counted: the P0 rule's clock
+    // starts again, and the event that completes the transient begins the recording. Whether
+    // it was recorded (false during the transient).
+    bool recording_after_event(double t, const vec<N>& post)
+    {
+        set_last_impact(t);
+        if (m_recording) return true;
+        if (m_impacts + m_crossings >= m_opt.transient_impacts) {
+            m_res.transient_impacts = m_impacts;
+            begin_recording(t);
+            if (m_opt.sample_dt > 0.0) m_res.series.push_back(t, post);
+        }
+        return false;
     }
 
     const protocol_options& m_opt;
