@@ -275,8 +275,13 @@ public:
     {
         if (m_opt.sticking_height >= 0.0) return m_opt.sticking_height;
         gap_gradient_into(m_model, i, x, m_gradient);
-        const double scale = m_gradient.cwiseProduct(x).cwiseAbs().sum();
-        return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, scale);
+        return resolution(m_gradient, x);
+    }
+    // 256 ulps of max(1, sum_j |dg/dx_j x_j|): the resolution near zero of a function g of the
+    // state with this gradient at x.
+    [[nodiscard]] static double resolution(const state& gradient, const state& x)
+    {
+        return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, gradient.cwiseProduct(x).cwiseAbs().sum());
     }
 
 private:
@@ -768,8 +773,7 @@ private:
     [[nodiscard]] double hop_resolution_of_switch(int k, const state& x) const
     {
         if constexpr (has_switches) {
-            const double scale = m_model.switching_gradient(k, x).cwiseProduct(x).cwiseAbs().sum();
-            return 256.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, scale);
+            return resolution(m_model.switching_gradient(k, x), x);
         } else {
             return (void)k, (void)x, 0.0;
         }

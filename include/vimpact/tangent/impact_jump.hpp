@@ -46,15 +46,20 @@ constexpr std::string_view to_string(impact_tangent m)
 inline constexpr std::array<impact_tangent, 3> monodromy_jumps{impact_tangent::saltation, impact_tangent::reset_jacobian,
                                                                impact_tangent::identity};
 
+// Eq. 8: S = R' + (F+ - R' F) n^T / (n^T F), from the reset's Jacobian R', the fields before
+// (F) and after (F+) and the normal n of the surface crossed. An impact's and a switching
+// surface's (tangent/variational.hpp) crossing alike.
+template <int N>
+mat<N> saltation(const mat<N>& Rp, const vec<N>& F, const vec<N>& Fp, const vec<N>& n)
+{
+    return Rp + (Fp - Rp * F) * n.transpose() / n.dot(F);
+}
+
 // Eq. 8 at the pre-impact state x on surface i (crossed transversally, v_g != 0).
 template <engine_model Model>
 mat<Model::dim> saltation_matrix(const Model& m, int i, const vec<Model::dim>& x)
 {
-    const vec<Model::dim> F = m.rhs(x);
-    const vec<Model::dim> Fp = m.rhs(m.reset(i, x));
-    const mat<Model::dim> Rp = m.reset_jacobian(i, x);
-    const vec<Model::dim> n = m.gap_gradient(i, x);
-    return Rp + (Fp - Rp * F) * n.transpose() / n.dot(F);
+    return saltation<Model::dim>(m.reset_jacobian(i, x), m.rhs(x), m.rhs(m.reset(i, x)), m.gap_gradient(i, x));
 }
 
 // The tangent jump chosen by `mode` for linear deviations (second_order: as a linear map it

@@ -287,9 +287,7 @@ public:
         if (m_jump == impact_tangent::reset_jacobian) {
             Yp = Rp * Y;
         } else if (m_jump != impact_tangent::identity) {
-            const base_state f_after = m_model.rhs(x_after);
-            const tangent S = Rp + (f_after - Rp * f_before) * normal.transpose() / normal.dot(f_before);
-            Yp = S * Y;
+            Yp = saltation<base_dim>(Rp, f_before, m_model.rhs(x_after), normal) * Y;
         }
         out = pack(x_after, Yp, divergence_integral(X));
         return applied;
