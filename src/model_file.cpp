@@ -46,8 +46,9 @@
 // Names (state, parameters, derived, expressions) are identifiers (letters, digits, _; a
 // letter first), unique across the four kinds, and neither `pi` nor a function name. Expressions: numbers (a decimal literal is the double nearest to it),
 // names, pi, + - * / ^ (or **), parentheses, and the functions sin cos tan asin acos atan
-// sinh cosh tanh exp log sqrt abs (one argument) and pow (two). Every unknown key is an
-// error that lists the valid ones.
+// sinh cosh tanh exp log sqrt abs sgn heaviside (one argument), pow, min and max (two); abs,
+// sgn, heaviside, min and max of the state in the derivatives become switches. Every
+// unknown key is an error that lists the valid ones.
 //
 // ---- What happens
 //

@@ -8,6 +8,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <string>
@@ -42,6 +44,16 @@ public:
     model load(const std::string& name)
     {
         if (const auto it = m_models.find(name); it != m_models.end()) return it->second;
+        const model m = compile([&] {
+            return model::from_file(std::filesystem::path(VIMPACT_SOURCE_DIR) / "examples" / "models" / (name + ".toml"));
+        });
+        return m_models.emplace(name, m).first->second;
+    }
+
+    // A model compiled into this cache.
+    template <class Load>
+    model compile(Load load) const
+    {
         // VIMPACT_CACHE_DIR for this load only (another test may have set its own).
         std::optional<std::string> old;
         if (const char* v = std::getenv("VIMPACT_CACHE_DIR")) old = v;
@@ -54,9 +66,7 @@ public:
                 else ::unsetenv("VIMPACT_CACHE_DIR");
             }
         } guard{old};
-        const model m = model::from_file(std::filesystem::path(VIMPACT_SOURCE_DIR) / "examples" / "models" /
-                                         (name + ".toml"));
-        return m_models.emplace(name, m).first->second;
+        return load();
     }
     [[nodiscard]] const std::filesystem::path& dir() const { return m_dir; }
 
@@ -76,5 +86,18 @@ inline example_cache& examples()
 
 // examples/models/<name>.toml, compiled once per test program.
 inline model example_model(const std::string& name) { return detail::examples().load(name); }
+
+// The text of examples/models/<name>.toml.
+inline std::string example_text(const std::string& name)
+{
+    std::ifstream in(std::filesystem::path(VIMPACT_SOURCE_DIR) / "examples" / "models" / (name + ".toml"));
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A model file's text compiled into the examples' cache.
+inline model model_from_text(const std::string& text, const std::string& source)
+{
+    return detail::examples().compile([&] { return model::from_toml(text, source); });
+}
 
 }  // namespace vimpact::test

@@ -443,11 +443,20 @@ TEST(ModelFile, SymbolicDerivativesEqualFiniteDifferences)
         EXPECT_EQ(r[1], x[1]);
         EXPECT_EQ(r[2], x[2]);
     }
-    // abs' = csgn, 0 at the kink (not 0/0).
-    const vec<3> kink(0.3, 0.2, 0.1);
+    // In the field, abs(x) and abs(z - 0.1) are switches (their sides held by a flow, the
+    // state's away from one); the gap's and release's abs(y) and abs(x) stay functions, whose
+    // derivative is csgn, 0 at the kink (not 0/0).
+    const auto& switches = m.info().switches;
+    ASSERT_EQ(switches.size(), 2U);
+    EXPECT_EQ(switches[0].name, "abs#1");
+    EXPECT_EQ(switches[0].meaning, "the sign of x, from abs() in derivatives.y");
+    EXPECT_EQ(switches[1].name, "abs#2");
+    EXPECT_EQ(switches[1].meaning, "the sign of z - 0.1, from abs() in derivatives.x");
+    const vec<3> kink(0.3, 0.0, 0.1);
     const mat<3> J = t.jacobian(kink);
     for (int i = 0; i < 9; ++i) EXPECT_TRUE(std::isfinite(J.data()[i]));
-    EXPECT_EQ(J(0, 2), 0.2);  // d/dz of y*z + abs(z - 0.1) at z = 0.1: y + csgn(0) = y
+    EXPECT_EQ(J(0, 2), 1.0);  // d/dz of y*z + abs(z - 0.1) at z = 0.1: y + side = 0 + 1
+    EXPECT_EQ(t.gap_gradient(0, kink)[1], 0.0);  // d/dy of -y^2/2 + abs(y)*z at y = 0: csgn(0) z = 0
 }
 
 TEST(ModelFile, IntegerPowersAreMultiplicationsAndConstantsAreExactDoubles)

@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -426,6 +427,43 @@ TEST(Switching, ModelFileWithASwitchGivesTheDefinitionsOrbitAndMultipliers)
     EXPECT_NEAR(a.period, b.period, 1e-9);
 }
 
+// The compliant stop's law written as users write it, with abs, sgn, heaviside, min or max of
+// the state: each kink becomes a switch of its own (one per distinct argument, so each
+// variant has one, named after the first of abs, sgn, heaviside, min, max that makes it),
+// located as an event, and the orbit and multipliers are the explicit switch's. Inside a step the kink would cost the integrator its order and the monodromy its
+// saltation (the dashpot's force jumps), which the multipliers' 1e-9 would show.
+TEST(Switching, KinksOfTheStateInALawAreSwitchesOfTheirOwn)
+{
+    const std::string text = vimpact::test::example_text("compliant_stop");
+    const std::string law = "on(contact)*(kc*(y - d) + cc*v)", declared = "[[switches]]";
+    const auto at_law = text.find(law), at_switch = text.find(declared), at_sections = text.find("[[sections]]");
+    ASSERT_NE(at_law, std::string::npos);
+    ASSERT_NE(at_switch, std::string::npos);
+    ASSERT_NE(at_sections, std::string::npos);
+    const auto b = stop_floquet(vimpact::test::example_model("compliant_stop"));
+    ASSERT_EQ(b.status, outcome::ok);
+    const std::array<std::pair<std::string, std::string>, 4> written{{
+        {"heaviside(y - d)*(kc*(y - d) + cc*v)", "heaviside#1"},
+        {"(kc*max(y - d, 0) + cc*v*heaviside(y - d))", "heaviside#1"},
+        {"(kc*(y - d + abs(y - d))/2 + cc*v*(1 + sgn(y - d))/2)", "abs#1"},
+        {"(-kc*min(d - y, 0) + cc*v*heaviside(y - d))", "heaviside#1"},
+    }};
+    for (const auto& [form, name] : written) {
+        std::string variant = text.substr(0, at_switch) + text.substr(at_sections);
+        variant.replace(at_law, law.size(), form);
+        const vimpact::model m = vimpact::test::model_from_text(variant, name + ".toml");
+        ASSERT_EQ(m.info().switches.size(), 1U) << form;
+        EXPECT_EQ(m.info().switches[0].name, name);
+        EXPECT_EQ(m.info().switches[0].direction, crossing::both);
+        const auto a = stop_floquet(m);
+        ASSERT_EQ(a.status, outcome::ok) << form;
+        EXPECT_LT((a.orbit_point - b.orbit_point).cwiseAbs().maxCoeff(), 1e-9) << form;
+        ASSERT_EQ(a.multipliers.size(), b.multipliers.size());
+        for (std::size_t k = 0; k < a.multipliers.size(); ++k)
+            EXPECT_LT(std::abs(a.multipliers[k] - b.multipliers[k]), 1e-9) << form;
+    }
+}
+
 // examples/models/rocking_block.toml, Housner's full block. On each side the energy
 // omega^2/2 + p^2 cos(alpha side - theta) is constant, so a crossing leaves with the speed it
 // arrived at the one before times eta, and a turning point of amplitude a is followed by one
@@ -484,6 +522,9 @@ TEST(Switching, ModelFileRefusesSidesWhereTheyCannotBe)
     EXPECT_NE(message(text("", "-x", "x*side(spring)")).find("switching function cannot use side()"),
               std::string::npos);
     EXPECT_NE(message(text("", "-(1 + k*on())*x", "x")).find("on() takes the name of a switch"), std::string::npos);
+    EXPECT_NE(message(text("", "-(1 + k*abs(x*side(spring)))*x", "x"))
+                  .find("derivatives.v: abs() of an expression with side() or on() cannot become a switch"),
+              std::string::npos);
 }
 
 }  // namespace

@@ -32,6 +32,7 @@
 // one mutex.
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <cmath>
 #include <functional>
 #include <iterator>
@@ -45,6 +46,7 @@
 
 #include "model_file_detail.hpp"
 #include "vimpact/core/cancelled.hpp"
+#include "vimpact/core/switch_sides.hpp"
 #include "vimpact/core/format.hpp"
 #include "vimpact/core/input_error.hpp"
 
@@ -58,9 +60,15 @@ extern const char* const model_abi_text;
 namespace {
 DECLARE_FUNCTION_1P(vimpact_abs)
 DECLARE_FUNCTION_1P(vimpact_csgn)
+DECLARE_FUNCTION_1P(vimpact_heaviside)
+DECLARE_FUNCTION_2P(vimpact_min)
+DECLARE_FUNCTION_2P(vimpact_max)
 }  // namespace
 unsigned vimpact_abs_SERIAL::serial = 0;
 unsigned vimpact_csgn_SERIAL::serial = 0;
+unsigned vimpact_heaviside_SERIAL::serial = 0;
+unsigned vimpact_min_SERIAL::serial = 0;
+unsigned vimpact_max_SERIAL::serial = 0;
 
 namespace vimpact::model_file_detail {
 
@@ -101,8 +109,10 @@ struct function_spec {
     std::size_t arity;
     GiNaC::reader_func read;
 };
-// The functions an expression may call (abs is read as vimpact_abs).
-constexpr std::array<function_spec, 14> functions{{
+// The functions an expression may call (abs is read as vimpact_abs, sgn as vimpact_csgn).
+// The kinks and jumps (abs, sgn, heaviside, min, max) of the state in a vector field become
+// switches (generator::switchify).
+constexpr std::array<function_spec, 18> functions{{
     {"sin", 1, read_call<GiNaC::sin_SERIAL::serial>},
     {"cos", 1, read_call<GiNaC::cos_SERIAL::serial>},
     {"tan", 1, read_call<GiNaC::tan_SERIAL::serial>},
@@ -116,6 +126,10 @@ constexpr std::array<function_spec, 14> functions{{
     {"log", 1, read_call<GiNaC::log_SERIAL::serial>},
     {"sqrt", 1, read_sqrt},
     {"abs", 1, read_call<vimpact_abs_SERIAL::serial>},
+    {"sgn", 1, read_call<vimpact_csgn_SERIAL::serial>},
+    {"heaviside", 1, read_call<vimpact_heaviside_SERIAL::serial>},
+    {"min", 2, read_call<vimpact_min_SERIAL::serial>},
+    {"max", 2, read_call<vimpact_max_SERIAL::serial>},
     {"pow", 2, read_pow},
 }};
 
@@ -160,6 +174,57 @@ void csgn_print_c(const ex& a, const GiNaC::print_context& c)
     a.print(c);
     c.s << ")";
 }
+// heaviside(0) = 1, as on(NAME) is 1 where the switching function is 0.
+ex heaviside_eval(const ex& a)
+{
+    if (is_a<GiNaC::numeric>(a) && ex_to<GiNaC::numeric>(a).is_real()) return ex_to<GiNaC::numeric>(a) >= 0 ? 1 : 0;
+    return vimpact_heaviside(a).hold();
+}
+ex heaviside_derivative(const ex&, unsigned) { return 0; }
+void heaviside_print_c(const ex& a, const GiNaC::print_context& c)
+{
+    c.s << "vimpact_heaviside(";
+    a.print(c);
+    c.s << ")";
+}
+bool real_numbers(const ex& a, const ex& b)
+{
+    return is_a<GiNaC::numeric>(a) && ex_to<GiNaC::numeric>(a).is_real() && is_a<GiNaC::numeric>(b) &&
+           ex_to<GiNaC::numeric>(b).is_real();
+}
+ex min_eval(const ex& a, const ex& b)
+{
+    if (real_numbers(a, b)) return ex_to<GiNaC::numeric>(a) <= ex_to<GiNaC::numeric>(b) ? a : b;
+    return vimpact_min(a, b).hold();
+}
+ex max_eval(const ex& a, const ex& b)
+{
+    if (real_numbers(a, b)) return ex_to<GiNaC::numeric>(a) >= ex_to<GiNaC::numeric>(b) ? a : b;
+    return vimpact_max(a, b).hold();
+}
+// min(a, b) is a where b - a >= 0, max(a, b) is a where a - b >= 0: the same rule as the
+// switches they become.
+ex min_derivative(const ex& a, const ex& b, unsigned i)
+{
+    const ex first = vimpact_heaviside(b - a);
+    return i == 0 ? first : 1 - first;
+}
+ex max_derivative(const ex& a, const ex& b, unsigned i)
+{
+    const ex first = vimpact_heaviside(a - b);
+    return i == 0 ? first : 1 - first;
+}
+template <const char* name>
+void binary_print_c(const ex& a, const ex& b, const GiNaC::print_context& c)
+{
+    c.s << name << "(";
+    a.print(c);
+    c.s << ", ";
+    b.print(c);
+    c.s << ")";
+}
+constexpr char min_c_name[] = "vimpact_min";
+constexpr char max_c_name[] = "vimpact_max";
 
 // The shortest decimal that reads back as the double nearest to the exact value.
 std::string c_number(double v)
@@ -347,12 +412,41 @@ void set_up_ginac()
                 .eval_func(csgn_eval)
                 .derivative_func(csgn_derivative)
                 .print_func<GiNaC::print_csrc>(csgn_print_c));
+        vimpact_heaviside_SERIAL::serial = GiNaC::function::register_new(
+            GiNaC::function_options("vimpact_heaviside", 1)
+                .eval_func(heaviside_eval)
+                .derivative_func(heaviside_derivative)
+                .print_func<GiNaC::print_csrc>(heaviside_print_c));
+        vimpact_min_SERIAL::serial = GiNaC::function::register_new(
+            GiNaC::function_options("vimpact_min", 2)
+                .eval_func(min_eval)
+                .derivative_func(min_derivative)
+                .print_func<GiNaC::print_csrc>(binary_print_c<min_c_name>));
+        vimpact_max_SERIAL::serial = GiNaC::function::register_new(
+            GiNaC::function_options("vimpact_max", 2)
+                .eval_func(max_eval)
+                .derivative_func(max_derivative)
+                .print_func<GiNaC::print_csrc>(binary_print_c<max_c_name>));
         GiNaC::set_print_func<GiNaC::numeric, c_printer>(print_numeric);
         GiNaC::set_print_func<GiNaC::constant, c_printer>(print_constant);
         GiNaC::set_print_func<GiNaC::power, c_printer>(print_power);
         GiNaC::set_print_func<GiNaC::add, c_printer>(print_add);
         GiNaC::set_print_func<GiNaC::mul, c_printer>(print_mul);
     });
+}
+
+// ex::map with a lambda (GiNaC takes a map_function).
+template <class F>
+struct mapping : GiNaC::map_function {
+    F f;
+    explicit mapping(F g) : f(std::move(g)) {}
+    ex operator()(const ex& e) override { return f(e); }
+};
+template <class F>
+ex map_operands(const ex& e, F f)
+{
+    mapping<F> m(std::move(f));
+    return e.map(m);
 }
 
 // GiNaC's own abs and csgn (GiNaC may make them, e.g. sqrt(x^2) = abs(x)) -> ours.
@@ -818,7 +912,7 @@ public:
         }
         if (is_a<GiNaC::function>(e)) {
             const std::string name = ex_to<GiNaC::function>(e).get_name();
-            if (name != "vimpact_abs" && name != "vimpact_csgn" && !find_function(name))
+            if (!name.starts_with("vimpact_") && !find_function(name))
                 fail(where, key, "the function " + name + " cannot be compiled");
         } else if (!is_a<GiNaC::add>(e) && !is_a<GiNaC::mul>(e) && !is_a<GiNaC::power>(e)) {
             std::ostringstream s;
@@ -1038,6 +1132,8 @@ double evaluate_constant(const ex& e)
     if (is_a<GiNaC::function>(e)) {
         const std::string name = ex_to<GiNaC::function>(e).get_name();
         const double a = evaluate_constant(e.op(0));
+        if (name == "vimpact_min") return std::fmin(a, evaluate_constant(e.op(1)));
+        if (name == "vimpact_max") return std::fmax(a, evaluate_constant(e.op(1)));
         static const std::map<std::string, double (*)(double)> f{
             {"sin", [](double v) { return std::sin(v); }},   {"cos", [](double v) { return std::cos(v); }},
             {"tan", [](double v) { return std::tan(v); }},   {"asin", [](double v) { return std::asin(v); }},
@@ -1046,6 +1142,7 @@ double evaluate_constant(const ex& e)
             {"tanh", [](double v) { return std::tanh(v); }}, {"exp", [](double v) { return std::exp(v); }},
             {"log", [](double v) { return std::log(v); }},   {"vimpact_abs", [](double v) { return std::fabs(v); }},
             {"vimpact_csgn", [](double v) { return v > 0.0 ? 1.0 : v < 0.0 ? -1.0 : 0.0; }},
+            {"vimpact_heaviside", [](double v) { return v >= 0.0 ? 1.0 : 0.0; }},
         };
         if (const auto it = f.find(name); it != f.end()) return it->second(a);
     }
@@ -1120,9 +1217,14 @@ public:
         for (const auto& e : d.expressions) m_reader.add(e.name, expression_kind, 0, false);
         // A switch's side: S[k] in every function of the state, from the context or the state
         // (vimpact_sides).
+        for (int j = 0; j < m_n; ++j) m_user_names["x[" + std::to_string(j) + "]"] = d.state[static_cast<std::size_t>(j)].name;
+        for (int k = 0; k < m_p; ++k) m_user_names["p[" + std::to_string(k) + "]"] = d.parameters[static_cast<std::size_t>(k)].name;
+        for (int k = 0; k < m_nd; ++k) m_user_names["p[" + std::to_string(m_p + k) + "]"] = d.derived[static_cast<std::size_t>(k)].name;
+        for (std::size_t k = 0; k < d.switches.size(); ++k) m_user_names["S[" + std::to_string(k) + "]"] = "side(" + d.switches[k].name + ")";
         for (std::size_t k = 0; k < d.switches.size(); ++k) {
             m_side.emplace_back("S[" + std::to_string(k) + "]");
             m_reader.add(d.switches[k].name, switch_kind, m_side.back());
+            m_switches.push_back({d.switches[k].name, d.switches[k].meaning, d.switches[k].direction, !d.switches[k].reset.empty()});
         }
     }
 
@@ -1269,10 +1371,163 @@ private:
 
     const GiNaC::realsymbol& sym(int j) const { return m_x[static_cast<std::size_t>(j)]; }
 
+    // ---- kinks of the state in a vector field become switches
+
+    // A field with abs, sgn, heaviside, min or max of the state has a kink or a jump where the
+    // argument (b - a for min and max) changes sign. Inside a step it would cost the
+    // integrator its order and hide an event (a soft stop written with abs() had 20 times the
+    // error of the located switch); so each such argument becomes a switch of its own, its
+    // side held between located crossings like a declared one's: abs(u) = S u, sgn(u) = S,
+    // heaviside(u) = (1 + S)/2, min and max the branch of their side. One switch per distinct
+    // argument. Gaps, resets, sections and switching functions keep the functions: they are
+    // evaluated at points, never integrated.
+    //
+    // Two passes: the first finds the arguments, which are then numbered in the order of their
+    // text (GiNaC's order of terms follows its symbols' serial numbers, which vary from one
+    // process to the next; a switch's name must not), the second writes the sides in.
+    ex law(const expression_text& e) { return switchify(read(e), e.key); }
+
+    void find_kinks()
+    {
+        m_finding_kinks = true;
+        for (const auto& e : m_d.derivatives) (void)law(e);
+        for (const auto& s : m_d.surfaces)
+            if (s.sticking)
+                for (const auto& a : s.sticking->derivatives) (void)law(a.expr);
+        m_finding_kinks = false;
+        std::vector<std::size_t> order(m_kinks.size());
+        for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+        std::vector<std::string> text;
+        for (const auto& k : m_kinks) text.push_back(canonical(k.when));
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return text[a] < text[b]; });
+        std::vector<kink> sorted;
+        for (const std::size_t k : order) sorted.push_back(std::move(m_kinks[k]));
+        m_kinks = std::move(sorted);
+        if (m_side.size() + m_kinks.size() > static_cast<std::size_t>(switch_sides::max_switches))
+            fail(m_where, "derivatives",
+                 "the model has " + std::to_string(m_side.size() + m_kinks.size()) +
+                     " switches, those that abs, sgn, heaviside, min and max of the state make included; at most " +
+                     std::to_string(switch_sides::max_switches));
+        constexpr std::array<std::string_view, 5> naming{"abs", "sgn", "heaviside", "min", "max"};
+        for (std::size_t k = 0; k < m_kinks.size(); ++k) {
+            const auto& q = m_kinks[k];
+            const auto first = std::find_if(naming.begin(), naming.end(), [&](std::string_view f) { return q.functions.count(std::string(f)); });
+            std::string from, keys;
+            for (const auto& f : naming)
+                if (q.functions.count(std::string(f))) from += (from.empty() ? "" : ", ") + std::string(f) + "()";
+            for (const auto& key : q.keys) keys += (keys.empty() ? "" : ", ") + key;
+            m_side.emplace_back("S[" + std::to_string(m_side.size()) + "]");
+            m_switches.push_back({std::string(*first) + "#" + std::to_string(k + 1),
+                                  "the sign of " + canonical(q.when) + ", from " + from + " in " + keys, crossing::both, false});
+        }
+    }
+
+    bool depends_on_state(const ex& e) const
+    {
+        return std::any_of(m_x.begin(), m_x.end(), [&](const GiNaC::realsymbol& x) { return e.has(x); });
+    }
+
+    ex switchify(const ex& e, const std::string& key)
+    {
+        if (!depends_on_state(e)) return e;
+        if (!is_a<GiNaC::function>(e)) {
+            if (e.nops() == 0) return e;
+            return map_operands(e, [&](const ex& q) { return switchify(q, key); });
+        }
+        const unsigned serial = ex_to<GiNaC::function>(e).get_serial();
+        const ex a = e.op(0);
+        const auto side = [&](const ex& when, const char* function) { return automatic_switch(when, function, key); };
+        if (serial == vimpact_abs_SERIAL::serial) return side(a, "abs") * switchify(a, key);
+        if (serial == vimpact_csgn_SERIAL::serial) return side(a, "sgn");
+        if (serial == vimpact_heaviside_SERIAL::serial) return (1 + side(a, "heaviside")) / 2;
+        if (serial == vimpact_min_SERIAL::serial || serial == vimpact_max_SERIAL::serial) {
+            const bool min = serial == vimpact_min_SERIAL::serial;
+            const ex b = e.op(1);
+            const ex S = side(min ? b - a : a - b, min ? "min" : "max");
+            return ((1 + S) * switchify(a, key) + (1 - S) * switchify(b, key)) / 2;
+        }
+        return map_operands(e, [&](const ex& q) { return switchify(q, key); });
+    }
+
+    // The side of the automatic switch whose switching function is `when` (while finding
+    // them: a placeholder).
+    ex automatic_switch(const ex& when, const char* function, const std::string& key)
+    {
+        if (std::any_of(m_side.begin(), m_side.end(), [&](const GiNaC::realsymbol& S) { return when.has(S); }))
+            fail(m_where, key,
+                 std::string(function) + "() of an expression with side() or on() cannot become a switch: declare one in [[switches]]");
+        for (std::size_t k = 0; k < m_kinks.size(); ++k)
+            if (m_kinks[k].when.is_equal(when)) {
+                if (!m_finding_kinks) return m_side[m_d.switches.size() + k];
+                m_kinks[k].functions.insert(function);
+                m_kinks[k].keys.insert(key);
+                return 1;
+            }
+        if (!m_finding_kinks) fail(m_where, key, std::string("internal: a kink of ") + function + "() missed by the first pass");
+        m_kinks.push_back({when, {function}, {key}});
+        return 1;
+    }
+
+    // An expression as text in the file's own names, its sums and products in the order of
+    // their terms' texts.
+    std::string canonical(const ex& e) const
+    {
+        if (is_a<GiNaC::numeric>(e)) return format_double(ex_to<GiNaC::numeric>(e).to_double());
+        if (is_a<GiNaC::constant>(e)) return "pi";
+        if (is_a<GiNaC::symbol>(e)) {
+            const std::string name = ex_to<GiNaC::symbol>(e).get_name();
+            const auto it = m_user_names.find(name);
+            return it == m_user_names.end() ? name : it->second;
+        }
+        const auto parenthesized = [&](const ex& q) {
+            const std::string t = canonical(q);
+            const bool plain = is_a<GiNaC::symbol>(q) || is_a<GiNaC::function>(q) || is_a<GiNaC::constant>(q) ||
+                               (is_a<GiNaC::numeric>(q) && t[0] != '-');
+            return plain ? t : "(" + t + ")";
+        };
+        std::vector<std::string> parts;
+        if (is_a<GiNaC::add>(e)) {
+            for (std::size_t i = 0; i < e.nops(); ++i) parts.push_back(canonical(e.op(i)));
+            std::sort(parts.begin(), parts.end(), [](const std::string& a, const std::string& b) {
+                return std::pair{a[0] == '-', a} < std::pair{b[0] == '-', b};
+            });
+            std::string t;
+            for (const auto& q : parts) t += t.empty() ? q : (q[0] == '-' ? " - " + q.substr(1) : " + " + q);
+            return t;
+        }
+        if (is_a<GiNaC::mul>(e)) {
+            GiNaC::numeric coefficient(1);
+            for (std::size_t i = 0; i < e.nops(); ++i) {
+                if (is_a<GiNaC::numeric>(e.op(i))) coefficient = coefficient.mul(ex_to<GiNaC::numeric>(e.op(i)));
+                else parts.push_back(is_a<GiNaC::add>(e.op(i)) ? "(" + canonical(e.op(i)) + ")" : canonical(e.op(i)));
+            }
+            std::sort(parts.begin(), parts.end());
+            std::string t;
+            for (const auto& q : parts) t += (t.empty() ? "" : "*") + q;
+            if (coefficient.is_equal(GiNaC::numeric(1))) return t;
+            if (coefficient.is_equal(GiNaC::numeric(-1))) return "-" + t;
+            return format_double(coefficient.to_double()) + "*" + t;
+        }
+        if (is_a<GiNaC::power>(e)) return parenthesized(e.op(0)) + "^" + parenthesized(e.op(1));
+        if (is_a<GiNaC::function>(e)) {
+            std::string name = ex_to<GiNaC::function>(e).get_name();
+            if (name == "vimpact_csgn") name = "sgn";
+            else if (name.starts_with("vimpact_")) name = name.substr(8);
+            for (std::size_t i = 0; i < e.nops(); ++i) parts.push_back(canonical(e.op(i)));
+            std::string t;
+            for (const auto& q : parts) t += (t.empty() ? "" : ", ") + q;
+            return name + "(" + t + ")";
+        }
+        std::ostringstream s;
+        s << e;
+        return s.str();
+    }
+
     void build_field()
     {
+        find_kinks();
         std::vector<ex> f;
-        for (const auto& e : m_d.derivatives) f.push_back(read(e));
+        for (const auto& e : m_d.derivatives) f.push_back(law(e));
         m_field = differentiate("derivatives", f, true);
         m_identity.assign(m_x.begin(), m_x.end());
         for (const auto& s : m_d.surfaces) {
@@ -1281,7 +1536,9 @@ private:
             m_resets.push_back(differentiate(reset_key, assigned(s.reset, m_identity), true));
             if (s.sticking) {
                 const auto& k = *s.sticking;
-                m_sticking_field.push_back(assigned(k.derivatives, m_field.value));
+                std::vector<ex> field = m_field.value;
+                for (const auto& a : k.derivatives) field[static_cast<std::size_t>(a.index)] = law(a.expr);
+                m_sticking_field.push_back(std::move(field));
                 m_release.push_back(differentiate(k.release.key, read(k.release), false));
                 m_rest.push_back(assigned(k.rest, m_identity));
             } else {
@@ -1298,6 +1555,11 @@ private:
             m_switching.push_back(differentiate(w.when.key, h, false));
             const std::string key = w.reset.empty() ? w.when.key : w.reset.front().expr.key;
             m_switch_resets.push_back(differentiate(key, assigned(w.reset, m_identity), false));
+        }
+        for (std::size_t k = 0; k < m_kinks.size(); ++k) {
+            const std::string key = *m_kinks[k].keys.begin();
+            m_switching.push_back(differentiate(key, m_kinks[k].when, false));
+            m_switch_resets.push_back(differentiate(key, m_identity, false));
         }
     }
 
@@ -1636,8 +1898,8 @@ private:
                           [&](std::size_t k) { return assign_matrix(m_switch_resets[k].jacobian, m_switch_resets[k].key, in); });
         std::string directions, resets;
         for (std::size_t k = 0; k < W; ++k) {
-            directions += (k ? ", " : "") + std::to_string(static_cast<int>(m_d.switches[k].direction));
-            resets += (k ? ", " : "") + std::string(m_d.switches[k].reset.empty() ? "0" : "1");
+            directions += (k ? ", " : "") + std::to_string(static_cast<int>(m_switches[k].direction));
+            resets += (k ? ", " : "") + std::string(m_switches[k].reset ? "1" : "0");
         }
         s += "static void* vimpact_copy_context(const void* c)\n{\n"
              "    double* q = (double*)malloc(VIMPACT_CONTEXT_SIZE * sizeof(double));\n"
@@ -1675,6 +1937,12 @@ private:
                                      "*)xd;\n    " + L + "* out = (" + L + "*)od;\n    (void)p;\n    (void)x;\n";
         std::string s = "static inline " + L + " vimpact_csgn(" + L + " v)\n{\n    return vimpact::select(v > " + L +
                         "(0.0), " + L + "(1.0), vimpact::select(v < " + L + "(0.0), " + L + "(-1.0), " + L + "(0.0)));\n}\n";
+        s += "static inline " + L + " vimpact_heaviside(" + L + " v)\n{\n    return vimpact::select(v >= " + L + "(0.0), " +
+             L + "(1.0), " + L + "(0.0));\n}\n";
+        s += "static inline " + L + " vimpact_min(" + L + " a, " + L + " b)\n{\n    return vimpact::select(b - a >= " + L +
+             "(0.0), a, b);\n}\n";
+        s += "static inline " + L + " vimpact_max(" + L + " a, " + L + " b)\n{\n    return vimpact::select(a - b >= " + L +
+             "(0.0), a, b);\n}\n";
         for (const int k : m_powers)
             s += "static inline " + L + " vimpact_pow" + std::to_string(k) + "(" + L + " b) { return " +
                  multiplication_chain("b", k) + "; }\n";
@@ -1769,6 +2037,9 @@ private:
         s += vimpact::detail::model_abi_text;
         s += "\n#include <math.h>\n#include <stdio.h>\n#include <stdlib.h>\n#include <string.h>\n\n";
         s += "static inline double vimpact_csgn(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }\n";
+        s += "static inline double vimpact_heaviside(double v) { return v >= 0.0 ? 1.0 : 0.0; }\n"
+             "static inline double vimpact_min(double a, double b) { return b - a >= 0.0 ? a : b; }\n"
+             "static inline double vimpact_max(double a, double b) { return a - b >= 0.0 ? a : b; }\n";
         s += "static inline void vimpact_store_pair(double* out, double a, double b)\n{\n"
              "    typedef double vimpact_pair __attribute__((vector_size(16)));\n"
              "    const vimpact_pair v = {a, b};\n    __builtin_memcpy(out, &v, sizeof v);\n}\n";
@@ -1843,9 +2114,9 @@ private:
         std::vector<std::string> wn, wm;
         std::vector<int> wd, switch_affine;
         for (std::size_t k = 0; k < m_switching.size(); ++k) {
-            wn.push_back(m_d.switches[k].name);
-            wm.push_back(m_d.switches[k].meaning);
-            wd.push_back(static_cast<int>(m_d.switches[k].direction));
+            wn.push_back(m_switches[k].name);
+            wm.push_back(m_switches[k].meaning);
+            wd.push_back(static_cast<int>(m_switches[k].direction));
             switch_affine.push_back(affine(m_switching[k]));
         }
         for (const auto& x : m_d.presets) {
@@ -2001,6 +2272,19 @@ private:
     std::vector<vector_function> m_resets;
     std::vector<std::vector<ex>> m_sticking_field, m_rest;
     std::vector<GiNaC::realsymbol> m_side;  // S[k]: the side of switch k
+    struct switch_entry {
+        std::string name, meaning;
+        crossing direction;
+        bool reset;
+    };
+    std::vector<switch_entry> m_switches;  // the declared switches, then the automatic ones
+    struct kink {  // an automatic switch: its function, the functions and keys it comes from
+        ex when;
+        std::set<std::string> functions, keys;
+    };
+    std::vector<kink> m_kinks;
+    bool m_finding_kinks = false;
+    std::map<std::string, std::string> m_user_names;  // "x[0]" -> the state's name, and so on
     std::vector<scalar_function> m_switching;
     std::vector<vector_function> m_switch_resets;
     std::set<int> m_powers;
