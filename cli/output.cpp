@@ -66,9 +66,11 @@ json out_path(const run_config& c) { return c.out ? json(c.out->string()) : json
 json model_json(const vimpact::model& m)
 {
     const auto& info = m.info();
-    json surfaces = json::array(), sections = json::array(), state = json::array(), parameters = json::object();
+    json surfaces = json::array(), sections = json::array(), switches = json::array(), state = json::array(),
+         parameters = json::object();
     for (const auto& s : info.surfaces) surfaces.push_back(s.name);
     for (const auto& s : info.sections) sections.push_back(s.name);
+    for (const auto& s : info.switches) switches.push_back(s.name);
     for (const auto& v : info.state) state.push_back({{"name", v.name}, {"meaning", v.meaning}, {"unit", v.unit}});
     for (const auto& p : info.parameters) parameters[p.name] = {{"meaning", p.meaning}, {"unit", p.unit}};
     return {{"name", info.name},
@@ -79,7 +81,8 @@ json model_json(const vimpact::model& m)
             {"state_info", state},
             {"parameter_info", parameters},
             {"surfaces", surfaces},
-            {"sections", sections}};
+            {"sections", sections},
+            {"switches", switches}};
 }
 
 json si_json(const si_input& in, const vimpact::model& m)

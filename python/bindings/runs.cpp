@@ -27,6 +27,7 @@ py::dict simulation_dict(const model& m, const simulation& r)
     d["final_state"] = vector_array(r.final_state);
     put_series(d, "section", r.points);
     put_impacts(d, "impact", r.impacts);
+    put_impacts(d, "switching", r.switchings);
     put_series(d, "series", r.series);
     d["stats"] = record_dict(r.stats, m);
     d["t_record_end"] = r.t_record_end;

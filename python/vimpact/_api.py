@@ -138,7 +138,7 @@ def _section(model, section):
 def _context(model, options):
     state_info, parameter_info = model_quantities(model.info["state"], model.info["parameters"])
     return dict(parameters=model.parameters, state_names=model.state_names, surfaces=model.surfaces,
-                plot_variable=model.state_names[0], model=model, options=options, model_name=model.name,
+                switches=model.switches, plot_variable=model.state_names[0], model=model, options=options, model_name=model.name,
                 state_info=state_info, parameter_info=parameter_info)
 
 

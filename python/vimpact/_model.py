@@ -64,14 +64,14 @@ class Model:
     parameters : dict
         Every parameter's value, in the model's order. Each is also an attribute
         (``m.Ur``); use ``with_`` for a changed copy.
-    parameter_names, state_names, surfaces, sections, presets : tuple of str
+    parameter_names, state_names, surfaces, sections, switches, presets : tuple of str
     dim : int
         Number of state variables.
     default_ic : ndarray, float64, shape (dim,)
         The initial state the analyses use when none is given.
     info : dict
         What the model says about itself: meanings, units and ranges of the state variables
-        and parameters, surfaces, sections, presets, source and identity.
+        and parameters, surfaces, sections, switches, presets, source and identity.
 
     Raises
     ------
@@ -245,6 +245,10 @@ class Model:
     @property
     def sections(self):
         return self._names("sections")
+
+    @property
+    def switches(self):
+        return self._names("switches")
 
     @property
     def presets(self):

@@ -120,7 +120,7 @@ def _context(record):
     state = tuple(model.get("state_names", ()))
     state_info, parameter_info = model_quantities(model.get("state_info"), model.get("parameter_info"))
     return dict(parameters=dict(model.get("parameters", {})), state_names=state,
-                surfaces=tuple(model.get("surfaces", ())), state_info=state_info, parameter_info=parameter_info,
+                surfaces=tuple(model.get("surfaces", ())), switches=tuple(model.get("switches", ())), state_info=state_info, parameter_info=parameter_info,
                 plot_variable=record.get("plot_variable"), options=cfg, preset=cfg.get("preset"),
                 model_name=model.get("name"))
 
@@ -229,6 +229,19 @@ def _impacts(directory, ctx):
                                                            dtype=np.int64),
                 impact_pre=states("before"), impact_post=states("after"), impact_velocity=column("normal_velocity"),
                 impact_rebound=column("rebound_velocity"), impact_energy=column("energy"))
+
+
+def _switchings(directory, ctx):
+    """DIR/switchings.csv as the bindings give a run's crossings of switches: their times,
+    switches (indices into ``switches``) and states before and after (NAME, NAME_after)."""
+    path, names = os.path.join(directory, "switchings.csv"), ctx["state_names"]
+    table = read_table(path) if os.path.exists(path) else {"t": [], "switch": []}
+    num = {k: np.array(v, dtype=float) for k, v in table.items() if k != "switch"}
+    n = len(num["t"])
+    return dict(switching_t=num["t"], switching_surface=np.array([ctx["switches"].index(s) for s in table["switch"]],
+                                                                 dtype=np.int64),
+                switching_pre=_states({k: num[k] for k in names if k in num}, names, n),
+                switching_post=_states({k: num[f"{k}_after"] for k in names if f"{k}_after" in num}, names, n))
 
 
 def _picked(cls, values):
@@ -388,6 +401,7 @@ class _Context:
     parameters: dict = field(default_factory=dict)
     state_names: tuple = ()
     surfaces: tuple = ()
+    switches: tuple = ()  #: the model's switching surfaces (the field changes across them)
     plot_variable: Optional[str] = None
     model: object = None
     options: dict = field(default_factory=dict)
@@ -488,6 +502,14 @@ class Simulation(_Context, _Impacts, _Loads, ImpactFrames):
     t_record_end: Optional[float] = _a("float", "End of the recorded window (its last point), the end of the "
                                        "statistics' window.")
     statistics: dict = field(default_factory=dict)
+    switching_t: np.ndarray = _a("ndarray, float64, shape (c,)", "Times of the crossings of switches in the "
+                                 "recorded window (``switchings.csv``).")
+    switching_surface: np.ndarray = _a("ndarray, int64, shape (c,)", "The switch crossed (an index into "
+                                       "``switches``).")
+    switching_pre: np.ndarray = _a("ndarray, float64, shape (c, dim)", "States at each crossing, before its "
+                                   "reset.")
+    switching_post: np.ndarray = _a("ndarray, float64, shape (c, dim)", "States after it (the same without a "
+                                    "reset).")
     impact_velocity: np.ndarray = _a("ndarray, float64, shape (k,)", "Per impact: the normal velocity -dg/dt "
                                      "before the reset.")
     impact_rebound: np.ndarray = _a("ndarray, float64, shape (k,)", "Its rebound velocity dg/dt after the reset.")
@@ -507,7 +529,8 @@ class Simulation(_Context, _Impacts, _Loads, ImpactFrames):
     def _read(cls, res, directory):
         statistics = {k: [_num(x) for x in v.values()] if isinstance(v, dict) else int(v)
                       if k == "impacts_recorded" else _num(v) for k, v in res.get("impact_statistics", {}).items()}
-        return dict(statistics=statistics, stats=RunStats.from_dict(res.get("stats")))
+        return dict(statistics=statistics, stats=RunStats.from_dict(res.get("stats")),
+                    **_switchings(directory, _loaded(directory)[0]))
 
 
 @dataclass(repr=False)

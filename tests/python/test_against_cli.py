@@ -2,6 +2,8 @@
 bit (the command line prints shortest round-trip decimals, read back exactly), for the paper's
 model and for a model file, and the readers of the command line's directories (Sweep.load,
 ...) agree with the Python results field by field. Skipped where the program is not built."""
+import os
+
 import numpy as np
 import pytest
 
@@ -61,6 +63,19 @@ def test_simulate_a_model_file(cli, tmp_path, two_sided_file):
     loaded = vimpact.Simulation.load(out)
     assert loaded.state_names == ("x", "v", "phi") and loaded.surfaces == ("right", "left")
     for name in ("section", "impact_t", "impact_surface", "impact_pre", "impact_post", "series"):
+        same(getattr(s, name), getattr(loaded, name))
+
+
+def test_simulate_a_model_with_a_switch(cli, tmp_path):
+    """The crossings of a switch: the module's arrays and switchings.csv, read back, bit for bit."""
+    stop = os.path.join(os.path.dirname(TWO_SIDED_TOML), "compliant_stop.toml")
+    out = tmp_path / "sim"
+    p = cli("simulate", "--model", stop, *QA, "--out", out, "--no-plot")
+    assert p.returncode == 0, p.stderr
+    s = vimpact.simulate(vimpact.Model(stop), **Q)
+    loaded = vimpact.Simulation.load(out)
+    assert loaded.switches == s.switches == ("contact",) and len(s.switching_t) > 10
+    for name in ("section", "switching_t", "switching_surface", "switching_pre", "switching_post"):
         same(getattr(s, name), getattr(loaded, name))
 
 

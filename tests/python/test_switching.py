@@ -1,0 +1,111 @@
+"""Switching surfaces from Python, against values from elsewhere: the forced oscillator with a
+compliant stop (examples/models/compliant_stop.toml) integrated by scipy's DOP853, an
+independent piecewise solver (an event at y = d, then the field of the side entered), and its
+limit of infinite contact stiffness, the rigid stop with the same coefficient of restitution."""
+import math
+import os
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+import vimpact
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+STOP = os.path.join(ROOT, "examples", "models", "compliant_stop.toml")
+IC = [0.0, 0.0, 0.5]
+
+
+def piecewise(p, x0, t_end, tol=1e-12):
+    """The compliant stop from x0 to t_end by scipy, one smooth piece per side of y = d: the
+    crossing times and a function giving the state at any time of [0, t_end]."""
+    zeta, omega, F, d, kc, cc = (p[k] for k in ("zeta", "omega", "F", "d", "kc", "cc"))
+
+    def field(on):
+        return lambda t, x: [x[1], -2 * zeta * x[1] - x[0] + F * np.cos(x[2]) - on * (kc * (x[0] - d) + cc * x[1]),
+                             omega]
+
+    t, x, on = 0.0, np.array(x0, dtype=float), float(x0[0] >= d)
+    crossings, pieces = [], []
+    while t < t_end:
+        # Leaving the contact (on) is a downward crossing, entering it an upward one; the event
+        # direction keeps the piece from finding the crossing it starts on.
+        event = lambda t, x: x[0] - d  # noqa: E731
+        event.terminal, event.direction = True, -1.0 if on else 1.0
+        sol = solve_ivp(field(on), (t, t_end), x, method="DOP853", rtol=tol, atol=tol, events=event,
+                        dense_output=True)
+        pieces.append((t, sol.t[-1], sol.sol))
+        if sol.status != 1:
+            break
+        t, x, on = sol.t_events[0][0], sol.y_events[0][0], 1.0 - on
+        crossings.append(t)
+
+    def state(s):
+        for a, b, f in pieces:
+            if a <= s <= b:
+                return f(s)
+        raise ValueError(s)
+    return np.array(crossings), state
+
+
+def test_crossings_and_strobe_points_match_an_independent_piecewise_solver():
+    """Section points (the strobe, once per forcing period) and every crossing time of the
+    switch from the start, against scipy's DOP853 restarted at each crossing (both at
+    tolerance 1e-12): to 1e-9 (they agree to about 1e-11)."""
+    m = vimpact.Model(STOP)
+    s = vimpact.simulate(m, IC, section="strobe", transient=0, record=20, rtol=1e-12, atol=1e-12)
+    assert s.outcome == "ok" and len(s.section_t) == 20
+    assert s.switches == ("contact",)
+    crossings, state = piecewise(m.parameters, IC, s.section_t[-1] + 1.0)
+    window = crossings[(crossings >= s.t_record_start) & (crossings <= s.t_record_end)]
+    assert len(s.switching_t) == len(window) > 20
+    assert np.max(np.abs(s.switching_t - window)) < 1e-9
+    assert np.all(s.switching_surface == 0)
+    assert np.max(np.abs(s.switching_pre[:, 0] - m.parameters["d"])) < 1e-9
+    np.testing.assert_array_equal(s.switching_pre, s.switching_post)  # no reset: the state goes on
+    expected = np.array([state(t) for t in s.section_t])
+    assert np.max(np.abs(s.section[:, :2] - expected[:, :2])) < 1e-9
+
+
+def test_floquet_multipliers_are_those_of_the_piecewise_solvers_strobe_map():
+    """The multipliers of the P1 orbit against the eigenvalues of the strobe map's Jacobian by
+    central differences of scipy's piecewise solution (h = 1e-5): to 1e-6."""
+    m = vimpact.Model(STOP)
+    f = vimpact.floquet(m, IC, section="strobe", record=20)
+    assert f.status == "ok" and f.label == "P1"
+    T = 2 * math.pi / m.parameters["omega"]
+    assert abs(f.period - T) < 1e-9
+    x0 = f.orbit_point
+
+    def strobe(y, v):
+        return piecewise(m.parameters, [y, v, x0[2]], T)[1](T)[:2]
+    h = 1e-5
+    J = np.column_stack([(strobe(*(x0[:2] + h * e)) - strobe(*(x0[:2] - h * e))) / (2 * h) for e in np.eye(2)])
+    mu = np.sort_complex(np.linalg.eigvals(J))
+    got = np.sort_complex(np.array([z for z in f.multipliers if abs(z - 1) > 1e-6]))
+    assert len(got) == 2 and np.max(np.abs(got - mu)) < 1e-6, (got, mu)
+
+
+def test_a_stiffening_stop_converges_to_the_rigid_stop_at_rate_one_over_root_kc():
+    """A spring-dashpot contact of stiffness kc and damping ratio zc = cc/(2 sqrt(kc)) returns
+    an unforced mass with r = exp(-pi zc/sqrt(1 - zc^2)) after pi/sqrt(kc (1 - zc^2)): as kc
+    grows the forced oscillator's P1 orbit tends to that of the rigid stop with restitution r
+    (the built-in forced_impact_oscillator, mirrored: its barrier is below, at sigma = -d,
+    with the forcing -F), the distance falling as kc^(-1/2) (the contact's duration)."""
+    r, d, F = 0.8, 1.0, 1.0
+    zc = -math.log(r) / math.sqrt(math.pi ** 2 + math.log(r) ** 2)
+    assert abs(math.exp(-math.pi * zc / math.sqrt(1 - zc * zc)) - r) < 1e-15
+    rigid = vimpact.floquet(vimpact.Model("forced_impact_oscillator", sigma=-d, F=-F, r=r), IC, section="strobe",
+                            record=20)
+    assert rigid.status == "ok" and rigid.label == "P1"
+    kcs = [1e3, 1e4, 1e5, 1e6]
+    errors, multiplier_errors = [], []
+    for kc in kcs:
+        m = vimpact.Model(STOP, d=d, F=F, kc=kc, cc=2 * zc * math.sqrt(kc))
+        f = vimpact.floquet(m, IC, section="strobe", record=20)
+        assert f.status == "ok" and f.label == "P1", kc
+        errors.append(np.max(np.abs(-f.orbit_point[:2] - rigid.orbit_point[:2])))
+        multiplier_errors.append(np.max(np.abs(np.sort_complex(f.multipliers) - np.sort_complex(rigid.multipliers))))
+    slopes = np.diff(np.log(errors)) / np.diff(np.log(kcs))
+    assert np.all(np.abs(slopes + 0.5) < 0.05), slopes
+    assert errors[-1] < 5e-3
+    assert all(b < a for a, b in zip(multiplier_errors, multiplier_errors[1:])) and multiplier_errors[-1] < 0.02
