@@ -17,6 +17,7 @@ PAIRS = [
     ("docs/performance.md", "bench/output/jobs.md", None),
     ("docs/performance.md", "bench/output/model.md", None),
     ("docs/continuation.md", "bench/output/continuation.md", None),
+    ("docs/nonsmooth.md", "bench/output/switching.md", None),
 ]
 
 

@@ -117,7 +117,9 @@ struct lyapunov_result {
     std::vector<Eigen::VectorXd> history;   // ln(R_ii / r0) of each counted interval (QR order)
     state_series section_points;            // record_points points of the window
     run_stats transient_stats;
-    run_stats stats;                        // summed over the interval runs (all orbits)
+    // Summed over the interval runs (all orbits), but impacts and switchings: the reference's
+    // in the averaging window.
+    run_stats stats;
 
     [[nodiscard]] bool has_exponents() const { return status == outcome::ok || status == outcome::time_limit; }
     // The verdict every front end reports: the largest exponent lies more than 3 standard

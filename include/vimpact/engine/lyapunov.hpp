@@ -246,6 +246,7 @@ void tangent_intervals(const Model& model, const lyapunov_options& opt, const ve
         log_det_sum += obs.log_det_jumps;
         res.intervals = k + 1 - opt.warmup_intervals;
         res.time = t - res.t_start;
+        res.stats.switchings = crossings;  // as stats.impacts: the reference's in the window
         if (window.done(res.time, res.impacts + crossings) || window.over_limit(res.time)) {
             res.status = window.done(res.time, res.impacts + crossings) ? outcome::ok : outcome::time_limit;
             res.jump_log_det_rate = log_det_sum / res.time;
@@ -318,6 +319,7 @@ void trajectory_intervals(const Model& model, const lyapunov_options& opt, const
             if (impacts[static_cast<std::size_t>(j)] != impacts[0]) ++res.misses;
         res.intervals = k + 1 - opt.warmup_intervals;
         res.time = t - res.t_start;
+        res.stats.switchings = crossings;  // as stats.impacts: the reference's in the window
         if (window.done(res.time, res.impacts + crossings) || window.over_limit(res.time)) {
             res.status = window.done(res.time, res.impacts + crossings) ? outcome::ok : outcome::time_limit;
             return;
