@@ -144,7 +144,6 @@ int run_grazing(const grazing_args& a)
     check_options(a.options);  // before the run
     const model& m = c.model;
     const auto& info = c.info();
-    if (m.surface_count() == 0) throw input_error("model " + m.name() + " has no impact surface to graze");
     grazing_options go = a.options;
     go.integration = tangent_integration(c.protocol.flow.integration);
     go.method = c.protocol.method;
@@ -156,48 +155,54 @@ int run_grazing(const grazing_args& a)
     // to the surface without impact.
     const int si_gap = c.si && first_gap_parameter(m) >= 0 ? si_parameter(*c.si, m, "gap") : -1;
 
-    json surfaces = json::array();
+    json surfaces = json::array(), switches = json::array();
     std::string text;
-    for (std::size_t i = 0; i < g.surfaces.size(); ++i) {
-        const auto& s = g.surfaces[i];
+    // One surface's or switch's entry; `surface` >= 0 for a surface (its SI gap).
+    const auto add = [&](json& list, const surface_grazing& s, const std::string& name, int surface) {
         const int p = s.parameter;
         const std::string pname = p >= 0 ? info.parameters[static_cast<std::size_t>(p)].name : "";
-        surfaces.push_back({{"name", info.surfaces[i].name},
-                            {"parameter", p >= 0 ? json(pname) : json(nullptr)},
-                            {"parameter_value", finite_or_null(s.parameter_value)},
-                            {"margin", finite_or_null(s.margin)},
-                            {"converged", s.converged},
-                            {"change", finite_or_null(s.change)},
-                            {"t", s.t},
-                            {"minima", s.minima},
-                            {"state", s.x.size() ? vector_json(s.x) : json(nullptr)}});
-        text += info.surfaces[i].name + ": ";
+        list.push_back({{"name", name},
+                        {"parameter", p >= 0 ? json(pname) : json(nullptr)},
+                        {"parameter_value", finite_or_null(s.parameter_value)},
+                        {"margin", finite_or_null(s.margin)},
+                        {"converged", s.converged},
+                        {"change", finite_or_null(s.change)},
+                        {"t", s.t},
+                        {"minima", s.minima},
+                        {"state", s.x.size() ? vector_json(s.x) : json(nullptr)}});
+        text += (surface >= 0 ? "" : "switch ") + name + ": ";
         if (p >= 0) text += pname + "_graze = " + format_double(s.parameter_value) + ", ";
         text += "margin " + format_double(s.margin);
-        if (si_gap >= 0 && p == si_gap && std::isfinite(s.parameter_value)) {
-            const double gap = gap_to(*c.si, m.with_parameter(p, s.parameter_value), static_cast<int>(i));
-            surfaces.back()["gap_si"] = finite_or_null(gap);
+        if (surface >= 0 && si_gap >= 0 && p == si_gap && std::isfinite(s.parameter_value)) {
+            const double gap = gap_to(*c.si, m.with_parameter(p, s.parameter_value), surface);
+            list.back()["gap_si"] = finite_or_null(gap);
             text += ", smallest gap without impact " + format_double(gap) + " m";
         }
         if (!s.converged) text += " (NOT converged: last change " + format_double(s.change) + ")";
         text += "\n";
-    }
+    };
+    for (std::size_t i = 0; i < g.surfaces.size(); ++i) add(surfaces, g.surfaces[i], info.surfaces[i].name, static_cast<int>(i));
+    for (std::size_t k = 0; k < g.switches.size(); ++k) add(switches, g.switches[k], info.switches[k].name, -1);
     json summary = {{"command", "grazing"},
                     {"surfaces", surfaces},
                     {"converged", g.converged},
                     {"outcome", std::string(to_string(g.status))},
                     {"stats", summary_json(g.stats, info)},
                     {"out", out_path(c)}};
+    if (!g.switches.empty()) summary["switches"] = switches;
     if (c.si) summary["si"] = si_json(*c.si, m);
-    if (g.surfaces.front().parameter >= 0)
-        summary[info.parameters[static_cast<std::size_t>(g.surfaces.front().parameter)].name + "_graze"] =
-            finite_or_null(g.surfaces.front().parameter_value);
+    // The first grazing value as NAME_graze: of the first surface, or the first switch.
+    const auto& first = g.surfaces.empty() ? g.switches.front() : g.surfaces.front();
+    if (first.parameter >= 0)
+        summary[info.parameters[static_cast<std::size_t>(first.parameter)].name + "_graze"] =
+            finite_or_null(first.parameter_value);
     if (c.out) {
         throw_if_interrupted();  // before anything is written
         staged_output out(*c.out);
         json record = record_header("grazing", c);
         record["result"] = summary;
-        record["note"] = "grazing runs the surface-free system: the positions of the surfaces do not change the orbit";
+        record["note"] = "grazing runs the surface-free (and switch-free) system: the positions of the surfaces do not "
+                         "change the orbit";
         finish_output(out, "", c, record);  // no picture
     }
     text += written_to(c);
@@ -232,13 +237,14 @@ cli_command add_grazing_command(CLI::App& app)
 {
     auto a = std::make_shared<grazing_args>();
     auto* g = app.add_subcommand("grazing",
-                                 "Grazing: where the surface-free attracting orbit just touches each impact surface");
+                                 "Grazing: where the surface-free attracting orbit just touches each impact surface, and the "
+                                 "switch-free one each switch");
     add_common_options(*g, a->common);
     add_si_option(*g, a->common);
     add_declared_options(*g, a->options);
     g->add_option("--param", a->param,
-                  "Report the grazing value of this parameter for every surface (default: per surface, the first "
-                  "parameter that moves it without entering the vector field)");
+                  "Report the grazing value of this parameter for every surface and switch (default: per surface or "
+                  "switch, the first parameter that moves it without entering the vector field)");
     return {g, [a] { return run_grazing(*a); }};
 }
 

@@ -22,6 +22,7 @@
 #include "map_differences.hpp"
 #include "test_support.hpp"
 #include "vimpact/analysis/floquet.hpp"
+#include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/protocol.hpp"
 #include "vimpact/core/input_error.hpp"
@@ -427,6 +428,37 @@ TEST(Switching, ModelFileWithASwitchGivesTheDefinitionsOrbitAndMultipliers)
     EXPECT_NEAR(a.period, b.period, 1e-9);
 }
 
+// Grazing of a switch: the switch-free orbit holds the side of the start. Below the compliant
+// stop (y < d) that is the linear forced oscillator, whose steady amplitude is X = F /
+// sqrt((1 - omega^2)^2 + (2 zeta omega)^2): the distance d - y to the switch has its minimum d -
+// X (negative: the free orbit would cross), and d_graze = X. With the stop at d = 5 the margin
+// is 5 - X > 0. The impact-surface-free model has no surface: the switch alone is grazed.
+TEST(Switching, GrazingOfASwitchIsTheSwitchFreeOrbitsDistanceToIt)
+{
+    const vimpact::model file = vimpact::test::example_model("compliant_stop");
+    const int d_index = file.info().parameter_index("d");
+    const double zeta = 0.05, omega = 0.8, F = 1.0;  // the file's
+    const double X = F / std::sqrt((1.0 - omega * omega) * (1.0 - omega * omega) + 4.0 * zeta * zeta * omega * omega);
+    vimpact::grazing_options go;
+    go.parameter = vimpact::each_surface_gap_parameter;
+    for (const double d : {1.0, 5.0}) {
+        const vimpact::model m = file.with_parameter(d_index, d);
+        const auto g = vimpact::grazing(m, Eigen::Vector3d(0.0, 0.0, 0.5), go);
+        ASSERT_EQ(g.status, outcome::ok);
+        EXPECT_TRUE(g.converged);
+        EXPECT_TRUE(g.surfaces.empty());
+        ASSERT_EQ(g.switches.size(), 1U);
+        const auto& s = g.switches[0];
+        EXPECT_TRUE(s.converged);
+        EXPECT_NEAR(s.margin, d - X, 1e-9) << d;
+        EXPECT_EQ(s.parameter, d_index);
+        EXPECT_NEAR(s.parameter_value, X, 1e-9) << d;
+        EXPECT_NEAR(s.x[0], X, 1e-9);  // at the maximum of y
+        EXPECT_EQ(g.stats.switchings, 0);  // the switch-free system never crosses
+    }
+    EXPECT_EQ(vimpact::switch_parameters(file, 0), std::vector<int>{d_index});
+}
+
 // The compliant stop's law written as users write it, with abs, sgn, heaviside, min or max of
 // the state: each kink becomes a switch of its own (one per distinct argument, so each
 // variant has one, named after the first of abs, sgn, heaviside, min, max that makes it),
@@ -464,16 +496,37 @@ TEST(Switching, KinksOfTheStateInALawAreSwitchesOfTheirOwn)
     }
 }
 
+// The time the full rocking block takes from a turning point of amplitude a to theta = 0 (or
+// back), by quadrature of the energy: omega^2 = 2 p^2 (cos(alpha - a) - cos(alpha - theta)),
+// T = integral over [0, a] of dtheta / |omega|. With theta = a - u^2 the square-root
+// singularity at the turning point goes: cos(alpha - a) - cos(alpha - theta) = 2 sin(alpha -
+// a + u^2/2) sin(u^2/2), and the integrand sqrt(2 / sinc(u^2/2)) / (p sqrt(sin(alpha - a +
+// u^2/2))) is smooth on [0, sqrt(a)]: composite Simpson's rule with 4000 intervals.
+double rocking_quarter_time(double a, double p, double alpha)
+{
+    const auto f = [&](double u) {
+        const double s = 0.5 * u * u;
+        const double sinc = s == 0.0 ? 1.0 : std::sin(s) / s;
+        return std::sqrt(2.0 / sinc) / (p * std::sqrt(std::sin(alpha - a + s)));
+    };
+    const int n = 4000;
+    const double h = std::sqrt(a) / n;
+    double sum = f(0.0) + f(std::sqrt(a));
+    for (int k = 1; k < n; ++k) sum += (k % 2 ? 4.0 : 2.0) * f(k * h);
+    return sum * h / 3.0;
+}
+
 // examples/models/rocking_block.toml, Housner's full block. On each side the energy
 // omega^2/2 + p^2 cos(alpha side - theta) is constant, so a crossing leaves with the speed it
 // arrived at the one before times eta, and a turning point of amplitude a is followed by one
 // of amplitude b on the other side with cos(alpha - b) = cos(alpha) + eta^2 (cos(alpha - a) -
-// cos(alpha)). The crossings accumulate as the block comes to rest; once one is slower than
-// the sticking velocity the run ends `sliding` there, at rest on theta = 0.
+// cos(alpha)); the times between them are quarter swings by the energy quadrature above. The
+// crossings accumulate as the block comes to rest; once one is slower than the sticking
+// velocity the run ends `sliding` there, at rest on theta = 0.
 TEST(Switching, FullRockingBlockTurnsWhereItsEnergySaysAndComesToRest)
 {
     const vimpact::model m = vimpact::test::example_model("rocking_block");
-    const double alpha = 0.2, eta = 1.0 - 1.5 * std::sin(alpha) * std::sin(alpha), theta0 = 0.1;  // the file's
+    const double p = 2.0, alpha = 0.2, eta = 1.0 - 1.5 * std::sin(alpha) * std::sin(alpha), theta0 = 0.1;  // the file's
     vimpact::protocol_options o;
     o.transient_impacts = 0;
     o.record_points = 100000;
@@ -486,10 +539,15 @@ TEST(Switching, FullRockingBlockTurnsWhereItsEnergySaysAndComesToRest)
     ASSERT_GT(r.switchings.size(), 200U);
     EXPECT_LT(r.switchings.size(), 400U);
     double a = theta0;
+    double crossing = rocking_quarter_time(theta0, p, alpha);  // the first, from rest at theta0
     for (std::size_t k = 0; k < 20; ++k) {
+        EXPECT_NEAR(r.switchings.pre.t(k), crossing, 1e-9) << k;
         a = alpha - std::acos(std::cos(alpha) + eta * eta * (std::cos(alpha - a) - std::cos(alpha)));
         EXPECT_NEAR(std::abs(r.points.x(k, 0)), a, 1e-9) << k;
         EXPECT_EQ(r.points.x(k, 0) > 0.0, k % 2 == 1) << k;
+        const double quarter = rocking_quarter_time(a, p, alpha);
+        EXPECT_NEAR(r.points.t(k), crossing + quarter, 1e-9) << k;
+        crossing += 2.0 * quarter;
     }
     for (std::size_t k = 1; k < 20; ++k) {
         const double before = r.switchings.pre.x(k - 1, 1), now = r.switchings.pre.x(k, 1);

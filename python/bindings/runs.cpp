@@ -112,6 +112,21 @@ py::dict grazing_run(const model& m, const py::object& ic, const py::dict& kw)
     std::vector<Eigen::VectorXd> xs;
     for (const auto& x : s) xs.push_back(x.x);
     d["x"] = rows_array(xs, m.dim());
+    py::list switches;  // per switch, as Grazing.by_surface gives a surface's
+    for (const auto& x : g.switches) {
+        py::dict w;
+        w["param"] = x.parameter >= 0 ? py::object(py::str(m.info().parameters[static_cast<std::size_t>(x.parameter)].name))
+                                      : py::object(py::none());
+        w["value"] = x.parameter_value;
+        w["margin"] = x.margin;
+        w["converged"] = x.converged;
+        w["change"] = x.change;
+        w["t"] = x.t;
+        w["x"] = vector_array(x.x.size() ? x.x : Eigen::VectorXd::Constant(m.dim(), std::nan("")));
+        w["minima"] = x.minima;
+        switches.append(w);
+    }
+    d["switch_grazing"] = switches;
     d["response_max"] = g.response_max;
     d["response_min"] = g.response_min;
     d["response_omega"] = g.response_omega;

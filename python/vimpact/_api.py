@@ -291,7 +291,8 @@ def grazing(model, ic=None, *, param=None, variable=None, rtol=_D["grazing_rtol"
     smallest gap is the surface's margin; the state where it occurs gives the grazing value of
     a parameter P that moves the surface (g(x*, P) = 0): a surface just on the admissible
     side of it is never hit, one just beyond it is (for the paper's barrier, sigma_graze is
-    the minimum of y).
+    the minimum of y). Switches the same way (``by_switch``): the switch-free system holds the
+    sides of ``ic``, and each switch's margin is the smallest side * h on its orbit.
 
     Parameters
     ----------
@@ -327,8 +328,9 @@ def grazing(model, ic=None, *, param=None, variable=None, rtol=_D["grazing_rtol"
     model = _model(model)
     o = dict(declared, param=param, variable=variable, rtol=rtol, atol=atol, method=method)
     d = _vimpact._grazing(model._handle, _ic(ic), o)
+    by_switch = dict(zip(model.switches, d.pop("switch_grazing")))
     return Grazing(**dict(d, param=tuple(d["param"]), stats=RunStats.from_dict(d["stats"])), variable=variable,
-                   **_context(model, _options(ic, **o)))
+                   by_switch=by_switch, **_context(model, _options(ic, **o)))
 
 
 # ---------------------------------------------------------------- many-job analyses

@@ -579,8 +579,8 @@ _PER_SURFACE = "ndarray, float64, shape (surfaces,)"
 @_documented()
 @dataclass(repr=False)
 class Grazing(_Context, SurfaceFrames):
-    """Where the attracting surface-free orbit just touches each surface (``vimpact.grazing``,
-    the command ``grazing``)."""
+    """Where the attracting surface-free orbit just touches each surface, and the switch-free
+    orbit each switch (``vimpact.grazing``, the command ``grazing``)."""
     param: tuple = _a("tuple of (str or None)", "Per surface, the parameter whose grazing value ``value`` gives "
                       "(None: no parameter moves that surface).", ())
     value: np.ndarray = _a(_PER_SURFACE, "The grazing value of ``param`` per surface: a surface just on the "
@@ -599,6 +599,9 @@ class Grazing(_Context, SurfaceFrames):
     response_omega: float = _a("float", "Its angular frequency.", np.nan)
     outcome: str = _a("str", "", "ok")
     stats: RunStats = _a("RunStats", "", RunStats)
+    by_switch: dict = _a("dict", "Switch name -> {param, value, margin, converged, change, t, x, minima}, as "
+                         "``by_surface``: the switch-free orbit (the sides of the start held) and its distance side * h "
+                         "to each switch (negative: it would cross).", dict)
 
     @property
     def by_surface(self):
@@ -610,6 +613,8 @@ class Grazing(_Context, SurfaceFrames):
     def __repr__(self):
         parts = ", ".join(f"{s}: {p} = {v:.10g}" if p else f"{s}: margin {m:.10g}"
                           for s, p, v, m in zip(self.surfaces, self.param, self.value, self.margin))
+        parts += "".join(f", switch {s}: {w['param']} = {w['value']:.10g}" if w["param"] else
+                         f", switch {s}: margin {w['margin']:.10g}" for s, w in self.by_switch.items())
         conv = "" if self.converged else ", NOT converged"
         return f"Grazing({parts}{conv}, outcome={self.outcome!r})"
 

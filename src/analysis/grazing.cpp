@@ -37,6 +37,10 @@ Eigen::VectorXd field_at(const model& m, const Eigen::VectorXd& x)
 }
 
 double gap_at(const model& m, int i, const Eigen::VectorXd& x) { return m.table().gap(m.context(), i, x.data()); }
+double switching_at(const model& m, int k, const Eigen::VectorXd& x)
+{
+    return m.table().switching(m.context(), k, x.data());
+}
 
 // The model with parameter p moved a little (within its range), or nullopt.
 std::optional<model> nudged(const model& m, int p)
@@ -59,6 +63,61 @@ bool enters_field(const model& m, const model& moved, const std::vector<Eigen::V
     return false;
 }
 
+// The parameters that change value(model, x) without entering the vector field (at the probe
+// states, on their sides of the switches).
+template <class Value>
+std::vector<int> moving_parameters(const model& m, Value value)
+{
+    std::vector<int> out;
+    const auto states = probe_states(m);
+    for (int p = 0; p < static_cast<int>(m.parameters().size()); ++p) {
+        const auto moved = nudged(m, p);
+        if (!moved || enters_field(m, *moved, states)) continue;
+        bool moves = false;
+        for (const auto& x : states) moves = moves || value(m, x) != value(*moved, x);
+        if (moves) out.push_back(p);
+    }
+    return out;
+}
+
+// The value of `parameter` with value(model, x*) = target: Newton's method in P with
+// central-difference slopes, exact in one or two steps for a function affine in P; the slope
+// error only slows the last digits. NaN when the function does not depend on P or the root
+// leaves the parameter's range.
+template <class Value>
+double parameter_root(const model& m, int parameter, const Eigen::VectorXd& x_star, double target, Value value)
+{
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    if (x_star.size() != m.dim() || !x_star.allFinite()) return nan;
+    const auto offset = [&](const model& mm) { return value(mm, x_star) - target; };
+    double P = m.parameter(parameter);
+    double g = offset(m);
+    for (int it = 0; it < 40 && g != 0.0; ++it) {
+        const double h = 1e-6 * std::max(1.0, std::abs(P));
+        double slope = nan;
+        try {
+            slope = (offset(m.with_parameter(parameter, P + h)) - offset(m.with_parameter(parameter, P - h))) / (2.0 * h);
+        } catch (const input_error&) {
+            return nan;
+        }
+        if (!(slope != 0.0) || !std::isfinite(slope)) return nan;
+        const double next = P - g / slope;
+        double g_next = nan;
+        try {
+            g_next = offset(m.with_parameter(parameter, next));
+        } catch (const input_error&) {
+            return nan;
+        }
+        if (next == P || std::abs(g_next) >= std::abs(g)) {
+            if (std::abs(g_next) < std::abs(g)) P = next;
+            break;
+        }
+        P = next;
+        g = g_next;
+    }
+    return P;
+}
+
 }  // namespace
 
 void validate(const grazing_options& o)
@@ -69,16 +128,12 @@ void validate(const grazing_options& o)
 
 std::vector<int> gap_parameters(const model& m, int surface)
 {
-    std::vector<int> out;
-    const auto states = probe_states(m);
-    for (int p = 0; p < static_cast<int>(m.parameters().size()); ++p) {
-        const auto moved = nudged(m, p);
-        if (!moved || enters_field(m, *moved, states)) continue;
-        bool moves = false;
-        for (const auto& x : states) moves = moves || gap_at(m, surface, x) != gap_at(*moved, surface, x);
-        if (moves) out.push_back(p);
-    }
-    return out;
+    return moving_parameters(m, [surface](const model& mm, const Eigen::VectorXd& x) { return gap_at(mm, surface, x); });
+}
+
+std::vector<int> switch_parameters(const model& m, int k)
+{
+    return moving_parameters(m, [k](const model& mm, const Eigen::VectorXd& x) { return switching_at(mm, k, x); });
 }
 
 int first_gap_parameter(const model& m)
@@ -108,39 +163,14 @@ double grazing_parameter_value(const model& m, int surface, int parameter, const
 
 double parameter_for_gap(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star, double target)
 {
-    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-    if (x_star.size() != m.dim() || !x_star.allFinite()) return nan;
-    const auto offset = [target](const model& mm, int i, const Eigen::VectorXd& x) { return gap_at(mm, i, x) - target; };
-    // Newton's method in P on g(x*, P) = target with central-difference slopes: exact in one
-    // or two steps for a gap affine in P, and the slope error only slows the last digits.
-    double P = m.parameter(parameter);
-    double g = offset(m, surface, x_star);
-    for (int it = 0; it < 40 && g != 0.0; ++it) {
-        const double h = 1e-6 * std::max(1.0, std::abs(P));
-        double slope = nan;
-        try {
-            slope = (offset(m.with_parameter(parameter, P + h), surface, x_star) -
-                     offset(m.with_parameter(parameter, P - h), surface, x_star)) /
-                    (2.0 * h);
-        } catch (const input_error&) {
-            return nan;
-        }
-        if (!(slope != 0.0) || !std::isfinite(slope)) return nan;
-        const double next = P - g / slope;
-        double g_next = nan;
-        try {
-            g_next = offset(m.with_parameter(parameter, next), surface, x_star);
-        } catch (const input_error&) {
-            return nan;
-        }
-        if (next == P || std::abs(g_next) >= std::abs(g)) {
-            if (std::abs(g_next) < std::abs(g)) P = next;
-            break;
-        }
-        P = next;
-        g = g_next;
-    }
-    return P;
+    return parameter_root(m, parameter, x_star, target,
+                          [surface](const model& mm, const Eigen::VectorXd& x) { return gap_at(mm, surface, x); });
+}
+
+double switch_grazing_parameter_value(const model& m, int k, int parameter, const Eigen::VectorXd& x_star)
+{
+    return parameter_root(m, parameter, x_star, 0.0,
+                          [k](const model& mm, const Eigen::VectorXd& x) { return switching_at(mm, k, x); });
 }
 
 grazing_options job_grazing_options(const integrator_options& protocol_integration, double transient_time)
@@ -154,7 +184,9 @@ grazing_options job_grazing_options(const integrator_options& protocol_integrati
 void validate(const model& m, const grazing_options& o)
 {
     validate(o);
-    if (m.surface_count() == 0) throw input_error("model " + m.name() + " has no impact surface to graze");
+    const int W = static_cast<int>(m.info().switches.size());
+    if (m.surface_count() == 0 && W == 0)
+        throw input_error("model " + m.name() + " has no impact surface or switch to graze");
     if (o.response_variable >= m.dim()) throw input_error("response variable index out of range");
     if (o.parameter < 0) {
         if (o.parameter != -1 && o.parameter != each_surface_gap_parameter)
@@ -171,8 +203,12 @@ void validate(const model& m, const grazing_options& o)
         const auto g = gap_parameters(m, i);
         if (std::find(g.begin(), g.end(), o.parameter) != g.end()) return;
     }
-    throw input_error("parameter " + name + " moves no surface of model " + m.name() +
-                      ": a grazing value is one of a parameter that moves a surface");
+    for (int k = 0; k < W; ++k) {
+        const auto g = switch_parameters(m, k);
+        if (std::find(g.begin(), g.end(), o.parameter) != g.end()) return;
+    }
+    throw input_error("parameter " + name + " moves no surface or switch of model " + m.name() +
+                      ": a grazing value is one of a parameter that moves a surface or a switch");
 }
 
 grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_options& o)
@@ -190,6 +226,17 @@ grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_
             if (!own.empty()) s.parameter = own.front();
         }
         if (s.parameter >= 0 && s.x.size() == m.dim()) s.parameter_value = grazing_parameter_value(m, i, s.parameter, s.x);
+    }
+    for (int k = 0; k < static_cast<int>(res.switches.size()); ++k) {
+        auto& s = res.switches[static_cast<std::size_t>(k)];
+        const auto own = switch_parameters(m, k);
+        if (o.parameter >= 0) {
+            if (std::find(own.begin(), own.end(), o.parameter) != own.end()) s.parameter = o.parameter;
+        } else if (o.parameter == each_surface_gap_parameter && !own.empty()) {
+            s.parameter = own.front();
+        }
+        if (s.parameter >= 0 && s.x.size() == m.dim())
+            s.parameter_value = switch_grazing_parameter_value(m, k, s.parameter, s.x);
     }
     return res;
 }

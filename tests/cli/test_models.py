@@ -284,3 +284,18 @@ def test_a_model_with_a_switch_lists_it_and_records_its_crossings(vimpact, tmp_p
     signs = [float(r["v"]) > 0 for r in rows]
     assert all(a != b for a, b in zip(signs, signs[1:]))
     assert "switchings.csv" in json.load(open(out / "run.json"))["files"]
+
+
+def test_grazing_of_a_switch_is_the_switch_free_orbits_distance(vimpact):
+    """Below the compliant stop the switch-free orbit is the linear forced oscillator's, of
+    amplitude X = F/sqrt((1 - w^2)^2 + (2 zeta w)^2): the stop's position d grazes at d = X,
+    the margin is d - X. The model has no impact surface: the switch alone is reported."""
+    j = run_json(vimpact, "grazing", "--model", COMPLIANT_TOML, "--set", "d=5")
+    X = 1.0 / ((1 - 0.8 ** 2) ** 2 + (2 * 0.05 * 0.8) ** 2) ** 0.5
+    assert j["surfaces"] == [] and j["converged"] and j["outcome"] == "ok"
+    [s] = j["switches"]
+    assert s["name"] == "contact" and s["parameter"] == "d" and s["converged"]
+    assert abs(s["parameter_value"] - X) < 1e-9 and abs(s["margin"] - (5 - X)) < 1e-9
+    assert abs(j["d_graze"] - X) < 1e-9
+    p = run(vimpact, "grazing", "--model", COMPLIANT_TOML, "--param", "kc")
+    assert p.returncode == 2 and "kc moves no surface or switch" in p.stderr, p.stderr

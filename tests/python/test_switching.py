@@ -109,3 +109,17 @@ def test_a_stiffening_stop_converges_to_the_rigid_stop_at_rate_one_over_root_kc(
     assert np.all(np.abs(slopes + 0.5) < 0.05), slopes
     assert errors[-1] < 5e-3
     assert all(b < a for a, b in zip(multiplier_errors, multiplier_errors[1:])) and multiplier_errors[-1] < 0.02
+
+
+def test_grazing_gives_each_switch_its_margin_and_grazing_value():
+    """Grazing of the compliant stop's switch from Python, against the closed form of the
+    switch-free (linear) orbit's amplitude X: d_graze = X, margin d - X."""
+    m = vimpact.Model(STOP, d=3.0)
+    p = m.parameters
+    X = p["F"] / math.sqrt((1 - p["omega"] ** 2) ** 2 + (2 * p["zeta"] * p["omega"]) ** 2)
+    g = vimpact.grazing(m, IC)
+    assert g.converged and g.surfaces == () and set(g.by_switch) == {"contact"}
+    w = g.by_switch["contact"]
+    assert w["param"] == "d" and w["converged"]
+    assert abs(w["value"] - X) < 1e-9 and abs(w["margin"] - (3.0 - X)) < 1e-9
+    assert "switch contact: d = " in repr(g)

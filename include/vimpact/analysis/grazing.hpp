@@ -1,5 +1,6 @@
 #pragma once
-// Grazing: where the attracting surface-free orbit just touches each impact surface.
+// Grazing: where the attracting surface-free orbit just touches each impact surface, and the
+// switch-free orbit each switching surface.
 //
 // The surface-free flow (every surface off) runs past a transient; the minima of each gap
 // g_i along the orbit (zeros of g_i' going up) are located on the interpolant, and the
@@ -11,6 +12,12 @@
 // sigma, the stops' d), the grazing value P_graze solves g_i(x*, P) = 0 at the state x* of
 // the minimum: a barrier just on the admissible side of it is never hit, one just beyond it is.
 // For a gap affine in P (y - sigma, d - x) it is exact: sigma_graze is the minimum of y.
+//
+// Switches the same way: the switch-free flow holds the sides of the start (the field of
+// those sides throughout, no crossing sought), and the minima of each distance side * h_k
+// give the switch's margin: positive, the orbit stays on its side; negative, it would cross.
+// A grazing value of a parameter that moves the switch's function without entering the field
+// of the held side (the stop's position d of a compliant stop) solves h_k(x*, P) = 0.
 //
 // The same run measures the surface-free response of one state variable (lock-in curves):
 // its largest and smallest extremum over the last block and its mean angular frequency from
@@ -68,8 +75,9 @@ struct surface_grazing {
 
 struct grazing_result {
     outcome status = outcome::ok;
-    bool converged = false;  // every surface converged
+    bool converged = false;  // every surface and switch converged
     std::vector<surface_grazing> surfaces;
+    std::vector<surface_grazing> switches;  // of the switching surfaces
     // The response of grazing_options::response_variable over the last block.
     double response_max = std::numeric_limits<double>::quiet_NaN();
     double response_min = std::numeric_limits<double>::quiet_NaN();
@@ -88,6 +96,12 @@ grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_
 // The parameters that move surface i without entering the vector field: the candidates for a
 // grazing value (sigma for the paper's barrier, d for the two stops).
 std::vector<int> gap_parameters(const model& m, int surface);
+
+// The parameters that move switch k's function without entering the vector field (at the
+// probe states, on their sides): the candidates for a switch's grazing value.
+std::vector<int> switch_parameters(const model& m, int k);
+// P_graze of switch k at x*: the value of `parameter` with h_k(x*, P) = 0 (NaN as above).
+double switch_grazing_parameter_value(const model& m, int k, int parameter, const Eigen::VectorXd& x_star);
 
 // The first parameter that moves any surface without entering the vector field, -1 if none:
 // the default grazing parameter of a sweep's grazing line.

@@ -28,9 +28,21 @@ struct grazing_observer : flow_observer {
     double r_first_t = 0.0;
     int r_minima = 0;
 
-    grazing_observer(const grazing_options& o, grazing_result& r, int n_surfaces)
-        : opt(o), res(r), blocks(static_cast<std::size_t>(n_surfaces))
+    // Blocks of the surfaces' gaps, then of the switches' distances side * h_k.
+    grazing_observer(const grazing_options& o, grazing_result& r)
+        : opt(o), res(r), blocks(r.surfaces.size() + r.switches.size())
     {
+    }
+    surface_grazing& target(int i)
+    {
+        const auto S = res.surfaces.size(), k = static_cast<std::size_t>(i);
+        return k < S ? res.surfaces[k] : res.switches[k - S];
+    }
+    [[nodiscard]] bool all_converged() const
+    {
+        const auto done = [](const surface_grazing& q) { return q.converged; };
+        return std::all_of(res.surfaces.begin(), res.surfaces.end(), done) &&
+               std::all_of(res.switches.begin(), res.switches.end(), done);
     }
 
     // Events: the response variable's extrema first (so that at a common time its minimum is
@@ -52,7 +64,7 @@ struct grazing_observer : flow_observer {
 
     flow_control on_minimum(int i, double t, const vec<N>& x)
     {
-        auto& s = res.surfaces[static_cast<std::size_t>(i)];
+        auto& s = target(i);
         auto& b = blocks[static_cast<std::size_t>(i)];
         ++s.minima;
         const double g = gap_value(i, x);
@@ -70,8 +82,7 @@ struct grazing_observer : flow_observer {
         b.min = std::numeric_limits<double>::infinity();
         b.count = 0;
         if (s.change <= opt.tolerance) s.converged = true;
-        const bool all = std::all_of(res.surfaces.begin(), res.surfaces.end(), [](const auto& q) { return q.converged; });
-        return all ? flow_control::stop : flow_control::proceed;
+        return all_converged() ? flow_control::stop : flow_control::proceed;
     }
 
     void close_response_block(double t)
@@ -95,21 +106,30 @@ grazing_result run_grazing(const Model& model, const vec<Model::dim>& x0, const 
     flow_options fo;
     fo.integration = opt.integration;
     fo.surfaces = false;
+    fo.switches = false;
     fo.t_max = opt.t_max;
     fo.cancel = opt.cancel;
-    const int S = model.surface_count();
+    const int S = model.surface_count(), W = switch_count(model);
     if (opt.response_variable >= 0) fo.events.push_back(flow_event::state_extrema(opt.response_variable, crossing::both));
     for (int i = 0; i < S; ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
+    for (int k = 0; k < W; ++k) fo.events.push_back(flow_event::switch_extrema(k, crossing::up));
     grazing_result res;
     res.surfaces.resize(static_cast<std::size_t>(S));
+    res.switches.resize(static_cast<std::size_t>(W));
     hybrid_flow<Model, Method> flow(model, fo);
     flow.start(0.0, x0);
-    grazing_observer<N> obs(opt, res, S);
+    grazing_observer<N> obs(opt, res);
     for (auto& b : obs.blocks) b.x = vec<N>::Zero(x0.size());
-    obs.gap_value = [&model](int i, const vec<N>& x) { return model.gap(i, x); };
+    // A switch's distance on the side the flow holds (its model's sides, pinned at the start).
+    obs.gap_value = [&flow, S](int i, const vec<N>& x) {
+        const auto& m = flow.model();
+        if (i < S) return m.gap(i, x);
+        if constexpr (switching_model<Model>) return m.sides_at(x).side(i - S) * m.switching(i - S, x);
+        return 0.0;
+    };
     res.status = flow.run(obs);
     res.stats = flow.stats();
-    res.converged = std::all_of(res.surfaces.begin(), res.surfaces.end(), [](const auto& q) { return q.converged; });
+    res.converged = obs.all_converged();
     return res;
 }
 

@@ -110,14 +110,15 @@ public:
         for (auto* e : {&m_start, &m_end}) {
             e->gaps.resize(static_cast<std::size_t>(m_model.surface_count()));
             e->events.resize(m_opt.events.size());
-            e->switches.resize(static_cast<std::size_t>(switch_count(m_model)));
+            e->switches.resize(m_opt.switches ? static_cast<std::size_t>(switch_count(m_model)) : 0);
         }
         m_batch_gaps.resize(2 * static_cast<std::size_t>(m_model.surface_count()));
         m_batch_sections.resize(2 * static_cast<std::size_t>(m_model.section_count()));
         for (int i = 0; i < m_model.surface_count(); ++i) m_check_gap.push_back(!gap_is_affine(m_model, i));
         for (const flow_event& e : m_opt.events) m_check_event.push_back(!resolved_by_integrator(e));
         if constexpr (has_switches)
-            for (int k = 0; k < m_model.switch_count(); ++k) m_check_switch.push_back(!m_model.switching_affine(k));
+            if (m_opt.switches)
+                for (int k = 0; k < m_model.switch_count(); ++k) m_check_switch.push_back(!m_model.switching_affine(k));
         const auto any = [](const std::vector<char>& v) { return std::any_of(v.begin(), v.end(), [](char c) { return c != 0; }); };
         m_check_any = any(m_check_event) || any(m_check_switch) || (m_opt.surfaces && any(m_check_gap));
     }
@@ -402,8 +403,8 @@ private:
                                   : end_sample{m_model.gap(i, x), gap_derivative(m_model, i, x, f)};
         }
         if constexpr (has_switches)
-            for (int k = 0; k < m_model.switch_count(); ++k)
-                out.switches[static_cast<std::size_t>(k)] = {switch_value(k, x), switch_derivative(k, x, f)};
+            for (std::size_t k = 0; k < out.switches.size(); ++k)
+                out.switches[k] = {switch_value(static_cast<int>(k), x), switch_derivative(static_cast<int>(k), x, f)};
         for (std::size_t e = 0; e < m_opt.events.size(); ++e) {
             const flow_event& ev = m_opt.events[e];
             if (batched && ev.kind == flow_event::source::section) {
@@ -421,13 +422,31 @@ private:
             case flow_event::source::section: return m_model.section(e.index, x);
             case flow_event::source::gap_rate: return gap_rate(m_model, e.index, x);
             case flow_event::source::state_rate: break;
+            case flow_event::source::switch_rate: return switch_derivative(e.index, x, m_model.rhs(x));
         }
         return m_model.rhs(x)[e.index];
     }
     [[nodiscard]] double event_derivative(const flow_event& e, const state& x, const state& v) const
     {
         if (e.kind == flow_event::source::section) return section_derivative(m_model, e.index, x, v);
+        if (e.kind == flow_event::source::switch_rate) return switch_rate_derivative(e.index, x, v);
         return event_gradient(e, x).dot(v);
+    }
+    // The derivative along v of r = side * grad h_k . F, by a central difference of r along v:
+    // the model gives no second derivatives of a switching function (nor, for the tangent
+    // flow's model, a Jacobian). It only shapes the cubic through the step's ends that
+    // brackets an extremum; the extremum itself is located on the values of r.
+    [[nodiscard]] double switch_rate_derivative(int k, const state& x, const state& v) const
+    {
+        if constexpr (has_switches) {
+            const double scale = v.template lpNorm<Eigen::Infinity>();
+            if (!(scale > 0.0)) return 0.0;
+            const double eps = 1e-6 * (1.0 + x.template lpNorm<Eigen::Infinity>()) / scale;
+            const state a = x + eps * v, b = x - eps * v;
+            return (switch_derivative(k, a, m_model.rhs(a)) - switch_derivative(k, b, m_model.rhs(b))) / (2.0 * eps);
+        } else {
+            return (void)k, (void)x, (void)v, 0.0;
+        }
     }
     [[nodiscard]] state event_gradient(const flow_event& e, const state& x) const
     {
@@ -435,6 +454,7 @@ private:
             case flow_event::source::section: return m_model.section_gradient(e.index, x);
             case flow_event::source::gap_rate: return gap_rate_gradient(m_model, e.index, x);
             case flow_event::source::state_rate: break;
+            case flow_event::source::switch_rate: return state::Zero(x.size());  // polish() passes it by
         }
         return state_rate_gradient(m_model, e.index, x);
     }
@@ -668,7 +688,7 @@ private:
     {
         double theta_first = 2.0;
         int first = -1;
-        for (int k = 0; k < switch_count(m_model); ++k) {
+        for (int k = 0; k < static_cast<int>(m_start.switches.size()); ++k) {
             auto g = on_dense(
                 rhs, [this, k](const state& x) { return switch_value(k, x); },
                 [this, k](const state& x, const state& v) { return switch_derivative(k, x, v); });
@@ -787,6 +807,9 @@ private:
             case flow_event::source::section: return section_is_affine(m_model, e.index);
             case flow_event::source::gap_rate: return gap_is_affine(m_model, e.index);
             case flow_event::source::state_rate: break;
+            case flow_event::source::switch_rate:
+                if constexpr (has_switches) return m_model.switching_affine(e.index);
+                else return true;
         }
         return true;
     }

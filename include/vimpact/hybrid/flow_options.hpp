@@ -15,12 +15,13 @@ namespace vimpact {
 enum class flow_mode { free, sticking };
 enum class flow_control { proceed, stop };
 
-// A scalar event the flow watches: a model section, the rate of a gap, or the rate of a
-// state variable (F_j: its zeros are the extrema of x_j).
+// A scalar event the flow watches: a model section, the rate of a gap, the rate of a state
+// variable (F_j: its zeros are the extrema of x_j), or the rate of side * h_k, a switching
+// function on the side the flow holds.
 struct flow_event {
-    enum class source { section, gap_rate, state_rate };
+    enum class source { section, gap_rate, state_rate, switch_rate };
     source kind = source::section;
-    int index = 0;                     // section k, surface i or state variable j
+    int index = 0;                     // section k, surface i, state variable j or switch k
     crossing direction = crossing::down;
 
     static flow_event section(int k, crossing d) { return {source::section, k, d}; }
@@ -28,11 +29,17 @@ struct flow_event {
     static flow_event gap_extrema(int i, crossing d) { return {source::gap_rate, i, d}; }
     // Minima (up), maxima (down) or both extrema of state variable j.
     static flow_event state_extrema(int j, crossing d) { return {source::state_rate, j, d}; }
+    // Minima (up), maxima (down) or both extrema of side * h_k, the distance to switch k
+    // measured on the held side (with switches off: the switch-free system's grazing).
+    static flow_event switch_extrema(int k, crossing d) { return {source::switch_rate, k, d}; }
 };
 
 struct flow_options {
     integrator_options integration{};
     bool surfaces = true;          // false: the surface-free system (grazing, response)
+    // false: the switch-free system: the sides of the switches stay those of the start (as
+    // pinned there), crossings are not sought (grazing of switches).
+    bool switches = true;
     // Bit i set: surface i is absent (the flow passes through it) while the others act, in
     // the steps that start within [absent_from, absent_until]. A continuation follows an orbit
     // that grazes a surface onto the side where the orbit crosses it, so that the depth of the
