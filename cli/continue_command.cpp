@@ -222,11 +222,17 @@ int run_continue(const continue_args& a)
     for (std::size_t i = 0; i < r.bifurcations.size(); ++i) {
         const auto& bf = r.bifurcations[i];
         text += "  " + std::to_string(i) + ": " + std::string(to_string(bf.type)) +
-                (bf.surface >= 0 ? " (" + info.surfaces[static_cast<std::size_t>(bf.surface)].name + ")" : "") + " at " +
+                (bf.surface >= 0 ? " (" + info.surfaces[static_cast<std::size_t>(bf.surface)].name + ")" : "") +
+                (bf.switch_surface >= 0 ? " (switch " + info.switches[static_cast<std::size_t>(bf.switch_surface)].name + ")"
+                                        : "") +
+                " at " +
                 pname + " = " + format_double(bf.parameter) + si_text(c, axis, bf.parameter) +
                 (bf.located ? "" : " (not located to the tolerance)") +
                 " on branch " + std::to_string(bf.branch);
-        if (bf.type == bifurcation_type::grazing)
+        if (bf.switch_surface >= 0)
+            text += ", crossings per period " + std::to_string(bf.crossings_before) + " -> " +
+                    std::to_string(bf.crossings_after);
+        else if (bf.type == bifurcation_type::grazing)
             text += ", impacts per period " + std::to_string(bf.sequence_before.size()) + " -> " +
                     std::to_string(bf.sequence_after.size());
         else
@@ -345,7 +351,7 @@ int run_continue(const continue_args& a)
             bw.close();
             sw.close();
             std::vector<std::string> fh{"index", "type", "branch", "after_point", pname, "located", "bracket", "surface",
-                                        "period"};
+                                        "switch", "period"};
             for (const auto& n : state_columns(info)) fh.push_back(n);
             for (const auto& n : multiplier_columns(dim)) fh.push_back(n);
             if (axis.si()) fh.push_back(axis.si_name);
@@ -360,6 +366,9 @@ int run_continue(const continue_args& a)
                                              bf.located ? "1" : "0",
                                              format_double(bf.bracket),
                                              bf.surface >= 0 ? info.surfaces[static_cast<std::size_t>(bf.surface)].name : "",
+                                             bf.switch_surface >= 0
+                                                 ? info.switches[static_cast<std::size_t>(bf.switch_surface)].name
+                                                 : "",
                                              format_double(bf.point.period)};
                 for (Eigen::Index k = 0; k < bf.point.state.size(); ++k) row.push_back(format_double(bf.point.state[k]));
                 std::vector<double> mu;

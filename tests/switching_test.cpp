@@ -21,6 +21,7 @@
 #include "example_models.hpp"
 #include "map_differences.hpp"
 #include "test_support.hpp"
+#include "vimpact/analysis/continuation.hpp"
 #include "vimpact/analysis/floquet.hpp"
 #include "vimpact/analysis/grazing.hpp"
 #include "vimpact/analysis/lyapunov.hpp"
@@ -457,6 +458,46 @@ TEST(Switching, GrazingOfASwitchIsTheSwitchFreeOrbitsDistanceToIt)
         EXPECT_EQ(g.stats.switchings, 0);  // the switch-free system never crosses
     }
     EXPECT_EQ(vimpact::switch_parameters(file, 0), std::vector<int>{d_index});
+}
+
+// Continuation through the grazing of a switch: the compliant stop's P1 orbit followed in the
+// stop's position d from 5 (clear of the stop: the linear oscillator's orbit) to 2 (in
+// contact). The orbit first touches the stop where d is its amplitude X (closed form); the
+// flow is continuous there, so the branch goes on, now crossing the switch twice per period.
+// Its multipliers before the grazing are the linear oscillator's, exp(-2 pi zeta / omega)
+// in modulus.
+TEST(Switching, ContinuationLocatesTheGrazingOfASwitchAndGoesOn)
+{
+    const vimpact::model m = vimpact::test::example_model("compliant_stop");
+    const double zeta = 0.05, omega = 0.8, F = 1.0;  // the file's
+    const double X = F / std::sqrt((1.0 - omega * omega) * (1.0 - omega * omega) + 4.0 * zeta * zeta * omega * omega);
+    vimpact::continuation_options o;
+    o.parameter = m.info().parameter_index("d");
+    o.start = 5.0;
+    o.end = 2.0;
+    o.protocol.record_points = 20;
+    const auto res = vimpact::continuation(m.with_parameter(o.parameter, 5.0), {Eigen::Vector3d(0.0, 0.0, 0.5)}, o, 1);
+    ASSERT_EQ(res.status, outcome::ok) << res.start_label;
+    ASSERT_EQ(res.branches.size(), 1U);
+    const auto& branch = res.branches[0];
+    EXPECT_EQ(branch.end, vimpact::branch_end::range);
+    std::vector<const vimpact::bifurcation*> grazings;
+    for (const auto& b : res.bifurcations)
+        if (b.type == vimpact::bifurcation_type::grazing) grazings.push_back(&b);
+    ASSERT_EQ(grazings.size(), 1U);
+    const auto& g = *grazings[0];
+    EXPECT_EQ(g.switch_surface, 0);
+    EXPECT_EQ(g.surface, -1);
+    EXPECT_EQ(g.crossings_before, 0);
+    EXPECT_EQ(g.crossings_after, 2);  // into the stop and out, once per period
+    EXPECT_TRUE(g.located);
+    EXPECT_NEAR(g.parameter, X, 1e-8);
+    const double mod = std::exp(-2.0 * pi * zeta / omega);
+    for (const auto& p : branch.points) {
+        if (p.parameter < X + 0.01) continue;
+        for (const auto& mu : p.section_multipliers) EXPECT_NEAR(std::abs(mu), mod, 1e-7) << p.parameter;
+    }
+    EXPECT_LT(branch.points.back().parameter, X);  // past the grazing
 }
 
 // The compliant stop's law written as users write it, with abs, sgn, heaviside, min or max of

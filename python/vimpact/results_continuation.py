@@ -96,7 +96,8 @@ class Bifurcation:
     ``param``, the ``branch`` and the point it follows there (``after_point``), whether it was
     ``located`` to the tolerance (``bracket``: the last parameter bracket), the orbit there
     (``state``, all its section points ``sections`` (returns, dim), ``period``, ``multipliers`` trivial first, ``section_multipliers`` the others)
-    and, for a grazing, the ``surface``, the ``time`` along the orbit and the impact sequences
+    and, for a grazing, the ``surface`` (or the ``switch``, with its ``crossings_before`` and
+    ``crossings_after`` per period), the ``time`` along the orbit and the impact sequences
     before and after it along the branch."""
     type: str = ""
     param: float = np.nan
@@ -110,12 +111,15 @@ class Bifurcation:
     multipliers: np.ndarray = None
     section_multipliers: np.ndarray = None
     surface: Optional[str] = None
+    switch: Optional[str] = None
+    crossings_before: Optional[int] = None
+    crossings_after: Optional[int] = None
     time: Optional[float] = None
     sequence_before: tuple = ()
     sequence_after: tuple = ()
 
     def __repr__(self):
-        where = f" ({self.surface})" if self.surface else ""
+        where = f" ({self.surface})" if self.surface else f" (switch {self.switch})" if self.switch else ""
         return f"Bifurcation({self.type}{where} at {self.param:.12g} on branch {self.branch})"
 
 
@@ -218,7 +222,8 @@ class Continuation(_Context, BranchFrames):
             period=np.nan if b["period"] is None else b["period"],
             multipliers=_complex([b["multipliers"]], dim)[0],
             section_multipliers=_complex([b["section_multipliers"]], max(dim - 1, 0))[0], surface=b["surface"],
-            time=b["time"], sequence_before=tuple(b["sequence_before"]), sequence_after=tuple(b["sequence_after"]))
+            switch=b.get("switch"), crossings_before=b.get("crossings_before"),
+            crossings_after=b.get("crossings_after"), time=b["time"], sequence_before=tuple(b["sequence_before"]), sequence_after=tuple(b["sequence_after"]))
             for b in result["bifurcations"]]
         curves = [Curve(
             type=c["type"], origin=c["origin"], surface=c["surface"], start=c["start"], end_backward=c["end_backward"],

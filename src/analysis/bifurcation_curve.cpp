@@ -214,6 +214,8 @@ bifurcation_curve continue_bifurcation(const model& m, const continuation_result
     const bifurcation& b = r.bifurcations[static_cast<std::size_t>(index)];
     if (b.type == bifurcation_type::neimark_sacker)
         throw input_error("curves of Neimark-Sacker points are not computed (fold, period_doubling, grazing)");
+    if (b.switch_surface >= 0)
+        throw input_error("curves of the grazing of a switch are not computed (only of an impact surface)");
     const continuation_branch& br = r.branches[static_cast<std::size_t>(b.branch)];
     bifurcation_curve out;
     out.type = b.type;
@@ -290,9 +292,11 @@ std::vector<bifurcation_curve> continue_bifurcations(const model& m, const conti
                                                      const continuation_options& o, const curve_options& c, int threads)
 {
     validate(m, o, c);
+    // A switch's grazing has no curve yet (continue_bifurcation refuses it): left out.
     std::vector<int> chosen;
     for (std::size_t i = 0; i < r.bifurcations.size(); ++i)
-        if (std::find(c.types.begin(), c.types.end(), r.bifurcations[i].type) != c.types.end())
+        if (std::find(c.types.begin(), c.types.end(), r.bifurcations[i].type) != c.types.end() &&
+            r.bifurcations[i].switch_surface < 0)
             chosen.push_back(static_cast<int>(i));
     std::vector<bifurcation_curve> out(chosen.size());
     job_loop_options jo;

@@ -517,6 +517,11 @@ private:
                                          flip_vector(loc->point.at.orbit.residual_jacobian), loc->point.at.orbit});
                 rec.bifurcations.push_back(std::move(bf));
             }
+            for (int k = 0; k < static_cast<int>(a.at.orbit.crossings_by_switch.size()); ++k)
+                if (auto bf = switch_grazing(sys, f, a, b, k)) {
+                    bf->after_point = after;
+                    rec.bifurcations.push_back(std::move(*bf));
+                }
             return step_verdict::accept;
         };
         detail::arc_curve curve = follow_curve(f, std::move(first), m_settings, on_step);
@@ -596,6 +601,50 @@ private:
                 t = m.t;
             }
         return t;
+    }
+
+    // The extremum of switching function k on the orbit that lies nearest 0, signed: it goes
+    // through 0 where the orbit starts or stops crossing the switch there.
+    static std::optional<double> nearest_switch_extremum(const orbit_map_value& o, int k)
+    {
+        std::optional<double> best;
+        for (const auto& e : o.switch_extrema)
+            if (e.k == k && (!best || std::abs(e.h) < std::abs(*best))) best = e.h;
+        return best;
+    }
+
+    // The grazing of switch k between consecutive points a and b whose orbits cross it a
+    // different number of times, located on the branch; none when the test does not change
+    // sign there.
+    std::optional<bifurcation> switch_grazing(const orbit_system& sys, const arc_system& f, const arc_point& a,
+                                              const arc_point& b, int k) const
+    {
+        const auto& ca = a.at.orbit.crossings_by_switch;
+        const auto& cb = b.at.orbit.crossings_by_switch;
+        const auto kk = static_cast<std::size_t>(k);
+        if (kk >= cb.size() || ca[kk] == cb[kk]) return std::nullopt;
+        const test_function test = [k](const arc_point& p) { return nearest_switch_extremum(p.at.orbit, k); };
+        const std::optional<double> fa = test(a), fb = test(b);
+        if (!fa || !fb || !(*fa * *fb < 0.0)) return std::nullopt;
+        const auto loc = locate(f, a, b, test, m_opt.locate_tolerance, m_settings);
+        if (!loc) return std::nullopt;
+        bifurcation bf;
+        bf.type = bifurcation_type::grazing;
+        bf.located = loc->converged;
+        bf.point = sys.to_point(loc->point);
+        bf.parameter = bf.point.parameter;
+        bf.bracket = loc->bracket;
+        bf.switch_surface = k;
+        bf.crossings_before = ca[kk];
+        bf.crossings_after = cb[kk];
+        double nearest = std::numeric_limits<double>::infinity();
+        for (const auto& e : loc->point.at.orbit.switch_extrema)
+            if (e.k == k && std::abs(e.h) < nearest) {
+                nearest = std::abs(e.h);
+                bf.time = e.t;
+            }
+        bf.sequence_before = bf.sequence_after = bf.point.impact_sequence;
+        return bf;
     }
 
     // Where a branch meets a point it cannot step across: a grazing, or its section point

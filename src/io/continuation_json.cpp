@@ -97,6 +97,10 @@ json continuation_json(const model& m, const continuation_options& o, const cont
                         {"multipliers", multipliers_of(bf.point.multipliers)},
                         {"section_multipliers", multipliers_of(bf.point.section_multipliers)},
                         {"surface", surface_of(bf.surface, info)},
+                        {"switch", bf.switch_surface >= 0 ? json(info.switches[static_cast<std::size_t>(bf.switch_surface)].name)
+                                                          : json(nullptr)},
+                        {"crossings_before", bf.switch_surface >= 0 ? json(bf.crossings_before) : json(nullptr)},
+                        {"crossings_after", bf.switch_surface >= 0 ? json(bf.crossings_after) : json(nullptr)},
                         {"time", bf.type == bifurcation_type::grazing ? json(bf.time) : json(nullptr)},
                         {"sequence_before", sequence_of(bf.sequence_before, info)},
                         {"sequence_after", sequence_of(bf.sequence_after, info)}});

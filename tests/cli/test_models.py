@@ -299,3 +299,17 @@ def test_grazing_of_a_switch_is_the_switch_free_orbits_distance(vimpact):
     assert abs(j["d_graze"] - X) < 1e-9
     p = run(vimpact, "grazing", "--model", COMPLIANT_TOML, "--param", "kc")
     assert p.returncode == 2 and "kc moves no surface or switch" in p.stderr, p.stderr
+
+
+def test_continuation_labels_the_grazing_of_a_switch(vimpact, tmp_path):
+    """The compliant stop's P1 branch from d = 5 to 2: one grazing, of the switch `contact`, at
+    the free orbit's amplitude X (closed form), in the JSON and bifurcations.csv."""
+    out = tmp_path / "c"
+    j = run_json(vimpact, "continue", "--model", COMPLIANT_TOML, "--param", "d", "--range", "5:2", "--out", str(out),
+                 "--no-plot")
+    X = 1.0 / ((1 - 0.8 ** 2) ** 2 + (2 * 0.05 * 0.8) ** 2) ** 0.5
+    [g] = [b for b in j["bifurcations"] if b["type"] == "grazing"]
+    assert g["switch"] == "contact" and g["surface"] is None and abs(g["param"] - X) < 1e-8
+    with open(out / "bifurcations.csv") as f:
+        rows = [r for r in csv.DictReader(f) if r["type"] == "grazing"]
+    assert [r["switch"] for r in rows] == ["contact"] and rows[0]["surface"] == ""

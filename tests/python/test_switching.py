@@ -123,3 +123,16 @@ def test_grazing_gives_each_switch_its_margin_and_grazing_value():
     assert w["param"] == "d" and w["converged"]
     assert abs(w["value"] - X) < 1e-9 and abs(w["margin"] - (3.0 - X)) < 1e-9
     assert "switch contact: d = " in repr(g)
+
+
+def test_continuation_labels_the_grazing_of_a_switch():
+    """The P1 branch of the compliant stop from d = 5 to 2 grazes the switch where d is the
+    free orbit's amplitude X, and goes on."""
+    m = vimpact.Model(STOP, d=5.0)
+    p = m.parameters
+    X = p["F"] / math.sqrt((1 - p["omega"] ** 2) ** 2 + (2 * p["zeta"] * p["omega"]) ** 2)
+    c = vimpact.continuation(m, "d", (5.0, 2.0), IC)
+    [g] = [b for b in c.bifurcations if b.type == "grazing"]
+    assert g.switch == "contact" and g.surface is None and abs(g.param - X) < 1e-8
+    assert (g.crossings_before, g.crossings_after) == (0, 2)
+    assert "(switch contact)" in repr(g)

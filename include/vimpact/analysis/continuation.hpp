@@ -25,7 +25,10 @@
 //                    through the unit circle; a real pair with mu_i mu_j = 1, a neutral saddle,
 //                    changes its sign too and is not reported)
 // and grazing, where the impact sequence changes: a local minimum of a gap reaching 0, or an
-// impact's velocity going to 0. Each is located on the branch by the Illinois method on the
+// impact's velocity going to 0. A switch is grazed where the number of its crossings per
+// period changes: an extremum of its switching function goes through 0 (the test function:
+// the extremum nearest 0, signed). The orbit's flow is continuous there, so the branch goes
+// on through it. Each is located on the branch by the Illinois method on the
 // arclength (every trial point corrected onto the branch) until the parameter is known to
 // `locate_tolerance`. The grazing test function is the smallest gap minimum of the surface on
 // the side without the new impact (that surface made absent where the orbit does not hit it
@@ -198,6 +201,8 @@ struct bifurcation {
     double bracket = 0.0;  // width of the last parameter bracket (or change of the last step)
     continuation_point point;  // the orbit at the bifurcation
     int surface = -1;      // grazing: the surface
+    int switch_surface = -1;  // grazing of a switch: the switch (surface -1) ...
+    long crossings_before = 0, crossings_after = 0;  // ... and its crossings per period along the branch
     double time = 0.0;     // grazing: when, from the orbit's section point
     std::vector<int> sequence_before, sequence_after;  // grazing: impact sequences along the branch
 };

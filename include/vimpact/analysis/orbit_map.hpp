@@ -86,6 +86,13 @@ struct gap_minimum_record {
     double gap = 0.0;
 };
 
+// A local extremum of a switching function h along the orbit, on either side of its switch.
+struct switch_extremum_record {
+    double t = 0.0;
+    int k = 0;      // the switch
+    double h = 0.0;
+};
+
 struct orbit_map_value {
     // ok; inadmissible (the point lies beyond a surface); not_converged (the chart does not
     // reach the section at z); sticking (a contact phase: no tangent map); or a run's outcome.
@@ -98,6 +105,10 @@ struct orbit_map_value {
     std::vector<Eigen::VectorXd> crossings;  // the state at each return (the last is x_end)
     std::vector<impact_record> impacts;
     std::vector<gap_minimum_record> gap_minima;
+    // Per switch, its crossings before the last return; and the extrema of every switching
+    // function (a branch grazes a switch where one of them goes through 0).
+    std::vector<long> crossings_by_switch;
+    std::vector<switch_extremum_record> switch_extrema;
     // With the tangent:
     Eigen::MatrixXd residual_jacobian;  // DG = DP - I
     Eigen::MatrixXd monodromy;          // dx(T)/dx(0), N x N, impacts included

@@ -13,6 +13,28 @@
 
 namespace vimpact::engine {
 
+// Event `event` >= 1 of an orbit map's run at x: a gap's minimum (the surfaces' events come
+// first), or an extremum of a switching function.
+template <engine_model Model>
+void record_extremum(orbit_map_value& out, const Model& m, int event, double t, const vec<Model::dim>& x)
+{
+    const int i = event - 1, S = m.surface_count();
+    if (i < S) {
+        out.gap_minima.push_back({t, i, m.gap(i, x)});
+    } else {
+        if constexpr (switching_model<Model>) out.switch_extrema.push_back({t, i - S, m.switching(i - S, x)});
+    }
+}
+
+// The events an orbit map watches after its section: each gap's minima, each switching
+// function's extrema.
+template <engine_model Model>
+void add_extremum_events(flow_options& fo, const Model& m)
+{
+    for (int i = 0; i < m.surface_count(); ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
+    for (int k = 0; k < switch_count(m); ++k) fo.events.push_back(flow_event::switch_extrema(k, crossing::both));
+}
+
 // The k-th return without the tangent: the residual only (what finite differences in a
 // parameter need), at a fraction of the tangent flow's cost.
 template <engine_model Model>
@@ -30,7 +52,7 @@ public:
     {
         if (reached()) return flow_control::proceed;
         if (event > 0) {
-            m_out.gap_minima.push_back({t, event - 1, m_model.gap(event - 1, x)});
+            record_extremum(m_out, m_model, event, t, x);
             return flow_control::proceed;
         }
         m_out.crossings.push_back(to_dynamic(x));
@@ -43,6 +65,13 @@ public:
     {
         if (reached()) return flow_control::stop;
         m_out.impacts.push_back(impact_of(m_model, surface, t, pre));
+        return flow_control::proceed;
+    }
+    template <class X>
+    flow_control on_switch(int k, double, const X&, const X&)
+    {
+        if (reached()) return flow_control::stop;
+        ++m_out.crossings_by_switch[static_cast<std::size_t>(k)];
         return flow_control::proceed;
     }
     template <class X>
@@ -102,7 +131,7 @@ public:
         if (reached()) return flow_control::proceed;
         const vec<N> x = VModel::point(X);
         if (event > 0) {
-            m_out.gap_minima.push_back({t, event - 1, m_vm.base().gap(event - 1, x)});
+            record_extremum(m_out, m_vm.base(), event, t, x);
             return flow_control::proceed;
         }
         m_out.crossings.push_back(to_dynamic(x));
@@ -116,6 +145,13 @@ public:
         if (reached()) return flow_control::stop;
         m_out.impacts.push_back(plain_return_observer<typename VModel::base_model>::impact_of(m_vm.base(), surface, t,
                                                                                              VModel::point(pre)));
+        return flow_control::proceed;
+    }
+    template <class X>
+    flow_control on_switch(int k, double, const X&, const X&)
+    {
+        if (reached()) return flow_control::stop;
+        ++m_out.crossings_by_switch[static_cast<std::size_t>(k)];
         return flow_control::proceed;
     }
     template <class X>
@@ -149,7 +185,7 @@ void forced_orbit_map(const Model& model, const orbit_map_request& rq, const sec
     fo.integration = VM::integration_options(rq.integration);
     fo.surfaces = true;
     fo.events = {flow_event::section(rq.section, model.section_direction(rq.section))};
-    for (int i = 0; i < model.surface_count(); ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
+    add_extremum_events(fo, model);
     forced_observer<VM> obs(vm, rq.returns, out);
     const int s = rq.forced_surface;
     // To the forced impact.
@@ -222,6 +258,7 @@ orbit_map_value orbit_map_once(const Model& model, const orbit_map_request& rq)
         rq.chart_coordinate >= 0 ? section_chart<Model>(model, rq.section, rq.chart_coordinate)
                                  : section_chart<Model>(model, rq.section, guess);
     out.chart_coordinate = chart.dropped();
+    out.crossings_by_switch.assign(static_cast<std::size_t>(switch_count(model)), 0);
     const vec<K> z = head_as<K>(rq.z, n - 1);
     const vec<N> x = model.state_difference(chart.from_chart(z, guess), zero);
     out.x = to_dynamic(x);
@@ -262,6 +299,8 @@ orbit_map_value orbit_map_once(const Model& model, const orbit_map_request& rq)
             out.impacts.push_back(plain_return_observer<Model>::impact_of(
                 model, r.impact_list.surface[i], r.impact_list.pre.t(i), vec<N>(r.impact_list.pre.x(i))));
         for (const auto& g : r.gap_minima) out.gap_minima.push_back({g.t, g.surface, g.gap});
+        for (const auto& e : r.switch_extrema) out.switch_extrema.push_back({e.t, e.k, e.h});
+        out.crossings_by_switch = r.switch_crossings;
         for (std::size_t i = 0; i < r.crossings.size(); ++i) out.crossings.push_back(r.crossings.x(i));
         if (!r.valid()) {
             out.status = r.sticking_phases > 0 ? outcome::sticking : r.status;
@@ -280,7 +319,7 @@ orbit_map_value orbit_map_once(const Model& model, const orbit_map_request& rq)
     } else {
         fo.surfaces = true;
         fo.events = {flow_event::section(rq.section, model.section_direction(rq.section))};
-        for (int i = 0; i < model.surface_count(); ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
+        add_extremum_events(fo, model);
         hybrid_flow<Model, Method> flow(model, fo);
         flow.start(0.0, detail::past_section(model, rq.section, x));
         plain_return_observer<Model> obs(model, rq.returns, out);

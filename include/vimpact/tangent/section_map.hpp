@@ -121,7 +121,9 @@ struct section_map_options {
     int section = 0;
     impact_tangent jump = impact_tangent::saltation;
     double sample_dt = 0.0;       // > 0: also sample the orbit (state part) every sample_dt
-    bool gap_minima = false;      // also record every local minimum of every gap (grazing)
+    // Also record every local minimum of every gap, every extremum of every switching
+    // function and each switch's crossings (grazing).
+    bool gap_minima = false;
 };
 
 // A local minimum of a gap between impacts: how closely the orbit passes a surface it does
@@ -130,6 +132,13 @@ struct gap_minimum {
     double t = 0.0;
     int surface = 0;
     double gap = 0.0;
+};
+
+// A local extremum of switching function k, on either side of its switch.
+struct switch_extremum {
+    double t = 0.0;
+    int k = 0;
+    double h = 0.0;
 };
 
 template <int N>
@@ -149,6 +158,8 @@ struct section_return {
     double log_det_jumps = 0.0;         // sum of ln|det(jump)| over the impacts
     impact_series impact_list;          // reference states at the impacts
     std::vector<gap_minimum> gap_minima;  // before the last return (section_map_options::gap_minima)
+    std::vector<switch_extremum> switch_extrema;  // the same
+    std::vector<long> switch_crossings;           // per switch, before the last return
     state_series crossings;             // the state at each return (the last is x_end)
     state_series samples;               // the orbit every sample_dt (if asked)
     run_stats stats;
@@ -165,6 +176,7 @@ public:
     section_return_observer(const VModel& vm, int returns, double sample_dt, section_return<N>& out)
         : m_vm(vm), m_returns(returns), m_dt(sample_dt), m_out(out), m_next(sample_dt)
     {
+        m_out.switch_crossings.assign(static_cast<std::size_t>(switch_count(vm.base())), 0);
     }
     [[nodiscard]] bool wants_segments() const { return m_dt > 0.0; }
     [[nodiscard]] bool reached() const { return m_seen >= m_returns; }
@@ -172,12 +184,19 @@ public:
 
     // With sampling, the run goes on to the end of the step that holds the last return, so
     // that the step's interpolant is delivered (up to the return) before the stop. Event 0 is
-    // the section; any others are the minima of the gaps, in surface order.
+    // the section; any others are the minima of the gaps, in surface order, then the extrema of
+    // the switching functions.
     flow_control on_section(int event, crossing, double t, const typename VModel::state& X)
     {
         if (reached()) return flow_control::proceed;
         if (event > 0) {
-            m_out.gap_minima.push_back({t, event - 1, m_vm.base().gap(event - 1, VModel::point(X))});
+            const int i = event - 1, S = m_vm.base().surface_count();
+            if (i < S) {
+                m_out.gap_minima.push_back({t, i, m_vm.base().gap(i, VModel::point(X))});
+            } else {
+                if constexpr (switching_model<typename VModel::base_model>)
+                    m_out.switch_extrema.push_back({t, i - S, m_vm.base().switching(i - S, VModel::point(X))});
+            }
             return flow_control::proceed;
         }
         m_out.crossings.push_back(t, VModel::point(X));
@@ -203,9 +222,10 @@ public:
         return flow_control::proceed;
     }
     // A switching surface's jump S (tangent/variational.hpp) has det S = det Y+ / det Y-.
-    flow_control on_switch(int, double, const typename VModel::state& pre, const typename VModel::state& post)
+    flow_control on_switch(int k, double, const typename VModel::state& pre, const typename VModel::state& post)
     {
         if (reached()) return flow_control::stop;
+        ++m_out.switch_crossings[static_cast<std::size_t>(k)];
         m_out.log_det_jumps +=
             std::log(std::abs(VModel::matrix(post).determinant())) - std::log(std::abs(VModel::matrix(pre).determinant()));
         return flow_control::proceed;
@@ -288,8 +308,10 @@ section_return<Model::dim> section_map(const Model& model, const vec<Model::dim>
     fo.integration = VM::integration_options(opt.flow.integration);
     fo.surfaces = true;
     fo.events = {flow_event::section(opt.section, model.section_direction(opt.section))};
-    if (opt.gap_minima)
+    if (opt.gap_minima) {
         for (int i = 0; i < model.surface_count(); ++i) fo.events.push_back(flow_event::gap_extrema(i, crossing::up));
+        for (int k = 0; k < switch_count(model); ++k) fo.events.push_back(flow_event::switch_extrema(k, crossing::both));
+    }
     hybrid_flow<VM, Method> flow(vm, fo);
     const int n = state_dim(model);
     section_return<N> out(n);
