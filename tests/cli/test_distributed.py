@@ -56,7 +56,8 @@ def same_files(a, b):
 
 
 # Each a many-job command with --out: a map, a chained sweep (both directions followed), basins,
-# stability sweeps (Floquet and Lyapunov), response curves and a clearance chart.
+# stability sweeps (Floquet and Lyapunov), response curves, a clearance chart, and a Floquet
+# sweep of a model with a switch (examples/models/compliant_stop.toml).
 CASES = {
     "map": MAP + ["--grazing"],
     "sweep": ["sweep", "--param", "Ur", "--range", "14.5:15.5:7", "--ic-mode", "follow", "--direction", "both",
@@ -68,6 +69,8 @@ CASES = {
     "response": ["response", "--param", "Ur", "--range", "4:12:5", "--curves", "A=14,eps=0.35;A=12,eps=0.3"],
     "clearance": ["clearance", "--si", "D=0.02,m=0.6,fn=12,zeta=0.002,rho=1000", "--speeds", "3:5:3",
                   "--transient", "100", "--record", "40"],
+    "switches": ["floquet", "--model", os.path.join(ROOT, "examples", "models", "compliant_stop.toml"), "--param",
+                 "omega", "--range", "0.6:1.2:5", "--transient", "100", "--record", "20"],
 }
 _threaded = {}
 
