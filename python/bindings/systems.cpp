@@ -74,10 +74,10 @@ flow_options flow_of(options& o, integration_method& method, std::atomic<bool>* 
     return f;
 }
 
-py::dict impacts_dict(const impact_series& s)
+py::dict impacts_dict(const impact_series& s, const char* prefix = "impact")
 {
     py::dict d;
-    put_impacts(d, "impact", s);
+    put_impacts(d, prefix, s);
     return d;
 }
 
@@ -126,6 +126,8 @@ void bind_systems(py::module_& m)
              }),
              py::arg("model"), py::arg("ic"), py::arg("t"), py::arg("options"))
         .def_property_readonly("impacts", [](const hybrid_held& h) { return impacts_dict(h.sys->impacts()); })
+        .def_property_readonly("switchings",
+                               [](const hybrid_held& h) { return impacts_dict(h.sys->switchings(), "switching"); })
         .def_property_readonly("in_contact", [](const hybrid_held& h) { return h.sys->in_contact(); })
         .def("step", [](hybrid_held& h) { return status_of(h.sys->step()); })
         .def("advance_to",
@@ -150,6 +152,8 @@ void bind_systems(py::module_& m)
              }),
              py::arg("model"), py::arg("ic"), py::arg("t"), py::arg("options"))
         .def_property_readonly("impacts", [](const section_held& h) { return impacts_dict(h.sys->impacts()); })
+        .def_property_readonly("switchings",
+                               [](const section_held& h) { return impacts_dict(h.sys->switchings(), "switching"); })
         .def("step",
              [](section_held& h, long n) {
                  if (n == 1) return status_of(h.sys->step());  // no thread for one return

@@ -87,7 +87,9 @@ class HybridSystem(_System):
 
     ``step()`` takes one accepted integrator step (through any impact in it); ``step(dt)`` and
     ``advance_to(t)`` go to a time exactly. ``impacts`` holds the impacts of the last call:
-    ``impact_t``, ``impact_surface``, ``impact_pre``, ``impact_post``.
+    ``impact_t``, ``impact_surface``, ``impact_pre``, ``impact_post``; ``switchings`` its
+    crossings of switches: ``switching_t``, ``switching_surface`` (an index into
+    ``model.switches``), ``switching_pre``, ``switching_post``.
 
     Examples
     --------
@@ -104,6 +106,10 @@ class HybridSystem(_System):
     @property
     def impacts(self):
         return self._sys.impacts
+
+    @property
+    def switchings(self):
+        return self._sys.switchings
 
     @property
     def in_contact(self):
@@ -144,7 +150,7 @@ class SectionSystem(_System):
         A step that finds no crossing within this flight time ends with ``"time_limit"``.
 
     ``step(n)`` goes n crossings on; ``state`` and ``time`` are the last crossing's;
-    ``impacts`` those since the previous one.
+    ``impacts`` and ``switchings`` (crossings of switches) those since the previous one.
     """
 
     def __init__(self, model, ic=None, *, section=None, t=0.0, rtol=_D["rtol"], atol=_D["atol"],
@@ -157,6 +163,10 @@ class SectionSystem(_System):
     @property
     def impacts(self):
         return self._sys.impacts
+
+    @property
+    def switchings(self):
+        return self._sys.switchings
 
     def step(self, n=1):
         """n crossings on (fewer if the system stops); returns the status."""

@@ -33,6 +33,7 @@ double hybrid_system::time() const { return m_impl->t(); }
 outcome hybrid_system::status() const { return m_impl->status(); }
 run_stats hybrid_system::stats() const { return m_impl->stats(); }
 const impact_series& hybrid_system::impacts() const { return m_impl->impacts(); }
+const impact_series& hybrid_system::switchings() const { return m_impl->switchings(); }
 bool hybrid_system::in_contact() const { return m_impl->in_contact(); }
 
 outcome hybrid_system::step() { return m_impl->step(); }

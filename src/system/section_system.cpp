@@ -32,6 +32,7 @@ double section_system::time() const { return m_impl->t(); }
 outcome section_system::status() const { return m_impl->status(); }
 run_stats section_system::stats() const { return m_impl->stats(); }
 const impact_series& section_system::impacts() const { return m_impl->impacts(); }
+const impact_series& section_system::switchings() const { return m_impl->switchings(); }
 
 outcome section_system::step() { return m_impl->next_point(m_options.max_return_time); }
 

@@ -28,7 +28,8 @@ struct flow_system_spec {
 };
 
 // hybrid_system and section_system: the state and time of the last step's end (step,
-// advance_to) or of the last point (next_point), and the impacts in between.
+// advance_to) or of the last point (next_point), and the impacts and crossings of switches in
+// between.
 class flow_system {
 public:
     virtual ~flow_system() = default;
@@ -44,12 +45,14 @@ public:
     [[nodiscard]] double t() const { return m_t; }
     [[nodiscard]] outcome status() const { return m_status; }
     [[nodiscard]] const impact_series& impacts() const { return m_impacts; }
+    [[nodiscard]] const impact_series& switchings() const { return m_switchings; }
 
 protected:
     Eigen::VectorXd m_x;
     double m_t = 0.0;
     outcome m_status = outcome::ok;
     impact_series m_impacts;
+    impact_series m_switchings;  // `surface`: the switch
 };
 
 // tangent_system: the state, time and deviations after the last step or at the last crossing.

@@ -17,15 +17,15 @@
 
 namespace vimpact::detail {
 
-// Moves the impacts the flow reported up to time `until` from its record into `out`, as
-// states of the model (the tangent flow's states hold more).
-template <class Record, class Point>
-void take_impacts(Record& rec, double until, impact_series& out, Point&& point)
+// Moves the impacts (or crossings of switches) the flow reported up to time `until` from its
+// record's `events` into `out`, as states of the model (the tangent flow's states hold more).
+template <class Events, class Point>
+void take_impacts(Events& events, double until, impact_series& out, Point&& point)
 {
-    while (!rec.impacts.empty() && rec.impacts.front().t <= until) {
-        const auto& i = rec.impacts.front();
+    while (!events.empty() && events.front().t <= until) {
+        const auto& i = events.front();
         out.push_back(i.t, i.surface, point(i.pre), point(i.post));
-        rec.impacts.pop_front();
+        events.pop_front();
     }
 }
 
@@ -48,7 +48,9 @@ public:
         : m_run(em, system_flow(em, s.flow, s.section), t, s.section >= 0 ? past_section(em, s.section, x) : x)
     {
         m_run.record().impact_points = s.impact_points;
+        m_run.record().keep_switchings = true;
         m_impacts = impact_series(state_dim(em));
+        m_switchings = impact_series(state_dim(em));
         m_t = t;
         m_x = to_dynamic(x);
     }
@@ -56,31 +58,31 @@ public:
 
     outcome step() override
     {
-        m_impacts.clear();
+        clear_events();
         m_status = m_run.step();
         after_step();
         return m_status;
     }
     outcome advance_to(double t) override
     {
-        m_impacts.clear();
+        clear_events();
         m_status = m_run.advance_to(t);
         after_step();
         return m_status;
     }
     outcome next_point(double max_flight) override
     {
-        m_impacts.clear();
+        clear_events();
         auto& rec = m_run.record();
         while (rec.points.empty()) {
             if (m_status != outcome::ok) return m_status;
             if (m_run.t() - m_t > max_flight) return m_status = outcome::time_limit;
             m_status = m_run.step();
-            if (rec.points.empty()) take_impacts(rec, m_run.t(), m_impacts, identity);
+            if (rec.points.empty()) take_events(rec, m_run.t());
         }
         const auto p = rec.points.front();
         rec.points.pop_front();
-        take_impacts(rec, p.t, m_impacts, identity);
+        take_events(rec, p.t);
         m_t = p.t;
         assign_dynamic(p.x, m_x);
         return outcome::ok;  // the flow may have ended after this point: the next call says so
@@ -90,9 +92,20 @@ public:
 
 private:
     static constexpr auto identity = [](const vec<N>& v) { return v; };
+    void clear_events()
+    {
+        m_impacts.clear();
+        m_switchings.clear();
+    }
+    template <class Record>
+    void take_events(Record& rec, double until)
+    {
+        take_impacts(rec.impacts, until, m_impacts, identity);
+        take_impacts(rec.switchings, until, m_switchings, identity);
+    }
     void after_step()
     {
-        take_impacts(m_run.record(), m_run.t(), m_impacts, identity);
+        take_events(m_run.record(), m_run.t());
         m_t = m_run.t();
         assign_dynamic(m_run.x(), m_x);
     }

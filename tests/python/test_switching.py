@@ -136,3 +136,27 @@ def test_continuation_labels_the_grazing_of_a_switch():
     assert g.switch == "contact" and g.surface is None and abs(g.param - X) < 1e-8
     assert (g.crossings_before, g.crossings_after) == (0, 2)
     assert "(switch contact)" in repr(g)
+
+
+def test_the_steppable_systems_give_each_calls_crossings():
+    """HybridSystem and SectionSystem list the crossings of switches of each call, as their
+    impacts: the compliant stop's, on y = d with the state unchanged, together those of
+    simulate from the same start."""
+    m = vimpact.Model(STOP)
+    d = m.parameters["d"]
+    h = vimpact.HybridSystem(m, IC, rtol=1e-12, atol=1e-12)
+    times = []
+    while h.time < 60.0:
+        assert h.step() == "ok"
+        c = h.switchings
+        assert c["switching_pre"].shape == (len(c["switching_t"]), 3)
+        assert np.all(c["switching_surface"] == 0)
+        np.testing.assert_array_equal(c["switching_pre"], c["switching_post"])
+        assert np.all(np.abs(c["switching_pre"][:, 0] - d) < 1e-9)
+        times.extend(c["switching_t"])
+    crossings, _ = piecewise(m.parameters, IC, times[-1] + 1.0)
+    assert len(times) == len(crossings[crossings <= times[-1] + 1e-6]) > 5
+    assert np.max(np.abs(np.array(times) - crossings[:len(times)])) < 1e-9
+    s = vimpact.SectionSystem(m, IC, section="strobe")
+    assert s.step(3) == "ok"
+    assert len(s.switchings["switching_t"]) >= 1  # the crossings since the previous strobe point

@@ -53,6 +53,8 @@ public:
     [[nodiscard]] run_stats stats() const;
     // The impacts of the last step() or advance_to() call, with the states before and after.
     [[nodiscard]] const impact_series& impacts() const;
+    // The crossings of switching surfaces of that call (`surface`: the switch).
+    [[nodiscard]] const impact_series& switchings() const;
     // In a contact phase (at rest on a surface that declares one).
     [[nodiscard]] bool in_contact() const;
 

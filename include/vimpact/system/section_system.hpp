@@ -51,6 +51,8 @@ public:
     [[nodiscard]] run_stats stats() const;
     // The impacts since the previous point, up to this one (for the impact map: this one).
     [[nodiscard]] const impact_series& impacts() const;
+    // The crossings of switching surfaces in the same span (`surface`: the switch).
+    [[nodiscard]] const impact_series& switchings() const;
     [[nodiscard]] const section_choice& section() const { return m_section; }
 
     // To the next crossing: ok, or why there is none (then the state is the last crossing's).
