@@ -458,7 +458,7 @@ class _Loads:
     def load(cls, directory):
         """The result of ``vimpact COMMAND --out DIR``."""
         ctx, res = _loaded(directory)
-        values = dict(res, **ctx, **_impacts(directory, ctx), si=_si(res, cls._si_key))
+        values = dict(res, **ctx, **_impacts(directory, ctx), **_switchings(directory, ctx), si=_si(res, cls._si_key))
         for name, file in cls._timed_files.items():  # none where the run wrote no such file
             path = os.path.join(directory, file)
             c = read_csv(path) if os.path.exists(path) else {"t": np.empty(0)}
@@ -529,8 +529,7 @@ class Simulation(_Context, _Impacts, _Loads, ImpactFrames):
     def _read(cls, res, directory):
         statistics = {k: [_num(x) for x in v.values()] if isinstance(v, dict) else int(v)
                       if k == "impacts_recorded" else _num(v) for k, v in res.get("impact_statistics", {}).items()}
-        return dict(statistics=statistics, stats=RunStats.from_dict(res.get("stats")),
-                    **_switchings(directory, _loaded(directory)[0]))
+        return dict(statistics=statistics, stats=RunStats.from_dict(res.get("stats")))
 
 
 @dataclass(repr=False)

@@ -229,11 +229,11 @@ grazing_result grazing(const model& m, const Eigen::VectorXd& x0, const grazing_
     }
     for (int k = 0; k < static_cast<int>(res.switches.size()); ++k) {
         auto& s = res.switches[static_cast<std::size_t>(k)];
-        const auto own = switch_parameters(m, k);
         if (o.parameter >= 0) {
-            if (std::find(own.begin(), own.end(), o.parameter) != own.end()) s.parameter = o.parameter;
-        } else if (o.parameter == each_surface_gap_parameter && !own.empty()) {
-            s.parameter = own.front();
+            s.parameter = o.parameter;
+        } else if (o.parameter == each_surface_gap_parameter) {
+            const auto own = switch_parameters(m, k);
+            if (!own.empty()) s.parameter = own.front();
         }
         if (s.parameter >= 0 && s.x.size() == m.dim())
             s.parameter_value = switch_grazing_parameter_value(m, k, s.parameter, s.x);

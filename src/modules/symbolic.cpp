@@ -1382,18 +1382,31 @@ private:
     // argument. Gaps, resets, sections and switching functions keep the functions: they are
     // evaluated at points, never integrated.
     //
-    // Two passes: the first finds the arguments, which are then numbered in the order of their
-    // text (GiNaC's order of terms follows its symbols' serial numbers, which vary from one
-    // process to the next; a switch's name must not), the second writes the sides in.
-    ex law(const expression_text& e) { return switchify(read(e), e.key); }
+    // Two passes over the laws, read once: the first finds the arguments, which are then
+    // numbered in the order of their text (GiNaC's order of terms follows its symbols' serial
+    // numbers, which vary from one process to the next; a switch's name must not), the second
+    // writes the sides in. A law without any of the five functions is left as it is.
+    struct law {
+        ex value;
+        std::string key;
+    };
+    law read_law(const expression_text& e) { return {read(e), e.key}; }
+    ex with_sides(const law& l) { return has_kink(l.value) ? switchify(l.value, l.key) : l.value; }
 
-    void find_kinks()
+    static bool has_kink(const ex& e)
+    {
+        const ex a = GiNaC::wild(0), b = GiNaC::wild(1);
+        const std::array<ex, 5> patterns{vimpact_abs(a), vimpact_csgn(a), vimpact_heaviside(a), vimpact_min(a, b),
+                                         vimpact_max(a, b)};
+        for (const ex& pattern : patterns)
+            if (e.has(pattern)) return true;
+        return false;
+    }
+
+    void find_kinks(const std::vector<law>& laws)
     {
         m_finding_kinks = true;
-        for (const auto& e : m_d.derivatives) (void)law(e);
-        for (const auto& s : m_d.surfaces)
-            if (s.sticking)
-                for (const auto& a : s.sticking->derivatives) (void)law(a.expr);
+        for (const auto& l : laws) (void)with_sides(l);
         m_finding_kinks = false;
         std::vector<std::size_t> order(m_kinks.size());
         for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
@@ -1429,12 +1442,13 @@ private:
 
     ex switchify(const ex& e, const std::string& key)
     {
-        if (!depends_on_state(e)) return e;
-        if (!is_a<GiNaC::function>(e)) {
-            if (e.nops() == 0) return e;
-            return map_operands(e, [&](const ex& q) { return switchify(q, key); });
-        }
+        if (e.nops() == 0) return e;
+        if (!is_a<GiNaC::function>(e)) return map_operands(e, [&](const ex& q) { return switchify(q, key); });
         const unsigned serial = ex_to<GiNaC::function>(e).get_serial();
+        const bool kinked = serial == vimpact_abs_SERIAL::serial || serial == vimpact_csgn_SERIAL::serial ||
+                          serial == vimpact_heaviside_SERIAL::serial || serial == vimpact_min_SERIAL::serial ||
+                          serial == vimpact_max_SERIAL::serial;
+        if (kinked && !depends_on_state(e)) return e;  // of the parameters only: no kink in time
         const ex a = e.op(0);
         const auto side = [&](const ex& when, const char* function) { return automatic_switch(when, function, key); };
         if (serial == vimpact_abs_SERIAL::serial) return side(a, "abs") * switchify(a, key);
@@ -1525,9 +1539,16 @@ private:
 
     void build_field()
     {
-        find_kinks();
+        // The laws: the derivatives, then each contact phase's.
+        std::vector<law> laws;
+        for (const auto& e : m_d.derivatives) laws.push_back(read_law(e));
+        for (const auto& s : m_d.surfaces)
+            if (s.sticking)
+                for (const auto& a : s.sticking->derivatives) laws.push_back(read_law(a.expr));
+        find_kinks(laws);
+        auto next_law = laws.begin();
         std::vector<ex> f;
-        for (const auto& e : m_d.derivatives) f.push_back(law(e));
+        for (std::size_t i = 0; i < m_d.derivatives.size(); ++i) f.push_back(with_sides(*next_law++));
         m_field = differentiate("derivatives", f, true);
         m_identity.assign(m_x.begin(), m_x.end());
         for (const auto& s : m_d.surfaces) {
@@ -1537,7 +1558,7 @@ private:
             if (s.sticking) {
                 const auto& k = *s.sticking;
                 std::vector<ex> field = m_field.value;
-                for (const auto& a : k.derivatives) field[static_cast<std::size_t>(a.index)] = law(a.expr);
+                for (const auto& a : k.derivatives) field[static_cast<std::size_t>(a.index)] = with_sides(*next_law++);
                 m_sticking_field.push_back(std::move(field));
                 m_release.push_back(differentiate(k.release.key, read(k.release), false));
                 m_rest.push_back(assigned(k.rest, m_identity));
