@@ -415,7 +415,9 @@ int run_lyapunov(const CLI::App& app, const lyapunov_args& a)
         if (!r.settled)
             text += "warning: not settled: the largest exponent differs between the halves of the averaging by more "
                     "than 4 standard errors; lengthen --transient or --impacts\n";
-        text += "averaged over " + std::to_string(r.impacts) + " impacts, t = " + fixed(r.time, 8) + " (" +
+        text += "averaged over " + std::to_string(r.impacts) + " impacts" +
+                (c.info().switches.empty() ? "" : " and " + std::to_string(r.stats.switchings) + " crossings of switches") +
+                ", t = " + fixed(r.time, 8) + " (" +
                 std::to_string(r.intervals) + " intervals of t0 = " + fixed(lo.t0, 6) + ")\n";
         if (std::isfinite(r.sum_rule))
             text += "sum " + fixed(r.exponents.sum(), 10) + ", <div F> + rate ln|det S| = " + fixed(r.sum_rule, 10) + "\n";

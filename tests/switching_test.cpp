@@ -394,17 +394,21 @@ TEST(Switching, LyapunovExponentsOfTheOrbitAreItsFloquetMultipliersLogsOverThePe
     std::sort(expected.begin(), expected.end(), [](double a, double b) { return a > b; });
     // The linear mappings of the deviations at an event: at a crossing of a switch the
     // second-order mapping is the saltation matrix (a switch's jump has no second-order
-    // discontinuity map here). Benettin's two trajectories (lyapunov_tdm::trajectory) are not
-    // held to this: on this orbit their flow-direction exponent is -0.0045 (-0.0015 on the
-    // same oscillator clear of the stop), an open question (docs/nonsmooth.md).
-    for (const auto tdm : {vimpact::lyapunov_tdm::saltation, vimpact::lyapunov_tdm::second_order}) {
+    // discontinuity map here). Benettin's two trajectories (lyapunov_tdm::trajectory) settle
+    // only after a few hundred warm-up intervals on this forced orbit (docs/nonsmooth.md):
+    // with 400, they too give ln|mu|/T.
+    for (const auto tdm :
+         {vimpact::lyapunov_tdm::saltation, vimpact::lyapunov_tdm::second_order, vimpact::lyapunov_tdm::trajectory}) {
         vimpact::lyapunov_options lo;
         lo.tdm = tdm;
+        if (tdm == vimpact::lyapunov_tdm::trajectory) lo.warmup_intervals = 400;
         const auto l = vimpact::lyapunov(handle, Eigen::Vector3d(0.0, 0.0, 0.5), lo);
         ASSERT_EQ(l.status, outcome::ok);
         ASSERT_EQ(l.exponents.size(), 3);
-        EXPECT_NE(l.jump_log_det_rate, 0.0);
-        EXPECT_NEAR(l.exponents.sum(), l.sum_rule, 1e-8);
+        if (tdm != vimpact::lyapunov_tdm::trajectory) {  // Benettin's has no jump matrices to sum
+            EXPECT_NE(l.jump_log_det_rate, 0.0);
+            EXPECT_NEAR(l.exponents.sum(), l.sum_rule, 1e-8);
+        }
         for (int k = 0; k < 3; ++k)
             EXPECT_NEAR(l.exponents[k], expected[static_cast<std::size_t>(k)], 2e-3) << k << " tdm " << static_cast<int>(tdm);
     }
