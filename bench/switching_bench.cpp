@@ -14,6 +14,12 @@
 // through their function tables (model::from_definition), derivatives by automatic
 // differentiation. Goal: a switch's runs no slower than the impact's (ratio <= 1, within the
 // noise).
+// The same pair written as model files, 16 jobs of each (F from 0.6 to 1.35, the protocol
+// point), run in the SIMD lanes and one at a time (simulate_many with the lanes' width and
+// with 1): what the lanes give a model with switches, and the switch's jobs against the
+// impact's in lanes (goal <= 1, as alone). Their forcing is a linear oscillator (c, s) =
+// (cos, sin) of the phase, not cos(phi): the lanes compute a transcendental function lane by
+// lane, so a field that calls one per step gains little from them, impacts or switches.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -26,6 +32,7 @@
 
 #include "vimpact/analysis/lyapunov.hpp"
 #include "vimpact/analysis/protocol.hpp"
+#include "vimpact/core/lanes.hpp"
 #include "vimpact/model/export.hpp"
 #include "vimpact/model/model.hpp"
 
@@ -125,10 +132,89 @@ void lyapunov_point(benchmark::State& state, const vimpact::model& m)
     state.counters["switchings"] = static_cast<double>(r.stats.switchings);
 }
 
+constexpr std::string_view impact_file = R"toml(
+name = "bench_impacting_file"
+description = "bench_impacting as a model file"
+state = [{ name = "x" }, { name = "v" }, { name = "c" }, { name = "s" }]
+[parameters]
+zeta = { default = 0.05 }
+omega = { default = 0.8 }
+F = { default = 1.0 }
+[derivatives]
+x = "v"
+v = "-x - 2*zeta*v + F*c"
+c = "-omega*s"
+s = "omega*c"
+[[surfaces]]
+name = "barrier"
+gap = "x"
+reset = { v = "-v" }
+[[sections]]
+name = "strobe"
+when = "s"
+direction = "up"
+)toml";
+
+constexpr std::string_view switch_file = R"toml(
+name = "bench_switching_file"
+description = "bench_switching as a model file"
+state = [{ name = "x" }, { name = "v" }, { name = "c" }, { name = "s" }]
+[parameters]
+zeta = { default = 0.05 }
+omega = { default = 0.8 }
+F = { default = 1.0 }
+[derivatives]
+x = "v"
+v = "-x - 2*zeta*v + side(mirror)*F*c"
+c = "-omega*s"
+s = "omega*c"
+[[switches]]
+name = "mirror"
+when = "x"
+[[sections]]
+name = "strobe"
+when = "s"
+direction = "up"
+)toml";
+
+// 16 jobs of a model file: F = 0.6, 0.65, ..., 1.35.
+std::vector<vimpact::model> file_jobs(std::string_view text)
+{
+    const vimpact::model m = vimpact::model::from_toml(std::string(text), "bench.toml");
+    std::vector<vimpact::model> jobs;
+    for (int k = 0; k < 16; ++k) jobs.push_back(m.with_parameter(m.info().parameter_index("F"), 0.6 + 0.05 * k));
+    return jobs;
+}
+
+void jobs_point(benchmark::State& state, std::string_view text, int batch)
+{
+    const std::vector<vimpact::model> jobs = file_jobs(text);
+    const std::vector<Eigen::VectorXd> x0s(jobs.size(), Eigen::Vector4d(x0[0], x0[1], std::cos(x0[2]), std::sin(x0[2])));
+    const vimpact::protocol_options po;
+    double steps = 0.0, impacts = 0.0, switchings = 0.0;
+    for (auto _ : state) {
+        const auto r = vimpact::simulate_many(jobs, x0s, po, batch);
+        steps = impacts = switchings = 0.0;
+        for (const auto& j : r) {
+            if (j.status != vimpact::outcome::ok) state.SkipWithError("a job did not end ok");
+            steps += static_cast<double>(j.stats.steps);
+            impacts += static_cast<double>(j.stats.impacts);
+            switchings += static_cast<double>(j.stats.switchings);
+        }
+    }
+    state.counters["steps"] = steps;
+    state.counters["impacts"] = impacts;
+    state.counters["switchings"] = switchings;
+}
+
 void protocol_impact(benchmark::State& s) { protocol_point(s, vimpact::model::from_definition<impacting>()); }
 void protocol_switch(benchmark::State& s) { protocol_point(s, vimpact::model::from_definition<mirrored>()); }
 void lyapunov_impact(benchmark::State& s) { lyapunov_point(s, vimpact::model::from_definition<impacting>()); }
 void lyapunov_switch(benchmark::State& s) { lyapunov_point(s, vimpact::model::from_definition<mirrored>()); }
+void lanes_impact(benchmark::State& s) { jobs_point(s, impact_file, vimpact::lane_width); }
+void lanes_switch(benchmark::State& s) { jobs_point(s, switch_file, vimpact::lane_width); }
+void alone_impact(benchmark::State& s) { jobs_point(s, impact_file, 1); }
+void alone_switch(benchmark::State& s) { jobs_point(s, switch_file, 1); }
 
 }  // namespace
 
@@ -138,4 +224,8 @@ BENCHMARK(protocol_impact)->Name("protocol/impact")->Unit(benchmark::kMillisecon
 BENCHMARK(protocol_switch)->Name("protocol/switch")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
 BENCHMARK(lyapunov_impact)->Name("lyapunov/impact")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
 BENCHMARK(lyapunov_switch)->Name("lyapunov/switch")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
+BENCHMARK(lanes_impact)->Name("lanes/impact")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
+BENCHMARK(lanes_switch)->Name("lanes/switch")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
+BENCHMARK(alone_impact)->Name("alone/impact")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
+BENCHMARK(alone_switch)->Name("alone/switch")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
 BENCHMARK_MAIN();

@@ -53,6 +53,7 @@ void expect_same_run(const simulation& alone, const simulation& lane, const std:
     EXPECT_EQ(alone.stats.impacts, lane.stats.impacts) << what;
     EXPECT_EQ(alone.stats.sticking_phases, lane.stats.sticking_phases) << what;
     EXPECT_EQ(alone.stats.sections, lane.stats.sections) << what;
+    EXPECT_EQ(alone.stats.switchings, lane.stats.switchings) << what;
     EXPECT_TRUE(same_bits(alone.stats.t_final, lane.stats.t_final)) << what;
     EXPECT_TRUE(same_bits(alone.stats.h_min, lane.stats.h_min)) << what;
     EXPECT_TRUE(same_bits(alone.stats.h_max, lane.stats.h_max)) << what;
@@ -66,6 +67,9 @@ void expect_same_run(const simulation& alone, const simulation& lane, const std:
         EXPECT_TRUE(same_bits(alone.max_gap[i], lane.max_gap[i])) << what << " largest gap " << i;
     expect_same_series(alone.points, lane.points, what + " section points");
     expect_same_series(alone.impacts.post, lane.impacts.post, what + " impacts");
+    expect_same_series(alone.switchings.pre, lane.switchings.pre, what + " crossings of switches");
+    expect_same_series(alone.switchings.post, lane.switchings.post, what + " crossings of switches (after)");
+    EXPECT_EQ(alone.switchings.surface, lane.switchings.surface) << what;
     for (Eigen::Index i = 0; i < alone.final_state.size(); ++i)
         EXPECT_TRUE(same_bits(alone.final_state[i], lane.final_state[i])) << what;
 }
@@ -395,6 +399,52 @@ TEST(Lanes, ModelFileJobsEqualTheirScalarRunsBitForBit)
             expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po);
         });
     }
+}
+
+// A model file with switching surfaces runs its jobs in lanes too, each lane's field on its
+// own sides (the lanes read them from the lane's pinned context): a compliant stop (a
+// non-affine section, a dashpot force that jumps), the same with a reset where the motion
+// leaves the stop, a bilinear oscillator, Housner's rocking block (a reset at every crossing,
+// ending `sliding` at rest) and the paper's model with a compliant barrier (four states). The
+// parameters put the lanes on different sides at once.
+TEST(Lanes, ModelFilesWithSwitchesEqualTheirScalarRunsBitForBit)
+{
+    if (!wide_lanes) GTEST_SKIP() << "this build has no SIMD lanes";
+    for (const auto& [file, parameter, values] :
+         std::vector<std::tuple<std::string, std::string, std::vector<double>>>{
+             {"compliant_stop", "F", {0.5, 0.9, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0, 5.0}},
+             {"compliant_stop", "d", {0.3, 0.5, 0.8, 1.0, 1.3, 1.7, 2.2, 3.0, 4.0}},
+             {"bilinear_oscillator", "F", {0.05, 0.1, 0.2, 0.3, 0.5, 0.8, 1.0, 1.5, 2.0}},
+             {"rocking_block", "alpha", {0.12, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6}},
+             {"wake_compliant", "Ur", {14.0, 16.0, 17.5, 19.0, 20.5, 22.0, 23.5, 25.0, 26.0}}}) {
+        SCOPED_TRACE(file + " " + parameter);
+        const model m = test::example_model(file);
+        ASSERT_TRUE(runs_in_lanes(m)) << "the model file's binary has no lanes of this build's width";
+        ASSERT_GT(m.info().switches.size(), 0U);
+        const auto models = file_models(m, parameter, values);
+        for_each_method(60, 30, 0.0, [&](const protocol_options& po) {
+            const auto together = simulate_many(models, std::vector<Eigen::VectorXd>(models.size(), m.initial_state()), po,
+                                                lane_width);
+            long crossings = 0;
+            for (std::size_t j = 0; j < models.size(); ++j) {
+                expect_same_run(simulate(models[j], m.initial_state(), po), together[j], "job " + std::to_string(j));
+                crossings += together[j].stats.switchings;
+            }
+            EXPECT_GT(crossings, 0);
+        });
+    }
+    // With a reset where the motion leaves the stop (a jump at the crossing).
+    const model f = test::example_model("compliant_stop");
+    std::string text = test::example_text("compliant_stop");
+    const std::string when = "when = \"y - d\"\n";
+    ASSERT_NE(text.find(when), std::string::npos);
+    text.replace(text.find(when), when.size(), when + "reset = { v = \"0.8*v\" }\ndirection = \"down\"\n");
+    const model r = model::from_toml(text, "compliant_stop_reset.toml");
+    ASSERT_TRUE(runs_in_lanes(r));
+    const auto models = file_models(r, "F", {0.5, 0.9, 1.2, 1.6, 2.0, 2.4, 3.0, 4.0, 5.0});
+    for_each_method(60, 30, 0.0, [&](const protocol_options& po) {
+        expect_lanes_equal_scalar(models, std::vector<Eigen::VectorXd>(models.size(), r.initial_state()), po);
+    });
 }
 
 // A model file of a dimension with no fixed-size states in this build (states sized at run

@@ -1860,7 +1860,20 @@ private:
                             [&](std::size_t k) { return section_value[k]; });
         s += indexed_void("vimpact_section_gradient(const void* c, int i, const double* x, double* out)", K, n,
                           [&](std::size_t k) { return section_gradient[k]; });
-        m_lanes_code = lanes_code(rhs_body, gap_value, gap_gradient, section_value, section_gradient);
+        // A switch's value and gradient in the lanes are side * h_k and side * grad h_k (abi.h,
+        // lanes_points and lanes_switching), as the flow's switch values are.
+        std::vector<std::string> switch_value, switch_gradient;
+        for (std::size_t k = 0; k < m_switching.size(); ++k) {
+            const std::string side = "S[" + std::to_string(k) + "]";
+            switch_value.push_back(side + "*(" + c(m_switching[k].value, m_switching[k].key) + ")");
+            std::string g;
+            for (std::size_t i = 0; i < n; ++i)
+                g += in + "out[" + std::to_string(i) + "] = " + side + "*(" + c(m_switching[k].gradient[i], m_switching[k].key) +
+                     ");\n";
+            switch_gradient.push_back(g);
+        }
+        m_lanes_code = lanes_code(rhs_body, gap_value, gap_gradient, section_value, section_gradient, switch_value,
+                                  switch_gradient);
 
         // Every gap and section with its rate grad . f in one call: the flow samples each step
         // end with it (abi.h, samples).
@@ -1951,11 +1964,15 @@ private:
     // operations). The contexts and states are the library's lanes values.
     std::string lanes_code(const std::string& rhs_body, const std::vector<std::string>& gap_value,
                            const std::vector<std::string>& gap_gradient, const std::vector<std::string>& section_value,
-                           const std::vector<std::string>& section_gradient) const
+                           const std::vector<std::string>& section_gradient, const std::vector<std::string>& switch_value,
+                           const std::vector<std::string>& switch_gradient) const
     {
         const std::string n = std::to_string(m_n), L = "vimpact::lanes";
+        // Each lane's sides are those its context holds: the library gives the lanes of a model
+        // with switches the pinned contexts of the lanes' flows (abi.h, lanes_switching).
+        const std::string sides = m_side.empty() ? "" : "    const " + L + "* S = p + VIMPACT_PINNED + 1;\n    (void)S;\n";
         const std::string prologue = "    const " + L + "* p = (const " + L + "*)c;\n    const " + L + "* x = (const " + L +
-                                     "*)xd;\n    " + L + "* out = (" + L + "*)od;\n    (void)p;\n    (void)x;\n";
+                                     "*)xd;\n    " + L + "* out = (" + L + "*)od;\n    (void)p;\n    (void)x;\n" + sides;
         std::string s = "static inline " + L + " vimpact_csgn(" + L + " v)\n{\n    return vimpact::select(v > " + L +
                         "(0.0), " + L + "(1.0), vimpact::select(v < " + L + "(0.0), " + L + "(-1.0), " + L + "(0.0)));\n}\n";
         s += "static inline " + L + " vimpact_heaviside(" + L + " v)\n{\n    return vimpact::select(v >= " + L + "(0.0), " +
@@ -1983,7 +2000,7 @@ private:
         // Every gap and section with its gradient at one state (abi.h, lanes_points).
         s += "static void vimpact_lanes_points(const double* c, const double* xd, double* vd, double* gd)\n{\n"
              "    const " + L + "* p = (const " + L + "*)c;\n    const " + L + "* x = (const " + L + "*)xd;\n    " + L +
-             "* v = (" + L + "*)vd;\n    (void)p;\n    (void)x;\n    (void)v;\n    (void)gd;\n";
+             "* v = (" + L + "*)vd;\n    (void)p;\n    (void)x;\n    (void)v;\n    (void)gd;\n" + sides;
         const auto point = [&](std::size_t slot, const std::string& value, const std::string& gradient) {
             s += "    v[" + std::to_string(slot) + "] = " + value + ";\n    {\n        " + L + "* out = (" + L + "*)gd + " +
                  std::to_string(slot * static_cast<std::size_t>(m_n)) + ";\n" + gradient + "    }\n";
@@ -1991,11 +2008,14 @@ private:
         for (std::size_t i = 0; i < gap_value.size(); ++i) point(i, gap_value[i], gap_gradient[i]);
         for (std::size_t k = 0; k < section_value.size(); ++k)
             point(gap_value.size() + k, section_value[k], section_gradient[k]);
+        for (std::size_t k = 0; k < switch_value.size(); ++k)
+            point(gap_value.size() + section_value.size() + k, switch_value[k], switch_gradient[k]);
         s += "}\n\n";
         s += indexed("vimpact_lanes_gap", gap_value, true, 1);
         s += indexed("vimpact_lanes_gap_gradient", gap_gradient, false, static_cast<std::size_t>(m_n));
         s += indexed("vimpact_lanes_section", section_value, true, 1);
         s += indexed("vimpact_lanes_section_gradient", section_gradient, false, static_cast<std::size_t>(m_n));
+        s += indexed("vimpact_lanes_switching", switch_value, true, 1);
         s += "namespace {\nstruct vimpact_lanes_field {\n    const double* c;\n"
              "    vimpact::vec_t<" + L + ", " + n + "> operator()(const vimpact::vec_t<" + L + ", " + n + ">& x) const\n"
              "    {\n        vimpact::vec_t<" + L + ", " + n + "> f;\n"
@@ -2008,11 +2028,20 @@ private:
         return "surfaces[" + std::to_string(i) + "].sticking." + what;
     }
 
+    // The doubles of a context: parameters, derived quantities and hoisted parts, then, with
+    // switches, the pinned flag and the pinned sides.
+    [[nodiscard]] int pinned_slot() const { return m_p + m_nd + static_cast<int>(m_parts.size()); }
+    [[nodiscard]] int context_count() const
+    {
+        const int W = static_cast<int>(m_side.size());
+        return pinned_slot() + (W > 0 ? 1 + W : 0);
+    }
+
     std::string create()
     {
         const int W = static_cast<int>(m_side.size());
-        const int pinned = m_p + m_nd + static_cast<int>(m_parts.size());
-        const int count = pinned + (W > 0 ? 1 + W : 0);
+        const int pinned = pinned_slot();
+        const int count = context_count();
         std::string s;
         if (W > 0)
             s += "#define VIMPACT_PINNED " + std::to_string(pinned) + "\n#define VIMPACT_CONTEXT_SIZE " +
@@ -2206,7 +2235,7 @@ private:
             array("const int", "vimpact_surface_affine", surface_affine, integer, s),
             array("const int", "vimpact_section_affine", section_affine, integer, s),
             "VIMPACT_LANES_WIDTH",
-            std::to_string(std::max(1, m_p + m_nd + static_cast<int>(m_parts.size()))),
+            std::to_string(std::max(1, context_count())),
             "VIMPACT_LANES(step)",
             "VIMPACT_LANES(gap)",
             "VIMPACT_LANES(gap_gradient)",
@@ -2222,6 +2251,7 @@ private:
         for (const char* f : {"vimpact_switching", "vimpact_switching_gradient", "vimpact_copy_context",
                               "vimpact_pin_sides", "vimpact_sides_at", "vimpact_cross", "vimpact_switch_reset_jacobian"})
             fields.emplace_back(m_side.empty() ? "0" : f);
+        fields.emplace_back(m_side.empty() ? "0" : "VIMPACT_LANES(switching)");
         // Positional, in the order of the fields of vimpact_model_table (abi.h), so that the
         // table is a constant in read-only memory, valid C and C++.
         static const char* const field_names[] = {
@@ -2237,8 +2267,8 @@ private:
             "lanes_width", "context_size", "lanes_step", "lanes_gap", "lanes_gap_gradient", "lanes_section",
             "lanes_section_gradient", "lanes_points", "switch_count", "switch_names", "switch_meanings",
             "switch_directions", "switch_affine", "switching", "switching_gradient", "copy_context", "pin_sides",
-            "sides_at", "cross", "switch_reset_jacobian"};
-        static_assert(std::size(field_names) == 74);
+            "sides_at", "cross", "switch_reset_jacobian", "lanes_switching"};
+        static_assert(std::size(field_names) == 75);
         if (fields.size() != std::size(field_names)) throw std::logic_error("model file: table fields out of step");
         // The fused Runge-Kutta step (integrate/fused_step.hpp): the library's own stage code
         // compiled here with the field inlined, when the compiler is given vimpact's headers
@@ -2252,8 +2282,7 @@ private:
              "#define VIMPACT_DENSE (&vimpact::fused_dense_entry<" + std::to_string(m_n) + ", vimpact_field>)\n"
              "#else\n#define VIMPACT_STEP 0\n#define VIMPACT_DENSE 0\n#endif\n";
         // The SIMD lanes (abi.h, ABI version 5), where the compiler is given vimpact's headers.
-        // Not for a model with switches: its jobs run one at a time (abi.h).
-        s += "\n#if " + std::string(m_side.empty() ? "1" : "0") + " && defined(VIMPACT_FUSED_STEPS) && defined(VIMPACT_LANES_DIM_" + std::to_string(m_n) +
+        s += "\n#if defined(VIMPACT_FUSED_STEPS) && defined(VIMPACT_LANES_DIM_" + std::to_string(m_n) +
              ") && __has_include(<xsimd/xsimd.hpp>)\n"
              "#include \"vimpact/integrate/fused_lanes.hpp\"\n" + m_lanes_code +
              "#define VIMPACT_LANES_WIDTH vimpact::lane_width\n"

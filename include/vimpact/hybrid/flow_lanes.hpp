@@ -15,12 +15,14 @@
 // What a definition needs: D::lanes_definition, the same definition with its parameters held
 // as lanes and constructible from them; its vector field must compile for T = lanes
 // (core/lanes.hpp says how). The built-in models have it. A model file's table brings its own
-// lanes (model/table_lanes.hpp: its stages, gaps and sections compiled in its binary), given
-// to run_in_lanes_of as a lanes definition with an attempt() of its own.
+// lanes (model/table_lanes.hpp: its stages, gaps, sections and switches compiled in its
+// binary), given to run_in_lanes_of as a lanes definition with an attempt() of its own; with
+// switches, each lane's field is that of its own sides, read from its flow's pinned context.
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <bit>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -162,6 +164,18 @@ lane_mask quiet_steps(const L& def, const flow_options& opt, int surfaces, const
             if (!lanes_gap_affine(def, i))
                 quiet = quiet && resolved(v0, r0, v1, r1, [&](const vec_t<lanes, N>& y) { return def.gap(i, y); });
         }
+    // Switches (a model file's table: side * h_k, the lane's sides): the flow's rule
+    // (hybrid_flow::quiet_step), positive at one end at least, not negative at the end, no
+    // crossing possible; and resolved on the step where h_k is not affine.
+    if constexpr (requires { def.switch_count(); def.switching(0, x0); p0.switching(0); p0.switching_gradient(0); })
+        if (opt.switches)
+            for (int k = 0; k < def.switch_count(); ++k) {
+                const lanes v0 = p0.switching(k), v1 = p1.switching(k);
+                const lanes r0 = rate<N>(p0.switching_gradient(k), f0, quiet), r1 = rate<N>(p1.switching_gradient(k), f1, quiet);
+                quiet = quiet && (v0 > zero || v1 > zero) && !(v1 < zero) && no_crossing(v0, v1, r0, r1);
+                if (!def.switching_affine(k))
+                    quiet = quiet && resolved(v0, r0, v1, r1, [&](const vec_t<lanes, N>& y) { return def.switching(k, y); });
+            }
     for (const flow_event& e : opt.events) {
         const lanes v0 = p0.section(e.index), v1 = p1.section(e.index);
         const lanes r0 = rate<N>(p0.section_gradient(e.index), f0, quiet), r1 = rate<N>(p1.section_gradient(e.index), f1, quiet);
@@ -289,9 +303,36 @@ lanes_counts run_in_lanes_of(int width, Make&& make_definition, Next&& next, Sta
             MS[j] = static_cast<double>(r.flow.options().max_steps);
         }
     };
+    // A model file with switches: its lanes read each lane's sides from the lane's context, which
+    // is therefore its flow's pinned context (table_model::pin_sides), read again whenever the
+    // run has stepped itself (a crossing changes it).
+    auto repin = [&](int j) {
+        const auto& m = slots[static_cast<std::size_t>(j)].run->flow.model();
+        if constexpr (requires { m.switch_count(); m.context(); m.table(); }) {
+            if (m.switch_count() == 0) return;
+            const auto* c = static_cast<const double*>(m.context());
+            bool changed = false;
+            for (std::size_t k = 0; k < par.size(); ++k)
+                if (std::bit_cast<std::uint64_t>(par[k][static_cast<std::size_t>(j)]) != std::bit_cast<std::uint64_t>(c[k])) {
+                    par[k][static_cast<std::size_t>(j)] = c[k];
+                    changed = true;
+                }
+            // The definition made already takes the lane's new context in place (no
+            // allocation at each crossing); one still to be made reads it from par.
+            if (changed) {
+                if constexpr (requires { def->set_lane_context(j, c); }) {
+                    if (def && !params_changed) def->set_lane_context(j, c);
+                    else params_changed = true;
+                } else {
+                    params_changed = true;
+                }
+            }
+        }
+    };
     auto load = [&](int j) {
         sync(j);
         refresh(j);
+        repin(j);
         const auto& in = slots[static_cast<std::size_t>(j)].run->flow.integrator();
         Tt[j] = in.t();
         H[j] = in.step_size();

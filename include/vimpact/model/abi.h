@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define VIMPACT_MODEL_ABI_VERSION 6
+#define VIMPACT_MODEL_ABI_VERSION 7
 
 enum vimpact_crossing { VIMPACT_CROSSING_DOWN = 0, VIMPACT_CROSSING_UP = 1, VIMPACT_CROSSING_BOTH = 2 };
 
@@ -126,8 +126,10 @@ typedef struct vimpact_model_table {
     void (*lanes_gap_gradient)(const double* contexts, int i, const double* x, double* out);
     void (*lanes_section)(const double* contexts, int k, const double* x, double* out);
     void (*lanes_section_gradient)(const double* contexts, int k, const double* x, double* out);
-    /* Every gap, then every section, at x in one call: their values (surface_count +
-     * section_count lanes values) and gradients (dim lanes values each, in the same order). */
+    /* Every gap, then every section, then every switch (ABI version 7), at x in one call:
+     * their values (surface_count + section_count + switch_count lanes values) and gradients
+     * (dim lanes values each, in the same order). A switch's value is side * h_k, its gradient
+     * side * grad h_k: positive on the side the lane is on. */
     void (*lanes_points)(const double* contexts, const double* x, double* values, double* gradients);
 
     /* Switching surfaces (ABI version 6; switch_count 0: none, and the rest may be NULL): the
@@ -152,6 +154,11 @@ typedef struct vimpact_model_table {
     int (*cross)(void* c, int k, const double* x, double* out);
     /* The Jacobian of switch k's reset at x, on the context's (pinned) sides. */
     void (*switch_reset_jacobian)(const void* c, int k, const double* x, double* out);
+    /* The lanes of a model with switches (ABI version 7; NULL: its jobs run one at a time).
+     * Every lanes function reads each lane's sides from its context, which the library keeps
+     * pinned (a flow's own copy, context_size doubles, pinned flag and sides included): side *
+     * h_k in every lane. */
+    void (*lanes_switching)(const double* contexts, int k, const double* x, double* out);
 } vimpact_model_table;
 
 /* The one symbol a model library exports. */
