@@ -474,6 +474,7 @@ json table_schema(const std::vector<std::string>& lead, const std::vector<column
         if (!c.group.empty()) j["group"] = c.group;
         if (c.surface >= 0) j["surface"] = c.surface;
         if (c.state >= 0) j["state"] = c.state;
+        if (c.switch_index >= 0) j["switch"] = c.switch_index;
         cols.push_back(std::move(j));
     }
     for (const auto& name : trail) cols.push_back({{"name", name}});

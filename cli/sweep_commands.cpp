@@ -81,14 +81,14 @@ int run_sweep(const sweep_args& a)
     o.initial_state = c.ic;
     o.protocol = c.protocol;
     if (a.grazing_option->count() > 0) {
-        o.grazing_parameter = a.grazing.empty() ? first_gap_parameter(m) : parameter_index(m, a.grazing, "--grazing");
+        o.grazing_parameter = a.grazing.empty() ? first_grazing_parameter(m) : parameter_index(m, a.grazing, "--grazing");
         if (o.grazing_parameter < 0)
-            throw input_error("--grazing: model " + m.name() + " has no parameter that moves a surface without entering "
-                              "the vector field; name one with --grazing P");
+            throw input_error("--grazing: model " + m.name() + " has no parameter that moves a surface or switch without "
+                              "entering the vector field; name one with --grazing P");
     }
     const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
     // Without --grazing the columns of the model's usual grazing parameter stay, empty (nan).
-    const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : first_gap_parameter(m);
+    const int gp = o.grazing_parameter >= 0 ? o.grazing_parameter : first_grazing_parameter(m);
     std::vector<std::string> ph{"branch", pname};
     append(ph, state_columns(info));
     // With --si the section points also in SI, each at its point's scales (a cylinder's follow U).
@@ -401,7 +401,7 @@ int run_response(const response_args& a)
     o.initial_state = c.ic;
     o.grazing.integration = tangent_integration(c.protocol.flow.integration);
     o.grazing.method = c.protocol.method;
-    o.grazing.parameter = first_gap_parameter(m);
+    o.grazing.parameter = first_grazing_parameter(m);
     const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
     const std::string& vname = info.state[static_cast<std::size_t>(o.variable)].name;
     const auto gcols = o.grazing.parameter >= 0 ? grazing_columns(m, o.grazing.parameter) : surface_columns(info, "margin");

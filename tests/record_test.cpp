@@ -117,6 +117,42 @@ TEST(Records, TableColumnsFollowTheNamingRules)
     EXPECT_EQ(none.size(), one.size() - 1);
 }
 
+// A per-switch field: a column per switch, NAME_SWITCH or the pattern's {switch}, even for one
+// switch (a model may have a surface of the same field too), with the switch's index in the
+// schema; none without switches.
+TEST(Records, PerSwitchColumnsAreNamedAfterTheirSwitch)
+{
+    table_context c{"F", "d", {}};
+    c.switches = {"contact", "heaviside#1"};
+    std::vector<std::string> graze, margin;
+    for (const auto& col : record_columns<response_point>(c)) {
+        if (col.field == "switch_grazing") {
+            graze.push_back(col.name);
+            EXPECT_EQ(col.switch_index, static_cast<int>(graze.size()) - 1);
+            EXPECT_EQ(col.surface, -1);
+        }
+        if (col.field == "switch_margin") margin.push_back(col.name);
+    }
+    EXPECT_EQ(graze, (std::vector<std::string>{"d_graze_contact", "d_graze_heaviside#1"}));
+    EXPECT_EQ(margin, (std::vector<std::string>{"switch_margin_contact", "switch_margin_heaviside#1"}));
+    c.switches = {"contact"};
+    response_point p;
+    p.switch_grazing = {2.5};
+    const auto columns = record_columns<response_point>(c);
+    const auto cells = record_cells(p, c);
+    ASSERT_EQ(cells.size(), columns.size());
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+        if (columns[i].name == "d_graze_contact") {
+            EXPECT_EQ(cells[i], "2.5");
+        }
+        if (columns[i].name == "switch_margin_contact") {
+            EXPECT_EQ(cells[i], format_double(std::numeric_limits<double>::quiet_NaN()));
+        }
+    }
+    const auto none = record_columns<response_point>({"F", "d", {"stop"}});
+    EXPECT_TRUE(std::none_of(none.begin(), none.end(), [](const column_schema& s) { return s.switch_index >= 0; }));
+}
+
 TEST(Records, EveryCellSitsUnderItsColumn)
 {
     const table_context c{"w", "d", {"right", "left"}};

@@ -50,7 +50,7 @@ py::dict sweep_run(const model& m, const py::dict& kw)
     (void)o.object("grazing");
     const auto analysis = [&](const job_options& c) { return sweep(m, so, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const sweep_result& r) {
-        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
+        d["records"] = record_arrays(r.points, m);
     });
 }
 
@@ -69,7 +69,7 @@ py::dict map_run(const model& m, const py::dict& kw)
     read_declared(o, mo);
     const auto analysis = [&](const job_options& c) { return map2d(m, mo, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const map_result& r) {
-        d["records"] = record_arrays(r.cells, m.surface_count(), m.dim());
+        d["records"] = record_arrays(r.cells, m);
         d["grazing_axis"] = r.grazing_axis;
         d["grazing_other"] = vector_array(r.grazing_other);
         d["grazing"] = per_surface(r.grazing_values, m.surface_count());
@@ -91,7 +91,7 @@ py::dict basins_run(const model& m, const py::dict& kw)
     read_declared(o, bo);
     const auto analysis = [&](const job_options& c) { return basins(m, bo, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const basins_result& r) {
-        d["records"] = record_arrays(r.cells, m.surface_count(), m.dim());
+        d["records"] = record_arrays(r.cells, m);
         py::list table;
         for (std::size_t i = 0; i < r.attractors.size(); ++i) {
             const auto& e = r.attractors[i];
@@ -137,7 +137,7 @@ py::dict response_run(const model& m, const py::dict& kw)
     (void)o.object("grazing");
     const auto analysis = [&](const job_options& c) { return response(m, ro, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const response_result& r) {
-        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
+        d["records"] = record_arrays(r.points, m);
     });
 }
 
@@ -177,8 +177,8 @@ py::dict clearance_run(const model& m, const py::dict& kw)
                 cells.push_back(c);
                 point.push_back(static_cast<long>(k));
             }
-        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
-        d["cells"] = record_arrays(cells, m.surface_count(), m.dim());
+        d["records"] = record_arrays(r.points, m);
+        d["cells"] = record_arrays(cells, m);
         d["cell_point"] = int_array(point);
     };
     return run_jobs(o, analysis, [&](py::dict& d, const clearance_result& r) {

@@ -97,6 +97,7 @@ void bind_models(py::module_& m)
         });
     cls.def("gap_parameters", [](const model& x, int surface) { return gap_parameters(x, surface); });
     cls.def("first_gap_parameter", [](const model& x) { return first_gap_parameter(x); });
+    cls.def("first_grazing_parameter", [](const model& x) { return first_grazing_parameter(x); });
     cls.def("default_section", [](const model& x) { return section_choice_name(x, default_section(x)); });
     cls.def("parameter_enters_field", [](const model& x, int p) { return parameter_enters_field(x, p); });
     cls.def("__eq__", [](const model& a, const model& b) { return a == b; }, py::is_operator());

@@ -1,7 +1,8 @@
 #pragma once
 // Records the library describes (core/record.hpp) as numpy columns, one entry per record: a
 // field of one value is a 1-D array (int64, float64, bool) or a list of str, a per-surface
-// field an array (records, surfaces), a state vector (records, dim), a series its points one
+// field an array (records, surfaces), a per-switch field (records, switches), a state vector
+// (records, dim), a series its points one
 // record after the other (points, dim) with NAME_run, the record of each point, a spectrum an
 // array (records, dim) of complex128 (NaN where a record has fewer values); a group is a dict
 // of its own fields. vimpact/results.py reads the same columns from an output directory
@@ -72,6 +73,7 @@ struct column_collector {
     std::vector<record_column>& columns;
     std::int64_t record;
     int surfaces;
+    int switches;
     int dim;
     std::size_t next = 0;
 
@@ -96,8 +98,8 @@ struct column_collector {
         } else if constexpr (std::is_same_v<T, outcome>) {
             c.texts.emplace_back(to_string(v));
         } else if constexpr (std::is_same_v<T, std::vector<double>> || std::is_same_v<T, std::vector<long>>) {
-            c.width = surfaces;
-            for (int s = 0; s < surfaces; ++s) {
+            c.width = f.span == field_span::per_switch ? switches : surfaces;
+            for (int s = 0; s < c.width; ++s) {
                 const bool has = static_cast<std::size_t>(s) < v.size();
                 if constexpr (std::is_same_v<T, std::vector<double>>)
                     c.reals.push_back(has ? v[static_cast<std::size_t>(s)] : std::numeric_limits<double>::quiet_NaN());
@@ -125,7 +127,7 @@ struct column_collector {
     void group(const field& f, const R& r)
     {
         record_column& c = column(f, column_kind::group);
-        column_collector sub{c.fields, record, surfaces, dim};
+        column_collector sub{c.fields, record, surfaces, switches, dim};
         describe(sub, r);
     }
 };
@@ -168,19 +170,21 @@ inline py::object column_object(const record_column& c, py::ssize_t records)
 
 }  // namespace detail
 
-// The columns of `records` (surfaces and dim: the model's, the width of per-surface fields and
-// states). Every field is present, even for no records.
+// The columns of `records` of model m (its surfaces, switches and dimension: the widths of
+// per-surface and per-switch fields and of states). Every field is present, even for no
+// records.
 template <class R>
-py::dict record_arrays(const std::vector<R>& records, int surfaces, int dim)
+py::dict record_arrays(const std::vector<R>& records, const model& m)
 {
+    const int surfaces = m.surface_count(), switches = static_cast<int>(m.info().switches.size()), dim = m.dim();
     std::vector<detail::record_column> columns;
     for (std::size_t i = 0; i < records.size(); ++i) {
-        detail::column_collector c{columns, static_cast<std::int64_t>(i), surfaces, dim};
+        detail::column_collector c{columns, static_cast<std::int64_t>(i), surfaces, switches, dim};
         describe(c, records[i]);
     }
     if (records.empty()) {  // the fields' names and kinds from a default record, without its values
         std::vector<detail::record_column> seen;
-        detail::column_collector c{seen, 0, surfaces, dim};
+        detail::column_collector c{seen, 0, surfaces, switches, dim};
         const R blank{};
         describe(c, blank);
         const auto empty = [&](auto&& self, const detail::record_column& col) -> detail::record_column {
@@ -224,8 +228,11 @@ struct value_collector {
             typename T::value_type missing{};
             if constexpr (std::is_floating_point_v<typename T::value_type>) missing = std::numeric_limits<double>::quiet_NaN();
             py::dict by;
-            const auto& surfaces = m.info().surfaces;
-            for (std::size_t s = 0; s < surfaces.size(); ++s) by[py::str(surfaces[s].name)] = s < v.size() ? v[s] : missing;
+            const auto put = [&](const auto& items) {
+                for (std::size_t s = 0; s < items.size(); ++s) by[py::str(items[s].name)] = s < v.size() ? v[s] : missing;
+            };
+            if (f.span == field_span::per_switch) put(m.info().switches);
+            else put(m.info().surfaces);
             d[name] = by;
         } else if constexpr (std::is_same_v<T, std::vector<std::complex<double>>>) {
             d[name] = py::array_t<std::complex<double>>(static_cast<py::ssize_t>(v.size()), v.data());
@@ -287,6 +294,7 @@ constexpr const char* span_name(field_span s)
 {
     switch (s) {
         case field_span::per_surface: return "per_surface";
+        case field_span::per_switch: return "per_switch";
         case field_span::per_state: return "per_state";
         case field_span::series: return "series";
         case field_span::spectrum: return "spectrum";

@@ -140,7 +140,7 @@ py::dict floquet_sweep_run(const model& m, const py::dict& kw)
     no_protocol_samples(so.floquet);
     const auto analysis = [&](const job_options& c) { return floquet_sweep(m, so, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const floquet_sweep_result& r) {
-        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
+        d["records"] = record_arrays(r.points, m);
     });
 }
 
@@ -152,7 +152,7 @@ py::dict lyapunov_sweep_run(const model& m, const py::dict& kw)
     so.lyapunov = lyapunov_of(m, o);
     const auto analysis = [&](const job_options& c) { return lyapunov_sweep(m, so, c); };
     return run_jobs(o, analysis, [&](py::dict& d, const lyapunov_sweep_result& r) {
-        d["records"] = record_arrays(r.points, m.surface_count(), m.dim());
+        d["records"] = record_arrays(r.points, m);
     });
 }
 

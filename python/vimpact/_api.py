@@ -273,9 +273,9 @@ def period(model, ic=None, *, tol=_D["period_tol"], section=None, declared):
 
 
 def _default_gap_parameter(model):
-    """The first parameter that moves a surface without entering the vector field, or None
-    (the library's rule for a sweep's grazing line)."""
-    p = model._handle.first_gap_parameter()
+    """The first parameter that moves a surface, else a switch, without entering the vector
+    field, or None (the library's rule for a sweep's grazing line and a response)."""
+    p = model._handle.first_grazing_parameter()
     return model.parameter_names[p] if p >= 0 else None
 
 

@@ -47,8 +47,10 @@ class RunFrames:
         return int(np.prod(shape)) if shape else len(np.asarray(self.records.get("label", self.records.get("value"))))
 
     def _labels(self, span):
-        """The names of the columns of a field of this span: its surfaces or state variables."""
-        return list({"per_surface": self.surfaces, "per_state": self.state_names}.get(span, ()))
+        """The names of the columns of a field of this span: its surfaces, switches or state
+        variables."""
+        return list({"per_surface": self.surfaces, "per_switch": self.switches,
+                     "per_state": self.state_names}.get(span, ()))
 
     def to_pandas(self, table="runs"):
         """A pandas DataFrame: ``"runs"`` (default), one row per run or grid cell in job order,
@@ -101,11 +103,14 @@ class RunFrames:
             if a.ndim == 2:
                 data[name] = (dims, a)
             elif a.ndim == 3:
-                extra = {"per_surface": "surface", "per_state": "state"}.get(spans.get(name), f"{name}_index")
+                extra = {"per_surface": "surface", "per_switch": "switch", "per_state": "state"}.get(spans.get(name),
+                                                                                                   f"{name}_index")
                 data[name] = (dims + (extra,), a)
         coords = {self.y: np.asarray(self.y_values, dtype=float), self.x: np.asarray(self.x_values, dtype=float)}
         if any(d[0][-1] == "surface" for d in data.values()):
             coords["surface"] = list(self.surfaces)
+        if any(d[0][-1] == "switch" for d in data.values()):
+            coords["switch"] = list(self.switches)
         if any(d[0][-1] == "state" for d in data.values()):
             coords["state"] = list(self.state_names)
         return xr.Dataset(data, coords=coords)

@@ -153,7 +153,7 @@ def _tabled(schema, table, tables):
             continue
         target = out.setdefault(c["group"], {}) if "group" in c else out
         values = _cells(table[c["name"]], c.get("type", "float"))
-        if "surface" in c or "state" in c:
+        if "surface" in c or "state" in c or "switch" in c:
             parts.setdefault((c.get("group"), c["field"]), (target, []))[1].append(values)
         else:
             target[c["field"]] = values
@@ -272,9 +272,9 @@ def _kind(f, shape):
     scalar = {"text": "str"}.get(f["type"], f["type"])
     if f["type"] == "group" or f["span"] == "series":
         return "dict" if f["type"] == "group" else "ndarray, float64, shape (points, dim)"
-    if not shape and f["span"] == "per_surface":
-        return f"dict, surface name -> {scalar}"
-    dims = ", ".join(d for d in (shape, {"per_surface": "surfaces", "per_state": "dim",
+    if not shape and f["span"] in ("per_surface", "per_switch"):
+        return f"dict, {f['span'][4:]} name -> {scalar}"
+    dims = ", ".join(d for d in (shape, {"per_surface": "surfaces", "per_switch": "switches", "per_state": "dim",
                                          "spectrum": "dim"}.get(f["span"])) if d)
     dtype = {"int": "int64", "float": "float64", "complex": "complex128"}.get(f["type"], scalar)
     return f"ndarray, {dtype}, shape ({dims}{'' if ',' in dims else ','})" if dims else scalar
@@ -667,7 +667,8 @@ class _Records(_Context, _ByName, RunFrames):
         run = cls._run(res, records, directory)
         result = cls.of(records, ctx, **_picked(cls, {k: v for k, v in res.items() if k not in run}), **run)
         result._schema = {(c["group"], c["field"]) if "group" in c else c["field"]: "per_surface" if "surface" in c
-                          else "per_state" if "state" in c else "one" for t in read_record(directory)["tables"].values()
+                          else "per_switch" if "switch" in c else "per_state" if "state" in c else "one"
+                          for t in read_record(directory)["tables"].values()
                           for c in t["columns"] if "field" in c}
         return result
 

@@ -145,6 +145,16 @@ int first_gap_parameter(const model& m)
     return -1;
 }
 
+int first_grazing_parameter(const model& m)
+{
+    if (const int p = first_gap_parameter(m); p >= 0) return p;
+    for (int k = 0; k < static_cast<int>(m.info().switches.size()); ++k) {
+        const auto w = switch_parameters(m, k);
+        if (!w.empty()) return w.front();
+    }
+    return -1;
+}
+
 int surface_moved_by(const model& m, int parameter)
 {
     for (int i = 0; i < m.surface_count(); ++i) {

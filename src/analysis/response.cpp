@@ -70,6 +70,10 @@ response_result response(const model& m, const response_options& o, const job_op
             p.grazing.push_back(s.parameter_value);
             p.margin.push_back(s.margin);
         }
+        for (const auto& s : g.switches) {
+            p.switch_grazing.push_back(s.parameter_value);
+            p.switch_margin.push_back(s.margin);
+        }
         p.converged = g.converged;
         p.status = g.status;
         p.stats = g.stats;

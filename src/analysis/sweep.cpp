@@ -128,6 +128,7 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
             p.branch = branch;
             p.value = o.values[static_cast<std::size_t>(i)];
             p.grazing.assign(static_cast<std::size_t>(m.surface_count()), std::numeric_limits<double>::quiet_NaN());
+            p.switch_grazing.assign(m.info().switches.size(), std::numeric_limits<double>::quiet_NaN());
             return p;
         };
         simulate_stream(
@@ -158,6 +159,7 @@ sweep_result sweep(const model& m, const sweep_options& o, const job_options& j,
                 if (o.grazing_parameter >= 0) {
                     const auto g = grazing(pj.m, ic, go);
                     for (std::size_t s = 0; s < g.surfaces.size(); ++s) p.grazing[s] = g.surfaces[s].parameter_value;
+                    for (std::size_t k = 0; k < g.switches.size(); ++k) p.switch_grazing[k] = g.switches[k].parameter_value;
                 }
                 done(pj.key, std::move(p));
             });

@@ -10,6 +10,7 @@ table_context table_context_for(const model_info& info, std::string axis, int gr
     if (grazing_parameter >= 0) c.grazing = info.parameters[static_cast<std::size_t>(grazing_parameter)].name;
     for (const auto& s : info.surfaces) c.surfaces.push_back(s.name);
     for (const auto& x : info.state) c.states.push_back(x.name);
+    for (const auto& w : info.switches) c.switches.push_back(w.name);
     return c;
 }
 
@@ -38,6 +39,16 @@ std::vector<std::string> column_names(const field& f, const table_context& c)
             std::string name = pattern;
             if (indexed) replace_all(name, "{index}", std::to_string(k + 1));
             else name += "_" + c.states[k];
+            out.push_back(std::move(name));
+        }
+        return out;
+    }
+    if (f.span == field_span::per_switch) {
+        const bool placed = pattern.find("{switch}") != std::string::npos;
+        for (const auto& w : c.switches) {
+            std::string name = pattern;
+            if (placed) replace_all(name, "{switch}", w);
+            else name += "_" + w;
             out.push_back(std::move(name));
         }
         return out;

@@ -14,6 +14,8 @@ from vimpact.results import read_csv
 # A short protocol keeps the whole comparison to a few seconds.
 Q = dict(transient=80, record=40)
 QA = ["--transient", "80", "--record", "40"]
+COMPLIANT_STOP = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "examples",
+                              "models", "compliant_stop.toml")
 
 
 def same(a, b):
@@ -254,15 +256,20 @@ def tabular(fields, group=None):
     ("basins", ["basins", "--set", "Ur=14.9", "--x", "y:-0.2:0.1:2", "--y", "ydot:0:0.1:2"]),
     ("response", ["response", "--param", "Ur", "--range", "5:6:2"]),
     ("floquet_sweep", ["floquet", "--param", "Ur", "--range", "16:17:2"]),
-    ("lyapunov_sweep", ["lyapunov", "--param", "Ur", "--range", "16:17:2", "--impacts", "20"])])
+    ("lyapunov_sweep", ["lyapunov", "--param", "Ur", "--range", "16:17:2", "--impacts", "20"]),
+    ("sweep", ["sweep", "--model", COMPLIANT_STOP, "--param", "F", "--range", "0.5:1:2", "--set", "d=3", "--grazing"]),
+    ("response", ["response", "--model", COMPLIANT_STOP, "--param", "omega", "--range", "0.6:1.2:2", "--set", "d=3"])])
 def test_the_described_records_are_the_tables_the_program_writes(cli, tmp_path, record, args):
     # The description the Python results document themselves from is the schema of the
-    # program's tables: the same fields, meanings, units and types.
+    # program's tables: the same fields, meanings, units and types; a field with a value per
+    # surface (switch) has columns where the model has surfaces (switches).
     out = tmp_path / "o"
     p = cli(*args, *(QA if record != "response" else []), "--out", out, "--no-plot")
     assert p.returncode == 0, p.stderr
-    columns = [c for t in vimpact.results.read_record(out)["tables"].values() for c in t["columns"] if "field" in c]
-    described = {(g, n): f for g, n, f in tabular(vimpact._vimpact.described[record])}
+    run = vimpact.results.read_record(out)
+    columns = [c for t in run["tables"].values() for c in t["columns"] if "field" in c]
+    has = {"per_surface": bool(run["model"]["surfaces"]), "per_switch": bool(run["model"].get("switches"))}
+    described = {(g, n): f for g, n, f in tabular(vimpact._vimpact.described[record]) if has.get(f["span"], True)}
     assert {(c.get("group"), c["field"]) for c in columns} == set(described)
     for c in columns:
         f = described[c.get("group"), c["field"]]

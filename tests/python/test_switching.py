@@ -125,6 +125,46 @@ def test_grazing_gives_each_switch_its_margin_and_grazing_value():
     assert "switch contact: d = " in repr(g)
 
 
+def free_amplitude(p, **changed):
+    """The amplitude of the compliant stop's switch-free orbit, the linear forced response."""
+    q = dict(p, **changed)
+    return q["F"] / math.sqrt((1 - q["omega"] ** 2) ** 2 + (2 * q["zeta"] * q["omega"]) ** 2)
+
+
+def test_a_sweep_gives_the_grazing_value_of_each_switch_at_every_point(cli, tmp_path):
+    """A sweep over F with its grazing line (the default parameter: d, which moves the switch
+    alone) gives at each point d_graze = X(F), the closed form; the command line writes it as
+    labels.csv's d_graze_contact, and Sweep.load reads it back."""
+    m = vimpact.Model(STOP, d=3.0)
+    F = np.linspace(0.5, 1.5, 5)
+    s = vimpact.sweep(m, "F", F, IC, grazing=True)
+    expected = np.array([free_amplitude(m.parameters, F=f) for f in F])
+    assert s.records["switch_grazing"].shape == (5, 1)
+    assert np.max(np.abs(s.records["switch_grazing"][:, 0] - expected)) < 1e-9
+    assert s.records["grazing"].shape == (5, 0)
+    p = cli("sweep", "--model", STOP, "--param", "F", "--range", "0.5:1.5:5", "--set", "d=3", "--ic", "0,0,0.5",
+            "--grazing", "--out", tmp_path / "s")
+    assert p.returncode == 0, p.stderr
+    with open(tmp_path / "s" / "labels.csv") as f:
+        assert "d_graze_contact" in f.readline().strip().split(",")
+    loaded = vimpact.Sweep.load(tmp_path / "s")
+    assert np.array_equal(loaded.records["switch_grazing"], s.records["switch_grazing"])
+    assert list(loaded.to_pandas().filter(like="switch_grazing").columns) == ["switch_grazing_contact"]
+
+
+def test_a_response_gives_each_switchs_grazing_value_and_margin():
+    """The switch-free response over omega: the amplitude, the switch's grazing value X(omega)
+    and margin d - X(omega), against the closed form."""
+    m = vimpact.Model(STOP, d=3.0)
+    omega = np.array([0.6, 0.8, 1.2, 1.5])
+    r = vimpact.response(m, "omega", omega, IC)
+    expected = np.array([free_amplitude(m.parameters, omega=w) for w in omega])
+    assert r.records["switch_grazing"].shape == (1, 4, 1)
+    assert np.max(np.abs(r.records["switch_grazing"][0, :, 0] - expected)) < 1e-8
+    assert np.max(np.abs(r.records["switch_margin"][0, :, 0] - (3.0 - expected))) < 1e-8
+    assert np.max(np.abs(r.amplitude[0] - expected)) < 1e-8
+
+
 def test_continuation_labels_the_grazing_of_a_switch():
     """The P1 branch of the compliant stop from d = 5 to 2 grazes the switch where d is the
     free orbit's amplitude X, and goes on."""

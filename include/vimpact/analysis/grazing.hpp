@@ -103,9 +103,11 @@ std::vector<int> switch_parameters(const model& m, int k);
 // P_graze of switch k at x*: the value of `parameter` with h_k(x*, P) = 0 (NaN as above).
 double switch_grazing_parameter_value(const model& m, int k, int parameter, const Eigen::VectorXd& x_star);
 
-// The first parameter that moves any surface without entering the vector field, -1 if none:
-// the default grazing parameter of a sweep's grazing line.
+// The first parameter that moves any surface without entering the vector field, -1 if none.
 int first_gap_parameter(const model& m);
+// first_gap_parameter, else the first that moves a switch (switch_parameters), -1 if none: the
+// default grazing parameter of a sweep's grazing line and of a response.
+int first_grazing_parameter(const model& m);
 // The first surface that `parameter` moves (gap_parameters), -1 if none.
 int surface_moved_by(const model& m, int parameter);
 // The gap of surface i at the model's initial state, its rest state (for the paper's barrier

@@ -2,8 +2,8 @@
 // The surface-free response (lock-in curves): over a range of one parameter, and for one or
 // more curves (sets of other parameter values), the surface-free run of the grazing analysis
 // and what it measures: the largest and smallest extremum of a state variable, its amplitude
-// max(|max|, |min|), its angular frequency, and each surface's grazing margin (or value of a
-// grazing parameter).
+// max(|max|, |min|), its angular frequency, and each surface's and switch's grazing margin
+// (or value of a grazing parameter); the switches' sides are held where the run starts.
 #include <limits>
 #include <utility>
 #include <vector>
@@ -44,6 +44,8 @@ struct response_point {
     double frequency = std::numeric_limits<double>::quiet_NaN();  // angular, in the model's time
     std::vector<double> grazing;    // per surface: the grazing parameter's value (NaN without one)
     std::vector<double> margin;     // per surface: the smallest gap on the orbit
+    std::vector<double> switch_grazing;  // per switch: the grazing parameter's value (NaN without one)
+    std::vector<double> switch_margin;   // per switch: the smallest side * h on the orbit
     bool converged = false;
     outcome status = outcome::ok;
     run_stats stats;
@@ -68,6 +70,14 @@ void describe(V& v, P& p)
     v(field{"margin", "smallest gap on the surface-free orbit per surface (negative: it crosses the surface)", "g",
             field_span::per_surface},
       p.margin);
+    v(field{"switch_grazing", "grazing value of the grazing parameter per switch", "parameter", field_span::per_switch,
+            "{grazing}_graze_{switch}"},
+      p.switch_grazing);
+    v(field{"switch_margin",
+            "smallest side * h of each switch on the switch-free orbit, the side of the start (negative: it crosses "
+            "the switch)",
+            "", field_span::per_switch},
+      p.switch_margin);
     v(field{"frequency", "angular frequency of the measured variable", "1/t"}, p.frequency);
     v(field{"converged", "the minima settled (false: a quasi-periodic response, say)"}, p.converged);
     v(field{"outcome", "ok, or how the run ended early"}, p.status);

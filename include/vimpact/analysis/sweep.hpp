@@ -4,7 +4,8 @@
 // Starts: fixed (every point from the same initial state, the paper's way) or followed (each
 // point from the final state of the previous one, continue_from below, so that a branch is
 // followed up and down; with direction both, the two branches run in parallel). Optionally the
-// grazing value of a parameter that moves the surfaces, per surface, at every point.
+// grazing value of a parameter that moves the surfaces, per surface and per switch, at every
+// point.
 #include <array>
 #include <vector>
 
@@ -72,6 +73,7 @@ struct sweep_point {
     state_series points;            // the recorded section points
     Eigen::VectorXd final_state;
     std::vector<double> grazing;    // per surface (grazing_parameter >= 0), NaN where none
+    std::vector<double> switch_grazing;  // per switch, the same
     run_stats stats;
     impact_statistics statistics;   // of the recorded window
 };
@@ -87,6 +89,9 @@ void describe(V& v, P& p)
     v(field{"grazing", "grazing value of the grazing parameter per surface (NaN: none or not asked)", "parameter",
             field_span::per_surface, "{grazing}_graze"},
       p.grazing);
+    v(field{"switch_grazing", "grazing value of the grazing parameter per switch (NaN: none or not asked)", "parameter",
+            field_span::per_switch, "{grazing}_graze_{switch}"},
+      p.switch_grazing);
     v.group(field{"statistics", "impact statistics of the recorded window"}, p.statistics);
     v(field{"points", "the recorded section points", "state", field_span::series}, p.points);
     v(field{"final_state", "the state at the end of the run (the next start when followed)", "state",

@@ -20,6 +20,7 @@ namespace vimpact {
 enum class field_span {
     one,          // one value
     per_surface,  // one value per surface of the model (a vector; missing entries read as 0 or NaN)
+    per_switch,   // one value per switching surface of the model (as per_surface)
     per_state,    // one value per state variable (a state vector)
     series,       // many timed states (a state_series): a table of its own, never a column
     spectrum,     // complex values, at most one per state variable (eigenvalues, in the record's
@@ -38,6 +39,8 @@ struct field {
     // that the run does not have is left out of the table), "{variable}" by the measured state
     // variable's; a per-surface field's columns are the name alone for one surface and
     // name_SURFACE for several, unless the name says where the surface goes with "{surface}";
+    // a per-switch field's are name_SWITCH (even for one: a model may have a surface too), or
+    // the pattern with "{switch}" replaced by the switch's name;
     // a per-state field's are name_STATE, or the pattern with "{index}" replaced by 1, 2, ...
     // (values in their own order, such as exponents by size, not one per state variable).
     std::string_view column;

@@ -25,6 +25,7 @@ struct table_context {
     std::vector<std::string> surfaces;  // the model's surfaces, in order
     std::string variable = {};          // the state variable a run measures ("{variable}")
     std::vector<std::string> states = {};  // the model's state variables (per-state fields)
+    std::vector<std::string> switches = {};  // the model's switching surfaces (per-switch fields)
 };
 
 struct model_info;
@@ -33,13 +34,15 @@ struct model_info;
 table_context table_context_for(const model_info& info, std::string axis, int grazing_parameter);
 
 // One column: its name in the file, the field (and group) it holds, the surface of a
-// per-surface field or the state of a per-state one, its type (int, float, bool or text) and what the field means.
+// per-surface field, the switch of a per-switch one or the state of a per-state one, its type
+// (int, float, bool or text) and what the field means.
 struct column_schema {
     std::string name;
     std::string field;
     std::string group;  // empty outside a group
     int surface = -1;   // a per-surface field's surface
     int state = -1;     // a per-state field's index
+    int switch_index = -1;  // a per-switch field's switch
     std::string type;
     std::string meaning;
     std::string unit;
@@ -55,6 +58,7 @@ inline std::size_t column_count(const field& f, const table_context& c)
     if (f.column.find("{grazing}") != std::string_view::npos && c.grazing.empty()) return 0;
     if (f.column.find("{axis}") != std::string_view::npos && c.axis.empty()) return 0;
     if (f.span == field_span::per_state) return c.states.size();
+    if (f.span == field_span::per_switch) return c.switches.size();
     return f.span == field_span::per_surface ? c.surfaces.size() : 1;
 }
 
@@ -83,8 +87,8 @@ struct schema_visitor {
         const auto at = [&](field_span s, std::size_t i) { return f.span == s ? static_cast<int>(i) : -1; };
         for (std::size_t i = 0; i < names.size(); ++i)
             columns.push_back({names[i], std::string(f.name), in_group, at(field_span::per_surface, i),
-                               at(field_span::per_state, i), column_type<T>(), std::string(f.meaning),
-                               std::string(f.unit)});
+                               at(field_span::per_state, i), at(field_span::per_switch, i), column_type<T>(),
+                               std::string(f.meaning), std::string(f.unit)});
     }
     template <class R>
     void group(const field& f, const R& r)
