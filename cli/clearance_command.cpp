@@ -83,8 +83,12 @@ int run_clearance(const clearance_args& a)
 
     json clearance_pairs = json::array(), aperiodic = json::array(), dimensionless = json::array();
     label_tally labels;
+    // The surface the gap parameter moves, or the switch (a compliant barrier: no crossing).
+    const bool on_switch = res.surface < 0;
+    const std::string target = on_switch ? info.switches[static_cast<std::size_t>(res.switch_index)].name
+                                         : info.surfaces[static_cast<std::size_t>(res.surface)].name;
     std::string text = "clearance over " + xname + (si ? "" : " (model units)") + ": the smallest gap to " +
-                       info.surfaces[static_cast<std::size_t>(res.surface)].name + " without impact\n";
+                       (on_switch ? "switch " + target + " without crossing\n" : target + " without impact\n");
     for (std::size_t k = 0; k < res.points.size(); ++k) {
         const auto& p = res.points[k];
         const auto& q = shown.points[k];
@@ -112,7 +116,8 @@ int run_clearance(const clearance_args& a)
                     {"param", pname},
                     {"x", xname},
                     {"gap_param", gname},
-                    {"surface", info.surfaces[static_cast<std::size_t>(res.surface)].name},
+                    {"surface", on_switch ? json(nullptr) : json(target)},
+                    {"switch", on_switch ? json(target) : json(nullptr)},
                     {"units", si ? "si" : "model"},
                     {"clearance", clearance_pairs},
                     {"aperiodic", aperiodic},

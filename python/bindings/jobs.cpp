@@ -183,7 +183,8 @@ py::dict clearance_run(const model& m, const py::dict& kw)
     };
     return run_jobs(o, analysis, [&](py::dict& d, const clearance_result& r) {
         d["gap_param"] = m.info().parameters[static_cast<std::size_t>(r.gap_parameter)].name;
-        d["surface"] = m.info().surfaces[static_cast<std::size_t>(r.surface)].name;
+        if (r.surface >= 0) d["surface"] = m.info().surfaces[static_cast<std::size_t>(r.surface)].name;
+        else d["switch"] = m.info().switches[static_cast<std::size_t>(r.switch_index)].name;
         put(d, r);
         if (!units) return;
         py::dict si;

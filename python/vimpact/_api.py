@@ -669,7 +669,7 @@ def clearance(model=None, param=None, values=None, ic=None, *, units=None, speed
     if units is not None:
         opts["units"] = units.inputs
     return Clearance.of(d, d.get("si"), param=param, x="U" if speed is not None else param, gap_param=d["gap_param"],
-                        surface=d["surface"], speed=speed, warnings=tuple(warnings), stats=_job_stats(d, report),
+                        surface=d.get("surface"), switch=d.get("switch"), speed=speed, warnings=tuple(warnings), stats=_job_stats(d, report),
                         jobs=report, **_context(model, opts))
 
 

@@ -31,7 +31,9 @@ class Clearance(_Context, _Labels, ClearanceFrames):
     param: str = _a("str", "The flow parameter (``Ur``).", "")
     x: str = _a("str", "The chart's horizontal quantity: ``U`` with speeds, else ``param``.", "")
     gap_param: str = _a("str", "The parameter that moves the surface (``sigma``).", "")
-    surface: str = _a("str", "The surface.", "")
+    surface: Optional[str] = _a("str or None", "The surface the gap parameter moves (None: it moves a switch).", "")
+    switch: Optional[str] = _a("str or None", "The switch the gap parameter moves when it moves no surface (a "
+                               "compliant barrier: the clearance is the smallest gap without crossing).")
     value: np.ndarray = _a("ndarray, float64, shape (n,)", "The flow parameter's values.")
     speed: Optional[np.ndarray] = _a("ndarray, float64, shape (n,), or None", "The flow speeds [m/s].")
     grazing_value: np.ndarray = _a("ndarray, float64, shape (n,)", "``gap_param`` at grazing.")
@@ -117,5 +119,6 @@ class Clearance(_Context, _Labels, ClearanceFrames):
                              statistics={k: column(ch, k + "_si") for k in res["statistics_columns"]}))
         return cls.of(dict(records=tables["clearance.csv"], cells=tables["chart.csv"], cell_point=point),
                       si if res["units"] == "si" else None,
-                      param=res["param"], x=res["x"], gap_param=res["gap_param"], surface=res["surface"],
+                      param=res["param"], x=res["x"], gap_param=res["gap_param"], surface=res.get("surface"),
+                      switch=res.get("switch"),
                       speed=column(cl, "U") if res["x"] == "U" else None, warnings=tuple(res["warnings"]), **ctx)

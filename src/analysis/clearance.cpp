@@ -55,15 +55,17 @@ clearance_result clearance(const model& m, const clearance_options& o, const job
     const int P = static_cast<int>(m.parameters().size());
     if (o.parameter < 0 || o.parameter >= P) throw input_error("clearance: flow parameter index out of range");
     if (o.values.empty()) throw input_error("clearance needs at least one value of the flow parameter");
-    const int G = o.gap_parameter >= 0 ? o.gap_parameter : first_gap_parameter(m);
+    const int G = o.gap_parameter >= 0 ? o.gap_parameter : first_grazing_parameter(m);
     if (G < 0)
         throw input_error("clearance: model " + m.name() +
-                          " has no parameter that moves a surface without entering the vector field");
+                          " has no parameter that moves a surface or switch without entering the vector field");
     if (G >= P) throw input_error("clearance: gap parameter index out of range");
     const int surface = surface_moved_by(m, G);
+    const int sw = surface < 0 ? switch_moved_by(m, G) : -1;
     const auto& names = m.info().parameters;
-    if (surface < 0)
-        throw input_error("clearance: parameter " + names[static_cast<std::size_t>(G)].name + " moves no surface");
+    if (surface < 0 && sw < 0)
+        throw input_error("clearance: parameter " + names[static_cast<std::size_t>(G)].name +
+                          " moves no surface or switch");
     if (G == o.parameter)
         throw input_error("clearance: the flow parameter " + names[static_cast<std::size_t>(G)].name +
                           " is the gap parameter");
@@ -100,18 +102,27 @@ clearance_result clearance(const model& m, const clearance_options& o, const job
         p.value = o.values[static_cast<std::size_t>(job)];
         const model mv = m.with_parameter(o.parameter, p.value);
         const grazing_result g = grazing(mv, ic, go);
-        const surface_grazing& sg = g.surfaces[static_cast<std::size_t>(surface)];
+        const surface_grazing& sg = surface >= 0 ? g.surfaces[static_cast<std::size_t>(surface)]
+                                                 : g.switches[static_cast<std::size_t>(sw)];
         p.converged = sg.converged && g.status == outcome::ok;
         p.grazing_value = sg.parameter_value;
-        if (const auto at_grazing = with_value(mv, G, p.grazing_value)) p.clearance = rest_gap(*at_grazing, surface);
+        const Eigen::VectorXd rest = mv.initial_state();
+        // A switch's gap is on the side the runs start on (the side its grazing margin has).
+        const double side = surface >= 0 ? 1.0 : switch_side_at(mv, sw, ic);
+        const auto gap_for = [&](double gap) {
+            return surface >= 0 ? parameter_for_gap(mv, surface, G, rest, gap)
+                                : switch_parameter_for_gap(mv, sw, G, rest, side, gap);
+        };
+        if (const auto at_grazing = with_value(mv, G, p.grazing_value))
+            p.clearance = surface >= 0 ? rest_gap(*at_grazing, surface)
+                                       : side * at_grazing->table().switching(at_grazing->context(), sw, rest.data());
         std::vector<double> gaps = o.gaps;
         if (gaps.empty() && std::isfinite(p.clearance) && p.clearance > 0.0)
             for (const double f : o.fractions) gaps.push_back(f * p.clearance);
-        const Eigen::VectorXd rest = mv.initial_state();
         for (const double gap : gaps) {
             clearance_cell cell;
             cell.gap = gap;
-            cell.gap_parameter_value = parameter_for_gap(mv, surface, G, rest, gap);
+            cell.gap_parameter_value = gap_for(gap);
             const auto mg = with_value(mv, G, cell.gap_parameter_value);
             if (!mg || violated_surface(*mg, ic) >= 0) {
                 cell.status = outcome::inadmissible;
@@ -133,6 +144,7 @@ clearance_result clearance(const model& m, const clearance_options& o, const job
     clearance_result res;
     res.gap_parameter = G;
     res.surface = surface;
+    res.switch_index = sw;
     const long n = static_cast<long>(o.values.size());
     res.jobs = detail::run_journaled<clearance_point>(spec, {n, 0}, j, run, encode, decode,
                                                       [&](long, clearance_point&& p) { res.points.push_back(std::move(p)); });

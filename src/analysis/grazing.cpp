@@ -164,6 +164,24 @@ int surface_moved_by(const model& m, int parameter)
     return -1;
 }
 
+int switch_moved_by(const model& m, int parameter)
+{
+    for (int k = 0; k < static_cast<int>(m.info().switches.size()); ++k) {
+        const auto w = switch_parameters(m, k);
+        if (std::find(w.begin(), w.end(), parameter) != w.end()) return k;
+    }
+    return -1;
+}
+
+double switch_side_at(const model& m, int k, const Eigen::VectorXd& x) { return switching_at(m, k, x) >= 0.0 ? 1.0 : -1.0; }
+
+double switch_parameter_for_gap(const model& m, int k, int parameter, const Eigen::VectorXd& x, double side,
+                                double target)
+{
+    return parameter_root(m, parameter, x, target,
+                          [k, side](const model& mm, const Eigen::VectorXd& y) { return side * switching_at(mm, k, y); });
+}
+
 double rest_gap(const model& m, int surface) { return gap_at(m, surface, m.initial_state()); }
 
 double grazing_parameter_value(const model& m, int surface, int parameter, const Eigen::VectorXd& x_star)

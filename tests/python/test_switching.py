@@ -165,6 +165,27 @@ def test_a_response_gives_each_switchs_grazing_value_and_margin():
     assert np.max(np.abs(r.amplitude[0] - expected)) < 1e-8
 
 
+def test_the_clearance_of_a_compliant_stop_is_the_free_amplitude(cli_json):
+    """Clearance design with a switch for a barrier: at each omega the smallest gap without a
+    crossing is the free response's amplitude X(omega) (the stop's d at grazing, from the rest
+    state y = 0). Below resonance the chart's cells beyond it never touch the stop (P0) while
+    those inside do; above it (omega = 1.2) the stiffening stop has a contacting orbit beside
+    the free one, which the start's transient can reach from just beyond the clearance, so
+    there only the cells inside are checked. The command line says so of the switch."""
+    m = vimpact.Model(STOP)
+    omega = np.array([0.6, 0.8, 1.2])
+    c = vimpact.clearance(m, param="omega", values=omega, ic=IC)
+    assert c.switch == "contact" and c.surface is None and c.gap_param == "d"
+    expected = np.array([free_amplitude(m.parameters, omega=w) for w in omega])
+    assert np.max(np.abs(c.clearance - expected)) < 1e-8
+    fractions = c.gap / c.clearance[:, None]
+    assert np.all((c.label[:2] == "P0") == (fractions[:2] > 1.0 + 1e-9)), c.label
+    assert np.all(c.label[fractions < 1.0 - 1e-9] != "P0"), c.label
+    j = cli_json("clearance", "--model", STOP, "--param", "omega", "--range", "0.6:1.2:2", "--ic", "0,0,0.5")
+    assert j["switch"] == "contact" and j["surface"] is None
+    assert abs(j["clearance"][0][1] - free_amplitude(m.parameters, omega=0.6)) < 1e-8
+
+
 def test_continuation_labels_the_grazing_of_a_switch():
     """The P1 branch of the compliant stop from d = 5 to 2 grazes the switch where d is the
     free orbit's amplitude X, and goes on."""

@@ -1,6 +1,8 @@
 #pragma once
 // Clearance design: along a range of one parameter (the paper's Ur, a flow speed), the
-// smallest gap to a surface with no impact, and the response over a chart of gaps.
+// smallest gap to a surface with no impact, and the response over a chart of gaps. The
+// surface may be a switch (a compliant barrier): its gap is side * h, the side being that of
+// the initial state, and "no impact" is no crossing.
 //
 // Gaps are measured from the rest state (the model's initial state) to the surface moved by
 // the gap parameter G (the paper's sigma: gap = -sigma; rest_gap). At each value P of the
@@ -31,7 +33,7 @@ std::vector<double> default_clearance_fractions();
 struct clearance_options {
     int parameter = -1;  // the flow parameter
     value_grid values;
-    int gap_parameter = -1;          // -1: the first that moves a surface (first_gap_parameter)
+    int gap_parameter = -1;          // -1: the first that moves a surface, else a switch (first_grazing_parameter)
     std::vector<double> gaps;        // the chart's gaps (model units); empty: fractions
     std::vector<double> fractions = default_clearance_fractions();
     Eigen::VectorXd initial_state;   // empty: the model's
@@ -96,13 +98,14 @@ void describe(V& v, P& p)
 
 struct clearance_result {
     int gap_parameter = -1;
-    int surface = -1;
+    int surface = -1;       // the surface the gap parameter moves, or -1 and
+    int switch_index = -1;  // the switch it moves
     std::vector<clearance_point> points;  // job order: the values in order
     job_report jobs;
 };
 
-// Throws input_error for bad options: no parameter that moves a surface, a flow parameter
-// that moves one, negative gaps or fractions.
+// Throws input_error for bad options: no parameter that moves a surface or switch, a flow
+// parameter that moves one, negative gaps or fractions.
 clearance_result clearance(const model& m, const clearance_options& o, const job_options& j = {});
 
 }  // namespace vimpact

@@ -110,6 +110,15 @@ int first_gap_parameter(const model& m);
 int first_grazing_parameter(const model& m);
 // The first surface that `parameter` moves (gap_parameters), -1 if none.
 int surface_moved_by(const model& m, int parameter);
+// The first switch that `parameter` moves (switch_parameters), -1 if none.
+int switch_moved_by(const model& m, int parameter);
+// The side of switch k at x: +1 where h_k(x) >= 0, else -1 (where h_k = 0 the flow also asks
+// which way the field goes; a rest state lies off the switch).
+double switch_side_at(const model& m, int k, const Eigen::VectorXd& x);
+// The value of `parameter` with side * h_k(x, P) = target: the distance `target` on the side
+// `side` of switch k (NaN as for grazing_parameter_value).
+double switch_parameter_for_gap(const model& m, int k, int parameter, const Eigen::VectorXd& x, double side,
+                                double target);
 // The gap of surface i at the model's initial state, its rest state (for the paper's barrier
 // y - sigma at y = 0: -sigma): the distance to the surface that SI gaps and clearances measure.
 double rest_gap(const model& m, int surface);
