@@ -237,12 +237,15 @@ int run_map(const map_args& a)
         for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
             json e = json::array({res.grazing_other[k]});
             for (const double g : res.grazing_values[k]) e.push_back(finite_or_null(g));
+            for (const double g : res.grazing_switch_values[k]) e.push_back(finite_or_null(g));
             grazing.push_back(std::move(e));
         }
         summary["grazing"] = grazing;
         summary["grazing_param"] = info.parameters[static_cast<std::size_t>(gp)].name;
         summary["grazing_surfaces"] = json::array();
         for (const auto& s : info.surfaces) summary["grazing_surfaces"].push_back(s.name);
+        summary["grazing_switches"] = json::array();
+        for (const auto& s : info.switches) summary["grazing_switches"].push_back(s.name);
     }
     std::string text = "map " + mx.name + " x " + my.name + " (" + std::to_string(nx) + " x " + std::to_string(ny) +
                        "): " + counts_text(counts) + "\n" + unsettled_text(unsettled);
@@ -251,10 +254,14 @@ int run_map(const map_args& a)
         if (gp >= 0) {
             std::vector<std::string> gh{other};
             append(gh, grazing_columns(m, gp));
+            const std::size_t surfaces_end = gh.size();
+            for (const auto& s : info.switches) gh.push_back(info.parameters[static_cast<std::size_t>(gp)].name + "_graze_" + s.name);
             g.emplace(stream, "grazing.csv", gh, json());
             for (std::size_t k = 0; k < res.grazing_other.size(); ++k) {
                 std::vector<double> grow{res.grazing_other[k]};
                 grow.insert(grow.end(), res.grazing_values[k].begin(), res.grazing_values[k].end());
+                grow.resize(surfaces_end, std::nan(""));
+                grow.insert(grow.end(), res.grazing_switch_values[k].begin(), res.grazing_switch_values[k].end());
                 grow.resize(gh.size(), std::nan(""));
                 g->row(grow);
             }

@@ -73,6 +73,7 @@ py::dict map_run(const model& m, const py::dict& kw)
         d["grazing_axis"] = r.grazing_axis;
         d["grazing_other"] = vector_array(r.grazing_other);
         d["grazing"] = per_surface(r.grazing_values, m.surface_count());
+        d["switch_grazing"] = per_surface(r.grazing_switch_values, static_cast<int>(m.info().switches.size()));
     });
 }
 

@@ -445,7 +445,8 @@ def map(model, x, y, ic=None, *, section=None, threads=_D["threads"], batch=0, j
     Map
         ``label``, ``period``, ``impacts``, ``closure``, ``outcome``, ``steps`` of shape
         (ny, nx) (``[iy, ix]``), ``impacts_by_surface`` (ny, nx, surfaces); with grazing
-        ``grazing_param``, ``grazing_other`` (k,) and ``grazing`` (k, surfaces); ``jobs``.
+        ``grazing_param``, ``grazing_other`` (k,), ``grazing`` (k, surfaces) and
+        ``switch_grazing`` (k, switches); ``jobs``.
     """
     model = _model(model)
     xname, xs = _axis(x, "x")
@@ -461,7 +462,7 @@ def map(model, x, y, ic=None, *, section=None, threads=_D["threads"], batch=0, j
                   x_values=xs.copy(), y_values=ys.copy(), tol=declared["tol"],
                   grazing_param=None if axis < 0 else (yname if axis == 1 else xname),
                   grazing_other=None if axis < 0 else d["grazing_other"], grazing=None if axis < 0 else d["grazing"],
-                  stats=_job_stats(d, report), jobs=report)
+                  switch_grazing=None if axis < 0 else d["switch_grazing"], stats=_job_stats(d, report), jobs=report)
 
 
 @_with_defaults

@@ -726,6 +726,8 @@ class Map(_Grid, _Labels):
     grazing: Optional[np.ndarray] = _a("ndarray, float64, shape (k, surfaces), or None", "The grazing value of "
                                        "``grazing_param`` per surface at each of them: the boundary between "
                                        "impacting and surface-free motion.")
+    switch_grazing: Optional[np.ndarray] = _a("ndarray, float64, shape (k, switches), or None", "The same per "
+                                              "switch: the boundary between crossing and switch-free motion.")
 
     def __repr__(self):
         return f"Map({self.x} x {self.y}, {len(self.x_values)} x {len(self.y_values)}: {self._counts_text()})"
@@ -733,9 +735,12 @@ class Map(_Grid, _Labels):
     @staticmethod
     def _run(res, records, directory):
         run, path = {}, os.path.join(directory, "grazing.csv")
-        if os.path.exists(path):  # the other axis, then the grazing value per surface
+        if os.path.exists(path):  # the other axis, then the grazing value per surface, then per switch
             run["grazing_other"], *cols = read_csv(path).values()
-            run["grazing"] = np.column_stack(cols) if len(run["grazing_other"]) else np.empty((0, len(cols)))
+            s = len(res["grazing_surfaces"])
+            for name, part in (("grazing", cols[:s]), ("switch_grazing", cols[s:])):
+                run[name] = np.column_stack(part) if len(run["grazing_other"]) and part else np.empty(
+                    (len(run["grazing_other"]), len(part)))
         return run
 
 

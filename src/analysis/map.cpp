@@ -16,6 +16,7 @@ using detail::json;
 struct map_record {
     map_cell cell;
     std::vector<double> grazing;  // per surface, on the jobs that compute the grazing line
+    std::vector<double> switch_grazing;  // per switch, the same
 };
 
 template <class V, record_of<map_record> R>
@@ -25,15 +26,14 @@ void describe(V& v, R& r)
     v(field{"grazing", "grazing values per surface, on the jobs of the grazing line", "parameter",
             field_span::per_surface},
       r.grazing);
+    v(field{"switch_grazing", "grazing values per switch, on the jobs of the grazing line", "parameter",
+            field_span::per_switch},
+      r.switch_grazing);
 }
 
 bool moves_a_surface(const model& m, int parameter)
 {
-    for (int i = 0; i < m.surface_count(); ++i) {
-        const auto g = gap_parameters(m, i);
-        if (std::find(g.begin(), g.end(), parameter) != g.end()) return true;
-    }
-    return false;
+    return surface_moved_by(m, parameter) >= 0 || switch_moved_by(m, parameter) >= 0;
 }
 
 }  // namespace
@@ -68,8 +68,8 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
         if (moves_a_surface(m, o.y.parameter)) grazing_axis = 1;
         else if (moves_a_surface(m, o.x.parameter)) grazing_axis = 0;
         else
-            throw input_error("the grazing line needs an axis parameter that moves a surface without entering the "
-                              "vector field (" + xname + " and " + yname + " do not)");
+            throw input_error("the grazing line needs an axis parameter that moves a surface or switch without "
+                              "entering the vector field (" + xname + " and " + yname + " do not)");
     }
     grazing_options go = job_grazing_options(o.protocol.flow.integration);
     go.method = o.protocol.method;
@@ -112,6 +112,7 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
                 if (computes_grazing(pj.key % nx, pj.key / nx)) {
                     const auto g = grazing(pj.m, ic, go);
                     for (const auto& s : g.surfaces) rec.grazing.push_back(s.parameter_value);
+                    for (const auto& s : g.switches) rec.switch_grazing.push_back(s.parameter_value);
                 }
                 done(pj.key, std::move(rec));
             });
@@ -127,6 +128,7 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
             res.grazing_other.push_back(grazing_axis == 1 ? o.x.values[static_cast<std::size_t>(job % nx)]
                                                           : o.y.values[static_cast<std::size_t>(job / nx)]);
             res.grazing_values.push_back(r.grazing);
+            res.grazing_switch_values.push_back(r.switch_grazing);
         }
         if (each) each(job, r.cell);
         else res.cells.push_back(std::move(r.cell));

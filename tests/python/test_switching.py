@@ -152,6 +152,23 @@ def test_a_sweep_gives_the_grazing_value_of_each_switch_at_every_point(cli, tmp_
     assert list(loaded.to_pandas().filter(like="switch_grazing").columns) == ["switch_grazing_contact"]
 
 
+def test_a_maps_grazing_line_gives_each_switchs_grazing_value(cli, tmp_path):
+    """A map over F x d with its grazing line (d moves the switch): d_graze = X(F) at each F,
+    from Python and from the command line's grazing.csv read back by Map.load."""
+    m = vimpact.Model(STOP)
+    F, d = np.array([0.5, 1.0, 1.5]), np.array([2.0, 3.0])
+    g = vimpact.map(m, ("F", F), ("d", d), IC, grazing=True)
+    expected = np.array([free_amplitude(m.parameters, F=f) for f in F])
+    assert g.grazing_param == "d" and g.grazing.shape == (3, 0) and g.switch_grazing.shape == (3, 1)
+    assert np.array_equal(g.grazing_other, F)
+    assert np.max(np.abs(g.switch_grazing[:, 0] - expected)) < 1e-9
+    p = cli("map", "--model", STOP, "--x", "F:0.5:1.5:3", "--y", "d:2:3:2", "--ic", "0,0,0.5", "--grazing", "--out",
+            tmp_path / "m")
+    assert p.returncode == 0, p.stderr
+    loaded = vimpact.Map.load(tmp_path / "m")
+    assert np.array_equal(loaded.switch_grazing, g.switch_grazing) and loaded.grazing.shape == (3, 0)
+
+
 def test_a_response_gives_each_switchs_grazing_value_and_margin():
     """The switch-free response over omega: the amplitude, the switch's grazing value X(omega)
     and margin d - X(omega), against the closed form."""

@@ -56,10 +56,11 @@ void describe(V& v, C& c)
 struct map_result {
     std::vector<map_cell> cells;  // job order: cell (ix, iy) is job ix + nx iy (a complete run)
     // The grazing line: for each value of the other axis, the grazing value of the axis
-    // parameter per surface (NaN where none).
+    // parameter per surface and per switch (NaN where none).
     int grazing_axis = -1;        // 0: x is the grazing parameter, 1: y
     std::vector<double> grazing_other;
     std::vector<std::vector<double>> grazing_values;
+    std::vector<std::vector<double>> grazing_switch_values;  // per switch, the same
     job_report jobs;
 };
 
