@@ -242,7 +242,10 @@ int run_continue(const continue_args& a)
     for (std::size_t i = 0; i < curves.size(); ++i) {
         const auto& cv = curves[i];
         text += "curve " + std::to_string(i) + " of bifurcation " + std::to_string(cv.origin) + " (" +
-                std::string(to_string(cv.type)) + ") in (" + pname + ", " + pname2 + "): " +
+                std::string(to_string(cv.type)) +
+                (cv.switch_surface >= 0 ? " of switch " + info.switches[static_cast<std::size_t>(cv.switch_surface)].name
+                                        : std::string()) +
+                ") in (" + pname + ", " + pname2 + "): " +
                 std::to_string(cv.points.size()) + " points";
         if (!cv.points.empty())
             text += ", " + pname2 + " " + format_double(cv.points.front().parameter2) + " .. " +

@@ -132,6 +132,7 @@ class Curve:
     type: str = ""
     origin: int = 0
     surface: Optional[str] = None
+    switch: Optional[str] = None  #: a switch's grazing: the switch
     start: int = 0
     end_backward: str = ""
     end_forward: str = ""
@@ -226,7 +227,8 @@ class Continuation(_Context, BranchFrames):
             crossings_after=b.get("crossings_after"), time=b["time"], sequence_before=tuple(b["sequence_before"]), sequence_after=tuple(b["sequence_after"]))
             for b in result["bifurcations"]]
         curves = [Curve(
-            type=c["type"], origin=c["origin"], surface=c["surface"], start=c["start"], end_backward=c["end_backward"],
+            type=c["type"], origin=c["origin"], surface=c["surface"], switch=c.get("switch"), start=c["start"],
+            end_backward=c["end_backward"],
             end_forward=c["end_forward"], failure=c["failure"], param=_floats(p["param"] for p in c["points"]),
             param2=_floats(p["param2"] for p in c["points"]), period=_floats(p["period"] for p in c["points"]),
             closure=_floats(p["closure"] for p in c["points"]), condition=_floats(p["condition"] for p in c["points"]),

@@ -54,14 +54,17 @@ namespace {
 
 // The bifurcation condition g(u) and the periodic-orbit equations as one arclength system in
 // u = (z, p, q). The border (fold, period doubling) and the grazing window follow the curve:
-// they are renewed at each accepted point, which changes g's scale but not its zeros.
+// they are renewed at each accepted point, which changes g's scale but not its zeros. A
+// switch's grazing (switch_surface >= 0) needs neither: g is the extremum of its switching
+// function nearest 0 on the orbit.
 class curve_system {
 public:
-    curve_system(orbit_system sys, bifurcation_type type, grazing_window window)
-        : m_sys(std::move(sys)), m_type(type), m_window(window)
+    curve_system(orbit_system sys, bifurcation_type type, grazing_window window, int switch_surface = -1)
+        : m_sys(std::move(sys)), m_type(type), m_window(window), m_switch(switch_surface)
     {
-        if (m_type == bifurcation_type::grazing) m_sys = m_sys.with_absent(m_window);
+        if (surface_grazing()) m_sys = m_sys.with_absent(m_window);
     }
+    [[nodiscard]] bool surface_grazing() const { return m_type == bifurcation_type::grazing && m_switch < 0; }
 
     [[nodiscard]] const orbit_system& orbits() const { return m_sys; }
     [[nodiscard]] int unknowns() const { return m_sys.chart_size() + 2; }
@@ -77,6 +80,7 @@ public:
     // The border: B's singular vectors for its smallest singular value.
     void renew(const orbit_map_value& o)
     {
+        if (m_type == bifurcation_type::grazing && m_switch >= 0) return;
         if (m_type == bifurcation_type::grazing) {
             if (const auto gm = grazing_minimum(o, m_window)) {
                 const grazing_window w = window_around(o, m_window.surface, gm->t);
@@ -95,7 +99,8 @@ public:
     [[nodiscard]] std::optional<double> condition(const orbit_map_value& o) const
     {
         if (!o.ok()) return std::nullopt;
-        if (m_type == bifurcation_type::grazing) return grazing_test(o, m_window);
+        if (m_type == bifurcation_type::grazing)
+            return m_switch >= 0 ? nearest_switch_extremum(o, m_switch) : grazing_test(o, m_window);
         const Eigen::MatrixXd B = singular_matrix(o);
         const Eigen::Index n = B.rows();
         Eigen::MatrixXd A(n + 1, n + 1);
@@ -176,6 +181,7 @@ private:
     orbit_system m_sys;
     bifurcation_type m_type;
     grazing_window m_window;
+    int m_switch = -1;
     Eigen::VectorXd m_b, m_c;
 };
 
@@ -214,13 +220,12 @@ bifurcation_curve continue_bifurcation(const model& m, const continuation_result
     const bifurcation& b = r.bifurcations[static_cast<std::size_t>(index)];
     if (b.type == bifurcation_type::neimark_sacker)
         throw input_error("curves of Neimark-Sacker points are not computed (fold, period_doubling, grazing)");
-    if (b.switch_surface >= 0)
-        throw input_error("curves of the grazing of a switch are not computed (only of an impact surface)");
     const continuation_branch& br = r.branches[static_cast<std::size_t>(b.branch)];
     bifurcation_curve out;
     out.type = b.type;
     out.origin = index;
     out.surface = b.surface;
+    out.switch_surface = b.switch_surface;
 
     orbit_map_request rq;
     rq.section = o.protocol.section.index;
@@ -235,7 +240,7 @@ bifurcation_curve continue_bifurcation(const model& m, const continuation_result
     u << chart_of(b.point.state, br.chart_coordinate), b.parameter, m.parameters()[static_cast<std::size_t>(c.parameter2)];
 
     grazing_window window;
-    if (b.type == bifurcation_type::grazing) {
+    if (b.type == bifurcation_type::grazing && b.switch_surface < 0) {
         const auto w = window_of(orbits, u, b);
         if (!w) {
             out.failure = outcome::not_converged;
@@ -243,7 +248,7 @@ bifurcation_curve continue_bifurcation(const model& m, const continuation_result
         }
         window = *w;
     }
-    curve_system system(orbits, b.type, window);
+    curve_system system(orbits, b.type, window, b.switch_surface);
     const arc_system f = system.as_function();
     const orbit_map_value o0 = system.orbits().map(u, true);
     if (!o0.ok()) {
@@ -292,11 +297,9 @@ std::vector<bifurcation_curve> continue_bifurcations(const model& m, const conti
                                                      const continuation_options& o, const curve_options& c, int threads)
 {
     validate(m, o, c);
-    // A switch's grazing has no curve yet (continue_bifurcation refuses it): left out.
     std::vector<int> chosen;
     for (std::size_t i = 0; i < r.bifurcations.size(); ++i)
-        if (std::find(c.types.begin(), c.types.end(), r.bifurcations[i].type) != c.types.end() &&
-            r.bifurcations[i].switch_surface < 0)
+        if (std::find(c.types.begin(), c.types.end(), r.bifurcations[i].type) != c.types.end())
             chosen.push_back(static_cast<int>(i));
     std::vector<bifurcation_curve> out(chosen.size());
     job_loop_options jo;

@@ -603,16 +603,6 @@ private:
         return t;
     }
 
-    // The extremum of switching function k on the orbit that lies nearest 0, signed: it goes
-    // through 0 where the orbit starts or stops crossing the switch there.
-    static std::optional<double> nearest_switch_extremum(const orbit_map_value& o, int k)
-    {
-        std::optional<double> best;
-        for (const auto& e : o.switch_extrema)
-            if (e.k == k && (!best || std::abs(e.h) < std::abs(*best))) best = e.h;
-        return best;
-    }
-
     // The grazing of switch k between consecutive points a and b whose orbits cross it a
     // different number of times, located on the branch; none when the test does not change
     // sign there.

@@ -176,6 +176,14 @@ std::optional<gap_minimum_record> grazing_minimum(const orbit_map_value& o, cons
     return best;
 }
 
+std::optional<double> nearest_switch_extremum(const orbit_map_value& o, int k)
+{
+    std::optional<double> best;
+    for (const auto& e : o.switch_extrema)
+        if (e.k == k && (!best || std::abs(e.h) < std::abs(*best))) best = e.h;
+    return best;
+}
+
 std::optional<double> grazing_test(const orbit_map_value& o, const grazing_window& w)
 {
     const auto m = grazing_minimum(o, w);

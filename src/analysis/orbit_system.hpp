@@ -109,6 +109,11 @@ std::optional<double> grazing_test(const orbit_map_value& o, const grazing_windo
 // That minimum itself (its time, surface and gap).
 std::optional<gap_minimum_record> grazing_minimum(const orbit_map_value& o, const grazing_window& w);
 
+// The test function of a switch's grazing: the extremum of switching function k on the orbit
+// that lies nearest 0, signed. It goes through 0 where the orbit starts or stops crossing the
+// switch there (the flow is continuous: no window, nothing absent). None without one.
+std::optional<double> nearest_switch_extremum(const orbit_map_value& o, int k);
+
 // Both maps ok with the same impacts in the same order: a difference between them is smooth.
 bool same_impacts(const orbit_map_value& a, const orbit_map_value& b);
 

@@ -136,6 +136,8 @@ json continuation_json(const model& m, const continuation_options& o, const cont
         cj.push_back({{"type", std::string(to_string(cv.type))},
                       {"origin", cv.origin},
                       {"surface", surface_of(cv.surface, info)},
+                      {"switch", cv.switch_surface >= 0 ? json(info.switches[static_cast<std::size_t>(cv.switch_surface)].name)
+                                                        : json(nullptr)},
                       {"start", cv.start},
                       {"end_backward", std::string(to_string(cv.end_backward))},
                       {"end_forward", std::string(to_string(cv.end_forward))},

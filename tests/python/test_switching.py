@@ -216,6 +216,20 @@ def test_continuation_labels_the_grazing_of_a_switch():
     assert "(switch contact)" in repr(g)
 
 
+def test_the_curve_of_a_switchs_grazing_is_the_free_amplitude_line():
+    """The switch's grazing followed in (d, F): the orbit touches y = d where d is the free
+    response's amplitude X(F), a straight line through 0 in the plane; every point of the
+    curve lies on it, and the curve spans the box of F it was given."""
+    m = vimpact.Model(STOP, d=5.0)
+    c = vimpact.continuation(m, "d", (5.0, 1.0), IC, param2="F", range2=(0.6, 1.6))
+    [k] = [i for i, b in enumerate(c.bifurcations) if b.type == "grazing"]
+    [curve] = [cv for cv in c.curves if cv.origin == k]
+    assert curve.switch == "contact" and curve.surface is None and curve.failure == "ok"
+    expected = np.array([free_amplitude(m.parameters, F=f) for f in curve.param2])
+    assert len(curve.param) > 5 and np.max(np.abs(curve.param - expected)) < 1e-8
+    assert curve.param2.min() < 0.65 and curve.param2.max() > 1.55
+
+
 def test_the_steppable_systems_give_each_calls_crossings():
     """HybridSystem and SectionSystem list the crossings of switches of each call, as their
     impacts: the compliant stop's, on y = d with the state unchanged, together those of

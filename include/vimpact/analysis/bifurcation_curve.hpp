@@ -47,7 +47,8 @@ struct curve_point {
 struct bifurcation_curve {
     bifurcation_type type = bifurcation_type::fold;
     int origin = -1;           // the bifurcation it starts from (continuation_result::bifurcations)
-    int surface = -1;          // grazing: the surface
+    int surface = -1;          // grazing: the surface, or -1 and
+    int switch_surface = -1;   // the switch
     // In order along the curve; the starting point is the one nearest to the origin's q
     // (both directions are followed from it).
     std::vector<curve_point> points;
