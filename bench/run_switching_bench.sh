@@ -5,7 +5,9 @@
 # 9 runs each, interleaved. Goal: the switch's runs no slower than the impact's (<= 1, within
 # the noise). The same pair as model files, 16 jobs each, in SIMD lanes and one at a time: the
 # lanes' speed-up for a model with switches (goal: at least the impacting model's), and the
-# switch's jobs against the impact's in lanes (goal <= 1). Writes the tables to bench/output/switching.md.
+# switch's jobs against the impact's in lanes (goal <= 1). And the compliant stop located (a
+# switch) against the same law unlocated (a ternary in a C++ definition): error and time.
+# Writes the tables to bench/output/switching.md.
 # Usage: bash bench/run_switching_bench.sh
 #   BUILD_DIR=DIR (default build): the build directory to configure, build and run.
 set -euo pipefail
@@ -58,4 +60,11 @@ q = s["real_time"] / i["real_time"]
 same = int(s["steps"]) == int(i["steps"]) and int(s["switchings"]) == int(i["impacts"])
 print(f"| in lanes, switch / impact | {q:.3f} | <= 1 with the same steps and events: "
       f"{'met' if q <= 1.0 and same else 'NOT met'}{'' if same else ' (steps or events differ)'} |")
+print()
+print("| compliant stop, 100 strobe points | median wall [ms] | steps | rejected | largest error |")
+print("|---|---|---|---|---|")
+for kind in ("located", "unlocated"):
+    r = b[f"stop/{kind}"]
+    name = "a switch (located)" if kind == "located" else "a ternary (unlocated)"
+    print(f"| {name} | {r['real_time']:.2f} | {int(r['steps'])} | {int(r['rejected'])} | {r['error']:.2e} |")
 PY

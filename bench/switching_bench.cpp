@@ -20,6 +20,11 @@
 // impact's in lanes (goal <= 1, as alone). Their forcing is a linear oscillator (c, s) =
 // (cos, sin) of the phase, not cos(phi): the lanes compute a transcendental function lane by
 // lane, so a field that calls one per step gains little from them, impacts or switches.
+// Last, what locating a kink buys: the compliant stop (a spring-dashpot stop at y = d) as a
+// switch, and the same law written with a ternary (`y > d ? force : 0`) in a C++ definition,
+// which the integrator steps across unlocated; the first 100 strobe points from rest at the
+// default tolerance against a reference (the switch at rtol = atol = 1e-13): the largest
+// error of a point and the time.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -98,7 +103,88 @@ struct mirrored {
     double zeta, omega, F;
 };
 
+// The compliant stop, located (a switch) or not (a kink inside the steps).
+constexpr std::array<vimpact::parameter, 6> stop_values{
+    {{"zeta", 0.05}, {"omega", 0.8}, {"F", 1.0}, {"d", 1.0}, {"kc", 4.0}, {"cc", 0.4}}};
+
+struct stop_base {
+    static constexpr auto state = variables;
+    static constexpr auto parameters = stop_values;
+    static constexpr std::array<vimpact::impact_surface, 0> surfaces{};
+    static constexpr auto sections = strobe;
+    explicit stop_base(std::span<const double> p) : zeta(p[0]), omega(p[1]), F(p[2]), d(p[3]), kc(p[4]), cc(p[5]) {}
+    template <class T>
+    vec_t<T, 3> field(const vec_t<T, 3>& X, const T& contact) const
+    {
+        using std::cos;
+        return {X[1], -X[0] - 2.0 * zeta * X[1] + F * cos(X[2]) - contact, T(omega)};
+    }
+    template <class T>
+    T section(int, const vec_t<T, 3>& X) const
+    {
+        using std::sin;
+        return sin(X[2]);
+    }
+    double zeta, omega, F, d, kc, cc;
+};
+
+struct located_stop : stop_base {
+    static constexpr std::string_view name = "bench_located_stop";
+    static constexpr std::string_view description = "the compliant stop, its contact a switch";
+    static constexpr std::array<vimpact::switching_surface, 1> switches{{{"contact", "y = d"}}};
+    using stop_base::stop_base;
+    template <class T>
+    T switching(int, const vec_t<T, 3>& X) const { return X[0] - d; }
+    template <class T>
+    vec_t<T, 3> derivatives(const vec_t<T, 3>& X, const vimpact::switch_sides& s) const
+    {
+        return field<T>(X, T(s.on(0) * (kc * (X[0] - d) + cc * X[1])));
+    }
+};
+
+struct unlocated_stop : stop_base {
+    static constexpr std::string_view name = "bench_unlocated_stop";
+    static constexpr std::string_view description = "the compliant stop, its contact a ternary inside the steps";
+    using stop_base::stop_base;
+    template <class T>
+    vec_t<T, 3> derivatives(const vec_t<T, 3>& X) const
+    {
+        return field<T>(X, X[0] - d > 0.0 ? T(kc * (X[0] - d) + cc * X[1]) : T(0.0));
+    }
+};
+
 const Eigen::Vector3d x0(0.5, 0.0, 0.0);
+const Eigen::Vector3d stop_x0(0.0, 0.0, 0.5);
+
+// The first 100 strobe points from rest, at rtol = atol = tol.
+vimpact::simulation stop_points(const vimpact::model& m, double tol)
+{
+    vimpact::protocol_options po;
+    po.transient_impacts = 0;
+    po.record_points = 100;
+    if (tol > 0.0) po.flow.integration.rtol = po.flow.integration.atol = tol;
+    return vimpact::simulate(m, stop_x0, po);
+}
+
+void stop_run(benchmark::State& state, const vimpact::model& m)
+{
+    static const vimpact::simulation reference = stop_points(vimpact::model::from_definition<located_stop>(), 1e-13);
+    vimpact::simulation r;
+    for (auto _ : state) {
+        r = stop_points(m, 0.0);
+        benchmark::DoNotOptimize(r.points.values().data());
+    }
+    if (r.status != vimpact::outcome::ok || r.points.size() != reference.points.size()) {
+        state.SkipWithError("the run did not give the reference's points");
+        return;
+    }
+    double error = 0.0;
+    for (std::size_t k = 0; k < r.points.size(); ++k)
+        error = std::max(error, (r.points.x(k) - reference.points.x(k)).cwiseAbs().maxCoeff());
+    state.counters["error"] = error;
+    state.counters["steps"] = static_cast<double>(r.stats.steps);
+    state.counters["rejected"] = static_cast<double>(r.stats.rejected);
+}
 
 void protocol_point(benchmark::State& state, const vimpact::model& m)
 {
@@ -211,6 +297,8 @@ void protocol_impact(benchmark::State& s) { protocol_point(s, vimpact::model::fr
 void protocol_switch(benchmark::State& s) { protocol_point(s, vimpact::model::from_definition<mirrored>()); }
 void lyapunov_impact(benchmark::State& s) { lyapunov_point(s, vimpact::model::from_definition<impacting>()); }
 void lyapunov_switch(benchmark::State& s) { lyapunov_point(s, vimpact::model::from_definition<mirrored>()); }
+void stop_located(benchmark::State& s) { stop_run(s, vimpact::model::from_definition<located_stop>()); }
+void stop_unlocated(benchmark::State& s) { stop_run(s, vimpact::model::from_definition<unlocated_stop>()); }
 void lanes_impact(benchmark::State& s) { jobs_point(s, impact_file, vimpact::lane_width); }
 void lanes_switch(benchmark::State& s) { jobs_point(s, switch_file, vimpact::lane_width); }
 void alone_impact(benchmark::State& s) { jobs_point(s, impact_file, 1); }
@@ -228,4 +316,6 @@ BENCHMARK(lanes_impact)->Name("lanes/impact")->Unit(benchmark::kMillisecond)->Re
 BENCHMARK(lanes_switch)->Name("lanes/switch")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
 BENCHMARK(alone_impact)->Name("alone/impact")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
 BENCHMARK(alone_switch)->Name("alone/switch")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
+BENCHMARK(stop_located)->Name("stop/located")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
+BENCHMARK(stop_unlocated)->Name("stop/unlocated")->Unit(benchmark::kMillisecond)->Repetitions(9)->ReportAggregatesOnly();
 BENCHMARK_MAIN();
