@@ -411,7 +411,10 @@ int run_response(const response_args& a)
     o.grazing.parameter = first_grazing_parameter(m);
     const std::string& pname = info.parameters[static_cast<std::size_t>(o.parameter)].name;
     const std::string& vname = info.state[static_cast<std::size_t>(o.variable)].name;
-    const auto gcols = o.grazing.parameter >= 0 ? grazing_columns(m, o.grazing.parameter) : surface_columns(info, "margin");
+    // The summary's per-surface values: grazing values where the parameter moves a surface, else
+    // the margins (a parameter that moves a switch only: its values are in response.csv).
+    const bool surface_grazing = o.grazing.parameter >= 0 && surface_moved_by(m, o.grazing.parameter) >= 0;
+    const auto gcols = surface_grazing ? grazing_columns(m, o.grazing.parameter) : surface_columns(info, "margin");
     // The parameters any curve sets, in the model's order: one column each.
     std::vector<int> curve_params;
     for (const auto& curve : o.curves)
@@ -428,7 +431,7 @@ int run_response(const response_args& a)
     // in hertz and the grazing values as the smallest gap without impact, per surface, in metres.
     const physical_dimension vdim = c.si ? state_dimensions(m).at(static_cast<std::size_t>(o.variable))
                                          : physical_dimension::none;
-    const bool si_gaps = c.si && o.grazing.parameter >= 0;
+    const bool si_gaps = c.si && surface_grazing;
 
     // The points stream in job order (curve by curve): rows to --out DIR; each curve's
     // arrays go to the summary only without it (with it they are in response.csv).
@@ -491,7 +494,7 @@ int run_response(const response_args& a)
         const si_point q = c.si ? in_si(r, at) : si_point{};
         if (std::isfinite(q.amplitude)) t.peak_si = std::max(t.peak_si, q.amplitude);
         if (!c.out) {
-            const auto& graze = o.grazing.parameter >= 0 ? r.grazing : r.margin;
+            const auto& graze = surface_grazing ? r.grazing : r.margin;
             t.amplitude.push_back(finite_or_null(r.amplitude));
             t.frequency.push_back(finite_or_null(r.frequency));
             for (std::size_t s = 0; s < gcols.size(); ++s)

@@ -47,13 +47,16 @@ template <int N>
 mat<N> generic_frame(int n, double scale)
 {
     // One dimension: the frame is the axis (and GCC 12 warns of Eigen's QR of a 1 x 1 matrix).
-    if constexpr (N == 1) return mat<N>::Constant(1, 1, scale);
-    mat<N> M = mat<N>::Identity(n, n) + mat<N>::Ones(n, n);
-    Eigen::HouseholderQR<mat<N>> qr(M);
-    mat<N> Q = qr.householderQ();
-    for (int i = 0; i < n; ++i)
-        if (qr.matrixQR()(i, i) < 0.0) Q.col(i) = -Q.col(i);
-    return scale * Q;
+    if constexpr (N == 1) {
+        return mat<N>::Constant(1, 1, scale);
+    } else {
+        mat<N> M = mat<N>::Identity(n, n) + mat<N>::Ones(n, n);
+        Eigen::HouseholderQR<mat<N>> qr(M);
+        mat<N> Q = qr.householderQ();
+        for (int i = 0; i < n; ++i)
+            if (qr.matrixQR()(i, i) < 0.0) Q.col(i) = -Q.col(i);
+        return scale * Q;
+    }
 }
 
 // Records section points of the reference orbit (state part) while `recording`, up to `limit`.
