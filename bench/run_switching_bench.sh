@@ -31,15 +31,22 @@ for run in ("protocol", "lyapunov"):
         r = b[f"{run}/{kind}"]
         print(f"| {run}, {kind} | {r['real_time']:.2f} | {int(r['steps'])} | {int(r['rhs_calls'])} | "
               f"{int(r['impacts'])} | {int(r['switchings'])} |")
+
+
+def versus(label, run):
+    """A row: the switch's time over the impact's in `run`, goal <= 1 with the same work."""
+    s, i = b[f"{run}/switch"], b[f"{run}/impact"]
+    q = s["real_time"] / i["real_time"]
+    same = int(s["steps"]) == int(i["steps"]) and int(s["switchings"]) == int(i["impacts"])
+    print(f"| {label} | {q:.3f} | <= 1 with the same steps and events: "
+          f"{'met' if q <= 1.0 and same else 'NOT met'}{'' if same else ' (steps or events differ)'} |")
+
+
 print()
 print("| ratio switch / impact | value | goal |")
 print("|---|---|---|")
 for run in ("protocol", "lyapunov"):
-    s, i = b[f"{run}/switch"], b[f"{run}/impact"]
-    q = s["real_time"] / i["real_time"]
-    same = int(s["steps"]) == int(i["steps"]) and int(s["switchings"]) == int(i["impacts"])
-    print(f"| {run} | {q:.3f} | <= 1 with the same steps and events: "
-          f"{'met' if q <= 1.0 and same else 'NOT met'}{'' if same else ' (steps or events differ)'} |")
+    versus(run, run)
 print()
 print("| 16 model-file jobs | median wall [ms] | steps | impacts | crossings |")
 print("|---|---|---|---|---|")
@@ -55,11 +62,7 @@ gain = {kind: b[f"alone/{kind}"]["real_time"] / b[f"lanes/{kind}"]["real_time"] 
 print(f"| impact: one at a time / in lanes | {gain['impact']:.2f} | |")
 print(f"| switch: one at a time / in lanes | {gain['switch']:.2f} | >= the impact's: "
       f"{'met' if gain['switch'] >= gain['impact'] else 'NOT met'} |")
-s, i = b["lanes/switch"], b["lanes/impact"]
-q = s["real_time"] / i["real_time"]
-same = int(s["steps"]) == int(i["steps"]) and int(s["switchings"]) == int(i["impacts"])
-print(f"| in lanes, switch / impact | {q:.3f} | <= 1 with the same steps and events: "
-      f"{'met' if q <= 1.0 and same else 'NOT met'}{'' if same else ' (steps or events differ)'} |")
+versus("in lanes, switch / impact", "lanes")
 print()
 print("| compliant stop, 100 strobe points | median wall [ms] | steps | rejected | largest error |")
 print("|---|---|---|---|---|")

@@ -218,61 +218,48 @@ void lyapunov_point(benchmark::State& state, const vimpact::model& m)
     state.counters["switchings"] = static_cast<double>(r.stats.switchings);
 }
 
-constexpr std::string_view impact_file = R"toml(
-name = "bench_impacting_file"
-description = "bench_impacting as a model file"
-state = [{ name = "x" }, { name = "v" }, { name = "c" }, { name = "s" }]
+// The pair as model files: the same oscillator, bouncing on a barrier at x = 0 (impact) or
+// crossing a switch there where its forcing changes sign.
+std::string pair_file(bool switching)
+{
+    const std::string kind = switching ? "switching" : "impacting";
+    return "name = \"bench_" + kind + "_file\"\ndescription = \"bench_" + kind + " as a model file\"\n" +
+           R"toml(state = [{ name = "x" }, { name = "v" }, { name = "c" }, { name = "s" }]
 [parameters]
 zeta = { default = 0.05 }
 omega = { default = 0.8 }
 F = { default = 1.0 }
 [derivatives]
 x = "v"
-v = "-x - 2*zeta*v + F*c"
 c = "-omega*s"
 s = "omega*c"
+)toml" + (switching ? R"toml(v = "-x - 2*zeta*v + side(mirror)*F*c"
+[[switches]]
+name = "mirror"
+when = "x"
+)toml"
+                     : R"toml(v = "-x - 2*zeta*v + F*c"
 [[surfaces]]
 name = "barrier"
 gap = "x"
 reset = { v = "-v" }
-[[sections]]
+)toml") + R"toml([[sections]]
 name = "strobe"
 when = "s"
 direction = "up"
 )toml";
-
-constexpr std::string_view switch_file = R"toml(
-name = "bench_switching_file"
-description = "bench_switching as a model file"
-state = [{ name = "x" }, { name = "v" }, { name = "c" }, { name = "s" }]
-[parameters]
-zeta = { default = 0.05 }
-omega = { default = 0.8 }
-F = { default = 1.0 }
-[derivatives]
-x = "v"
-v = "-x - 2*zeta*v + side(mirror)*F*c"
-c = "-omega*s"
-s = "omega*c"
-[[switches]]
-name = "mirror"
-when = "x"
-[[sections]]
-name = "strobe"
-when = "s"
-direction = "up"
-)toml";
+}
 
 // 16 jobs of a model file: F = 0.6, 0.65, ..., 1.35.
-std::vector<vimpact::model> file_jobs(std::string_view text)
+std::vector<vimpact::model> file_jobs(const std::string& text)
 {
-    const vimpact::model m = vimpact::model::from_toml(std::string(text), "bench.toml");
+    const vimpact::model m = vimpact::model::from_toml(text, "bench.toml");
     std::vector<vimpact::model> jobs;
     for (int k = 0; k < 16; ++k) jobs.push_back(m.with_parameter(m.info().parameter_index("F"), 0.6 + 0.05 * k));
     return jobs;
 }
 
-void jobs_point(benchmark::State& state, std::string_view text, int batch)
+void jobs_point(benchmark::State& state, const std::string& text, int batch)
 {
     const std::vector<vimpact::model> jobs = file_jobs(text);
     const std::vector<Eigen::VectorXd> x0s(jobs.size(), Eigen::Vector4d(x0[0], x0[1], std::cos(x0[2]), std::sin(x0[2])));
@@ -299,10 +286,10 @@ void lyapunov_impact(benchmark::State& s) { lyapunov_point(s, vimpact::model::fr
 void lyapunov_switch(benchmark::State& s) { lyapunov_point(s, vimpact::model::from_definition<mirrored>()); }
 void stop_located(benchmark::State& s) { stop_run(s, vimpact::model::from_definition<located_stop>()); }
 void stop_unlocated(benchmark::State& s) { stop_run(s, vimpact::model::from_definition<unlocated_stop>()); }
-void lanes_impact(benchmark::State& s) { jobs_point(s, impact_file, vimpact::lane_width); }
-void lanes_switch(benchmark::State& s) { jobs_point(s, switch_file, vimpact::lane_width); }
-void alone_impact(benchmark::State& s) { jobs_point(s, impact_file, 1); }
-void alone_switch(benchmark::State& s) { jobs_point(s, switch_file, 1); }
+void lanes_impact(benchmark::State& s) { jobs_point(s, pair_file(false), vimpact::lane_width); }
+void lanes_switch(benchmark::State& s) { jobs_point(s, pair_file(true), vimpact::lane_width); }
+void alone_impact(benchmark::State& s) { jobs_point(s, pair_file(false), 1); }
+void alone_switch(benchmark::State& s) { jobs_point(s, pair_file(true), 1); }
 
 }  // namespace
 

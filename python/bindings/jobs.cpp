@@ -26,12 +26,13 @@
 namespace vimpact::python {
 namespace {
 
-py::array_t<double> per_surface(const std::vector<std::vector<double>>& v, int surfaces)
+// Rows of `width` values (per surface, per switch), NaN where a row has fewer.
+py::array_t<double> padded_rows(const std::vector<std::vector<double>>& v, int width)
 {
-    py::array_t<double> a({static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(surfaces)});
+    py::array_t<double> a({static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(width)});
     auto av = a.mutable_unchecked<2>();
     for (std::size_t i = 0; i < v.size(); ++i)
-        for (int s = 0; s < surfaces; ++s)
+        for (int s = 0; s < width; ++s)
             av(static_cast<py::ssize_t>(i), s) =
                 static_cast<std::size_t>(s) < v[i].size() ? v[i][static_cast<std::size_t>(s)] : std::nan("");
     return a;
@@ -72,8 +73,8 @@ py::dict map_run(const model& m, const py::dict& kw)
         d["records"] = record_arrays(r.cells, m);
         d["grazing_axis"] = r.grazing_axis;
         d["grazing_other"] = vector_array(r.grazing_other);
-        d["grazing"] = per_surface(r.grazing_values, m.surface_count());
-        d["switch_grazing"] = per_surface(r.grazing_switch_values, static_cast<int>(m.info().switches.size()));
+        d["grazing"] = padded_rows(r.grazing_values, m.surface_count());
+        d["switch_grazing"] = padded_rows(r.grazing_switch_values, static_cast<int>(m.info().switches.size()));
     });
 }
 

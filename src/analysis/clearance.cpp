@@ -114,8 +114,7 @@ clearance_result clearance(const model& m, const clearance_options& o, const job
                                 : switch_parameter_for_gap(mv, sw, G, rest, side, gap);
         };
         if (const auto at_grazing = with_value(mv, G, p.grazing_value))
-            p.clearance = surface >= 0 ? rest_gap(*at_grazing, surface)
-                                       : side * at_grazing->table().switching(at_grazing->context(), sw, rest.data());
+            p.clearance = surface >= 0 ? rest_gap(*at_grazing, surface) : switch_rest_gap(*at_grazing, sw, side);
         std::vector<double> gaps = o.gaps;
         if (gaps.empty() && std::isfinite(p.clearance) && p.clearance > 0.0)
             for (const double f : o.fractions) gaps.push_back(f * p.clearance);

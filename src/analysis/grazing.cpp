@@ -173,7 +173,17 @@ int switch_moved_by(const model& m, int parameter)
     return -1;
 }
 
-double switch_side_at(const model& m, int k, const Eigen::VectorXd& x) { return switching_at(m, k, x) >= 0.0 ? 1.0 : -1.0; }
+double switch_side_at(const model& m, int k, const Eigen::VectorXd& x)
+{
+    // The flow's rule (hybrid_flow::pin_sides_at): where h = 0, the side the field goes to.
+    const double h = switching_at(m, k, x);
+    if (h != 0.0) return h > 0.0 ? 1.0 : -1.0;
+    Eigen::VectorXd g(m.dim());
+    m.table().switching_gradient(m.context(), k, x.data(), g.data());
+    return g.dot(field_at(m, x)) >= 0.0 ? 1.0 : -1.0;
+}
+
+double switch_rest_gap(const model& m, int k, double side) { return side * switching_at(m, k, m.initial_state()); }
 
 double switch_parameter_for_gap(const model& m, int k, int parameter, const Eigen::VectorXd& x, double side,
                                 double target)

@@ -31,7 +31,7 @@ void describe(V& v, R& r)
       r.switch_grazing);
 }
 
-bool moves_a_surface(const model& m, int parameter)
+bool moves_a_surface_or_switch(const model& m, int parameter)
 {
     return surface_moved_by(m, parameter) >= 0 || switch_moved_by(m, parameter) >= 0;
 }
@@ -65,8 +65,8 @@ map_result map2d(const model& m, const map_options& o, const job_options& j, con
     }
     int grazing_axis = -1;
     if (o.grazing) {
-        if (moves_a_surface(m, o.y.parameter)) grazing_axis = 1;
-        else if (moves_a_surface(m, o.x.parameter)) grazing_axis = 0;
+        if (moves_a_surface_or_switch(m, o.y.parameter)) grazing_axis = 1;
+        else if (moves_a_surface_or_switch(m, o.x.parameter)) grazing_axis = 0;
         else
             throw input_error("the grazing line needs an axis parameter that moves a surface or switch without "
                               "entering the vector field (" + xname + " and " + yname + " do not)");

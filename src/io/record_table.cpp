@@ -23,6 +23,22 @@ void replace_all(std::string& s, std::string_view what, const std::string& with)
     for (auto i = s.find(what); i != std::string::npos; i = s.find(what, i + with.size())) s.replace(i, what.size(), with);
 }
 
+// One column per item (surface or switch): the pattern with `placeholder` replaced by the
+// item's name, or without one, NAME_ITEM (NAME alone for a single item where `alone` allows).
+std::vector<std::string> per_item(const std::string& pattern, std::string_view placeholder,
+                                  const std::vector<std::string>& items, bool alone)
+{
+    const bool placed = pattern.find(placeholder) != std::string::npos;
+    std::vector<std::string> out;
+    for (const auto& item : items) {
+        std::string name = pattern;
+        if (placed) replace_all(name, placeholder, item);
+        else if (!alone || items.size() > 1) name += "_" + item;
+        out.push_back(std::move(name));
+    }
+    return out;
+}
+
 }  // namespace
 
 std::vector<std::string> column_names(const field& f, const table_context& c)
@@ -43,25 +59,10 @@ std::vector<std::string> column_names(const field& f, const table_context& c)
         }
         return out;
     }
-    if (f.span == field_span::per_switch) {
-        const bool placed = pattern.find("{switch}") != std::string::npos;
-        for (const auto& w : c.switches) {
-            std::string name = pattern;
-            if (placed) replace_all(name, "{switch}", w);
-            else name += "_" + w;
-            out.push_back(std::move(name));
-        }
-        return out;
-    }
-    if (f.span != field_span::per_surface) return {pattern};
-    const bool placed = pattern.find("{surface}") != std::string::npos;
-    for (const auto& s : c.surfaces) {
-        std::string name = pattern;
-        if (placed) replace_all(name, "{surface}", s);
-        else if (c.surfaces.size() > 1) name += "_" + s;
-        out.push_back(std::move(name));
-    }
-    return out;
+    // A switch's column always names it: a model may have a surface with the same field.
+    if (f.span == field_span::per_switch) return per_item(pattern, "{switch}", c.switches, false);
+    if (f.span == field_span::per_surface) return per_item(pattern, "{surface}", c.surfaces, true);
+    return {pattern};
 }
 
 }  // namespace detail

@@ -1860,17 +1860,23 @@ private:
                             [&](std::size_t k) { return section_value[k]; });
         s += indexed_void("vimpact_section_gradient(const void* c, int i, const double* x, double* out)", K, n,
                           [&](std::size_t k) { return section_gradient[k]; });
-        // A switch's value and gradient in the lanes are side * h_k and side * grad h_k (abi.h,
-        // lanes_points and lanes_switching), as the flow's switch values are.
+        // The switching functions and their gradients, printed once: h_k and grad h_k in the
+        // one-job functions (switch_functions), side * h_k and side * grad h_k in the lanes'
+        // (abi.h, lanes_points and lanes_switching), as the flow's switch values are.
         std::vector<std::string> switch_value, switch_gradient;
         for (std::size_t k = 0; k < m_switching.size(); ++k) {
             const std::string side = "S[" + std::to_string(k) + "]";
-            switch_value.push_back(side + "*(" + c(m_switching[k].value, m_switching[k].key) + ")");
-            std::string g;
-            for (std::size_t i = 0; i < n; ++i)
-                g += in + "out[" + std::to_string(i) + "] = " + side + "*(" + c(m_switching[k].gradient[i], m_switching[k].key) +
-                     ");\n";
-            switch_gradient.push_back(g);
+            const std::string h = c(m_switching[k].value, m_switching[k].key);
+            m_switch_value.push_back(h);
+            switch_value.push_back(side + "*(" + h + ")");
+            std::string g, lanes_g;
+            for (std::size_t i = 0; i < n; ++i) {
+                const std::string gi = c(m_switching[k].gradient[i], m_switching[k].key), out = in + "out[" + std::to_string(i) + "] = ";
+                g += out + gi + ";\n";
+                lanes_g += out + side + "*(" + gi + ");\n";
+            }
+            m_switch_gradient.push_back(g);
+            switch_gradient.push_back(lanes_g);
         }
         m_lanes_code = lanes_code(rhs_body, gap_value, gap_gradient, section_value, section_gradient, switch_value,
                                   switch_gradient);
@@ -1921,11 +1927,11 @@ private:
         const std::string w = std::to_string(W), dim = std::to_string(m_n);
         std::string s;
         s += indexed_scalar(
-            "vimpact_switching(const void* c, int i, const double* x)", W,
-            [&](std::size_t k) { return c(m_switching[k].value, m_switching[k].key); }, false);
+            "vimpact_switching(const void* c, int i, const double* x)", W, [&](std::size_t k) { return m_switch_value[k]; },
+            false);
         s += indexed_void(
             "vimpact_switching_gradient(const void* c, int i, const double* x, double* out)", W, n,
-            [&](std::size_t k) { return assign_vector(m_switching[k].gradient, m_switching[k].key, in); }, false, false);
+            [&](std::size_t k) { return m_switch_gradient[k]; }, false, false);
         s += indexed_void("vimpact_switch_reset(const void* c, int i, const double* x, double* out)", W, n,
                           [&](std::size_t k) { return assign_vector(m_switch_resets[k].value, m_switch_resets[k].key, in); });
         s += indexed_void("vimpact_switch_reset_jacobian(const void* c, int i, const double* x, double* out)", W, n * n,
@@ -2339,6 +2345,7 @@ private:
     std::vector<vector_function> m_switch_resets;
     std::set<int> m_powers;
     std::string m_lanes_code;  // lanes_code(), emitted with the fused steps
+    std::vector<std::string> m_switch_value, m_switch_gradient;  // h_k and its gradient's assignments, printed
 };
 
 }  // namespace

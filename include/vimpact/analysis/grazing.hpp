@@ -112,9 +112,11 @@ int first_grazing_parameter(const model& m);
 int surface_moved_by(const model& m, int parameter);
 // The first switch that `parameter` moves (switch_parameters), -1 if none.
 int switch_moved_by(const model& m, int parameter);
-// The side of switch k at x: +1 where h_k(x) >= 0, else -1 (where h_k = 0 the flow also asks
-// which way the field goes; a rest state lies off the switch).
+// The side of switch k at x, as the flow takes it at a start: the sign of h_k(x), and where
+// h_k = 0 the side the field goes to.
 double switch_side_at(const model& m, int k, const Eigen::VectorXd& x);
+// rest_gap of switch k: side * h_k at the model's initial state.
+double switch_rest_gap(const model& m, int k, double side);
 // The value of `parameter` with side * h_k(x, P) = target: the distance `target` on the side
 // `side` of switch k (NaN as for grazing_parameter_value).
 double switch_parameter_for_gap(const model& m, int k, int parameter, const Eigen::VectorXd& x, double side,
